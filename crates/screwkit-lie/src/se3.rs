@@ -1,0 +1,398 @@
+//! SE(3): rigid transforms T = (R, p), their exponential, logarithm and adjoint.
+
+use std::fmt;
+use std::ops::Mul;
+
+use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3};
+
+use crate::error::LieError;
+use crate::screw::ScrewAxis;
+use crate::so3;
+use crate::twist::Twist;
+use crate::wrench::Wrench;
+
+/// A rigid transform T = (R, p) ∈ SE(3), stored as a rotation and a translation (not 4x4).
+///
+/// As a homogeneous matrix T = [[R, p], [0, 1]]. Name values by their frames: `t_sb` is the
+/// pose of frame {b} in frame {s}, so `t_sb * t_bc = t_sc` and `t_sb.transform_point(x_b) = x_s`.
+///
+/// The rotation is trusted to be in SO(3): the checked constructors ([`Se3::from_homogeneous`],
+/// [`Se3::from_parts`], …) validate user input; [`Se3::from_parts_unchecked`] is for values
+/// computed from rotations.
+#[derive(Clone, Copy, PartialEq)]
+pub struct Se3 {
+    rotation: Matrix3<f64>,
+    translation: Vector3<f64>,
+}
+
+/// D = (1 − (θ/2) cot(θ/2)) / θ², the [ω]² coefficient of V⁻¹ in the SE(3) logarithm, given
+/// θ with its sine s and cosine c.
+///
+/// Series Σ |B₂ₙ| θ²ⁿ⁻²/(2n)! = 1/12 + θ²/720 + θ⁴/30240 + θ⁶/1209600 + θ⁸/47900160 below
+/// θ = 0.25 (truncation < 1e-15); above, cot(θ/2) = s/(1 − c), where 1 − c ≥ 0.03 does not
+/// cancel and s → 0 at θ = π is harmless (D(π) = 1/π²). The absolute error of (θ/2)cot(θ/2)
+/// is what reaches v, and it stays at a few ulp everywhere.
+#[inline]
+fn log_coefficient(theta: f64, s: f64, c: f64) -> f64 {
+    let t2 = theta * theta;
+    if theta < 0.25 {
+        1.0 / 12.0
+            + t2 * (1.0 / 720.0
+                + t2 * (1.0 / 30_240.0 + t2 * (1.0 / 1_209_600.0 + t2 / 47_900_160.0)))
+    } else {
+        (1.0 - 0.5 * theta * s / (1.0 - c)) / t2
+    }
+}
+
+impl Se3 {
+    /// The identity transform (R = I, p = 0).
+    pub fn identity() -> Self {
+        Self {
+            rotation: Matrix3::identity(),
+            translation: Vector3::zeros(),
+        }
+    }
+
+    /// T = (R, p) without validation: the caller guarantees R ∈ SO(3).
+    #[inline]
+    pub fn from_parts_unchecked(rotation: Matrix3<f64>, translation: Vector3<f64>) -> Self {
+        Self {
+            rotation,
+            translation,
+        }
+    }
+
+    /// T = (R, p), checking that everything is finite and that R is a rotation
+    /// (max |RᵀR − I| ≤ [`so3::DEFAULT_ROTATION_TOLERANCE`], det R > 0).
+    pub fn from_parts(rotation: Matrix3<f64>, translation: Vector3<f64>) -> Result<Self, LieError> {
+        so3::check_rotation(&rotation, so3::DEFAULT_ROTATION_TOLERANCE)?;
+        if !translation.iter().all(|x| x.is_finite()) {
+            return Err(LieError::NonFinite {
+                what: "translation",
+            });
+        }
+        Ok(Self::from_parts_unchecked(rotation, translation))
+    }
+
+    /// A pure translation (R = I).
+    pub fn from_translation(translation: Vector3<f64>) -> Self {
+        Self::from_parts_unchecked(Matrix3::identity(), translation)
+    }
+
+    /// URDF `<origin xyz rpy>`: p = xyz, R = R_z(yaw) R_y(pitch) R_x(roll) (fixed axes).
+    pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3]) -> Result<Self, LieError> {
+        if !xyz.iter().chain(rpy.iter()).all(|x| x.is_finite()) {
+            return Err(LieError::NonFinite { what: "xyz/rpy" });
+        }
+        Ok(Self::from_parts_unchecked(
+            so3::from_rpy(rpy[0], rpy[1], rpy[2]),
+            Vector3::from(xyz),
+        ))
+    }
+
+    /// p = xyz and R from the quaternion (x, y, z, w), which is normalised first.
+    pub fn from_translation_quaternion(xyz: [f64; 3], quat: [f64; 4]) -> Result<Self, LieError> {
+        if !xyz.iter().all(|x| x.is_finite()) {
+            return Err(LieError::NonFinite {
+                what: "translation",
+            });
+        }
+        Ok(Self::from_parts_unchecked(
+            so3::from_quaternion(quat)?,
+            Vector3::from(xyz),
+        ))
+    }
+
+    /// From a homogeneous 4x4 matrix [[R, p], [0, 1]], validated: finite, last row
+    /// `[0, 0, 0, 1]`, R orthonormal within [`so3::DEFAULT_ROTATION_TOLERANCE`] with det +1.
+    pub fn from_homogeneous(m: &Matrix4<f64>) -> Result<Self, LieError> {
+        Self::from_homogeneous_with_tolerance(m, so3::DEFAULT_ROTATION_TOLERANCE)
+    }
+
+    /// Like [`Se3::from_homogeneous`] with a chosen tolerance on max |RᵀR − I|; when the
+    /// check passes, R is replaced by the nearest exact rotation ([`so3::nearest_rotation`]),
+    /// so rounded input (e.g. 4 decimals, tolerance 1e-3) becomes a proper transform.
+    pub fn from_homogeneous_with_tolerance(
+        m: &Matrix4<f64>,
+        tolerance: f64,
+    ) -> Result<Self, LieError> {
+        if !m.iter().all(|x| x.is_finite()) {
+            return Err(LieError::NonFinite {
+                what: "homogeneous matrix",
+            });
+        }
+        let row = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)]];
+        let tol_row = tolerance.max(1e-12);
+        if row[0].abs() > tol_row
+            || row[1].abs() > tol_row
+            || row[2].abs() > tol_row
+            || (row[3] - 1.0).abs() > tol_row
+        {
+            return Err(LieError::BadLastRow { row });
+        }
+        let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
+        so3::check_rotation(&r, tolerance)?;
+        let r = if (r.transpose() * r - Matrix3::identity()).amax() > 1e-14 {
+            so3::nearest_rotation(&r)
+        } else {
+            r
+        };
+        Ok(Self::from_parts_unchecked(
+            r,
+            m.fixed_view::<3, 1>(0, 3).into_owned(),
+        ))
+    }
+
+    /// From 16 numbers of a homogeneous matrix in row-major order, validated as in
+    /// [`Se3::from_homogeneous_with_tolerance`].
+    pub fn from_row_major(values: &[f64], tolerance: f64) -> Result<Self, LieError> {
+        if values.len() != 16 {
+            return Err(LieError::WrongLength {
+                what: "a 4x4 matrix",
+                expected: 16,
+                got: values.len(),
+            });
+        }
+        Self::from_homogeneous_with_tolerance(&Matrix4::from_row_slice(values), tolerance)
+    }
+
+    /// The rotation R.
+    #[inline]
+    pub fn rotation(&self) -> &Matrix3<f64> {
+        &self.rotation
+    }
+
+    /// The translation p.
+    #[inline]
+    pub fn translation(&self) -> &Vector3<f64> {
+        &self.translation
+    }
+
+    /// The homogeneous matrix [[R, p], [0, 1]].
+    pub fn to_homogeneous(&self) -> Matrix4<f64> {
+        let mut m = Matrix4::identity();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(&self.rotation);
+        m.fixed_view_mut::<3, 1>(0, 3).copy_from(&self.translation);
+        m
+    }
+
+    /// The rotation as URDF roll, pitch, yaw ([`so3::to_rpy`]).
+    pub fn rpy(&self) -> [f64; 3] {
+        so3::to_rpy(&self.rotation)
+    }
+
+    /// The rotation as a unit quaternion (x, y, z, w), w ≥ 0.
+    pub fn quaternion(&self) -> [f64; 4] {
+        so3::to_quaternion(&self.rotation)
+    }
+
+    /// Composition T_ac = T_ab T_bc: (R_ab R_bc, R_ab p_bc + p_ab).
+    #[inline]
+    pub fn compose(&self, other: &Se3) -> Se3 {
+        Se3 {
+            rotation: self.rotation * other.rotation,
+            translation: self.rotation * other.translation + self.translation,
+        }
+    }
+
+    /// T⁻¹ = (Rᵀ, −Rᵀp).
+    #[inline]
+    pub fn inverse(&self) -> Se3 {
+        let rt = self.rotation.transpose();
+        Se3 {
+            rotation: rt,
+            translation: -(rt * self.translation),
+        }
+    }
+
+    /// T⁻¹ S computed without forming T⁻¹: (Rᵀ R_S, Rᵀ (p_S − p)).
+    #[inline]
+    pub fn inverse_compose(&self, other: &Se3) -> Se3 {
+        let rt = self.rotation.transpose();
+        Se3 {
+            rotation: rt * other.rotation,
+            translation: rt * (other.translation - self.translation),
+        }
+    }
+
+    /// T x = R x + p for a point x.
+    #[inline]
+    pub fn transform_point(&self, x: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation * x + self.translation
+    }
+
+    /// R x for a free vector x (directions, velocities: translation does not apply).
+    #[inline]
+    pub fn transform_vector(&self, x: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation * x
+    }
+
+    /// e^[ξ] for any twist ξ = (ω, v) (unit or not; for a screw axis S and distance θ, ξ = Sθ):
+    ///
+    /// - θ = ‖ω‖, R = I + A[ω] + B[ω]²,
+    /// - p = (I + B[ω] + C[ω]²) v,
+    ///
+    /// with A = sin θ/θ, B = (1 − cos θ)/θ², C = (θ − sin θ)/θ³ (series near θ = 0). For a unit
+    /// axis ω̂ this is the textbook p = G(θ)v, G(θ) = Iθ + (1 − cos θ)[ω̂] + (θ − sin θ)[ω̂]²;
+    /// for ω = 0 it is the pure translation p = v.
+    #[inline]
+    pub fn exp(xi: &Twist) -> Se3 {
+        let w = &xi.w;
+        let theta = w.norm();
+        let (a, b, cc) = so3::exp_coefficients(theta);
+        let rotation = so3::rotation_from_coefficients(w, theta, a, b);
+        let wxv = w.cross(&xi.v);
+        let translation = xi.v + wxv * b + w.cross(&wxv) * cc;
+        Se3 {
+            rotation,
+            translation,
+        }
+    }
+
+    /// e^[S]θ for a screw axis S and a distance θ along it (radians for a rotating screw,
+    /// metres for a pure translation).
+    #[inline]
+    pub fn exp_screw(screw: &ScrewAxis, theta: f64) -> Se3 {
+        Self::exp(&screw.to_twist(theta))
+    }
+
+    /// log T = ξ = Sθ, the exponential coordinates of T as a twist (ω, v):
+    ///
+    /// - ω = log R ([`so3::log`]) with θ = ‖ω‖ ∈ [0, π],
+    /// - v = V⁻¹ p with V⁻¹ = I − ½[ω] + D[ω]², D = (1 − (θ/2) cot(θ/2))/θ²
+    ///   (the textbook v_S = G⁻¹(θ) p, G⁻¹(θ) = I/θ − [ω̂]/2 + (1/θ − ½cot(θ/2))[ω̂]², times θ).
+    ///
+    /// R = I gives the pure translation ξ = (0, p). Accurate near θ = 0 (series) and θ = π.
+    pub fn log(&self) -> Twist {
+        let (theta, s, c, axis2) = so3::angle(&self.rotation);
+        let w = so3::log_from_angle(&self.rotation, theta, s, c, &axis2);
+        let d = log_coefficient(theta, s, c);
+        let p = &self.translation;
+        let wxp = w.cross(p);
+        let v = p - wxp * 0.5 + w.cross(&wxp) * d;
+        Twist { w, v }
+    }
+
+    /// log T as a unit screw axis S and the distance θ along it (T = e^[S]θ).
+    ///
+    /// θ is the rotation angle (in [0, π]) when R ≠ I, otherwise the distance ‖p‖ of a pure
+    /// translation. `None` for the identity, which has no axis.
+    pub fn log_screw(&self) -> Option<(ScrewAxis, f64)> {
+        ScrewAxis::from_twist(&self.log()).ok()
+    }
+
+    /// \[Ad_T\] = [[R, 0], [[p]R, R]] (6x6, acting on twists ordered (ω, v)).
+    pub fn adjoint(&self) -> Matrix6<f64> {
+        let r = &self.rotation;
+        let pr = so3::hat(&self.translation) * r;
+        let mut m = Matrix6::zeros();
+        m.fixed_view_mut::<3, 3>(0, 0).copy_from(r);
+        m.fixed_view_mut::<3, 3>(3, 3).copy_from(r);
+        m.fixed_view_mut::<3, 3>(3, 0).copy_from(&pr);
+        m
+    }
+
+    /// \[Ad_T\] V without building the 6x6: ω' = Rω, v' = p × (Rω) + Rv.
+    ///
+    /// With T = T_ab this changes a twist's frame: V_a = \[Ad_{T_ab}\] V_b.
+    #[inline]
+    pub fn adjoint_apply(&self, twist: &Twist) -> Twist {
+        let w = self.rotation * twist.w;
+        let v = self.translation.cross(&w) + self.rotation * twist.v;
+        Twist { w, v }
+    }
+
+    /// \[Ad_T\]⁻¹ V = \[Ad_{T⁻¹}\] V: ω' = Rᵀω, v' = Rᵀ(v − p × ω).
+    #[inline]
+    pub fn adjoint_inverse_apply(&self, twist: &Twist) -> Twist {
+        let rt = self.rotation.transpose();
+        Twist {
+            w: rt * twist.w,
+            v: rt * (twist.v - self.translation.cross(&twist.w)),
+        }
+    }
+
+    /// \[Ad_T\]ᵀ F without building the 6x6: m' = Rᵀ(m − p × f), f' = Rᵀ f.
+    ///
+    /// With T = T_ab this changes a wrench's frame from {a} to {b}: F_b = \[Ad_{T_ab}\]ᵀ F_a.
+    /// (The transpose, not the adjoint itself: power is frame-invariant,
+    /// V_bᵀF_b = V_bᵀ Ad_{T_ab}ᵀ F_a = (Ad_{T_ab} V_b)ᵀ F_a = V_aᵀ F_a.)
+    #[inline]
+    pub fn adjoint_transpose_apply(&self, wrench: &Wrench) -> Wrench {
+        let rt = self.rotation.transpose();
+        Wrench {
+            m: rt * (wrench.m - self.translation.cross(&wrench.f)),
+            f: rt * wrench.f,
+        }
+    }
+
+    /// Largest absolute difference between the entries of two transforms' (R, p).
+    pub fn max_abs_diff(&self, other: &Se3) -> f64 {
+        (self.rotation - other.rotation)
+            .amax()
+            .max((self.translation - other.translation).amax())
+    }
+
+    /// True when every entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.rotation
+            .iter()
+            .chain(self.translation.iter())
+            .all(|x| x.is_finite())
+    }
+}
+
+impl Default for Se3 {
+    fn default() -> Self {
+        Self::identity()
+    }
+}
+
+impl Mul for Se3 {
+    type Output = Se3;
+    /// T_ab * T_bc = T_ac.
+    #[inline]
+    fn mul(self, rhs: Se3) -> Se3 {
+        self.compose(&rhs)
+    }
+}
+
+impl Mul<&Se3> for &Se3 {
+    type Output = Se3;
+    /// T_ab * T_bc = T_ac.
+    #[inline]
+    fn mul(self, rhs: &Se3) -> Se3 {
+        self.compose(rhs)
+    }
+}
+
+/// Prints the 4x4 homogeneous matrix, one row per line (precision from the formatter, 6 by
+/// default).
+impl fmt::Display for Se3 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let prec = f.precision().unwrap_or(6);
+        let m = self.to_homogeneous();
+        for i in 0..4 {
+            write!(f, "[")?;
+            for j in 0..4 {
+                let x = crate::display::fixed(m[(i, j)], prec);
+                write!(f, "{}{:>w$}", if j > 0 { " " } else { "" }, x, w = prec + 4)?;
+            }
+            writeln!(f, "]")?;
+        }
+        Ok(())
+    }
+}
+
+impl fmt::Debug for Se3 {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let r = &self.rotation;
+        let p = &self.translation;
+        write!(
+            f,
+            "Se3 {{ R: [[{:?}, {:?}, {:?}], [{:?}, {:?}, {:?}], [{:?}, {:?}, {:?}]], p: [{:?}, {:?}, {:?}] }}",
+            r[(0, 0)], r[(0, 1)], r[(0, 2)], r[(1, 0)], r[(1, 1)], r[(1, 2)], r[(2, 0)], r[(2, 1)], r[(2, 2)],
+            p.x, p.y, p.z
+        )
+    }
+}

@@ -1,0 +1,1 @@
+//! URDF → kinematic tree → serial chain with screw axes (filled by the model issue).
