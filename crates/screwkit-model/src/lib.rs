@@ -1,1 +1,43 @@
-//! URDF → kinematic tree → serial chain with screw axes (filled by the model issue).
+//! # screwkit-model
+//!
+//! URDF → kinematic tree → serial chain with the screw axes of the product of exponentials,
+//! T(q) = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M (space form) = M e^[B₁]θ₁ ⋯ e^[Bₙ]θₙ (body form).
+//!
+//! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
+//! - [`tree`]: links, joints, paths between links.
+//! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
+//! - [`table`]: screw-axis tables (Markdown, CSV, JSON).
+//! - [`reference`]: slow URDF-literal FK by composing joint transforms (the test oracle).
+//!
+//! ```
+//! let chain = screwkit_model::load_chain(
+//!     concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/planar_3r.urdf"), None, None)?;
+//! assert_eq!(chain.dof(), 3);
+//! // The tip is 2.3 m out along x at home.
+//! assert!((chain.home.translation().x - 2.3).abs() < 1e-15);
+//! # Ok::<(), screwkit_model::ModelError>(())
+//! ```
+//!
+//! Conventions: screw axes are (ω, v); the space frame is the base link, the body frame the
+//! tip link; URDF rpy is fixed-axis, R = R_z(y) R_y(p) R_x(r).
+
+pub mod chain;
+pub mod error;
+pub mod reference;
+pub mod table;
+pub mod tree;
+pub mod urdf;
+
+pub use chain::{Chain, ChainJoint, ChainLink, Variable};
+pub use error::{ErrorKind, ModelError};
+pub use tree::{JointKind, Limit, Mimic, Tree, TreeJoint};
+
+/// Loads a URDF file and builds the chain from `base` (default: the root link) to `tip`
+/// (default: the only leaf below the base).
+pub fn load_chain(
+    path: impl AsRef<std::path::Path>,
+    base: Option<&str>,
+    tip: Option<&str>,
+) -> Result<Chain, ModelError> {
+    Chain::from_tree(&urdf::load_file(path)?, base, tip)
+}

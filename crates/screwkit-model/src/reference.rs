@@ -1,0 +1,81 @@
+//! Reference forward kinematics by direct composition of URDF joint transforms.
+//!
+//! T_base_tip = Π_j origin_j · motion_j(θ_j) along the path, where origin_j is the joint's
+//! `<origin>` (R = R_z(y) R_y(p) R_x(r), built with nalgebra's Euler angles) and motion_j is a
+//! rotation about the unit axis by θ (nalgebra's axis-angle) or a translation along it. It
+//! uses none of the screw machinery, so it is the independent oracle for the
+//! product-of-exponentials FK: slow (allocates, looks names up), exact, URDF-literal.
+
+use nalgebra::{Matrix4, Rotation3, Translation3, Unit, Vector3};
+
+use crate::chain::Chain;
+use crate::error::{ErrorKind, ModelError};
+use crate::tree::{JointKind, Tree};
+
+/// The tip pose (4x4) of `chain` for variables `q`, composing the URDF transforms of `tree`
+/// along the chain's path; mimic joints follow `<mimic>` (θ = multiplier · θ_leader + offset).
+pub fn fk_by_composition(
+    tree: &Tree,
+    chain: &Chain,
+    q: &[f64],
+) -> Result<Matrix4<f64>, ModelError> {
+    let err = |k| ModelError::new(tree.source.clone(), k);
+    let base = tree.link(&chain.base)?;
+    let tip = tree.link(&chain.tip)?;
+    let path = tree.path(base, tip)?;
+    let position = |name: &str| -> Option<f64> {
+        chain
+            .variables
+            .iter()
+            .position(|v| v.name == name)
+            .map(|k| q[k])
+    };
+    let mut t = Matrix4::identity();
+    for j in path {
+        let joint = &tree.joints[j];
+        let origin = Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous()
+            * Rotation3::from_euler_angles(
+                joint.origin_rpy[0],
+                joint.origin_rpy[1],
+                joint.origin_rpy[2],
+            )
+            .to_homogeneous();
+        t *= origin;
+        if !joint.kind.is_movable() {
+            continue;
+        }
+        let mut theta = position(&joint.name);
+        if theta.is_none() {
+            // Follow the mimic chain to a variable of the chain.
+            let (mut cur, mut m, mut o) = (j, 1.0, 0.0);
+            while let Some(mimic) = &tree.joints[cur].mimic {
+                o += m * mimic.offset;
+                m *= mimic.multiplier;
+                cur = tree.joint(&mimic.leader).ok_or_else(|| {
+                    err(ErrorKind::Mimic {
+                        joint: joint.name.clone(),
+                        problem: format!("unknown joint \"{}\"", mimic.leader),
+                    })
+                })?;
+                if let Some(x) = position(&tree.joints[cur].name) {
+                    theta = Some(m * x + o);
+                    break;
+                }
+            }
+        }
+        let theta = theta.ok_or_else(|| {
+            err(ErrorKind::Mimic {
+                joint: joint.name.clone(),
+                problem: "a joint that is not a variable of the chain".into(),
+            })
+        })?;
+        let axis = Unit::new_normalize(Vector3::from(joint.axis));
+        let motion = if joint.kind == JointKind::Prismatic {
+            Translation3::from(axis.into_inner() * theta).to_homogeneous()
+        } else {
+            Rotation3::from_axis_angle(&axis, theta).to_homogeneous()
+        };
+        t *= motion;
+    }
+    Ok(t)
+}

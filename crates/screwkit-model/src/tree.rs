@@ -1,0 +1,390 @@
+//! The kinematic tree: links, joints and the paths between links.
+
+use std::collections::HashMap;
+
+use nalgebra::Vector3;
+use screwkit_lie::Se3;
+
+use crate::error::{ErrorKind, ModelError};
+
+/// The type of a URDF joint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JointKind {
+    /// Rotation about the axis within limits.
+    Revolute,
+    /// Rotation about the axis without limits.
+    Continuous,
+    /// Translation along the axis within limits.
+    Prismatic,
+    /// No motion.
+    Fixed,
+    /// 6-DoF free joint (not supported on a chain).
+    Floating,
+    /// 3-DoF planar joint (not supported on a chain).
+    Planar,
+    /// 3-DoF ball joint (not supported on a chain).
+    Spherical,
+}
+
+impl JointKind {
+    /// The URDF spelling (`"revolute"`, …).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Continuous => "continuous",
+            JointKind::Prismatic => "prismatic",
+            JointKind::Fixed => "fixed",
+            JointKind::Floating => "floating",
+            JointKind::Planar => "planar",
+            JointKind::Spherical => "spherical",
+        }
+    }
+
+    /// True for the one-variable joints a chain can hold (revolute, continuous, prismatic).
+    pub fn is_movable(self) -> bool {
+        matches!(
+            self,
+            JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic
+        )
+    }
+}
+
+/// `<limit>` of a joint as written in the file.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Limit {
+    /// Lower position limit (rad or m).
+    pub lower: f64,
+    /// Upper position limit (rad or m).
+    pub upper: f64,
+    /// Velocity limit, if the attribute was written.
+    pub velocity: Option<f64>,
+    /// Effort limit, if the attribute was written.
+    pub effort: Option<f64>,
+}
+
+/// `<mimic joint multiplier offset>`: this joint's position is multiplier · q_leader + offset.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mimic {
+    /// The joint followed.
+    pub leader: String,
+    /// Multiplier (default 1).
+    pub multiplier: f64,
+    /// Offset (default 0).
+    pub offset: f64,
+}
+
+/// A joint of the tree, as read from the URDF (not yet validated for chain use).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TreeJoint {
+    /// Joint name.
+    pub name: String,
+    /// Joint type.
+    pub kind: JointKind,
+    /// Index of the parent link.
+    pub parent: usize,
+    /// Index of the child link.
+    pub child: usize,
+    /// `<origin xyz>` (zero when absent).
+    pub origin_xyz: [f64; 3],
+    /// `<origin rpy>` (zero when absent), fixed axes: R = R_z(y) R_y(p) R_x(r).
+    pub origin_rpy: [f64; 3],
+    /// `<axis xyz>` as written (default (1, 0, 0)); normalised when a chain is built.
+    pub axis: [f64; 3],
+    /// `<limit>`, if present.
+    pub limit: Option<Limit>,
+    /// `<mimic>`, if present.
+    pub mimic: Option<Mimic>,
+}
+
+impl TreeJoint {
+    /// The joint frame in the parent link frame at zero position (`<origin>`), checked finite.
+    pub fn origin(&self) -> Result<Se3, ErrorKind> {
+        Se3::from_xyz_rpy(self.origin_xyz, self.origin_rpy).map_err(|_| ErrorKind::NonFinite {
+            joint: self.name.clone(),
+            what: "<origin>".into(),
+        })
+    }
+
+    /// The unit axis, checked: finite and non-zero (for movable joints).
+    pub fn unit_axis(&self) -> Result<Vector3<f64>, ErrorKind> {
+        let a = Vector3::from(self.axis);
+        if !a.iter().all(|x| x.is_finite()) {
+            return Err(ErrorKind::NonFinite {
+                joint: self.name.clone(),
+                what: "<axis>".into(),
+            });
+        }
+        let n = a.norm();
+        if n < 1e-12 {
+            return Err(ErrorKind::ZeroAxis(self.name.clone()));
+        }
+        Ok(a / n)
+    }
+}
+
+/// A URDF robot as a tree: one root, every other link with exactly one parent joint.
+#[derive(Debug, Clone)]
+pub struct Tree {
+    /// The robot's name.
+    pub name: String,
+    /// Where it was loaded from (file path or label), used in error messages.
+    pub source: String,
+    /// Link names, in file order.
+    pub links: Vec<String>,
+    /// Joints, in file order.
+    pub joints: Vec<TreeJoint>,
+    /// For each link, the joint whose child it is (`None` for the root).
+    pub parent_joint: Vec<Option<usize>>,
+    /// For each link, the joints whose parent it is.
+    pub child_joints: Vec<Vec<usize>>,
+    /// Index of the root link.
+    pub root: usize,
+    link_index: HashMap<String, usize>,
+    joint_index: HashMap<String, usize>,
+}
+
+/// Joins names for messages, shortening long lists.
+pub(crate) fn name_list<'a>(names: impl IntoIterator<Item = &'a str>) -> String {
+    let all: Vec<&str> = names.into_iter().collect();
+    let mut s = all
+        .iter()
+        .take(20)
+        .map(|n| format!("\"{n}\""))
+        .collect::<Vec<_>>()
+        .join(", ");
+    if all.len() > 20 {
+        s.push_str(&format!(", … ({} in all)", all.len()));
+    }
+    s
+}
+
+impl Tree {
+    /// Builds and validates the tree: unique names, existing parent/child links, one parent
+    /// per link, exactly one root, no cycles.
+    pub fn new(
+        name: String,
+        source: String,
+        links: Vec<String>,
+        joints: Vec<(TreeJointSpec, String, String)>,
+    ) -> Result<Tree, ModelError> {
+        let err = |kind| ModelError::new(source.clone(), kind);
+        let mut link_index = HashMap::new();
+        for (i, l) in links.iter().enumerate() {
+            if link_index.insert(l.clone(), i).is_some() {
+                return Err(err(ErrorKind::Duplicate {
+                    what: "link",
+                    name: l.clone(),
+                }));
+            }
+        }
+        if links.is_empty() {
+            return Err(err(ErrorKind::NoRoot("the robot has no links".into())));
+        }
+        let mut joint_index = HashMap::new();
+        let mut tree_joints = Vec::with_capacity(joints.len());
+        let mut parent_joint: Vec<Option<usize>> = vec![None; links.len()];
+        let mut child_joints = vec![Vec::new(); links.len()];
+        for (j, (spec, parent, child)) in joints.into_iter().enumerate() {
+            if joint_index.insert(spec.name.clone(), j).is_some() {
+                return Err(err(ErrorKind::Duplicate {
+                    what: "joint",
+                    name: spec.name,
+                }));
+            }
+            let find = |link: &str, role| {
+                link_index.get(link).copied().ok_or_else(|| {
+                    err(ErrorKind::MissingLink {
+                        joint: spec.name.clone(),
+                        role,
+                        link: link.to_string(),
+                    })
+                })
+            };
+            let p = find(&parent, "parent")?;
+            let c = find(&child, "child")?;
+            if let Some(first) = parent_joint[c] {
+                let first: &TreeJoint = &tree_joints[first];
+                return Err(err(ErrorKind::TwoParents {
+                    link: child,
+                    first: first.name.clone(),
+                    second: spec.name,
+                }));
+            }
+            parent_joint[c] = Some(j);
+            child_joints[p].push(j);
+            tree_joints.push(spec.into_joint(p, c));
+        }
+        let roots: Vec<usize> = (0..links.len())
+            .filter(|&l| parent_joint[l].is_none())
+            .collect();
+        let root = match roots.as_slice() {
+            [r] => *r,
+            [] => {
+                return Err(err(ErrorKind::NoRoot(
+                    "every link is the child of a joint, so the joints form a cycle".into(),
+                )))
+            }
+            _ => {
+                return Err(err(ErrorKind::SeveralRoots(name_list(
+                    roots.iter().map(|&r| links[r].as_str()),
+                ))))
+            }
+        };
+        // With one root and one parent per link, a link not reachable from the root is on a
+        // cycle.
+        let mut seen = vec![false; links.len()];
+        let mut stack = vec![root];
+        while let Some(l) = stack.pop() {
+            seen[l] = true;
+            for &j in &child_joints[l] {
+                let c = tree_joints[j].child;
+                if !seen[c] {
+                    stack.push(c);
+                }
+            }
+        }
+        if seen.iter().any(|s| !s) {
+            return Err(err(ErrorKind::Cycle(name_list(
+                (0..links.len())
+                    .filter(|&l| !seen[l])
+                    .map(|l| links[l].as_str()),
+            ))));
+        }
+        Ok(Tree {
+            name,
+            source,
+            links,
+            joints: tree_joints,
+            parent_joint,
+            child_joints,
+            root,
+            link_index,
+            joint_index,
+        })
+    }
+
+    fn error(&self, kind: ErrorKind) -> ModelError {
+        ModelError::new(self.source.clone(), kind)
+    }
+
+    /// The index of a link by name; an error listing the links if unknown.
+    pub fn link(&self, name: &str) -> Result<usize, ModelError> {
+        self.link_index.get(name).copied().ok_or_else(|| {
+            self.error(ErrorKind::UnknownLink {
+                link: name.to_string(),
+                available: name_list(self.links.iter().map(String::as_str)),
+            })
+        })
+    }
+
+    /// The index of a joint by name.
+    pub fn joint(&self, name: &str) -> Option<usize> {
+        self.joint_index.get(name).copied()
+    }
+
+    /// The leaf links (no child joints) at or below `link`, in depth-first order.
+    pub fn leaves_below(&self, link: usize) -> Vec<usize> {
+        let mut out = Vec::new();
+        let mut stack = vec![link];
+        while let Some(l) = stack.pop() {
+            if self.child_joints[l].is_empty() {
+                out.push(l);
+            }
+            for &j in self.child_joints[l].iter().rev() {
+                stack.push(self.joints[j].child);
+            }
+        }
+        out
+    }
+
+    /// The joints from `base` down to `tip`, in order; an error if `base` is not an ancestor
+    /// of `tip`.
+    pub fn path(&self, base: usize, tip: usize) -> Result<Vec<usize>, ModelError> {
+        if base == tip {
+            return Err(self.error(ErrorKind::SameLink(self.links[base].clone())));
+        }
+        let mut path = Vec::new();
+        let mut l = tip;
+        while l != base {
+            match self.parent_joint[l] {
+                Some(j) => {
+                    path.push(j);
+                    l = self.joints[j].parent;
+                }
+                None => {
+                    return Err(self.error(ErrorKind::NotAncestor {
+                        base: self.links[base].clone(),
+                        tip: self.links[tip].clone(),
+                    }))
+                }
+            }
+        }
+        path.reverse();
+        Ok(path)
+    }
+
+    /// The default chain ends: base = the given link or the root; tip = the given link or
+    /// the single leaf below the base (an error listing the leaves if there are several).
+    pub fn default_ends(
+        &self,
+        base: Option<&str>,
+        tip: Option<&str>,
+    ) -> Result<(usize, usize), ModelError> {
+        let b = match base {
+            Some(n) => self.link(n)?,
+            None => self.root,
+        };
+        let t = match tip {
+            Some(n) => self.link(n)?,
+            None => {
+                let leaves = self.leaves_below(b);
+                match leaves.as_slice() {
+                    [one] => *one,
+                    _ => {
+                        return Err(self.error(ErrorKind::AmbiguousTip {
+                            base: self.links[b].clone(),
+                            count: leaves.len(),
+                            leaves: name_list(leaves.iter().map(|&l| self.links[l].as_str())),
+                        }))
+                    }
+                }
+            }
+        };
+        Ok((b, t))
+    }
+}
+
+/// A joint as parsed, before its links are resolved to indices.
+#[derive(Debug, Clone)]
+pub struct TreeJointSpec {
+    /// Joint name.
+    pub name: String,
+    /// Joint type.
+    pub kind: JointKind,
+    /// `<origin xyz>`.
+    pub origin_xyz: [f64; 3],
+    /// `<origin rpy>`.
+    pub origin_rpy: [f64; 3],
+    /// `<axis xyz>`.
+    pub axis: [f64; 3],
+    /// `<limit>`.
+    pub limit: Option<Limit>,
+    /// `<mimic>`.
+    pub mimic: Option<Mimic>,
+}
+
+impl TreeJointSpec {
+    fn into_joint(self, parent: usize, child: usize) -> TreeJoint {
+        TreeJoint {
+            name: self.name,
+            kind: self.kind,
+            parent,
+            child,
+            origin_xyz: self.origin_xyz,
+            origin_rpy: self.origin_rpy,
+            axis: self.axis,
+            limit: self.limit,
+            mimic: self.mimic,
+        }
+    }
+}

@@ -1,0 +1,261 @@
+//! Reading URDF: a strict pre-pass over the XML, then urdf-rs, then the [`Tree`].
+//!
+//! urdf-rs (0.10) is the parser, but three of its behaviours would let bad files through or
+//! reject good ones, so a pre-pass with `roxmltree` runs first:
+//!
+//! - **Silently shortened vectors.** urdf-rs drops tokens that are not numbers
+//!   (`xyz="1 a 2 3"` reads as `1 2 3`). The pre-pass checks every numeric attribute of every
+//!   joint (`<origin xyz rpy>`, `<axis xyz>`, `<limit …>`, `<mimic …>`): exactly the expected
+//!   count of tokens, each a number, or an error naming the joint.
+//! - **A missing `<limit>` reads as [0, 0].** The pre-pass records whether `<limit>` was
+//!   written; a revolute or prismatic joint without one is an error on the chain (as in
+//!   urdfdom). Continuous joints ignore any limit.
+//! - **`<limit>` without `velocity` (or `effort`) is rejected** by urdf-rs for URDF < 1.2,
+//!   though real files omit them. The pre-pass hands urdf-rs a copy with the missing
+//!   attributes filled in, and the model records them as absent.
+//!
+//! urdf-rs also sees only what kinematics needs: each `<link>` as its name and each top-level
+//! `<joint>` with its `<origin>`, `<parent>`, `<child>`, `<axis>`, `<limit>` and `<mimic>`, so
+//! meshes, materials, inertia, collision, `<transmission>` and `<gazebo>` blocks (which may
+//! hold their own `<joint>` elements) can never make a file fail. xacro files are detected
+//! (`<xacro:…>` elements, `${…}`/`$(…)` in attribute values; not the mere `xmlns:xacro`
+//! declaration, which xacro leaves in its output) and refused with advice.
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use crate::error::{ErrorKind, ModelError};
+use crate::tree::{JointKind, Limit, Mimic, Tree, TreeJointSpec};
+
+const XACRO_NS: &str = "http://www.ros.org/wiki/xacro";
+
+/// Loads a URDF file into a [`Tree`].
+pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
+    let path = path.as_ref();
+    let label = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ModelError::new(label.clone(), ErrorKind::Io(e.to_string())))?;
+    load_str(&text, &label)
+}
+
+/// Loads URDF text into a [`Tree`]; `source` names it in error messages.
+pub fn load_str(text: &str, source: &str) -> Result<Tree, ModelError> {
+    let err = |kind| ModelError::new(source, kind);
+    if text.trim().is_empty() {
+        return Err(err(ErrorKind::Empty));
+    }
+    let opts = roxmltree::ParsingOptions {
+        allow_dtd: true,
+        ..Default::default()
+    };
+    let doc = roxmltree::Document::parse_with_options(text, opts).map_err(|e| {
+        if text.contains("<xacro:") {
+            err(ErrorKind::Xacro("it uses <xacro:…> elements".into()))
+        } else {
+            err(ErrorKind::Xml(e.to_string()))
+        }
+    })?;
+    let robot = doc.root_element();
+    if robot.tag_name().name() != "robot" {
+        return Err(err(ErrorKind::NotARobot(robot.tag_name().name().into())));
+    }
+    detect_xacro(&doc).map_err(err)?;
+    let (clean, facts) = pre_pass(text, &robot).map_err(err)?;
+    let parsed =
+        urdf_rs::read_from_string(&clean).map_err(|e| err(ErrorKind::Urdf(e.to_string())))?;
+    let links = parsed.links.iter().map(|l| l.name.clone()).collect();
+    let joints = parsed
+        .joints
+        .iter()
+        .map(|j| {
+            let fact = facts.get(&j.name).copied().unwrap_or_default();
+            let kind = match j.joint_type {
+                urdf_rs::JointType::Revolute => JointKind::Revolute,
+                urdf_rs::JointType::Continuous => JointKind::Continuous,
+                urdf_rs::JointType::Prismatic => JointKind::Prismatic,
+                urdf_rs::JointType::Fixed => JointKind::Fixed,
+                urdf_rs::JointType::Floating => JointKind::Floating,
+                urdf_rs::JointType::Planar => JointKind::Planar,
+                urdf_rs::JointType::Spherical => JointKind::Spherical,
+            };
+            let limit = fact.has_limit.then(|| Limit {
+                lower: j.limit.lower,
+                upper: j.limit.upper,
+                velocity: fact.has_velocity.then_some(j.limit.velocity),
+                effort: fact.has_effort.then_some(j.limit.effort),
+            });
+            let spec = TreeJointSpec {
+                name: j.name.clone(),
+                kind,
+                origin_xyz: j.origin.xyz.0,
+                origin_rpy: j.origin.rpy.0,
+                axis: j.axis.xyz.0,
+                limit,
+                mimic: j.mimic.as_ref().map(|m| Mimic {
+                    leader: m.joint.clone(),
+                    multiplier: m.multiplier.unwrap_or(1.0),
+                    offset: m.offset.unwrap_or(0.0),
+                }),
+            };
+            (spec, j.parent.link.clone(), j.child.link.clone())
+        })
+        .collect();
+    Tree::new(parsed.name, source.to_string(), links, joints)
+}
+
+/// xacro markers: elements in the xacro namespace or `${…}` / `$(…)` in attribute values.
+fn detect_xacro(doc: &roxmltree::Document) -> Result<(), ErrorKind> {
+    for node in doc.descendants().filter(|n| n.is_element()) {
+        let line = doc.text_pos_at(node.range().start).row;
+        if node.tag_name().namespace() == Some(XACRO_NS) {
+            return Err(ErrorKind::Xacro(format!(
+                "<xacro:{}> at line {line}",
+                node.tag_name().name()
+            )));
+        }
+        for a in node.attributes() {
+            if a.value().contains("${") || a.value().contains("$(") {
+                return Err(ErrorKind::Xacro(format!(
+                    "{}=\"{}\" at line {line}",
+                    a.name(),
+                    a.value()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What the pre-pass learned about a joint's `<limit>`.
+#[derive(Debug, Clone, Copy, Default)]
+struct LimitFacts {
+    has_limit: bool,
+    has_velocity: bool,
+    has_effort: bool,
+}
+
+/// Checks the numeric attributes of every top-level joint and writes the reduced document
+/// that urdf-rs parses.
+fn pre_pass(
+    text: &str,
+    robot: &roxmltree::Node,
+) -> Result<(String, HashMap<String, LimitFacts>), ErrorKind> {
+    let mut out = String::with_capacity(text.len() / 4);
+    out.push_str("<robot");
+    for attr in ["name", "version"] {
+        if let Some(v) = robot.attribute(attr) {
+            out.push_str(&format!(" {attr}=\"{}\"", escape(v)));
+        }
+    }
+    out.push_str(">\n");
+    let mut facts = HashMap::new();
+    for node in robot.children().filter(|n| n.is_element()) {
+        match node.tag_name().name() {
+            "link" => {
+                // urdf-rs requires the name; let it report a missing one.
+                match node.attribute("name") {
+                    Some(n) => out.push_str(&format!("<link name=\"{}\"/>\n", escape(n))),
+                    None => out.push_str("<link/>\n"),
+                }
+            }
+            "joint" => {
+                let (xml, fact) = joint_for_urdf_rs(text, &node)?;
+                out.push_str(&xml);
+                if let Some(n) = node.attribute("name") {
+                    facts.insert(n.to_string(), fact);
+                }
+            }
+            _ => {}
+        }
+    }
+    out.push_str("</robot>\n");
+    Ok((out, facts))
+}
+
+/// One `<joint>` reduced to its kinematic children, numbers checked, `<limit>` completed.
+fn joint_for_urdf_rs(
+    text: &str,
+    node: &roxmltree::Node,
+) -> Result<(String, LimitFacts), ErrorKind> {
+    let name = node.attribute("name").unwrap_or("");
+    let mut out = String::from("<joint");
+    for attr in ["name", "type"] {
+        if let Some(v) = node.attribute(attr) {
+            out.push_str(&format!(" {attr}=\"{}\"", escape(v)));
+        }
+    }
+    out.push('>');
+    let mut fact = LimitFacts::default();
+    for child in node.children().filter(|n| n.is_element()) {
+        let tag = child.tag_name().name();
+        let checks: &[(&str, usize)] = match tag {
+            "origin" => &[("xyz", 3), ("rpy", 3)],
+            "axis" => &[("xyz", 3)],
+            "limit" => &[("lower", 1), ("upper", 1), ("effort", 1), ("velocity", 1)],
+            "mimic" => &[("multiplier", 1), ("offset", 1)],
+            "parent" | "child" => &[],
+            _ => continue,
+        };
+        for &(attr, count) in checks {
+            if let Some(v) = child.attribute(attr) {
+                check_numbers(name, tag, attr, v, count)?;
+            }
+        }
+        let slice = &text[child.range()];
+        if tag == "limit" {
+            fact.has_limit = true;
+            fact.has_velocity = child.attribute("velocity").is_some();
+            fact.has_effort = child.attribute("effort").is_some();
+            let mut extra = String::new();
+            if !fact.has_velocity {
+                extra.push_str(" velocity=\"0\"");
+            }
+            if !fact.has_effort {
+                extra.push_str(" effort=\"0\"");
+            }
+            // The element text starts with "<limit"; add the attributes right after it.
+            let head = "<limit".len().min(slice.len());
+            out.push_str(&slice[..head]);
+            out.push_str(&extra);
+            out.push_str(&slice[head..]);
+        } else {
+            out.push_str(slice);
+        }
+    }
+    out.push_str("</joint>\n");
+    Ok((out, fact))
+}
+
+/// Exactly `count` whitespace-separated tokens, each a number (NaN/inf are caught later, on
+/// the chain, with the joint's name).
+fn check_numbers(
+    joint: &str,
+    tag: &str,
+    attr: &str,
+    value: &str,
+    count: usize,
+) -> Result<(), ErrorKind> {
+    let bad = |problem: String| ErrorKind::BadNumber {
+        element: format!("joint \"{joint}\" <{tag}>"),
+        attribute: attr.to_string(),
+        value: value.to_string(),
+        problem,
+    };
+    let tokens: Vec<&str> = value.split_whitespace().collect();
+    if let Some(t) = tokens.iter().find(|t| t.parse::<f64>().is_err()) {
+        return Err(bad(format!("\"{t}\" is not a number")));
+    }
+    if tokens.len() != count {
+        return Err(bad(format!(
+            "expected {count} number(s), found {}",
+            tokens.len()
+        )));
+    }
+    Ok(())
+}
+
+fn escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('"', "&quot;")
+}
