@@ -113,7 +113,7 @@ pub enum ErrorKind {
     #[error("base and tip are the same link \"{0}\"")]
     SameLink(String),
     /// The tip was not given and there is more than one leaf below the base.
-    #[error("cannot choose a tip link: {count} leaf links below \"{base}\" ({leaves}); pick one with --tip")]
+    #[error("cannot choose a tip link: {count} leaf links below \"{base}\" ({leaves}); pick one as the tip (--tip)")]
     AmbiguousTip {
         /// The base.
         base: String,

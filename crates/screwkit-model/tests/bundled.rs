@@ -9,7 +9,15 @@ use screwkit_model::reference::fk_by_composition;
 use screwkit_model::{load_chain, urdf, ErrorKind, JointKind};
 
 /// (file, base, tip, expected DoF, expected joints on the path)
-const CHAINS: &[(&str, Option<&str>, Option<&str>, usize, usize)] = &[
+type ChainCase = (
+    &'static str,
+    Option<&'static str>,
+    Option<&'static str>,
+    usize,
+    usize,
+);
+
+const CHAINS: &[ChainCase] = &[
     ("planar_3r.urdf", None, None, 3, 3),
     ("ur5.urdf", None, None, 6, 6),
     ("panda.urdf", None, None, 7, 7),
