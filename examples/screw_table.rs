@@ -10,7 +10,11 @@ fn main() {
         eprintln!("usage: screw_table URDF [BASE TIP]");
         std::process::exit(2);
     };
-    match load_chain(path, args.get(1).map(String::as_str), args.get(2).map(String::as_str)) {
+    match load_chain(
+        path,
+        args.get(1).map(String::as_str),
+        args.get(2).map(String::as_str),
+    ) {
         Ok(chain) => print!("{}", table::to_markdown(&chain, table::Frame::Both)),
         Err(e) => {
             eprintln!("error: {e}");

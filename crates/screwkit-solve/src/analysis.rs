@@ -1,0 +1,103 @@
+//! Singularity analysis of a Jacobian from its SVD (faer).
+//!
+//! Caveat of the field: J mixes units (rad/s and m/s rows), so singular values and the condition
+//! number depend on the length unit; the rank and the lost directions do not.
+
+use faer::Mat;
+use nalgebra::{Matrix3, Matrix6xX, SymmetricEigen, Vector3, Vector6};
+
+use crate::error::SolveError;
+
+/// A manipulability ellipsoid {J q̇ : ‖q̇‖ ≤ 1} projected on 3 rows (angular or linear):
+/// principal axes are the eigenvectors of A = J_p J_pᵀ, semi-axis lengths √λ_i.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ellipsoid {
+    /// Unit principal axes, longest first.
+    pub axes: [Vector3<f64>; 3],
+    /// Semi-axis lengths √λ_i, longest first.
+    pub lengths: [f64; 3],
+}
+
+/// What the SVD J = U Σ Vᵀ says about a configuration.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Analysis {
+    /// The min(6, n) singular values σ₁ ≥ σ₂ ≥ … ≥ 0.
+    pub singular_values: Vec<f64>,
+    /// Number of σ_i above [`Analysis::rank_tolerance`]; at most min(6, n).
+    pub rank: usize,
+    /// σ_i ≤ max(6, n) · ε · σ₁ counts as zero (the LAPACK/NumPy `matrix_rank` convention).
+    pub rank_tolerance: f64,
+    /// Yoshikawa's manipulability √det(J Jᵀ) = σ₁ ⋯ σ₆ (0 when n < 6).
+    pub manipulability: f64,
+    /// σ₁ / σ_min(6,n) (∞ when the smallest is 0).
+    pub condition_number: f64,
+    /// det J for a square (6 × 6) Jacobian.
+    pub determinant: Option<f64>,
+    /// The angular-velocity ellipsoid (rows ω).
+    pub angular: Ellipsoid,
+    /// The linear-velocity ellipsoid (rows v).
+    pub linear: Ellipsoid,
+    /// Twist directions the chain cannot produce: the left singular vectors u_i with
+    /// σ_i ≤ tolerance, plus u_{n+1..6} when n < 6. Ordered (ω, v).
+    pub lost_directions: Vec<Vector6<f64>>,
+    /// The twist direction of the smallest singular value (the motion that is hardest to make).
+    pub weakest_direction: Vector6<f64>,
+}
+
+fn ellipsoid(a: Matrix3<f64>) -> Ellipsoid {
+    let eig = SymmetricEigen::new(a);
+    let mut idx = [0usize, 1, 2];
+    idx.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
+    Ellipsoid {
+        axes: idx.map(|i| eig.eigenvectors.column(i).into_owned()),
+        lengths: idx.map(|i| eig.eigenvalues[i].max(0.0).sqrt()),
+    }
+}
+
+/// Analyses a 6 × n Jacobian (space or body; the directions are in its frame).
+pub fn analyze(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
+    let n = j.ncols();
+    if j.iter().any(|x| !x.is_finite()) {
+        return Err(SolveError::Numerical(
+            "the Jacobian has non-finite entries".into(),
+        ));
+    }
+    let m = Mat::<f64>::from_fn(6, n, |r, c| j[(r, c)]);
+    let svd = m
+        .svd()
+        .map_err(|e| SolveError::Numerical(format!("SVD did not converge: {e:?}")))?;
+    let k = n.min(6);
+    let s = svd.S().column_vector();
+    let singular_values: Vec<f64> = (0..k).map(|i| s[i]).collect();
+    let s1 = singular_values.first().copied().unwrap_or(0.0);
+    let rank_tolerance = 6.max(n) as f64 * f64::EPSILON * s1;
+    let rank = singular_values
+        .iter()
+        .filter(|&&x| x > rank_tolerance)
+        .count();
+    let u = svd.U();
+    let col = |i: usize| Vector6::from_fn(|r, _| u[(r, i)]);
+    let lost_directions = (0..6)
+        .filter(|&i| i >= k || singular_values[i] <= rank_tolerance)
+        .map(col)
+        .collect();
+    let smin = singular_values.last().copied().unwrap_or(0.0);
+    let jw = j.fixed_rows::<3>(0);
+    let jv = j.fixed_rows::<3>(3);
+    Ok(Analysis {
+        manipulability: if n >= 6 {
+            singular_values.iter().product()
+        } else {
+            0.0
+        },
+        condition_number: if smin > 0.0 { s1 / smin } else { f64::INFINITY },
+        determinant: (n == 6).then(|| j.fixed_columns::<6>(0).into_owned().determinant()),
+        angular: ellipsoid(jw * jw.transpose()),
+        linear: ellipsoid(jv * jv.transpose()),
+        lost_directions,
+        weakest_direction: col(k.saturating_sub(1)),
+        singular_values,
+        rank,
+        rank_tolerance,
+    })
+}

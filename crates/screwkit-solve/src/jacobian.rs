@@ -1,0 +1,84 @@
+//! Space and body Jacobians, computed with the pose in one O(n) pass.
+//!
+//! Space: J_s column i = \[Ad_{e^[S₁]θ₁ ⋯ e^[S_{i−1}]θ_{i−1}}\] S_i, so V_s = J_s q̇.
+//! Body: J_b = \[Ad_{T⁻¹}\] J_s, so V_b = J_b q̇. Rows are (ω, v). With mimic joints, the
+//! column of a variable is Σ multiplier_j · (column of joint j) over the joints it drives.
+
+use nalgebra::Matrix6xX;
+use screwkit_lie::Se3;
+
+use crate::error::SolveError;
+use crate::kinematics::{Kinematics, Workspace};
+
+/// Pose and space Jacobian in one pass, unchecked (q must have `dof` finite entries).
+#[inline]
+pub(crate) fn fk_jacobian_space_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
+    if !kin.identity_map {
+        jac.fill(0.0);
+    }
+    let mut t = Se3::identity();
+    for (j, jc) in kin.joints.iter().enumerate() {
+        let col = t.adjoint_apply(&jc.s);
+        let c = col.to_vector();
+        if kin.identity_map {
+            jac.set_column(j, &c);
+        } else {
+            let mut dst = jac.column_mut(jc.variable);
+            dst.axpy(jc.multiplier, &c, 1.0);
+        }
+        t = t.compose(&jc.exp(kin.theta(j, q)));
+    }
+    t.compose(&kin.home)
+}
+
+/// Pose and body Jacobian in one pass, unchecked.
+#[inline]
+pub(crate) fn fk_jacobian_body_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
+    let t = fk_jacobian_space_into(kin, jac, q);
+    for k in 0..jac.ncols() {
+        let col = screwkit_lie::Twist::from_vector(&jac.column(k).into_owned());
+        jac.set_column(k, &t.adjoint_inverse_apply(&col).to_vector());
+    }
+    t
+}
+
+/// The tip pose and the space Jacobian J_s(q) (6 × dof, in the workspace).
+pub fn fk_jacobian_space<'w>(
+    kin: &Kinematics,
+    ws: &'w mut Workspace,
+    q: &[f64],
+) -> Result<(Se3, &'w Matrix6xX<f64>), SolveError> {
+    kin.check_q(q)?;
+    let t = fk_jacobian_space_into(kin, &mut ws.jacobian, q);
+    Ok((t, &ws.jacobian))
+}
+
+/// The tip pose and the body Jacobian J_b(q) = \[Ad_{T⁻¹}\] J_s(q) (6 × dof, in the workspace).
+pub fn fk_jacobian_body<'w>(
+    kin: &Kinematics,
+    ws: &'w mut Workspace,
+    q: &[f64],
+) -> Result<(Se3, &'w Matrix6xX<f64>), SolveError> {
+    kin.check_q(q)?;
+    let t = fk_jacobian_body_into(kin, &mut ws.jacobian, q);
+    Ok((t, &ws.jacobian))
+}
+
+/// Which frame a Jacobian or twist is expressed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Frame {
+    /// The base (space) frame.
+    Space,
+    /// The tip (body) frame.
+    Body,
+}
+
+/// The Jacobian in the chosen frame, as an owned matrix (allocates; for one-off use).
+pub fn jacobian(kin: &Kinematics, q: &[f64], frame: Frame) -> Result<Matrix6xX<f64>, SolveError> {
+    let mut ws = Workspace::new(kin);
+    match frame {
+        Frame::Space => fk_jacobian_space(kin, &mut ws, q)?,
+        Frame::Body => fk_jacobian_body(kin, &mut ws, q)?,
+    };
+    Ok(ws.jacobian)
+}

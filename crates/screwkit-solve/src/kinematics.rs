@@ -1,0 +1,228 @@
+//! Immutable per-chain data prepared for speed ([`Kinematics`]) and reusable scratch
+//! ([`Workspace`]) — the model/data split of Pinocchio.
+
+use nalgebra::{Matrix3, Matrix6xX, Vector3};
+use screwkit_lie::{so3, Se3, Twist};
+use screwkit_model::{Chain, JointKind};
+
+use crate::error::SolveError;
+
+/// Per-joint constants of the closed-form exponential of a unit screw S = (ω, v).
+#[derive(Debug, Clone)]
+pub(crate) struct JointConst {
+    pub(crate) prismatic: bool,
+    pub(crate) s: Twist,
+    w_hat: Matrix3<f64>,
+    w_hat2: Matrix3<f64>,
+    wv: Vector3<f64>,
+    wwv: Vector3<f64>,
+    pub(crate) variable: usize,
+    pub(crate) multiplier: f64,
+    pub(crate) offset: f64,
+}
+
+impl JointConst {
+    fn new(s: Twist, prismatic: bool, variable: usize, multiplier: f64, offset: f64) -> Self {
+        let wv = s.w.cross(&s.v);
+        Self {
+            prismatic,
+            w_hat: so3::hat(&s.w),
+            w_hat2: so3::hat(&s.w) * so3::hat(&s.w),
+            wv,
+            wwv: s.w.cross(&wv),
+            s,
+            variable,
+            multiplier,
+            offset,
+        }
+    }
+
+    /// e^[S]θ for a unit screw with precomputed [ω], [ω]², ω × v, ω × (ω × v):
+    /// revolute R = I + sin θ [ω] + (1 − cos θ)[ω]², p = θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v)
+    /// (one sin/cos); prismatic R = I, p = θ v (no trigonometry).
+    #[inline(always)]
+    pub(crate) fn exp(&self, theta: f64) -> Se3 {
+        if self.prismatic {
+            return Se3::from_parts_unchecked(Matrix3::identity(), self.s.v * theta);
+        }
+        let (s, c) = theta.sin_cos();
+        let omc = 1.0 - c;
+        let r = Matrix3::identity() + self.w_hat * s + self.w_hat2 * omc;
+        let p = self.s.v * theta + self.wv * omc + self.wwv * (theta - s);
+        Se3::from_parts_unchecked(r, p)
+    }
+}
+
+/// The immutable kinematic model of a chain, prepared for the solvers: per-joint constants,
+/// M, limits, names. Build once with [`Kinematics::new`], share freely (it is `Sync`).
+#[derive(Debug, Clone)]
+pub struct Kinematics {
+    pub(crate) joints: Vec<JointConst>,
+    pub(crate) body: Vec<Twist>,
+    pub(crate) home: Se3,
+    pub(crate) links: Vec<(String, Se3, usize)>,
+    pub(crate) lower: Vec<f64>,
+    pub(crate) upper: Vec<f64>,
+    pub(crate) continuous: Vec<bool>,
+    pub(crate) names: Vec<String>,
+    pub(crate) identity_map: bool,
+}
+
+impl Kinematics {
+    /// Prepares a chain for solving.
+    pub fn new(chain: &Chain) -> Self {
+        let joints = chain
+            .joints
+            .iter()
+            .map(|j| {
+                JointConst::new(
+                    *j.s_space.twist(),
+                    j.kind == JointKind::Prismatic,
+                    j.variable,
+                    j.multiplier,
+                    j.offset,
+                )
+            })
+            .collect();
+        Self {
+            joints,
+            body: chain.joints.iter().map(|j| *j.b_body.twist()).collect(),
+            home: chain.home,
+            links: chain
+                .links
+                .iter()
+                .map(|l| (l.name.clone(), l.home, l.joints_before))
+                .collect(),
+            lower: chain.variables.iter().map(|v| v.lower).collect(),
+            upper: chain.variables.iter().map(|v| v.upper).collect(),
+            continuous: chain
+                .variables
+                .iter()
+                .map(|v| v.kind == JointKind::Continuous)
+                .collect(),
+            names: chain.variables.iter().map(|v| v.name.clone()).collect(),
+            identity_map: !chain.has_mimic(),
+        }
+    }
+
+    /// Number of independent variables (the length of q).
+    pub fn dof(&self) -> usize {
+        self.names.len()
+    }
+
+    /// Number of movable joints on the chain (≥ dof with mimic joints).
+    pub fn joint_count(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// Variable names, in order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Lower limits (−∞ for continuous joints).
+    pub fn lower(&self) -> &[f64] {
+        &self.lower
+    }
+
+    /// Upper limits (+∞ for continuous joints).
+    pub fn upper(&self) -> &[f64] {
+        &self.upper
+    }
+
+    /// True for continuous (unbounded revolute) variables.
+    pub fn continuous(&self) -> &[bool] {
+        &self.continuous
+    }
+
+    /// M: the tip pose at home.
+    pub fn home(&self) -> &Se3 {
+        &self.home
+    }
+
+    /// The names of the chain's links, base first.
+    pub fn link_names(&self) -> impl Iterator<Item = &str> {
+        self.links.iter().map(|l| l.0.as_str())
+    }
+
+    /// The midpoint of the limits (0 for unbounded variables): the default IK seed.
+    pub fn midpoint(&self) -> Vec<f64> {
+        self.lower
+            .iter()
+            .zip(&self.upper)
+            .map(|(&l, &u)| {
+                if l.is_finite() && u.is_finite() {
+                    0.5 * (l + u)
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
+    /// True when every variable is within its limits (inclusive, with `tol`).
+    pub fn within_limits(&self, q: &[f64], tol: f64) -> bool {
+        q.iter()
+            .zip(self.lower.iter().zip(&self.upper))
+            .all(|(&x, (&l, &u))| x >= l - tol && x <= u + tol)
+    }
+
+    /// Checks a joint vector: right length, all finite.
+    pub fn check_q(&self, q: &[f64]) -> Result<(), SolveError> {
+        if q.len() != self.dof() {
+            return Err(SolveError::WrongLength {
+                what: "joint values",
+                expected: self.dof(),
+                got: q.len(),
+                names: self.names.join(", "),
+            });
+        }
+        if let Some((i, &x)) = q.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            return Err(SolveError::NonFinite {
+                what: "joint value",
+                index: i,
+                name: self.names[i].clone(),
+                value: x,
+            });
+        }
+        Ok(())
+    }
+
+    /// θ_j of joint j for variables q.
+    #[inline(always)]
+    pub(crate) fn theta(&self, j: usize, q: &[f64]) -> f64 {
+        let jc = &self.joints[j];
+        if self.identity_map {
+            q[j]
+        } else {
+            jc.multiplier * q[jc.variable] + jc.offset
+        }
+    }
+}
+
+/// Reusable scratch for one thread: the hot paths write here and allocate nothing.
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    pub(crate) jacobian: Matrix6xX<f64>,
+    pub(crate) links: Vec<Se3>,
+}
+
+impl Workspace {
+    /// Scratch sized for `kin`.
+    pub fn new(kin: &Kinematics) -> Self {
+        Self {
+            jacobian: Matrix6xX::zeros(kin.dof()),
+            links: vec![Se3::identity(); kin.links.len()],
+        }
+    }
+
+    /// The last Jacobian computed (6 × dof, rows ω then v).
+    pub fn jacobian(&self) -> &Matrix6xX<f64> {
+        &self.jacobian
+    }
+
+    /// The last all-link poses computed, base first.
+    pub fn link_poses(&self) -> &[Se3] {
+        &self.links
+    }
+}

@@ -1,0 +1,87 @@
+//! Joint velocities from a twist and joint torques from a wrench.
+//!
+//! The twist/wrench must be expressed in the Jacobian's frame: (J_s, V_s, F_s) or
+//! (J_b, V_b, F_b).
+
+use faer::Mat;
+use nalgebra::{DVector, Matrix6, Matrix6xX, Vector6};
+use screwkit_lie::{Twist, Wrench};
+
+use crate::error::SolveError;
+
+/// q̇ = J⁻¹ V for a square, full-rank J (LU); an error when J is not 6 × 6 or is singular.
+pub fn joint_velocities_exact(j: &Matrix6xX<f64>, v: &Twist) -> Result<DVector<f64>, SolveError> {
+    if j.ncols() != 6 {
+        return Err(SolveError::Numerical(format!(
+            "an exact solve needs a square 6 × 6 Jacobian, this one is 6 × {}",
+            j.ncols()
+        )));
+    }
+    let sq: Matrix6<f64> = j.fixed_columns::<6>(0).into_owned();
+    let x = sq
+        .lu()
+        .solve(&v.to_vector())
+        .ok_or_else(|| SolveError::Numerical("the Jacobian is singular".into()))?;
+    Ok(DVector::from_column_slice(x.as_slice()))
+}
+
+/// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ (faer), σ_i ≤ `tolerance` treated as 0
+/// (default: max(6, n) · ε · σ₁). Least-squares and minimum-norm.
+pub fn joint_velocities_pinv(
+    j: &Matrix6xX<f64>,
+    v: &Twist,
+    tolerance: Option<f64>,
+) -> Result<DVector<f64>, SolveError> {
+    let n = j.ncols();
+    let m = Mat::<f64>::from_fn(6, n, |r, c| j[(r, c)]);
+    let svd = m
+        .thin_svd()
+        .map_err(|e| SolveError::Numerical(format!("SVD did not converge: {e:?}")))?;
+    let (u, s, vv) = (svd.U(), svd.S().column_vector(), svd.V());
+    let k = n.min(6);
+    let tol = tolerance.unwrap_or(6.max(n) as f64 * f64::EPSILON * if k > 0 { s[0] } else { 0.0 });
+    let b = v.to_vector();
+    let mut out = DVector::zeros(n);
+    for i in 0..k {
+        if s[i] <= tol {
+            continue;
+        }
+        let mut c = 0.0;
+        for r in 0..6 {
+            c += u[(r, i)] * b[r];
+        }
+        c /= s[i];
+        for r in 0..n {
+            out[r] += vv[(r, i)] * c;
+        }
+    }
+    Ok(out)
+}
+
+/// Damped least squares q̇ = Jᵀ (J Jᵀ + λ² I)⁻¹ V (6 × 6 Cholesky): bounded near singularities,
+/// exact as λ → 0 for full row rank.
+pub fn joint_velocities_dls(
+    j: &Matrix6xX<f64>,
+    v: &Twist,
+    lambda: f64,
+) -> Result<DVector<f64>, SolveError> {
+    if !(lambda.is_finite() && lambda > 0.0) {
+        return Err(SolveError::Numerical(format!(
+            "damping λ must be positive, got {lambda}"
+        )));
+    }
+    let mut a = Matrix6::identity() * (lambda * lambda);
+    for c in j.column_iter() {
+        a += c * c.transpose();
+    }
+    let y: Vector6<f64> = a
+        .cholesky()
+        .ok_or_else(|| SolveError::Numerical("J Jᵀ + λ²I is not positive definite".into()))?
+        .solve(&v.to_vector());
+    Ok(j.transpose() * y)
+}
+
+/// Joint torques balancing a tip wrench: τ = Jᵀ F (F in the Jacobian's frame).
+pub fn joint_torques(j: &Matrix6xX<f64>, f: &Wrench) -> DVector<f64> {
+    j.transpose() * f.to_vector()
+}

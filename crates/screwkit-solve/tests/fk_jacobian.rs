@@ -1,0 +1,152 @@
+//! FK and Jacobians against independent oracles: direct composition of URDF transforms,
+//! central finite differences of FK, and the adjoint relation between J_s and J_b.
+
+mod common;
+
+use common::{load, Rng, CHAINS};
+use nalgebra::Vector6;
+use screwkit_lie::Se3;
+use screwkit_model::reference::fk_by_composition;
+use screwkit_solve::fk::{fk, fk_all_links, fk_body, fk_unchecked};
+use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space, jacobian};
+use screwkit_solve::{Frame, SolveError, Workspace};
+
+#[test]
+fn fk_matches_composition_and_body_form() {
+    let mut rng = Rng(42);
+    for &(file, base, tip) in CHAINS {
+        let (tree, chain, kin) = load(file, base, tip);
+        for _ in 0..200 {
+            let q = rng.config(&kin);
+            let want = fk_by_composition(&tree, &chain, &q).unwrap();
+            let t = fk(&kin, &q).unwrap();
+            assert!((t.to_homogeneous() - want).amax() < 1e-12, "{file}");
+            let tb = fk_body(&kin, &q).unwrap();
+            assert!(
+                t.max_abs_diff(&tb) < 1e-12,
+                "{file}: space vs body {:e}",
+                t.max_abs_diff(&tb)
+            );
+        }
+    }
+}
+
+/// Planar 3R closed form: x = c1 + 0.8 c12 + 0.5 c123, y = s1 + 0.8 s12 + 0.5 s123.
+#[test]
+fn planar_closed_form() {
+    let (_, _, kin) = load("planar_3r.urdf", None, None);
+    let q = [0.3, -1.1, 2.0];
+    let t = fk(&kin, &q).unwrap();
+    let (a, b, c) = (q[0], q[0] + q[1], q[0] + q[1] + q[2]);
+    let x = a.cos() + 0.8 * b.cos() + 0.5 * c.cos();
+    let y = a.sin() + 0.8 * b.sin() + 0.5 * c.sin();
+    assert!((t.translation().x - x).abs() < 1e-15 && (t.translation().y - y).abs() < 1e-15);
+}
+
+/// Every link's pose equals direct composition to that link.
+#[test]
+fn all_links_match_composition() {
+    let mut rng = Rng(5);
+    for &(file, base, tip) in CHAINS {
+        let (tree, chain, kin) = load(file, base, tip);
+        let mut ws = Workspace::new(&kin);
+        let q = rng.config(&kin);
+        let poses = fk_all_links(&kin, &mut ws, &q).unwrap().to_vec();
+        assert_eq!(poses.len(), chain.links.len());
+        assert!(poses[0].max_abs_diff(&Se3::identity()) == 0.0);
+        for (link, pose) in chain.links.iter().zip(&poses).skip(1) {
+            let sub = screwkit_model::Chain::from_tree(&tree, Some(&chain.base), Some(&link.name))
+                .unwrap();
+            // The sub-chain's variables are a prefix subset of the chain's, by name.
+            let qs: Vec<f64> = sub
+                .variables
+                .iter()
+                .map(|v| {
+                    q[chain
+                        .variables
+                        .iter()
+                        .position(|w| w.name == v.name)
+                        .unwrap()]
+                })
+                .collect();
+            let want = fk_by_composition(&tree, &sub, &qs).unwrap();
+            assert!(
+                (pose.to_homogeneous() - want).amax() < 1e-12,
+                "{file}: {}",
+                link.name
+            );
+        }
+        assert!(poses.last().unwrap().max_abs_diff(&fk_unchecked(&kin, &q)) < 1e-15);
+    }
+}
+
+/// Body twist of a relative motion: log(T(q)⁻¹ T(q')).
+fn body_delta(t: &Se3, t2: &Se3) -> Vector6<f64> {
+    t.inverse_compose(t2).log().to_vector()
+}
+
+/// Space twist of a relative motion: log(T(q') T(q)⁻¹).
+fn space_delta(t: &Se3, t2: &Se3) -> Vector6<f64> {
+    (*t2 * t.inverse()).log().to_vector()
+}
+
+/// Central differences: J_b column k ≈ [log(T⁻¹T(q + h e_k)) − log(T⁻¹T(q − h e_k))]/2h, and
+/// J_s column k ≈ the same with T(q ± h e_k) T⁻¹ (i.e. [V_s] = Ṫ T⁻¹). Includes mimic and
+/// prismatic joints.
+#[test]
+fn jacobians_match_finite_differences() {
+    let mut rng = Rng(77);
+    let h = 1e-6;
+    for &(file, base, tip) in CHAINS {
+        let (_, _, kin) = load(file, base, tip);
+        let mut ws = Workspace::new(&kin);
+        for _ in 0..50 {
+            let q = rng.config(&kin);
+            let t = fk(&kin, &q).unwrap();
+            let (ts, js) = fk_jacobian_space(&kin, &mut ws, &q).unwrap();
+            let js = js.clone();
+            assert!(ts.max_abs_diff(&t) < 1e-14);
+            let (_, jb) = fk_jacobian_body(&kin, &mut ws, &q).unwrap();
+            let jb = jb.clone();
+            for k in 0..kin.dof() {
+                let mut qp = q.clone();
+                let mut qm = q.clone();
+                qp[k] += h;
+                qm[k] -= h;
+                let (tp, tm) = (fk(&kin, &qp).unwrap(), fk(&kin, &qm).unwrap());
+                let fd_b = (body_delta(&t, &tp) - body_delta(&t, &tm)) / (2.0 * h);
+                let fd_s = (space_delta(&t, &tp) - space_delta(&t, &tm)) / (2.0 * h);
+                let eb = (jb.column(k) - fd_b).amax();
+                let es = (js.column(k) - fd_s).amax();
+                assert!(eb < 1e-8, "{file} body col {k}: {eb:e}");
+                assert!(es < 1e-8, "{file} space col {k}: {es:e}");
+            }
+            // J_b = Ad_{T⁻¹} J_s.
+            let adinv = t.inverse().adjoint();
+            assert!((adinv * &js - &jb).amax() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn bad_joint_vectors_are_errors() {
+    let (_, _, kin) = load("ur5.urdf", None, None);
+    let e = fk(&kin, &[0.0; 5]).unwrap_err();
+    assert!(matches!(
+        e,
+        SolveError::WrongLength {
+            expected: 6,
+            got: 5,
+            ..
+        }
+    ));
+    assert!(e.to_string().contains("shoulder_pan_joint"), "{e}");
+    let e = fk(&kin, &[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0]).unwrap_err();
+    assert!(
+        e.to_string().contains("#2 (elbow_joint) is not finite"),
+        "{e}"
+    );
+    assert!(jacobian(&kin, &[0.0; 7], Frame::Space).is_err());
+    let mut ws = Workspace::new(&kin);
+    assert!(fk_all_links(&kin, &mut ws, &[f64::INFINITY; 6]).is_err());
+}
