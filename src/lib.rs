@@ -10,3 +10,13 @@
 pub use screwkit_lie as lie;
 pub use screwkit_model as model;
 pub use screwkit_solve as solve;
+
+/// The names most programs need: `use screwkit::prelude::*;`.
+pub mod prelude {
+    pub use screwkit_lie::{ScrewAxis, Se3, Twist, Wrench};
+    pub use screwkit_model::{load_chain, Chain, ModelError};
+    pub use screwkit_solve::fk::{fk, fk_all_links};
+    pub use screwkit_solve::ik::{IkMethod, IkOptions, IkResult};
+    pub use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space, jacobian};
+    pub use screwkit_solve::{Frame, Kinematics, SolveError, Workspace};
+}

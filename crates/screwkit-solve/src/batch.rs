@@ -20,7 +20,7 @@ const CHUNK: usize = 256;
 
 fn check_rows(kin: &Kinematics, qs: &[f64]) -> Result<usize, SolveError> {
     let n = kin.dof();
-    if n == 0 || qs.len() % n != 0 {
+    if n == 0 || !qs.len().is_multiple_of(n) {
         return Err(SolveError::WrongLength {
             what: "joint values (a multiple of the DoF)",
             expected: n * (qs.len() / n.max(1)),

@@ -349,12 +349,12 @@ pub(crate) fn solve_unchecked(
             break StopReason::IterationLimit;
         }
         if let Some((t0, budget)) = start {
-            if iterations % 4 == 0 && t0.elapsed() >= budget {
+            if iterations.is_multiple_of(4) && t0.elapsed() >= budget {
                 break StopReason::TimeLimit;
             }
         }
         // Stall detection and restarts.
-        if attempt_iter % WINDOW == 0 {
+        if attempt_iter.is_multiple_of(WINDOW) {
             let stalled = attempt_iter > 0 && err2 > 0.25 * window_start_err;
             if stalled || attempt_iter >= ATTEMPT_CAP {
                 if restarts >= opts.max_restarts {

@@ -75,7 +75,7 @@ fn default_method_solve_rate() {
 fn other_methods_solve_rate() {
     for &(file, base, tip) in CHAINS {
         for (name, m) in [("NR ", IkMethod::NewtonRaphson), ("DLS", IkMethod::DLS)] {
-            let rate = solve_rate(file, base, tip, &options(m), 300);
+            let rate = solve_rate(file, base, tip, &options(m), 1000);
             println!("{name} {file:<22} {:.1}%", rate * 100.0);
             assert!(
                 rate >= 0.9,
