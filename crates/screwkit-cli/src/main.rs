@@ -1,6 +1,64 @@
-//! The `screwkit` command line (filled by the CLI issue).
+//! The `screwkit` command line: screw tables, FK, Jacobians, IK, the exp/log calculator and
+//! the IK benchmark, in text for people and JSON for scripts.
+//!
+//! Exit codes: 0 success, 1 a failed operation (bad URDF, unknown link, wrong number of joint
+//! values, IK not converged, failed batch lines), 2 bad usage. Errors are one line on stderr.
 
-fn main() {
-    eprintln!("screwkit: the command line is not built yet; see the README for the examples that run today");
-    std::process::exit(2);
+mod args;
+mod batch;
+mod bench;
+mod calc;
+mod fk;
+mod ik;
+mod info;
+mod jacobian;
+mod output;
+mod table;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+use screwkit_model::{load_chain, Chain};
+use screwkit_solve::Kinematics;
+
+use args::{ChainArgs, Cli, Command, Format};
+use output::{CliResult, Failure};
+
+/// Loads the chain named by the arguments and prepares it for solving.
+pub(crate) fn load(c: &ChainArgs) -> CliResult<(Chain, Kinematics)> {
+    let chain = load_chain(&c.urdf, c.base.as_deref(), c.tip.as_deref())?;
+    let kin = Kinematics::new(&chain);
+    Ok((chain, kin))
+}
+
+fn run(cli: &Cli) -> CliResult {
+    if cli.format == Format::Csv && !matches!(cli.command, Command::Table(_)) {
+        return Err(Failure("--format csv is only available for `table`".into()));
+    }
+    match &cli.command {
+        Command::Info(a) => info::run(a, cli.format),
+        Command::Table(a) => table::run(a, cli.format),
+        Command::Fk(a) => fk::run(a, cli.format),
+        Command::Jacobian(a) => jacobian::run(a, cli.format),
+        Command::Ik(a) => ik::run(a, cli.format),
+        Command::Exp(a) => calc::exp(a, cli.format),
+        Command::Log(a) => calc::log(a, cli.format),
+        Command::Bench(a) => bench::run(a, cli.format),
+    }
+}
+
+fn main() -> ExitCode {
+    // A bug must still end in one line and exit code 1, never a backtrace.
+    std::panic::set_hook(Box::new(|info| {
+        eprintln!("screwkit: internal error: {info}");
+    }));
+    let cli = Cli::parse();
+    match std::panic::catch_unwind(|| run(&cli)) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("screwkit: error: {e}");
+            ExitCode::from(1)
+        }
+        Err(_) => ExitCode::from(1),
+    }
 }

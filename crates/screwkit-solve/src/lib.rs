@@ -29,6 +29,7 @@ pub mod fk;
 pub mod ik;
 pub mod jacobian;
 pub mod kinematics;
+pub mod protocol;
 pub mod velocity;
 
 pub use error::SolveError;

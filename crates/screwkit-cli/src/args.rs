@@ -1,0 +1,254 @@
+//! Command-line arguments (clap derive).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Robot kinematics from URDF with screw theory: screw axes, FK, Jacobians, IK.
+#[derive(Debug, Parser)]
+#[command(name = "screwkit", version, about, long_about = None)]
+pub struct Cli {
+    /// The subcommand.
+    #[command(subcommand)]
+    pub command: Command,
+    /// Output format: human-readable text/Markdown (default), csv (table only) or json.
+    #[arg(long, value_enum, global = true, default_value_t = Format::Text)]
+    pub format: Format,
+}
+
+/// Output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Format {
+    /// Human-readable text.
+    Text,
+    /// Markdown (same as text).
+    Md,
+    /// Comma-separated values (table only).
+    Csv,
+    /// One JSON object (per line in batch mode).
+    Json,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Robot name, links, joints, leaves, default chain and a tree drawing.
+    Info(InfoArgs),
+    /// The screw-axis table (space and/or body) and the home pose M.
+    Table(TableArgs),
+    /// Forward kinematics: the tip pose (or every link's) at joint values.
+    Fk(FkArgs),
+    /// The 6 x n Jacobian (space or body) at joint values, optionally analysed.
+    Jacobian(JacobianArgs),
+    /// Inverse kinematics: joint values reaching a target pose.
+    Ik(IkArgs),
+    /// Matrix exponential of a twist: e^[S]θ.
+    Exp(ExpArgs),
+    /// Matrix logarithm of a transform: screw axis, θ, pitch, axis point.
+    Log(LogArgs),
+    /// The IK benchmark protocol (solve rate, mean/median/p99) plus FK and Jacobian ns/call.
+    Bench(BenchArgs),
+}
+
+/// A URDF file and the chain in it.
+#[derive(Debug, Args)]
+pub struct ChainArgs {
+    /// The URDF file.
+    pub urdf: PathBuf,
+    /// Base link of the chain (default: the root link).
+    #[arg(long)]
+    pub base: Option<String>,
+    /// Tip link of the chain (default: the only leaf below the base).
+    #[arg(long)]
+    pub tip: Option<String>,
+}
+
+/// A comma-separated list of numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct List(pub Vec<f64>);
+
+/// Parses `1,2.5,-3` (spaces allowed); every entry must be a finite number.
+pub fn parse_list(s: &str) -> Result<List, String> {
+    let v: Result<Vec<f64>, String> = s
+        .split(',')
+        .map(|t| {
+            let t = t.trim();
+            match t.parse::<f64>() {
+                Ok(x) if x.is_finite() => Ok(x),
+                Ok(_) => Err(format!("\"{t}\" is not a finite number")),
+                Err(_) => Err(format!("\"{t}\" is not a number")),
+            }
+        })
+        .collect();
+    v.map(List)
+}
+
+/// `info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// The URDF file.
+    pub urdf: PathBuf,
+}
+
+/// Which screw axes to show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TableFrame {
+    /// Space axes S_i.
+    Space,
+    /// Body axes B_i.
+    Body,
+    /// Both.
+    Both,
+}
+
+/// `table`.
+#[derive(Debug, Args)]
+pub struct TableArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Which axes.
+    #[arg(long, value_enum, default_value_t = TableFrame::Both)]
+    pub frame: TableFrame,
+}
+
+/// `fk`.
+#[derive(Debug, Args)]
+pub struct FkArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Joint values q1,q2,... (rad or m), one per variable.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
+    pub q: Option<List>,
+    /// Give the pose of every link on the chain.
+    #[arg(long)]
+    pub all_links: bool,
+    /// Batch mode: JSON lines {"q": [...]} from FILE or - (stdin).
+    #[arg(long, conflicts_with = "q")]
+    pub input: Option<String>,
+}
+
+/// Jacobian frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum JacFrame {
+    /// Space Jacobian J_s.
+    Space,
+    /// Body Jacobian J_b.
+    Body,
+}
+
+/// `jacobian`.
+#[derive(Debug, Args)]
+pub struct JacobianArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Joint values q1,q2,...
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
+    pub q: Option<List>,
+    /// Frame of the Jacobian.
+    #[arg(long, value_enum, default_value_t = JacFrame::Space)]
+    pub frame: JacFrame,
+    /// Add singular values, rank, manipulability, condition number and a verdict.
+    #[arg(long)]
+    pub analyze: bool,
+    /// Batch mode: JSON lines {"q": [...]} from FILE or - (stdin).
+    #[arg(long, conflicts_with = "q")]
+    pub input: Option<String>,
+}
+
+/// IK method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Method {
+    /// Newton–Raphson with the SVD pseudo-inverse.
+    Nr,
+    /// Damped least squares (fixed damping).
+    Dls,
+    /// Levenberg–Marquardt (adaptive damping; default).
+    Lm,
+}
+
+/// `ik`.
+#[derive(Debug, Args)]
+pub struct IkArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Target as x,y,z,qx,qy,qz,qw.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub target_xyz_quat: Option<List>,
+    /// Target as x,y,z,roll,pitch,yaw (URDF fixed-axis rpy).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub target_xyz_rpy: Option<List>,
+    /// Target as 16 numbers of the 4x4 matrix, row-major.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub target_matrix: Option<List>,
+    /// Initial guess (default: the midpoint of the limits).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub seed: Option<List>,
+    /// Method.
+    #[arg(long, value_enum, default_value_t = Method::Lm)]
+    pub method: Method,
+    /// Rotation tolerance (rad).
+    #[arg(long, default_value_t = 1e-9)]
+    pub tol_rot: f64,
+    /// Position tolerance (m).
+    #[arg(long, default_value_t = 1e-9)]
+    pub tol_pos: f64,
+    /// Iteration budget (all attempts).
+    #[arg(long, default_value_t = 2000)]
+    pub max_iter: usize,
+    /// Random restarts allowed.
+    #[arg(long, default_value_t = 200)]
+    pub restarts: usize,
+    /// Wall-time budget per target in ms (0: none).
+    #[arg(long, default_value_t = 5.0)]
+    pub timeout_ms: f64,
+    /// Solve for the position only.
+    #[arg(long)]
+    pub position_only: bool,
+    /// Seed of the random restarts.
+    #[arg(long, default_value_t = 0)]
+    pub random_seed: u64,
+    /// Batch mode: JSON lines {"target": [[4x4]], "seed": [...]} from FILE or - (stdin).
+    #[arg(long)]
+    pub input: Option<String>,
+}
+
+/// `exp`.
+#[derive(Debug, Args)]
+pub struct ExpArgs {
+    /// The twist (ω1,ω2,ω3,v1,v2,v3), or a unit screw axis with --theta.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub twist: List,
+    /// Distance θ along the screw (default 1).
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true)]
+    pub theta: f64,
+}
+
+/// `log`.
+#[derive(Debug, Args)]
+pub struct LogArgs {
+    /// 16 numbers of the 4x4 matrix, row-major (rounded input is accepted to 1e-3 and
+    /// re-orthonormalised).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub matrix: List,
+}
+
+/// `bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Number of IK queries.
+    #[arg(long, default_value_t = 10_000)]
+    pub n: usize,
+    /// Seed of the random targets.
+    #[arg(long, default_value_t = 42)]
+    pub seed: u64,
+    /// IK method.
+    #[arg(long, value_enum, default_value_t = Method::Lm)]
+    pub method: Method,
+}

@@ -1,0 +1,128 @@
+//! `screwkit info`: what is in a URDF.
+
+use screwkit_model::{urdf, Chain, Tree};
+use serde_json::{json, Value};
+
+use crate::args::{Format, InfoArgs};
+use crate::output::{num, print_json, CliResult};
+
+fn limit_json(tree: &Tree, j: usize) -> (Value, Value, Value, Value) {
+    match tree.joints[j].limit {
+        Some(l) if tree.joints[j].kind != screwkit_model::JointKind::Continuous => (
+            num(l.lower),
+            num(l.upper),
+            l.velocity.map_or(Value::Null, num),
+            l.effort.map_or(Value::Null, num),
+        ),
+        Some(l) => (
+            Value::Null,
+            Value::Null,
+            l.velocity.map_or(Value::Null, num),
+            l.effort.map_or(Value::Null, num),
+        ),
+        None => (Value::Null, Value::Null, Value::Null, Value::Null),
+    }
+}
+
+fn draw(tree: &Tree, link: usize, prefix: &str, out: &mut String) {
+    let kids = &tree.child_joints[link];
+    for (i, &j) in kids.iter().enumerate() {
+        let last = i + 1 == kids.len();
+        let joint = &tree.joints[j];
+        out.push_str(&format!(
+            "{prefix}{}{} ({}: {})\n",
+            if last { "└── " } else { "├── " },
+            tree.links[joint.child],
+            joint.name,
+            joint.kind.as_str()
+        ));
+        let next = format!("{prefix}{}", if last { "    " } else { "│   " });
+        draw(tree, joint.child, &next, out);
+    }
+}
+
+/// Runs `info`.
+pub fn run(args: &InfoArgs, format: Format) -> CliResult {
+    let tree = urdf::load_file(&args.urdf)?;
+    let leaves = tree.leaves_below(tree.root);
+    let default = Chain::from_tree(&tree, None, None);
+    let movable = tree.joints.iter().filter(|j| j.kind.is_movable()).count();
+    if format == Format::Json {
+        let joints: Vec<Value> = (0..tree.joints.len())
+            .map(|j| {
+                let jt = &tree.joints[j];
+                let (lo, up, vel, eff) = limit_json(&tree, j);
+                json!({
+                    "name": jt.name, "type": jt.kind.as_str(),
+                    "parent": tree.links[jt.parent], "child": tree.links[jt.child],
+                    "lower": lo, "upper": up, "velocity": vel, "effort": eff,
+                    "mimic": jt.mimic.as_ref().map(|m| json!({"leader": m.leader, "multiplier": m.multiplier, "offset": m.offset})),
+                })
+            })
+            .collect();
+        print_json(&json!({
+            "robot": tree.name,
+            "root": tree.links[tree.root],
+            "links": tree.links,
+            "joints": joints,
+            "leaves": leaves.iter().map(|&l| tree.links[l].clone()).collect::<Vec<_>>(),
+            "default_chain": default.as_ref().ok().map(|c| json!({"base": c.base, "tip": c.tip, "dof": c.dof()})),
+        }));
+        return Ok(());
+    }
+    let mut s = format!(
+        "Robot `{}` ({}): {} links, {} joints ({} movable)\n\nTree:\n{}\n",
+        tree.name,
+        args.urdf.display(),
+        tree.links.len(),
+        tree.joints.len(),
+        movable,
+        tree.links[tree.root]
+    );
+    draw(&tree, tree.root, "", &mut s);
+    s.push_str("\nJoints:\n\n| joint | type | parent → child | lower | upper | velocity | effort |\n|---|---|---|---|---|---|---|\n");
+    let cell = |v: Value| match v {
+        Value::Null => "–".to_string(),
+        Value::Number(n) => n.as_f64().map_or("–".into(), |x| format!("{x}")),
+        _ => "–".to_string(),
+    };
+    for j in 0..tree.joints.len() {
+        let jt = &tree.joints[j];
+        let (lo, up, vel, eff) = limit_json(&tree, j);
+        let kind = match &jt.mimic {
+            Some(m) => format!("{} (mimics {})", jt.kind.as_str(), m.leader),
+            None => jt.kind.as_str().to_string(),
+        };
+        s.push_str(&format!(
+            "| {} | {} | {} → {} | {} | {} | {} | {} |\n",
+            jt.name,
+            kind,
+            tree.links[jt.parent],
+            tree.links[jt.child],
+            cell(lo),
+            cell(up),
+            cell(vel),
+            cell(eff)
+        ));
+    }
+    s.push_str(&format!(
+        "\nLeaves: {}\n",
+        leaves
+            .iter()
+            .map(|&l| tree.links[l].as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    ));
+    match &default {
+        Ok(c) => s.push_str(&format!(
+            "Default chain: {} → {} ({} DoF: {})\n",
+            c.base,
+            c.tip,
+            c.dof(),
+            c.variable_names().join(", ")
+        )),
+        Err(e) => s.push_str(&format!("Default chain: none — {}\n", e.kind)),
+    }
+    print!("{s}");
+    Ok(())
+}

@@ -1,0 +1,87 @@
+//! Formatting shared by the subcommands: numbers, matrices, JSON values, the failure type.
+
+use std::fmt;
+
+use nalgebra::Vector3;
+use screwkit_lie::display::{fixed, fixed_list};
+use screwkit_lie::Se3;
+use serde_json::Value;
+
+/// Decimals in human-readable output.
+pub const PREC: usize = 6;
+
+/// A failed operation: printed as one line on stderr, exit code 1.
+#[derive(Debug)]
+pub struct Failure(pub String);
+
+impl fmt::Display for Failure {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl<E: std::error::Error> From<E> for Failure {
+    fn from(e: E) -> Self {
+        Failure(e.to_string())
+    }
+}
+
+/// Result of a subcommand.
+pub type CliResult<T = ()> = Result<T, Failure>;
+
+/// A JSON number; −0 becomes 0 and non-finite values `null`.
+pub fn num(x: f64) -> Value {
+    screwkit_model::table::json_number(x)
+}
+
+/// A JSON array of numbers.
+pub fn nums(xs: &[f64]) -> Value {
+    Value::Array(xs.iter().map(|&x| num(x)).collect())
+}
+
+/// A pose as a JSON 4x4 array of rows.
+pub fn pose_json(t: &Se3) -> Value {
+    screwkit_model::table::json_matrix(t)
+}
+
+/// `(a, b, c)` with [`PREC`] decimals.
+pub fn tuple(xs: &[f64]) -> String {
+    format!("({})", fixed_list(xs, PREC))
+}
+
+/// A 4x4 pose, one bracketed row per line, columns aligned.
+pub fn matrix_text(t: &Se3) -> String {
+    let m = t.to_homogeneous();
+    let cells: Vec<Vec<String>> = (0..4)
+        .map(|i| (0..4).map(|j| fixed(m[(i, j)], PREC)).collect())
+        .collect();
+    let w = cells.iter().flatten().map(String::len).max().unwrap_or(1);
+    cells
+        .iter()
+        .map(|r| {
+            format!(
+                "[{}]\n",
+                r.iter()
+                    .map(|c| format!("{c:>w$}"))
+                    .collect::<Vec<_>>()
+                    .join("  ")
+            )
+        })
+        .collect()
+}
+
+/// Position, quaternion (x, y, z, w) and URDF rpy of a pose, one per line.
+pub fn pose_summary(t: &Se3) -> String {
+    let p: &Vector3<f64> = t.translation();
+    format!(
+        "position (m)          {}\nquaternion (x,y,z,w)  {}\nrpy (rad)             {}\n",
+        tuple(p.as_slice()),
+        tuple(&t.quaternion()),
+        tuple(&t.rpy())
+    )
+}
+
+/// Prints a JSON value on one line.
+pub fn print_json(v: &Value) {
+    println!("{v}");
+}

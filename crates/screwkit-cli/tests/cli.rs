@@ -1,0 +1,537 @@
+//! Runs the real `screwkit` binary on the bundled robots, in both formats, and the error cases.
+
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+use serde_json::Value;
+
+const BIN: &str = env!("CARGO_BIN_EXE_screwkit");
+
+fn asset(name: &str) -> String {
+    format!("{}/../../assets/urdf/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// (file, tip) of every bundled robot (a tip where the tree has several leaves).
+const ROBOTS: &[(&str, Option<&str>)] = &[
+    ("planar_3r.urdf", None),
+    ("ur5.urdf", None),
+    ("panda.urdf", None),
+    ("iiwa14.urdf", None),
+    ("scara.urdf", None),
+    ("tricky.urdf", None),
+    ("torso_two_arms.urdf", Some("right_hand")),
+    ("gripper_arm.urdf", Some("right_finger")),
+];
+
+struct Out {
+    code: i32,
+    stdout: String,
+    stderr: String,
+}
+
+fn run(args: &[&str], stdin: Option<&str>) -> Out {
+    let mut child = Command::new(BIN)
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    if let Some(s) = stdin {
+        child.stdin.take().unwrap().write_all(s.as_bytes()).unwrap();
+    }
+    drop(child.stdin.take());
+    let o = child.wait_with_output().unwrap();
+    Out {
+        code: o.status.code().unwrap_or(-1),
+        stdout: String::from_utf8(o.stdout).unwrap(),
+        stderr: String::from_utf8(o.stderr).unwrap(),
+    }
+}
+
+fn ok(args: &[&str]) -> String {
+    let o = run(args, None);
+    assert_eq!(o.code, 0, "{args:?}: {}", o.stderr);
+    assert!(!o.stderr.contains("panicked"));
+    o.stdout
+}
+
+fn json(args: &[&str]) -> Value {
+    serde_json::from_str(&ok(args)).unwrap_or_else(|e| panic!("{args:?}: {e}"))
+}
+
+fn chain(file: &str, tip: Option<&str>) -> (screwkit_model::Chain, screwkit_solve::Kinematics) {
+    let c = screwkit_model::load_chain(asset(file), None, tip).unwrap();
+    let k = screwkit_solve::Kinematics::new(&c);
+    (c, k)
+}
+
+fn q_arg(q: &[f64]) -> String {
+    q.iter()
+        .map(|x| format!("{x:?}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+fn matrix(v: &Value) -> nalgebra::Matrix4<f64> {
+    let rows = v.as_array().unwrap();
+    nalgebra::Matrix4::from_fn(|i, j| rows[i][j].as_f64().unwrap())
+}
+
+fn with_tip<'a>(mut args: Vec<&'a str>, tip: Option<&'a str>) -> Vec<&'a str> {
+    if let Some(t) = tip {
+        args.push("--tip");
+        args.push(t);
+    }
+    args
+}
+
+#[test]
+fn every_subcommand_on_every_bundled_robot() {
+    for &(file, tip) in ROBOTS {
+        let path = asset(file);
+        let (c, kin) = chain(file, tip);
+        // info
+        let text = ok(&["info", &path]);
+        assert!(text.contains(&format!("Robot `{}`", c.robot)));
+        let info = json(&["info", &path, "--format", "json"]);
+        let tree = screwkit_model::urdf::load_file(&path).unwrap();
+        assert_eq!(info["links"].as_array().unwrap().len(), tree.links.len());
+        assert_eq!(info["joints"].as_array().unwrap().len(), tree.joints.len());
+        assert_eq!(info["root"], tree.links[tree.root].as_str());
+        // table: md, csv, json
+        let md = ok(&with_tip(vec!["table", &path], tip));
+        assert!(md.contains("Space screw axes") && md.contains("Body screw axes"));
+        let csv = ok(&with_tip(
+            vec!["table", &path, "--format", "csv", "--frame", "space"],
+            tip,
+        ));
+        assert_eq!(csv.lines().count(), 1 + c.joints.len() + 4);
+        let tj = json(&with_tip(vec!["table", &path, "--format", "json"], tip));
+        assert_eq!(tj["tip"], c.tip.as_str());
+        assert_eq!(tj["joints"].as_array().unwrap().len(), c.joints.len());
+        let s0 = &tj["joints"][0]["screw_space"];
+        let want = c.joints[0].s_space.twist().to_vector();
+        for i in 0..6 {
+            assert_eq!(s0[i].as_f64().unwrap(), want[i] + 0.0);
+        }
+        // fk at a configuration inside the limits
+        let q: Vec<f64> = kin
+            .lower()
+            .iter()
+            .zip(kin.upper())
+            .map(|(&l, &u)| {
+                if l.is_finite() {
+                    l + 0.37 * (u - l)
+                } else {
+                    0.4
+                }
+            })
+            .collect();
+        let qa = q_arg(&q);
+        let fj = json(&with_tip(
+            vec!["fk", &path, "--q", &qa, "--format", "json"],
+            tip,
+        ));
+        let want = screwkit_solve::fk::fk(&kin, &q).unwrap().to_homogeneous();
+        assert!(
+            (matrix(&fj["pose"]) - want).amax() == 0.0,
+            "{file}: full precision JSON"
+        );
+        let ft = ok(&with_tip(vec!["fk", &path, "--q", &qa, "--all-links"], tip));
+        assert!(ft.contains("quaternion (x,y,z,w)") && ft.contains(&c.base));
+        // jacobian, both frames, with analysis
+        for frame in ["space", "body"] {
+            let jj = json(&with_tip(
+                vec![
+                    "jacobian",
+                    &path,
+                    "--q",
+                    &qa,
+                    "--frame",
+                    frame,
+                    "--analyze",
+                    "--format",
+                    "json",
+                ],
+                tip,
+            ));
+            assert_eq!(jj["jacobian"].as_array().unwrap().len(), 6);
+            assert_eq!(jj["jacobian"][0].as_array().unwrap().len(), kin.dof());
+            assert!(jj["analysis"]["verdict"].as_str().is_some());
+            let jt = ok(&with_tip(
+                vec!["jacobian", &path, "--q", &qa, "--frame", frame, "--analyze"],
+                tip,
+            ));
+            assert!(jt.contains("verdict"));
+        }
+        // ik to the FK of q: converged, and the solution reproduces the pose
+        let t = screwkit_solve::fk::fk(&kin, &q).unwrap().to_homogeneous();
+        let m: Vec<String> = (0..4)
+            .flat_map(|i| (0..4).map(move |j| (i, j)))
+            .map(|(i, j)| format!("{:?}", t[(i, j)]))
+            .collect();
+        let ma = m.join(",");
+        let ij = json(&with_tip(
+            vec![
+                "ik",
+                &path,
+                "--target-matrix",
+                &ma,
+                "--format",
+                "json",
+                "--timeout-ms",
+                "0",
+            ],
+            tip,
+        ));
+        assert_eq!(ij["converged"], true, "{file}: {ij}");
+        let qs: Vec<f64> = ij["q"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let back = screwkit_solve::fk::fk(&kin, &qs).unwrap().to_homogeneous();
+        assert!((back - t).amax() < 1e-8, "{file}");
+        let it = ok(&with_tip(
+            vec!["ik", &path, "--target-matrix", &ma, "--timeout-ms", "0"],
+            tip,
+        ));
+        assert!(it.contains("converged          yes"));
+        // bench (small)
+        let bj = json(&with_tip(
+            vec!["bench", &path, "--n", "20", "--format", "json"],
+            tip,
+        ));
+        assert_eq!(bj["queries"], 20);
+        assert!(bj["solve_rate"].as_f64().unwrap() > 0.8);
+        assert!(ok(&with_tip(vec!["bench", &path, "--n", "5"], tip)).contains("solved"));
+    }
+}
+
+#[test]
+fn ik_target_forms_agree() {
+    let path = asset("ur5.urdf");
+    let xyz_rpy = json(&[
+        "ik",
+        &path,
+        "--target-xyz-rpy",
+        "0.4,0.1,0.3,3.0,0.1,-0.2",
+        "--format",
+        "json",
+        "--timeout-ms",
+        "0",
+    ]);
+    let (_, kin) = chain("ur5.urdf", None);
+    let target = screwkit_lie::Se3::from_xyz_rpy([0.4, 0.1, 0.3], [3.0, 0.1, -0.2]).unwrap();
+    let q: Vec<f64> = xyz_rpy["q"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert!(
+        screwkit_solve::fk::fk(&kin, &q)
+            .unwrap()
+            .max_abs_diff(&target)
+            < 1e-8
+    );
+    let quat = target.quaternion();
+    let qa = format!(
+        "0.4,0.1,0.3,{:?},{:?},{:?},{:?}",
+        quat[0], quat[1], quat[2], quat[3]
+    );
+    let xyz_quat = json(&[
+        "ik",
+        &path,
+        "--target-xyz-quat",
+        &qa,
+        "--format",
+        "json",
+        "--timeout-ms",
+        "0",
+    ]);
+    assert_eq!(xyz_quat["converged"], true);
+    // Position only: any orientation.
+    let po = json(&[
+        "ik",
+        &path,
+        "--target-xyz-rpy",
+        "0.4,0.1,0.3,0,0,0",
+        "--position-only",
+        "--format",
+        "json",
+        "--timeout-ms",
+        "0",
+    ]);
+    assert_eq!(po["converged"], true);
+    for m in ["nr", "dls", "lm"] {
+        let r = json(&[
+            "ik",
+            &path,
+            "--target-xyz-rpy",
+            "0.4,0.1,0.3,3.0,0.1,-0.2",
+            "--method",
+            m,
+            "--format",
+            "json",
+            "--timeout-ms",
+            "0",
+        ]);
+        assert_eq!(r["converged"], true, "{m}");
+    }
+}
+
+#[test]
+fn exp_and_log_calculator() {
+    // The lesson's example: T_sb → S, θ = 2π/3, h, q = (1, 1, 0).
+    let v = json(&[
+        "log",
+        "--matrix",
+        "0,-1,0,3,0,0,-1,0,1,0,0,0,0,0,0,1",
+        "--format",
+        "json",
+    ]);
+    assert!((v["theta"].as_f64().unwrap() - 2.0 * std::f64::consts::PI / 3.0).abs() < 1e-14);
+    assert!((v["pitch"].as_f64().unwrap() - 0.826_993_343_132_688_2).abs() < 1e-13);
+    let p = v["point"].as_array().unwrap();
+    assert!(
+        (p[0].as_f64().unwrap() - 1.0).abs() < 1e-13
+            && (p[1].as_f64().unwrap() - 1.0).abs() < 1e-13
+    );
+    assert_eq!(v["pure_translation"], false);
+    let t = json(&[
+        "log",
+        "--matrix",
+        "1,0,0,3,0,1,0,4,0,0,1,0,0,0,0,1",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(t["pure_translation"], true);
+    assert_eq!(t["theta"], 5.0);
+    assert_eq!(t["pitch"], Value::Null);
+    assert_eq!(t["point"], Value::Null);
+    let text = ok(&["log", "--matrix", "1,0,0,3,0,1,0,4,0,0,1,0,0,0,0,1"]);
+    assert!(text.contains("Pure translation"));
+    // exp of Sθ = (0,1,2,3,0,0): the lesson's second example, exact.
+    let e = json(&["exp", "--twist", "0,1,2,3,0,0", "--format", "json"]);
+    let m = matrix(&e["pose"]);
+    assert!((m[(0, 0)] + 0.617_272_876_457_166_4).abs() < 1e-14);
+    assert!((m[(0, 3)] - 1.055_534_723_627_097).abs() < 1e-14);
+    // A unit screw with --theta equals the scaled twist.
+    let e2 = json(&[
+        "exp",
+        "--twist",
+        "0,0,1,0,-1,0",
+        "--theta",
+        "1.5707963267948966",
+        "--format",
+        "json",
+    ]);
+    let m2 = matrix(&e2["pose"]);
+    assert!((m2[(0, 3)] - 1.0).abs() < 1e-15 && (m2[(1, 3)] + 1.0).abs() < 1e-15);
+}
+
+#[test]
+fn batch_mode() {
+    let path = asset("panda.urdf");
+    let (_, kin) = chain("panda.urdf", None);
+    let qs = [
+        [0.1, 0.2, 0.3, -1.5, 0.1, 1.5, 0.2],
+        [0.0, -0.3, 0.1, -2.0, 0.3, 1.9, -0.4],
+    ];
+    let mut input = String::new();
+    for q in &qs {
+        input.push_str(&format!("{{\"q\": {:?}}}\n", q));
+    }
+    input.push_str("{\"q\": [1, 2]}\nnonsense\n");
+    let o = run(&["fk", &path, "--input", "-"], Some(&input));
+    assert_eq!(o.code, 1, "failed lines make the run fail");
+    let lines: Vec<Value> = o
+        .stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 4);
+    for (k, q) in qs.iter().enumerate() {
+        let want = screwkit_solve::fk::fk(&kin, q).unwrap().to_homogeneous();
+        assert_eq!(matrix(&lines[k]["pose"]), want);
+    }
+    assert_eq!(lines[2]["line"], 3);
+    assert!(lines[2]["error"]
+        .as_str()
+        .unwrap()
+        .contains("expected 7 joint values"));
+    assert_eq!(lines[3]["line"], 4);
+    assert!(o.stderr.contains("4 lines, 2 failed"), "{}", o.stderr);
+    // IK batch from a file: targets from FK, with and without seeds; jacobian batch.
+    let mut ik_in = String::new();
+    for (k, q) in qs.iter().enumerate() {
+        let t = screwkit_solve::fk::fk(&kin, q).unwrap().to_homogeneous();
+        let rows: Vec<Vec<f64>> = (0..4)
+            .map(|i| (0..4).map(|j| t[(i, j)]).collect())
+            .collect();
+        if k == 0 {
+            ik_in.push_str(&format!("{{\"target\": {rows:?}}}\n"));
+        } else {
+            ik_in.push_str(&format!("{{\"target\": {rows:?}, \"seed\": {:?}}}\n", q));
+        }
+    }
+    let file = std::env::temp_dir().join(format!("screwkit_batch_{}.jsonl", std::process::id()));
+    std::fs::write(&file, &ik_in).unwrap();
+    let o = run(
+        &[
+            "ik",
+            &path,
+            "--input",
+            file.to_str().unwrap(),
+            "--timeout-ms",
+            "0",
+        ],
+        None,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let lines: Vec<Value> = o
+        .stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert!(lines.iter().all(|l| l["converged"] == true));
+    assert_eq!(lines[1]["iterations"], 0, "seeded at the answer");
+    let o = run(
+        &["jacobian", &path, "--input", "-", "--frame", "body"],
+        Some(&input[..input.find("{\"q\": [1").unwrap()]),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert_eq!(o.stdout.lines().count(), 2);
+    std::fs::remove_file(file).ok();
+}
+
+#[test]
+fn errors_are_one_line_with_the_right_exit_code() {
+    let ur5 = asset("ur5.urdf");
+    let cases: &[(&[&str], i32, &str)] = &[
+        (&["fk", &ur5, "--q", "1,2,3"], 1, "expected 6 joint values"),
+        (
+            &["fk", &ur5, "--q", "1,2,x,4,5,6"],
+            2,
+            "\"x\" is not a number",
+        ),
+        (
+            &["fk", &ur5, "--q", "1,2,nan,4,5,6"],
+            2,
+            "not a finite number",
+        ),
+        (
+            &["fk", &ur5, "--tip", "nope", "--q", "1"],
+            1,
+            "unknown link \"nope\"",
+        ),
+        (
+            &["fk", "/no/such.urdf", "--q", "1"],
+            1,
+            "/no/such.urdf: cannot read",
+        ),
+        (
+            &["table", &asset("torso_two_arms.urdf")],
+            1,
+            "cannot choose a tip link",
+        ),
+        (
+            &["table", &ur5, "--base", "tool0", "--tip", "base_link"],
+            1,
+            "is not an ancestor",
+        ),
+        (
+            &[
+                "ik",
+                &ur5,
+                "--target-xyz-rpy",
+                "5,0,0,0,0,0",
+                "--max-iter",
+                "300",
+            ],
+            1,
+            "IK did not converge",
+        ),
+        (&["ik", &ur5], 1, "give exactly one target"),
+        (
+            &["ik", &ur5, "--target-xyz-rpy", "1,2,3"],
+            1,
+            "needs 6 numbers",
+        ),
+        (
+            &[
+                "ik",
+                &ur5,
+                "--target-matrix",
+                "1,0,0,0,0,2,0,0,0,0,1,0,0,0,0,1",
+            ],
+            1,
+            "not a rotation matrix",
+        ),
+        (&["exp", "--twist", "1,2,3"], 1, "needs 6 numbers"),
+        (&["log", "--matrix", "1,2,3"], 1, "needs 16 numbers"),
+        (
+            &["fk", &ur5, "--q", "0,0,0,0,0,0", "--format", "csv"],
+            1,
+            "only available for `table`",
+        ),
+        (&["bogus"], 2, "unrecognized subcommand"),
+        (&["fk", &ur5], 2, "--q"),
+    ];
+    for (args, code, words) in cases {
+        let o = run(args, None);
+        assert_eq!(o.code, *code, "{args:?}: {}", o.stderr);
+        assert!(o.stderr.contains(words), "{args:?}: {}", o.stderr);
+        assert!(
+            !o.stderr.contains("panicked") && !o.stderr.contains("backtrace"),
+            "{args:?}"
+        );
+        if *code == 1 {
+            assert_eq!(o.stderr.trim().lines().count(), 1, "{args:?}: {}", o.stderr);
+        }
+    }
+    // A bad URDF.
+    let bad = std::env::temp_dir().join(format!("screwkit_bad_{}.urdf", std::process::id()));
+    std::fs::write(&bad, "<robot name=\"r\"><link name=\"a\"/><joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/></joint></robot>").unwrap();
+    let o = run(&["table", bad.to_str().unwrap()], None);
+    assert_eq!(o.code, 1);
+    assert!(
+        o.stderr
+            .contains("joint \"j\" names child link \"b\", which is not defined"),
+        "{}",
+        o.stderr
+    );
+    std::fs::remove_file(bad).ok();
+}
+
+/// Human-readable output pinned once (reviewed by hand: the UR5 numbers are the Modern
+/// Robotics Example 4.5 values; the log output is the lesson's worked example).
+#[test]
+fn human_output_snapshots() {
+    insta::assert_snapshot!(
+        "table_ur5_space",
+        ok(&["table", &asset("ur5.urdf"), "--frame", "space"])
+    );
+    insta::assert_snapshot!(
+        "fk_planar",
+        ok(&["fk", &asset("planar_3r.urdf"), "--q", "0.5,-0.25,1.0"])
+    );
+    insta::assert_snapshot!(
+        "log_lesson",
+        ok(&["log", "--matrix", "0,-1,0,3,0,0,-1,0,1,0,0,0,0,0,0,1"])
+    );
+    insta::assert_snapshot!(
+        "jacobian_ur5_wrist_singular",
+        ok(&[
+            "jacobian",
+            &asset("ur5.urdf"),
+            "--q",
+            "0,-1.5707963267948966,1.5707963267948966,0,0,0",
+            "--analyze"
+        ])
+    );
+}

@@ -1,0 +1,132 @@
+//! The IK benchmark protocol (the performance issue's, shared by `screwkit bench` and the
+//! benches): q* uniform within the limits (continuous joints in [−π, π]) from a fixed seed,
+//! target = FK(q*), initial guess = the midpoint of the limits (0 for continuous), success =
+//! rotation error ≤ 1e-5 rad and position error ≤ 1e-5 m checked by an FK call independent of
+//! the solver's bookkeeping, with the solution within limits; every query timed, failures
+//! included.
+
+use std::time::Instant;
+
+use crate::fk::fk_unchecked;
+use crate::ik::{random_config, solve_unchecked, IkOptions, SplitMix};
+use crate::jacobian::fk_jacobian_space_into;
+use crate::kinematics::{Kinematics, Workspace};
+
+/// Success thresholds of the protocol.
+pub const SUCCESS_ROT: f64 = 1e-5;
+/// Success thresholds of the protocol.
+pub const SUCCESS_POS: f64 = 1e-5;
+
+/// Results of [`run`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProtocolReport {
+    /// Queries run.
+    pub queries: usize,
+    /// Queries that met the success criterion.
+    pub solved: usize,
+    /// Mean wall time per query (µs).
+    pub mean_us: f64,
+    /// Median wall time (µs).
+    pub median_us: f64,
+    /// 99th percentile wall time (µs).
+    pub p99_us: f64,
+    /// Mean solver iterations per query.
+    pub mean_iterations: f64,
+    /// FK of the tip, ns per call (mean over the query configurations).
+    pub fk_ns: f64,
+    /// FK + space Jacobian, ns per call.
+    pub jacobian_ns: f64,
+}
+
+impl ProtocolReport {
+    /// solved / queries.
+    pub fn solve_rate(&self) -> f64 {
+        if self.queries == 0 {
+            0.0
+        } else {
+            self.solved as f64 / self.queries as f64
+        }
+    }
+}
+
+/// Runs the protocol with `queries` targets drawn from `seed`, solving with `opts`.
+pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> ProtocolReport {
+    let mut rng = SplitMix(seed);
+    let n = kin.dof();
+    let mut qs = vec![0.0; queries * n];
+    for row in qs.chunks_mut(n.max(1)) {
+        random_config(kin, &mut rng, row);
+    }
+    let mut ws = Workspace::new(kin);
+    let mid = kin.midpoint();
+    let mut times = Vec::with_capacity(queries);
+    let (mut solved, mut iterations) = (0usize, 0usize);
+    for (k, q_star) in qs.chunks(n.max(1)).enumerate().take(queries) {
+        let target = fk_unchecked(kin, q_star);
+        let o = IkOptions {
+            seed: crate::batch::row_seed(opts.seed, k),
+            ..opts.clone()
+        };
+        let t0 = Instant::now();
+        let r = solve_unchecked(kin, &mut ws, &target, &mid, &o);
+        times.push(t0.elapsed().as_secs_f64() * 1e6);
+        if let Ok(r) = r {
+            iterations += r.iterations;
+            let t = fk_unchecked(kin, &r.q);
+            let d = t.inverse_compose(&target);
+            let rot = screwkit_lie::so3::log(d.rotation()).norm();
+            let pos = (t.translation() - target.translation()).norm();
+            if rot <= SUCCESS_ROT && pos <= SUCCESS_POS && kin.within_limits(&r.q, 0.0) {
+                solved += 1;
+            }
+        }
+    }
+    // Per-call FK and FK+J costs over the same configurations.
+    // About 20,000 timed calls of each kind.
+    let reps = (20_000 / queries.max(1)).max(1);
+    let t0 = Instant::now();
+    let mut sink = 0.0;
+    for _ in 0..reps {
+        for q in qs.chunks(n.max(1)) {
+            sink += fk_unchecked(kin, q).translation().x;
+        }
+    }
+    let fk_ns = t0.elapsed().as_secs_f64() * 1e9 / (reps * queries.max(1)) as f64;
+    let t0 = Instant::now();
+    for _ in 0..reps {
+        for q in qs.chunks(n.max(1)) {
+            sink += fk_jacobian_space_into(kin, &mut ws.jacobian, q)
+                .translation()
+                .y;
+        }
+    }
+    let jacobian_ns = t0.elapsed().as_secs_f64() * 1e9 / (reps * queries.max(1)) as f64;
+    std::hint::black_box(sink);
+    let mut sorted = times.clone();
+    sorted.sort_by(f64::total_cmp);
+    let pick = |p: f64| {
+        if sorted.is_empty() {
+            0.0
+        } else {
+            sorted[((sorted.len() as f64 * p) as usize).min(sorted.len() - 1)]
+        }
+    };
+    ProtocolReport {
+        queries,
+        solved,
+        mean_us: if queries > 0 {
+            times.iter().sum::<f64>() / queries as f64
+        } else {
+            0.0
+        },
+        median_us: pick(0.5),
+        p99_us: pick(0.99),
+        mean_iterations: if queries > 0 {
+            iterations as f64 / queries as f64
+        } else {
+            0.0
+        },
+        fk_ns,
+        jacobian_ns,
+    }
+}
