@@ -4,7 +4,7 @@
 //! Body: J_b = \[Ad_{T⁻¹}\] J_s, so V_b = J_b q̇. Rows are (ω, v). With mimic joints, the
 //! column of a variable is Σ multiplier_j · (column of joint j) over the joints it drives.
 
-use nalgebra::Matrix6xX;
+use nalgebra::{Matrix6xX, Vector3};
 use screwkit_lie::Se3;
 
 use crate::error::SolveError;
@@ -35,9 +35,20 @@ pub(crate) fn fk_jacobian_space_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>,
 #[inline]
 pub(crate) fn fk_jacobian_body_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
     let t = fk_jacobian_space_into(kin, jac, q);
-    for k in 0..jac.ncols() {
-        let col = screwkit_lie::Twist::from_vector(&jac.column(k).into_owned());
-        jac.set_column(k, &t.adjoint_inverse_apply(&col).to_vector());
+    // Column-wise [Ad_{T⁻¹}] V = (Rᵀω, Rᵀ(v − p × ω)), in place.
+    let rt = t.rotation().transpose();
+    let p = *t.translation();
+    for mut c in jac.column_iter_mut() {
+        let w = Vector3::new(c[0], c[1], c[2]);
+        let v = Vector3::new(c[3], c[4], c[5]);
+        let wb = rt * w;
+        let vb = rt * (v - p.cross(&w));
+        c[0] = wb.x;
+        c[1] = wb.y;
+        c[2] = wb.z;
+        c[3] = vb.x;
+        c[4] = vb.y;
+        c[5] = vb.z;
     }
     t
 }
