@@ -31,6 +31,7 @@ pub mod error;
 pub mod screw;
 pub mod se3;
 pub mod so3;
+pub mod trig;
 pub mod twist;
 pub mod wrench;
 

@@ -39,13 +39,14 @@ impl JointConst {
 
     /// e^[S]θ for a unit screw with precomputed [ω], [ω]², ω × v, ω × (ω × v):
     /// revolute R = I + sin θ [ω] + (1 − cos θ)[ω]², p = θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v)
-    /// (one sin/cos); prismatic R = I, p = θ v (no trigonometry).
+    /// (one inlined sin/cos, [`screwkit_lie::trig::sin_cos`]); prismatic R = I, p = θ v (no
+    /// trigonometry).
     #[inline(always)]
     pub(crate) fn exp(&self, theta: f64) -> Se3 {
         if self.prismatic {
             return Se3::from_parts_unchecked(Matrix3::identity(), self.s.v * theta);
         }
-        let (s, c) = theta.sin_cos();
+        let (s, c) = screwkit_lie::trig::sin_cos(theta);
         let omc = 1.0 - c;
         let r = Matrix3::identity() + self.w_hat * s + self.w_hat2 * omc;
         let p = self.s.v * theta + self.wv * omc + self.wwv * (theta - s);
