@@ -103,7 +103,7 @@ fn batches(c: &mut Criterion) {
             b.iter(|| pool.install(|| fk_batch(&k, &qs, &mut out).unwrap()))
         });
         g.throughput(Throughput::Elements(targets.len() as u64));
-        g.bench_function(BenchmarkId::new("ik_200_panda", threads), |b| {
+        g.bench_function(BenchmarkId::new("ik_1000_panda", threads), |b| {
             b.iter(|| pool.install(|| ik_batch(&k, &targets, None, &opts).unwrap().len()))
         });
     }

@@ -107,7 +107,10 @@ pub fn ik_batch(
     Ok(targets
         .par_iter()
         .enumerate()
-        .with_min_len(16)
+        // One target per task: IK costs are heavy-tailed (a restart can cost 10× a median
+        // solve), so coarse chunks leave one worker finishing alone; work stealing at single
+        // targets keeps both busy for a few ns of overhead per ~10 µs solve.
+        .with_max_len(1)
         .map_init(
             || Workspace::new(kin),
             |ws, (k, target)| {

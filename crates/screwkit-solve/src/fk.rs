@@ -18,7 +18,7 @@ pub fn fk(kin: &Kinematics, q: &[f64]) -> Result<Se3, SolveError> {
 pub fn fk_unchecked(kin: &Kinematics, q: &[f64]) -> Se3 {
     let mut t = Se3::identity();
     for (j, jc) in kin.joints.iter().enumerate() {
-        t = t.compose(&jc.exp(kin.theta(j, q)));
+        t = jc.apply(&t, kin.theta(j, q));
     }
     t.compose(&kin.home)
 }
@@ -46,7 +46,7 @@ pub fn fk_all_links<'w>(
     let mut done = 0;
     for (k, (_, home, before)) in kin.links.iter().enumerate() {
         while done < *before {
-            prefix = prefix.compose(&kin.joints[done].exp(kin.theta(done, q)));
+            prefix = kin.joints[done].apply(&prefix, kin.theta(done, q));
             done += 1;
         }
         ws.links[k] = prefix.compose(home);

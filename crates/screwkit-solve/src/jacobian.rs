@@ -26,7 +26,7 @@ pub(crate) fn fk_jacobian_space_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>,
             let mut dst = jac.column_mut(jc.variable);
             dst.axpy(jc.multiplier, &c, 1.0);
         }
-        t = t.compose(&jc.exp(kin.theta(j, q)));
+        t = jc.apply(&t, kin.theta(j, q));
     }
     t.compose(&kin.home)
 }
