@@ -109,3 +109,22 @@ where
     );
     Ok(failures)
 }
+
+/// Batch mode for commands whose input lines are `{"q": [...]}`: runs `f` on each q and fails
+/// (exit code 1) when any line failed.
+pub fn run_q_lines<F>(kin: &Kinematics, input: &str, f: F) -> CliResult
+where
+    F: Fn(&mut Workspace, &[f64]) -> Result<Value, String> + Sync,
+{
+    let lines = read_lines(input)?;
+    let failures = run(kin, lines, |ws, _, text| {
+        let obj = parse_object(text)?;
+        let q = numbers(&obj, "q")?;
+        Ok((f(ws, &q)?, true))
+    })?;
+    if failures == 0 {
+        Ok(())
+    } else {
+        Err(Failure(format!("{failures} line(s) failed")))
+    }
+}

@@ -34,17 +34,7 @@ fn fk_value(
 pub fn run(args: &FkArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     if let Some(input) = &args.input {
-        let lines = batch::read_lines(input)?;
-        let failures = batch::run(&kin, lines, |ws, _, text| {
-            let obj = batch::parse_object(text)?;
-            let q = batch::numbers(&obj, "q")?;
-            Ok((fk_value(&kin, ws, &q, args.all_links)?, true))
-        })?;
-        return if failures == 0 {
-            Ok(())
-        } else {
-            Err(Failure(format!("{failures} line(s) failed")))
-        };
+        return batch::run_q_lines(&kin, input, |ws, q| fk_value(&kin, ws, q, args.all_links));
     }
     let q = &args
         .q

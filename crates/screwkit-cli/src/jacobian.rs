@@ -118,17 +118,9 @@ fn value(
 pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     if let Some(input) = &args.input {
-        let lines = batch::read_lines(input)?;
-        let failures = batch::run(&kin, lines, |ws, _, text| {
-            let obj = batch::parse_object(text)?;
-            let q = batch::numbers(&obj, "q")?;
-            Ok((value(&kin, ws, &q, args.frame, args.analyze)?, true))
-        })?;
-        return if failures == 0 {
-            Ok(())
-        } else {
-            Err(Failure(format!("{failures} line(s) failed")))
-        };
+        return batch::run_q_lines(&kin, input, |ws, q| {
+            value(&kin, ws, q, args.frame, args.analyze)
+        });
     }
     let q = &args
         .q
