@@ -67,8 +67,12 @@ pub struct ChainArgs {
 #[derive(Debug, Clone, PartialEq)]
 pub struct List(pub Vec<f64>);
 
-/// Parses `1,2.5,-3` (spaces allowed); every entry must be a finite number.
+/// Parses `1,2.5,-3` (spaces allowed); every entry must be a finite number. An empty string
+/// is the empty list (a chain with no joints).
 pub fn parse_list(s: &str) -> Result<List, String> {
+    if s.trim().is_empty() {
+        return Ok(List(Vec::new()));
+    }
     let v: Result<Vec<f64>, String> = s
         .split(',')
         .map(|t| {

@@ -508,6 +508,34 @@ fn errors_are_one_line_with_the_right_exit_code() {
     std::fs::remove_file(bad).ok();
 }
 
+/// A chain with only fixed joints: zero variables, `--q ""`.
+#[test]
+fn zero_dof_chain() {
+    let path = asset("tricky.urdf");
+    let v = json(&[
+        "fk", &path, "--base", "l1", "--tip", "l1b", "--q", "", "--format", "json",
+    ]);
+    assert_eq!(v["q"].as_array().unwrap().len(), 0);
+    let m = matrix(&v["pose"]);
+    // mid_fixed: xyz (0, 0.15, 0.1), roll 1.570796325 as written.
+    assert!((m[(1, 3)] - 0.15).abs() < 1e-15 && (m[(2, 3)] - 0.1).abs() < 1e-15);
+    assert!((m[(2, 1)] - 1.570796325f64.sin()).abs() < 1e-15);
+    let j = json(&[
+        "jacobian",
+        &path,
+        "--base",
+        "l1",
+        "--tip",
+        "l1b",
+        "--q",
+        "",
+        "--analyze",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(j["analysis"]["rank"], 0);
+}
+
 /// Human-readable output pinned once (reviewed by hand: the UR5 numbers are the Modern
 /// Robotics Example 4.5 values; the log output is the lesson's worked example).
 #[test]
