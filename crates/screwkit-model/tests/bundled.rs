@@ -3,9 +3,8 @@
 
 mod common;
 
-use common::{asset, poe_body, poe_space, Rng};
+use common::{asset, poe_space, Rng};
 use nalgebra::{Matrix4, Vector3, Vector6};
-use screwkit_model::reference::fk_by_composition;
 use screwkit_model::{load_chain, urdf, ErrorKind, JointKind};
 
 /// (file, base, tip, expected DoF, expected joints on the path)
@@ -55,22 +54,7 @@ fn poe_matches_direct_composition_on_every_bundled_chain() {
         assert_eq!(chain.dof(), dof, "{file} {base:?}→{tip:?}");
         assert_eq!(chain.joints.len(), njoints, "{file}");
         assert_eq!(chain.links.last().unwrap().home, chain.home);
-        for _ in 0..300 {
-            let q = rng.config(&chain);
-            let want = fk_by_composition(&tree, &chain, &q).unwrap();
-            let space = poe_space(&chain, &q).to_homogeneous();
-            let body = poe_body(&chain, &q).to_homogeneous();
-            assert!(
-                (space - want).amax() < 1e-12,
-                "{file} q={q:?}: {:e}",
-                (space - want).amax()
-            );
-            assert!(
-                (body - want).amax() < 1e-12,
-                "{file} q={q:?}: {:e}",
-                (body - want).amax()
-            );
-        }
+        common::assert_poe_matches_composition(&tree, &chain, &mut rng, 300, file);
     }
 }
 

@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{poe_body, poe_space, Rng};
+use common::{poe_space, Rng};
 use screwkit_model::reference::fk_by_composition;
 use screwkit_model::{urdf, Chain, JointKind};
 
@@ -40,22 +40,7 @@ fn real_world_urdfs_conform() {
             "{file} {base}→{tip}: {:?}",
             chain.variable_names()
         );
-        for _ in 0..500 {
-            let q = rng.config(&chain);
-            let want = fk_by_composition(&tree, &chain, &q).unwrap();
-            let space = poe_space(&chain, &q).to_homogeneous();
-            let body = poe_body(&chain, &q).to_homogeneous();
-            assert!(
-                (space - want).amax() < 1e-12,
-                "{file}: {:e} at {q:?}",
-                (space - want).amax()
-            );
-            assert!(
-                (body - want).amax() < 1e-12,
-                "{file}: {:e} at {q:?}",
-                (body - want).amax()
-            );
-        }
+        common::assert_poe_matches_composition(&tree, &chain, &mut rng, 500, file);
     }
 }
 

@@ -3,7 +3,8 @@
 #![allow(dead_code)]
 
 use screwkit_lie::Se3;
-use screwkit_model::Chain;
+use screwkit_model::reference::fk_by_composition;
+use screwkit_model::{Chain, Tree};
 
 /// Path of a bundled URDF.
 pub fn asset(name: &str) -> String {
@@ -65,5 +66,32 @@ impl Rng {
                 lo + (hi - lo) * self.uniform()
             })
             .collect()
+    }
+}
+
+/// The oracle check: for `count` random configurations, the space and body POE forms equal
+/// direct composition of the URDF joint transforms to 1e-12.
+pub fn assert_poe_matches_composition(
+    tree: &Tree,
+    chain: &Chain,
+    rng: &mut Rng,
+    count: usize,
+    label: &str,
+) {
+    for _ in 0..count {
+        let q = rng.config(chain);
+        let want = fk_by_composition(tree, chain, &q).unwrap();
+        let space = poe_space(chain, &q).to_homogeneous();
+        let body = poe_body(chain, &q).to_homogeneous();
+        assert!(
+            (space - want).amax() < 1e-12,
+            "{label}: space form {:e} at {q:?}",
+            (space - want).amax()
+        );
+        assert!(
+            (body - want).amax() < 1e-12,
+            "{label}: body form {:e} at {q:?}",
+            (body - want).amax()
+        );
     }
 }
