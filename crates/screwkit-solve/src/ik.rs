@@ -340,19 +340,43 @@ pub(crate) fn solve_unchecked(
     seed: &[f64],
     opts: &IkOptions,
 ) -> Result<IkResult, SolveError> {
+    let start = opts.timeout.map(|d| (Instant::now(), d));
+    let mut scratch = std::mem::take(&mut ws.ik);
+    let result = iterate(kin, ws, target, seed, opts, start, &mut scratch);
+    ws.ik = scratch;
+    result
+}
+
+/// The IK loop proper, on the workspace's scratch buffers (no allocation but the result's q).
+fn iterate(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    target: &Se3,
+    seed: &[f64],
+    opts: &IkOptions,
+    start: Option<(Instant, Duration)>,
+    scratch: &mut crate::kinematics::IkScratch,
+) -> Result<IkResult, SolveError> {
     // Tuned on the IK protocol (see BENCHMARKS.md): an attempt that does not quarter its error
     // in 5 iterations, or reaches 60, restarts.
     const WINDOW: usize = 5;
     const ATTEMPT_CAP: usize = 60;
     const STALL_FACTOR: f64 = 0.25;
     let n = kin.dof();
-    let start = opts.timeout.map(|d| (Instant::now(), d));
     let mut rng = SplitMix(opts.seed ^ 0x5C7E_3B1D_0000_0001);
-    let mut q = seed.to_vec();
-    project(kin, &mut q);
-    let mut dq = vec![0.0; n];
-    let mut locked = vec![false; n];
-    let mut best_q = q.clone();
+    let crate::kinematics::IkScratch {
+        q,
+        dq,
+        best_q,
+        locked,
+    } = scratch;
+    q.resize(n, 0.0);
+    dq.resize(n, 0.0);
+    best_q.resize(n, 0.0);
+    locked.resize(n, false);
+    q.copy_from_slice(seed);
+    project(kin, q);
+    best_q.copy_from_slice(q);
     let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
     let (mut iterations, mut restarts, mut attempt_iter) = (0usize, 0usize, 0usize);
     let mut window_start_err = f64::INFINITY;
@@ -361,16 +385,16 @@ pub(crate) fn solve_unchecked(
         row_weights[..3].fill(0.0);
     }
     let stop = loop {
-        let t = fk_jacobian_body_into(kin, &mut ws.jacobian, &q);
+        let t = fk_jacobian_body_into(kin, &mut ws.jacobian, q);
         let es = error_state(&t, target, opts);
         let err2 = es.e.norm_squared();
         if err2 < best.0 {
             best = (err2, es.rot, es.pos);
-            best_q.copy_from_slice(&q);
+            best_q.copy_from_slice(q);
         }
         if es.check_rot <= opts.tol_rot && es.check_lin <= opts.tol_pos {
             best = (err2, es.rot, es.pos);
-            best_q.copy_from_slice(&q);
+            best_q.copy_from_slice(q);
             break StopReason::Converged;
         }
         if iterations >= opts.max_iterations {
@@ -389,7 +413,7 @@ pub(crate) fn solve_unchecked(
                     break StopReason::RestartLimit;
                 }
                 restarts += 1;
-                random_config(kin, &mut rng, &mut q);
+                random_config(kin, &mut rng, q);
                 attempt_iter = 0;
                 window_start_err = f64::INFINITY;
                 continue;
@@ -398,7 +422,7 @@ pub(crate) fn solve_unchecked(
         }
         weight_rows(&mut ws.jacobian, &row_weights);
         locked.iter_mut().for_each(|l| *l = false);
-        step(opts.method, &ws.jacobian, &es.e, &locked, &mut dq)?;
+        step(opts.method, &ws.jacobian, &es.e, locked, dq)?;
         // Active set: a joint at a bound that the step pushes outward is left out and the
         // step is solved again with the others, so the clamp does not distort the direction.
         let mut any = false;
@@ -409,7 +433,7 @@ pub(crate) fn solve_unchecked(
             }
         }
         if any && locked.iter().any(|l| !l) {
-            step(opts.method, &ws.jacobian, &es.e, &locked, &mut dq)?;
+            step(opts.method, &ws.jacobian, &es.e, locked, dq)?;
         }
         let largest = dq.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let scale = if largest > opts.max_step {
@@ -422,15 +446,15 @@ pub(crate) fn solve_unchecked(
             attempt_iter = ATTEMPT_CAP;
             continue;
         }
-        for (x, d) in q.iter_mut().zip(&dq) {
+        for (x, d) in q.iter_mut().zip(dq.iter()) {
             *x += d * scale;
         }
-        project(kin, &mut q);
+        project(kin, q);
         iterations += 1;
         attempt_iter += 1;
     };
     Ok(IkResult {
-        q: best_q,
+        q: best_q.clone(),
         converged: stop == StopReason::Converged,
         iterations,
         restarts,

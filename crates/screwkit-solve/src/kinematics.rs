@@ -276,6 +276,18 @@ impl Kinematics {
 pub struct Workspace {
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) links: Vec<Se3>,
+    /// IK scratch: current q, step, best q, active-set flags (dof each).
+    pub(crate) ik: IkScratch,
+}
+
+/// The per-solve buffers of the IK loop, kept in the workspace so a solve allocates only the
+/// q it returns.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct IkScratch {
+    pub(crate) q: Vec<f64>,
+    pub(crate) dq: Vec<f64>,
+    pub(crate) best_q: Vec<f64>,
+    pub(crate) locked: Vec<bool>,
 }
 
 impl Workspace {
@@ -284,6 +296,12 @@ impl Workspace {
         Self {
             jacobian: Matrix6xX::zeros(kin.dof()),
             links: vec![Se3::identity(); kin.links.len()],
+            ik: IkScratch {
+                q: vec![0.0; kin.dof()],
+                dq: vec![0.0; kin.dof()],
+                best_q: vec![0.0; kin.dof()],
+                locked: vec![false; kin.dof()],
+            },
         }
     }
 
