@@ -13,17 +13,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let kin = Kinematics::new(&chain);
     let n = 10_000;
     // Reproducible configurations within the limits.
-    let mut s = 0x2545_F491_4F6C_DD1Du64;
-    let mut qs = Vec::with_capacity(n * kin.dof());
-    for _ in 0..n {
-        for k in 0..kin.dof() {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
-            qs.push(kin.lower()[k] + (kin.upper()[k] - kin.lower()[k]) * u);
-        }
-    }
+    let qs = screwkit::solve::protocol::sample_configurations(&kin, n, 0x2545_F491_4F6C_DD1D);
     let mut targets = vec![Se3::identity(); n];
     fk_batch(&kin, &qs, &mut targets)?;
     let t0 = Instant::now();

@@ -27,17 +27,7 @@ fn kin(name: &str) -> Kinematics {
 }
 
 fn configs(kin: &Kinematics, rows: usize) -> Vec<f64> {
-    let mut s = 0x1234_5678_9ABC_DEF1u64;
-    (0..rows * kin.dof())
-        .map(|i| {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            let k = i % kin.dof();
-            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
-            kin.lower()[k] + (kin.upper()[k] - kin.lower()[k]) * u
-        })
-        .collect()
+    screwkit_solve::protocol::sample_configurations(kin, rows, 0x1234_5678_9ABC_DEF1)
 }
 
 fn single(c: &mut Criterion) {

@@ -42,19 +42,10 @@ fn theirs(name: &str, tip: &str) -> k::SerialChain<f64> {
     k::SerialChain::from_end(node)
 }
 
-fn configs(kin: &Kinematics, rows: usize, mut s: u64) -> Vec<Vec<f64>> {
-    (0..rows)
-        .map(|_| {
-            (0..kin.dof())
-                .map(|k| {
-                    s ^= s << 13;
-                    s ^= s >> 7;
-                    s ^= s << 17;
-                    let u = (s >> 11) as f64 / (1u64 << 53) as f64;
-                    kin.lower()[k] + (kin.upper()[k] - kin.lower()[k]) * u
-                })
-                .collect()
-        })
+fn configs(kin: &Kinematics, rows: usize, seed: u64) -> Vec<Vec<f64>> {
+    screwkit_solve::protocol::sample_configurations(kin, rows, seed)
+        .chunks(kin.dof())
+        .map(<[f64]>::to_vec)
         .collect()
 }
 

@@ -49,14 +49,23 @@ impl ProtocolReport {
     }
 }
 
-/// Runs the protocol with `queries` targets drawn from `seed`, solving with `opts`.
-pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> ProtocolReport {
+/// `count` configurations drawn uniformly within the limits ([−π, π] for unbounded
+/// variables) from `seed` (SplitMix64), as flat row-major rows of `dof` values: the protocol's
+/// q*, and the inputs of the benches and examples.
+pub fn sample_configurations(kin: &Kinematics, count: usize, seed: u64) -> Vec<f64> {
     let mut rng = SplitMix(seed);
     let n = kin.dof();
-    let mut qs = vec![0.0; queries * n];
+    let mut qs = vec![0.0; count * n];
     for row in qs.chunks_mut(n.max(1)) {
         random_config(kin, &mut rng, row);
     }
+    qs
+}
+
+/// Runs the protocol with `queries` targets drawn from `seed`, solving with `opts`.
+pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> ProtocolReport {
+    let n = kin.dof();
+    let qs = sample_configurations(kin, queries, seed);
     let mut ws = Workspace::new(kin);
     let mid = kin.midpoint();
     let mut times = Vec::with_capacity(queries);
