@@ -17,9 +17,7 @@ pub fn fk(kin: &Kinematics, q: &[f64]) -> Result<Se3, SolveError> {
 #[inline]
 pub fn fk_unchecked(kin: &Kinematics, q: &[f64]) -> Se3 {
     let mut t = Se3::identity();
-    for (j, jc) in kin.joints.iter().enumerate() {
-        t = jc.apply(&t, kin.theta(j, q));
-    }
+    kin.walk(q, |_, jc, theta, s, c| t = jc.apply(&t, theta, s, c));
     t.compose(&kin.home)
 }
 
@@ -42,14 +40,21 @@ pub fn fk_all_links<'w>(
     q: &[f64],
 ) -> Result<&'w [Se3], SolveError> {
     kin.check_q(q)?;
+    // Links before the first joint, then after each joint j the links with j + 1 joints before.
     let mut prefix = Se3::identity();
-    let mut done = 0;
-    for (k, (_, home, before)) in kin.links.iter().enumerate() {
-        while done < *before {
-            prefix = kin.joints[done].apply(&prefix, kin.theta(done, q));
-            done += 1;
-        }
-        ws.links[k] = prefix.compose(home);
+    let mut k = 0;
+    let links = &kin.links;
+    let out = &mut ws.links;
+    while k < links.len() && links[k].2 == 0 {
+        out[k] = links[k].1;
+        k += 1;
     }
+    kin.walk(q, |j, jc, theta, s, c| {
+        prefix = jc.apply(&prefix, theta, s, c);
+        while k < links.len() && links[k].2 == j + 1 {
+            out[k] = prefix.compose(&links[k].1);
+            k += 1;
+        }
+    });
     Ok(&ws.links)
 }

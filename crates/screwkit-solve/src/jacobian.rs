@@ -17,17 +17,16 @@ pub(crate) fn fk_jacobian_space_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>,
         jac.fill(0.0);
     }
     let mut t = Se3::identity();
-    for (j, jc) in kin.joints.iter().enumerate() {
-        let col = t.adjoint_apply(&jc.s);
-        let c = col.to_vector();
+    kin.walk(q, |j, jc, theta, s, c| {
+        let col = t.adjoint_apply(&jc.s).to_vector();
         if kin.identity_map {
-            jac.set_column(j, &c);
+            jac.set_column(j, &col);
         } else {
             let mut dst = jac.column_mut(jc.variable);
-            dst.axpy(jc.multiplier, &c, 1.0);
+            dst.axpy(jc.multiplier, &col, 1.0);
         }
-        t = jc.apply(&t, kin.theta(j, q));
-    }
+        t = jc.apply(&t, theta, s, c);
+    });
     t.compose(&kin.home)
 }
 

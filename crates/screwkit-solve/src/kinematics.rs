@@ -73,53 +73,64 @@ impl JointConst {
         }
     }
 
-    /// e^[S]θ for a unit screw with precomputed [ω], [ω]², ω × v, ω × (ω × v):
-    /// revolute R = I + sin θ [ω] + (1 − cos θ)[ω]², p = θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v)
-    /// (one inlined sin/cos, [`screwkit_lie::trig::sin_cos`]); prismatic R = I, p = θ v (no
-    /// trigonometry).
+    /// e^[S]θ for a unit screw with precomputed [ω], [ω]², ω × v, ω × (ω × v), given
+    /// (sin θ, cos θ): revolute R = I + sin θ [ω] + (1 − cos θ)[ω]²,
+    /// p = θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v); prismatic R = I, p = θ v.
     #[inline(always)]
-    pub(crate) fn exp(&self, theta: f64) -> Se3 {
+    pub(crate) fn exp_sc(&self, theta: f64, s: f64, c: f64) -> Se3 {
         if self.prismatic {
             return Se3::from_parts_unchecked(Matrix3::identity(), self.s.v * theta);
         }
-        let (s, c) = screwkit_lie::trig::sin_cos(theta);
         let omc = 1.0 - c;
         let r = Matrix3::identity() + self.w_hat * s + self.w_hat2 * omc;
-        let p = self.s.v * theta + self.wv * omc + self.wwv * (theta - s);
-        Se3::from_parts_unchecked(r, p)
+        Se3::from_parts_unchecked(r, self.p_local(theta, s, c))
     }
 
-    /// T e^{[S]θ} without forming e^{[S]θ} as a 3x3 product when ω is a coordinate axis:
-    /// R' = R R_axis(±θ) mixes two columns of R (12 multiplications instead of 27);
-    /// p' = p + R (θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v)). Other joints use
-    /// `t.compose(&self.exp(θ))`.
+    /// The translation of e^[S]θ of a revolute joint or screw:
+    /// θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v).
     #[inline(always)]
-    pub(crate) fn apply(&self, t: &Se3, theta: f64) -> Se3 {
-        let (axis, sign) = match self.aligned {
-            Aligned::General => return t.compose(&self.exp(theta)),
-            Aligned::X(g) => (0, g),
-            Aligned::Y(g) => (1, g),
-            Aligned::Z(g) => (2, g),
-        };
-        let (s, c) = screwkit_lie::trig::sin_cos(theta);
-        let omc = 1.0 - c;
-        let r = t.rotation();
-        let p_local = self.s.v * theta + self.wv * omc + self.wwv * (theta - s);
-        let p = t.translation() + r * p_local;
-        let s = sign * s;
+    fn p_local(&self, theta: f64, s: f64, c: f64) -> Vector3<f64> {
+        self.s.v * theta + self.wv * (1.0 - c) + self.wwv * (theta - s)
+    }
+
+    /// T e^{[S]θ} given (sin θ, cos θ), without forming e^{[S]θ} as a matrix where the joint
+    /// allows it: prismatic R' = R, p' = p + θ R v; ω a coordinate axis: R' = R R_axis(±θ) mixes
+    /// two columns of R (12 multiplications instead of 27), p' = p + R p_local; other joints
+    /// `t.compose(&self.exp_sc(θ, s, c))`. Each arm has fixed indices, so R stays in registers.
+    #[inline(always)]
+    pub(crate) fn apply(&self, t: &Se3, theta: f64, s: f64, c: f64) -> Se3 {
         // R_x(φ) = [[1,0,0],[0,c,−s],[0,s,c]]: columns 1, 2 mix; R_y(φ) = [[c,0,s],[0,1,0],[−s,0,c]]:
         // columns 2, 0 mix; R_z(φ) = [[c,−s,0],[s,c,0],[0,0,1]]: columns 0, 1 mix.
-        let (i, j) = match axis {
-            0 => (1, 2),
-            1 => (2, 0),
-            _ => (0, 1),
-        };
-        let mut out = *r;
-        for row in 0..3 {
-            let (a, b) = (r[(row, i)], r[(row, j)]);
-            out[(row, i)] = c * a + s * b;
-            out[(row, j)] = c * b - s * a;
+        match self.aligned {
+            _ if self.prismatic => Se3::from_parts_unchecked(
+                *t.rotation(),
+                t.translation() + t.rotation() * (self.s.v * theta),
+            ),
+            Aligned::General => t.compose(&self.exp_sc(theta, s, c)),
+            Aligned::X(g) => self.mix::<1, 2>(t, theta, s, c, g),
+            Aligned::Y(g) => self.mix::<2, 0>(t, theta, s, c, g),
+            Aligned::Z(g) => self.mix::<0, 1>(t, theta, s, c, g),
         }
+    }
+
+    /// T e^{[S]θ} for ω = ±(the axis that leaves columns I, J to mix):
+    /// col_I' = c col_I + (±s) col_J, col_J' = c col_J − (±s) col_I.
+    #[inline(always)]
+    fn mix<const I: usize, const J: usize>(
+        &self,
+        t: &Se3,
+        theta: f64,
+        s: f64,
+        c: f64,
+        sign: f64,
+    ) -> Se3 {
+        let r = t.rotation();
+        let p = t.translation() + r * self.p_local(theta, s, c);
+        let s = sign * s;
+        let (a, b) = (r.column(I), r.column(J));
+        let mut out = *r;
+        out.set_column(I, &(a * c + b * s));
+        out.set_column(J, &(b * c - a * s));
         Se3::from_parts_unchecked(out, p)
     }
 }
@@ -271,6 +282,26 @@ impl Kinematics {
     }
 }
 
+impl Kinematics {
+    /// Walks the chain base → tip calling `f(j, joint, θ_j, sin θ_j, cos θ_j)`; the sines and
+    /// cosines are computed [`screwkit_lie::trig::LANES`] joints at a time, vectorised.
+    #[inline(always)]
+    pub(crate) fn walk(&self, q: &[f64], mut f: impl FnMut(usize, &JointConst, f64, f64, f64)) {
+        const L: usize = screwkit_lie::trig::LANES;
+        for (b, block) in self.joints.chunks(L).enumerate() {
+            let mut theta = [0.0; L];
+            for (i, th) in theta.iter_mut().enumerate().take(block.len()) {
+                *th = self.theta(b * L + i, q);
+            }
+            let (mut s, mut c) = ([0.0; L], [0.0; L]);
+            screwkit_lie::trig::sin_cos_lanes(&theta, &mut s, &mut c);
+            for (i, jc) in block.iter().enumerate() {
+                f(b * L + i, jc, theta[i], s[i], c[i]);
+            }
+        }
+    }
+}
+
 /// Reusable scratch for one thread: the hot paths write here and allocate nothing.
 #[derive(Debug, Clone)]
 pub struct Workspace {
@@ -321,14 +352,16 @@ mod tests {
     use super::*;
     use screwkit_lie::ScrewAxis;
 
-    /// The axis-aligned fast path equals T · e^{[S]θ} composed the generic way.
+    /// Every arm of `apply` (aligned axes with either sign, pitch 0 and ≠ 0, a general axis,
+    /// prismatic) equals T · e^{[S]θ} with the exponential of screwkit-lie.
     #[test]
-    fn aligned_apply_equals_generic_compose() {
+    fn apply_equals_compose_with_the_exponential() {
         let t = Se3::exp(&Twist::new(
             Vector3::new(0.3, -0.8, 0.5),
             Vector3::new(0.2, 0.1, -0.4),
         ));
         let point = Vector3::new(0.3, -0.2, 0.7);
+        let mut cases = vec![];
         for axis in [
             Vector3::x(),
             -Vector3::x(),
@@ -338,16 +371,27 @@ mod tests {
             -Vector3::z(),
             Vector3::new(1.0, 1.0, 0.0).normalize(),
         ] {
-            let s = ScrewAxis::revolute(point, axis).unwrap();
-            let jc = JointConst::new(*s.twist(), false, 0, 1.0, 0.0);
-            assert_eq!(
-                jc.aligned == Aligned::General,
-                axis.x.abs() > 0.5 && axis.y.abs() > 0.5
-            );
-            for theta in [-2.5, -0.3, 0.0, 1e-9, 0.7, 3.0] {
-                let fast = jc.apply(&t, theta);
-                let generic = t.compose(&jc.exp(theta));
-                assert!(fast.max_abs_diff(&generic) < 1e-15, "{axis:?} {theta}");
+            for pitch in [0.0, 0.35] {
+                let s = ScrewAxis::from_point_direction_pitch(point, axis, pitch).unwrap();
+                let jc = JointConst::new(*s.twist(), false, 0, 1.0, 0.0);
+                assert_eq!(
+                    jc.aligned == Aligned::General,
+                    axis.x.abs() > 0.5 && axis.y.abs() > 0.5
+                );
+                cases.push((*s.twist(), jc));
+            }
+        }
+        let slide = ScrewAxis::prismatic(Vector3::new(0.2, -0.4, 0.8).normalize()).unwrap();
+        cases.push((
+            *slide.twist(),
+            JointConst::new(*slide.twist(), true, 0, 1.0, 0.0),
+        ));
+        for (twist, jc) in &cases {
+            for theta in [-2.5f64, -0.3, 0.0, 1e-9, 0.7, 3.0] {
+                let (sn, cs) = theta.sin_cos();
+                let fast = jc.apply(&t, theta, sn, cs);
+                let oracle = t.compose(&Se3::exp(&(*twist * theta)));
+                assert!(fast.max_abs_diff(&oracle) < 1e-14, "{twist:?} {theta}");
             }
         }
     }
