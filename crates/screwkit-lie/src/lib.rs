@@ -28,6 +28,7 @@
 
 pub mod display;
 pub mod error;
+pub mod fma;
 pub mod screw;
 pub mod se3;
 pub mod so3;

@@ -11,6 +11,10 @@
 // The constants are fdlibm's, written with the digits it publishes.
 #![allow(clippy::excessive_precision)]
 
+#[cfg(target_arch = "x86_64")]
+use crate::fma::Fused;
+use crate::fma::{MulAdd, Plain};
+
 /// 1.5·2⁵²: adding and subtracting it rounds to the nearest integer.
 const SHIFTER: f64 = 6_755_399_441_055_744.0;
 /// 2/π.
@@ -33,34 +37,6 @@ const C3: f64 = 2.480_158_728_947_672_941_78e-5;
 const C4: f64 = -2.755_731_435_139_066_330_35e-7;
 const C5: f64 = 2.087_572_321_298_174_827_90e-9;
 const C6: f64 = -1.135_964_755_778_819_482_65e-11;
-
-/// Multiply-add, plain (`a·b + c`, two roundings) or fused (one rounding, only where the CPU has
-/// FMA — `f64::mul_add` is a library call otherwise).
-trait MulAdd {
-    fn madd(a: f64, b: f64, c: f64) -> f64;
-}
-
-/// `a·b + c` with two roundings: the portable kernels.
-struct Plain;
-
-impl MulAdd for Plain {
-    #[inline(always)]
-    fn madd(a: f64, b: f64, c: f64) -> f64 {
-        a * b + c
-    }
-}
-
-/// Fused multiply-add: used only inside functions compiled with the `fma` target feature.
-#[cfg(target_arch = "x86_64")]
-struct Fused;
-
-#[cfg(target_arch = "x86_64")]
-impl MulAdd for Fused {
-    #[inline(always)]
-    fn madd(a: f64, b: f64, c: f64) -> f64 {
-        a.mul_add(b, c)
-    }
-}
 
 /// sin y for |y| ≤ π/4 (fdlibm `__kernel_sin` with a zero tail).
 #[inline(always)]
@@ -134,8 +110,7 @@ pub const LANES: usize = 8;
 pub fn sin_cos_lanes(x: &[f64; LANES], s: &mut [f64; LANES], c: &mut [f64; LANES]) {
     #[cfg(target_arch = "x86_64")]
     {
-        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
-        {
+        if crate::fma::fused_available() {
             // SAFETY: the CPU has the features the function is compiled for (checked above).
             unsafe { sin_cos_lanes_fma(x, s, c) };
             return;
@@ -151,9 +126,10 @@ fn sin_cos_lanes_fma(x: &[f64; LANES], s: &mut [f64; LANES], c: &mut [f64; LANES
     sin_cos_lanes_with::<Fused>(x, s, c);
 }
 
-/// [`sin_cos_lanes`] with the portable kernels (SSE2 vectors on baseline x86-64).
+/// [`sin_cos_lanes`] with the multiply-add policy `A`, for callers that are themselves compiled
+/// twice (see [`crate::fma`]); [`crate::fma::Fused`] only inside `fma` target-feature code.
 #[inline(always)]
-fn sin_cos_lanes_with<A: MulAdd>(x: &[f64; LANES], s: &mut [f64; LANES], c: &mut [f64; LANES]) {
+pub fn sin_cos_lanes_with<A: MulAdd>(x: &[f64; LANES], s: &mut [f64; LANES], c: &mut [f64; LANES]) {
     // NaN fails the comparison, so it takes the scalar path too.
     if !x.iter().all(|v| v.abs() < REDUCTION_LIMIT) {
         for i in 0..LANES {

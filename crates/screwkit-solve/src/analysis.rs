@@ -29,7 +29,8 @@ pub struct Analysis {
     pub rank_tolerance: f64,
     /// Yoshikawa's manipulability √det(J Jᵀ) = σ₁ ⋯ σ₆ (0 when n < 6).
     pub manipulability: f64,
-    /// σ₁ / σ_min(6,n) (∞ when the smallest is 0).
+    /// σ₁ / σ_min(6,n); ∞ when the Jacobian is rank deficient (σ_min within the rank tolerance
+    /// is numerically zero: its value is rounding noise, so the ratio would be too).
     pub condition_number: f64,
     /// det J for a square (6 × 6) Jacobian.
     pub determinant: Option<f64>,
@@ -38,10 +39,21 @@ pub struct Analysis {
     /// The linear-velocity ellipsoid (rows v).
     pub linear: Ellipsoid,
     /// Twist directions the chain cannot produce: the left singular vectors u_i with
-    /// σ_i ≤ tolerance, plus u_{n+1..6} when n < 6. Ordered (ω, v).
+    /// σ_i ≤ tolerance, plus u_{n+1..6} when n < 6. Ordered (ω, v). Every direction here and
+    /// in the ellipsoids has a canonical sign ([`canonical_sign`]).
     pub lost_directions: Vec<Vector6<f64>>,
     /// The twist direction of the smallest singular value (the motion that is hardest to make).
     pub weakest_direction: Vector6<f64>,
+}
+
+/// A singular vector or eigenvector is defined up to sign, and which sign an SVD returns depends
+/// on rounding (and so on the CPU). This picks one: the first component with |x| > 1e-9 is made
+/// positive.
+pub fn canonical_sign<const D: usize>(x: nalgebra::SVector<f64, D>) -> nalgebra::SVector<f64, D> {
+    match x.iter().find(|c| c.abs() > 1e-9) {
+        Some(&c) if c < 0.0 => -x,
+        _ => x,
+    }
 }
 
 fn ellipsoid(a: Matrix3<f64>) -> Ellipsoid {
@@ -49,7 +61,7 @@ fn ellipsoid(a: Matrix3<f64>) -> Ellipsoid {
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
     Ellipsoid {
-        axes: idx.map(|i| eig.eigenvectors.column(i).into_owned()),
+        axes: idx.map(|i| canonical_sign(eig.eigenvectors.column(i).into_owned())),
         lengths: idx.map(|i| eig.eigenvalues[i].max(0.0).sqrt()),
     }
 }
@@ -76,7 +88,7 @@ pub fn analyze(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
         .filter(|&&x| x > rank_tolerance)
         .count();
     let u = svd.U();
-    let col = |i: usize| Vector6::from_fn(|r, _| u[(r, i)]);
+    let col = |i: usize| canonical_sign(Vector6::from_fn(|r, _| u[(r, i)]));
     let lost_directions = (0..6)
         .filter(|&i| i >= k || singular_values[i] <= rank_tolerance)
         .map(col)
@@ -90,7 +102,11 @@ pub fn analyze(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
         } else {
             0.0
         },
-        condition_number: if smin > 0.0 { s1 / smin } else { f64::INFINITY },
+        condition_number: if rank == k && smin > 0.0 {
+            s1 / smin
+        } else {
+            f64::INFINITY
+        },
         determinant: (n == 6).then(|| j.fixed_columns::<6>(0).into_owned().determinant()),
         angular: ellipsoid(jw * jw.transpose()),
         linear: ellipsoid(jv * jv.transpose()),

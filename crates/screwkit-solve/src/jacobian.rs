@@ -5,7 +5,10 @@
 //! column of a variable is Σ multiplier_j · (column of joint j) over the joints it drives.
 
 use nalgebra::{Matrix6xX, Vector3};
+use screwkit_lie::fma::{MulAdd, Plain};
 use screwkit_lie::Se3;
+
+use crate::columns::Columns;
 
 use crate::error::SolveError;
 use crate::kinematics::{Kinematics, Workspace};
@@ -13,28 +16,78 @@ use crate::kinematics::{Kinematics, Workspace};
 /// Pose and space Jacobian in one pass, unchecked (q must have `dof` finite entries).
 #[inline]
 pub(crate) fn fk_jacobian_space_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
-    if !kin.identity_map {
-        jac.fill(0.0);
+    #[cfg(target_arch = "x86_64")]
+    if screwkit_lie::fma::fused_available() {
+        // SAFETY: the CPU has AVX2 and FMA (checked just above).
+        return unsafe { fk_jacobian_fused(kin, jac, q, Frame::Space) };
     }
-    let mut t = Se3::identity();
-    kin.walk(q, |j, jc, theta, s, c| {
-        let col = t.adjoint_apply(&jc.s).to_vector();
-        if kin.identity_map {
-            jac.set_column(j, &col);
-        } else {
-            let mut dst = jac.column_mut(jc.variable);
-            dst.axpy(jc.multiplier, &col, 1.0);
-        }
-        t = jc.apply(&t, theta, s, c);
-    });
-    t.compose(&kin.home)
+    fk_jacobian_with::<Plain>(kin, jac, q, Frame::Space)
 }
 
 /// Pose and body Jacobian in one pass, unchecked.
 #[inline]
 pub(crate) fn fk_jacobian_body_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
-    let t = fk_jacobian_space_into(kin, jac, q);
-    // Column-wise [Ad_{T⁻¹}] V = (Rᵀω, Rᵀ(v − p × ω)), in place.
+    #[cfg(target_arch = "x86_64")]
+    if screwkit_lie::fma::fused_available() {
+        // SAFETY: the CPU has AVX2 and FMA (checked just above).
+        return unsafe { fk_jacobian_fused(kin, jac, q, Frame::Body) };
+    }
+    fk_jacobian_with::<Plain>(kin, jac, q, Frame::Body)
+}
+
+/// [`fk_jacobian_with`] compiled for AVX2 + FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn fk_jacobian_fused(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64], frame: Frame) -> Se3 {
+    fk_jacobian_with::<screwkit_lie::fma::Fused>(kin, jac, q, frame)
+}
+
+/// The pass: column j of J_s is \[Ad_{T_j}\] S_j with T_j the product of the joints before j
+/// (mimic columns summed with their multipliers); then T = T_n M, and for the body frame every
+/// column becomes \[Ad_{T⁻¹}\] V = (Rᵀω, Rᵀ(v − p × ω)).
+#[inline(always)]
+fn fk_jacobian_with<A: MulAdd>(
+    kin: &Kinematics,
+    jac: &mut Matrix6xX<f64>,
+    q: &[f64],
+    frame: Frame,
+) -> Se3 {
+    if !kin.identity_map {
+        jac.fill(0.0);
+    }
+    let mut t = Columns::identity();
+    kin.walk::<A>(q, |j, jc, theta, s, c| {
+        let (w, v) = jc.adjoint_column::<A>(&t);
+        if kin.identity_map {
+            let mut dst = jac.column_mut(j);
+            dst[0] = w[0];
+            dst[1] = w[1];
+            dst[2] = w[2];
+            dst[3] = v[0];
+            dst[4] = v[1];
+            dst[5] = v[2];
+        } else {
+            let m = jc.multiplier;
+            let mut dst = jac.column_mut(jc.variable);
+            for i in 0..3 {
+                dst[i] = A::madd(m, w[i], dst[i]);
+                dst[i + 3] = A::madd(m, v[i], dst[i + 3]);
+            }
+        }
+        jc.apply::<A>(&mut t, theta, s, c);
+    });
+    let t = t
+        .compose::<A>(kin.home.rotation(), &(*kin.home.translation()).into())
+        .to_se3();
+    if frame == Frame::Body {
+        to_body(&t, jac);
+    }
+    t
+}
+
+/// Column-wise [Ad_{T⁻¹}] V = (Rᵀω, Rᵀ(v − p × ω)), in place.
+#[inline(always)]
+fn to_body(t: &Se3, jac: &mut Matrix6xX<f64>) {
     let rt = t.rotation().transpose();
     let p = *t.translation();
     for mut c in jac.column_iter_mut() {
@@ -49,7 +102,6 @@ pub(crate) fn fk_jacobian_body_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, 
         c[4] = vb.y;
         c[5] = vb.z;
     }
-    t
 }
 
 /// The tip pose and the space Jacobian J_s(q) (6 × dof, in the workspace).
@@ -91,4 +143,52 @@ pub fn jacobian(kin: &Kinematics, q: &[f64], frame: Frame) -> Result<Matrix6xX<f
         Frame::Body => fk_jacobian_body(kin, &mut ws, q)?,
     };
     Ok(ws.jacobian)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fk::{fk_all_links_with, fk_with};
+    use screwkit_lie::fma::Fused;
+
+    /// The portable and the fused instantiations of every hot path agree (the public functions
+    /// run only one of them on a given CPU; the integration tests check that one against the
+    /// oracles). `Fused` outside an `fma` function is slow but computes the same values.
+    #[test]
+    fn portable_and_fused_paths_agree() {
+        let chains = [
+            ("ur5.urdf", None, None),
+            ("panda.urdf", None, None),
+            ("iiwa14.urdf", None, None),
+            ("scara.urdf", None, None),
+            ("tricky.urdf", Some("base_link"), None),
+            ("gripper_arm.urdf", None, Some("right_finger")),
+        ];
+        for (file, base, tip) in chains {
+            let path = format!("{}/../../assets/urdf/{file}", env!("CARGO_MANIFEST_DIR"));
+            let kin = Kinematics::new(&screwkit_model::load_chain(&path, base, tip).unwrap());
+            let n = kin.dof();
+            let qs = crate::protocol::sample_configurations(&kin, 50, 99);
+            let ws = Workspace::new(&kin);
+            let (mut jp, mut jf) = (ws.jacobian.clone(), ws.jacobian.clone());
+            let (mut lp, mut lf) = (ws.links.clone(), ws.links.clone());
+            for q in qs.chunks(n) {
+                let t = crate::fk::fk_unchecked(&kin, q);
+                for other in [fk_with::<Plain>(&kin, q), fk_with::<Fused>(&kin, q)] {
+                    assert!(t.max_abs_diff(&other) < 1e-14, "{file}");
+                }
+                fk_all_links_with::<Plain>(&kin, &mut lp, q);
+                fk_all_links_with::<Fused>(&kin, &mut lf, q);
+                for (a, b) in lp.iter().zip(&lf) {
+                    assert!(a.max_abs_diff(b) < 1e-14, "{file}");
+                }
+                for frame in [Frame::Space, Frame::Body] {
+                    let tp = fk_jacobian_with::<Plain>(&kin, &mut jp, q, frame);
+                    let tf = fk_jacobian_with::<Fused>(&kin, &mut jf, q, frame);
+                    assert!(tp.max_abs_diff(&tf) < 1e-14, "{file}");
+                    assert!((&jp - &jf).amax() < 1e-14, "{file} {frame:?}");
+                }
+            }
+        }
+    }
 }

@@ -2,7 +2,10 @@
 //! ([`Workspace`]) — the model/data split of Pinocchio.
 
 use nalgebra::{Matrix3, Matrix6xX, Vector3};
+use screwkit_lie::fma::MulAdd;
 use screwkit_lie::{so3, Se3, Twist};
+
+use crate::columns::{add, cross, Columns, Lane};
 use screwkit_model::{Chain, JointKind};
 
 use crate::error::SolveError;
@@ -42,11 +45,13 @@ impl Aligned {
 pub(crate) struct JointConst {
     pub(crate) prismatic: bool,
     aligned: Aligned,
-    pub(crate) s: Twist,
+    /// ω and v of S as plain arrays, for the column kernels.
+    w: [f64; 3],
+    v: [f64; 3],
+    wv: [f64; 3],
+    wwv: [f64; 3],
     w_hat: Matrix3<f64>,
     w_hat2: Matrix3<f64>,
-    wv: Vector3<f64>,
-    wwv: Vector3<f64>,
     pub(crate) variable: usize,
     pub(crate) multiplier: f64,
     pub(crate) offset: f64,
@@ -55,6 +60,7 @@ pub(crate) struct JointConst {
 impl JointConst {
     fn new(s: Twist, prismatic: bool, variable: usize, multiplier: f64, offset: f64) -> Self {
         let wv = s.w.cross(&s.v);
+        let wwv = s.w.cross(&wv);
         Self {
             prismatic,
             aligned: if prismatic {
@@ -62,76 +68,71 @@ impl JointConst {
             } else {
                 Aligned::of(&s.w)
             },
+            w: s.w.into(),
+            v: s.v.into(),
+            wv: wv.into(),
+            wwv: wwv.into(),
             w_hat: so3::hat(&s.w),
             w_hat2: so3::hat(&s.w) * so3::hat(&s.w),
-            wv,
-            wwv: s.w.cross(&wv),
-            s,
             variable,
             multiplier,
             offset,
         }
     }
 
-    /// e^[S]θ for a unit screw with precomputed [ω], [ω]², ω × v, ω × (ω × v), given
-    /// (sin θ, cos θ): revolute R = I + sin θ [ω] + (1 − cos θ)[ω]²,
-    /// p = θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v); prismatic R = I, p = θ v.
-    #[inline(always)]
-    pub(crate) fn exp_sc(&self, theta: f64, s: f64, c: f64) -> Se3 {
-        if self.prismatic {
-            return Se3::from_parts_unchecked(Matrix3::identity(), self.s.v * theta);
-        }
-        let omc = 1.0 - c;
-        let r = Matrix3::identity() + self.w_hat * s + self.w_hat2 * omc;
-        Se3::from_parts_unchecked(r, self.p_local(theta, s, c))
-    }
-
-    /// The translation of e^[S]θ of a revolute joint or screw:
+    /// The translation of e^[S]θ of a revolute joint or screw, given (sin θ, cos θ):
     /// θ v + (1 − cos θ) ω×v + (θ − sin θ) ω×(ω×v).
     #[inline(always)]
-    fn p_local(&self, theta: f64, s: f64, c: f64) -> Vector3<f64> {
-        self.s.v * theta + self.wv * (1.0 - c) + self.wwv * (theta - s)
+    fn p_local<A: MulAdd>(&self, theta: f64, s: f64, c: f64) -> [f64; 3] {
+        let (omc, tms) = (1.0 - c, theta - s);
+        std::array::from_fn(|i| {
+            A::madd(
+                self.v[i],
+                theta,
+                A::madd(self.wv[i], omc, self.wwv[i] * tms),
+            )
+        })
     }
 
-    /// T e^{[S]θ} given (sin θ, cos θ), without forming e^{[S]θ} as a matrix where the joint
-    /// allows it: prismatic R' = R, p' = p + θ R v; ω a coordinate axis: R' = R R_axis(±θ) mixes
-    /// two columns of R (12 multiplications instead of 27), p' = p + R p_local; other joints
-    /// `t.compose(&self.exp_sc(θ, s, c))`. Each arm has fixed indices, so R stays in registers.
+    /// T ← T e^{[S]θ}, given (sin θ, cos θ), without forming e^{[S]θ} where the joint allows it:
+    /// prismatic p ← p + θ R v (R unchanged); revolute or screw p ← p + R p_local (see
+    /// [`JointConst::p_local`]), then R ← R e^{[ω]θ}, which for ω = ±(a coordinate axis) mixes two
+    /// columns of R ([`Columns::rotate_axis`], 4 column multiply-adds) and otherwise is
+    /// R (I + sin θ [ω] + (1 − cos θ)[ω]²) (Rodrigues).
     #[inline(always)]
-    pub(crate) fn apply(&self, t: &Se3, theta: f64, s: f64, c: f64) -> Se3 {
-        // R_x(φ) = [[1,0,0],[0,c,−s],[0,s,c]]: columns 1, 2 mix; R_y(φ) = [[c,0,s],[0,1,0],[−s,0,c]]:
-        // columns 2, 0 mix; R_z(φ) = [[c,−s,0],[s,c,0],[0,0,1]]: columns 0, 1 mix.
+    pub(crate) fn apply<A: MulAdd>(&self, t: &mut Columns, theta: f64, s: f64, c: f64) {
+        if self.prismatic {
+            t.translate::<A>(&self.v.map(|x| x * theta));
+            return;
+        }
+        let p_local = self.p_local::<A>(theta, s, c);
         match self.aligned {
-            _ if self.prismatic => Se3::from_parts_unchecked(
-                *t.rotation(),
-                t.translation() + t.rotation() * (self.s.v * theta),
-            ),
-            Aligned::General => t.compose(&self.exp_sc(theta, s, c)),
-            Aligned::X(g) => self.mix::<1, 2>(t, theta, s, c, g),
-            Aligned::Y(g) => self.mix::<2, 0>(t, theta, s, c, g),
-            Aligned::Z(g) => self.mix::<0, 1>(t, theta, s, c, g),
+            Aligned::General => {
+                let e = Matrix3::identity() + self.w_hat * s + self.w_hat2 * (1.0 - c);
+                *t = t.compose::<A>(&e, &p_local);
+            }
+            Aligned::X(g) => {
+                t.translate::<A>(&p_local);
+                t.rotate_axis::<A, 1, 2>(g * s, c);
+            }
+            Aligned::Y(g) => {
+                t.translate::<A>(&p_local);
+                t.rotate_axis::<A, 2, 0>(g * s, c);
+            }
+            Aligned::Z(g) => {
+                t.translate::<A>(&p_local);
+                t.rotate_axis::<A, 0, 1>(g * s, c);
+            }
         }
     }
 
-    /// T e^{[S]θ} for ω = ±(the axis that leaves columns I, J to mix):
-    /// col_I' = c col_I + (±s) col_J, col_J' = c col_J − (±s) col_I.
+    /// The space-Jacobian column of this joint when the joints before it make T:
+    /// \[Ad_T\] S = (R ω, R v + p × R ω) as two lanes (w = 0).
     #[inline(always)]
-    fn mix<const I: usize, const J: usize>(
-        &self,
-        t: &Se3,
-        theta: f64,
-        s: f64,
-        c: f64,
-        sign: f64,
-    ) -> Se3 {
-        let r = t.rotation();
-        let p = t.translation() + r * self.p_local(theta, s, c);
-        let s = sign * s;
-        let (a, b) = (r.column(I), r.column(J));
-        let mut out = *r;
-        out.set_column(I, &(a * c + b * s));
-        out.set_column(J, &(b * c - a * s));
-        Se3::from_parts_unchecked(out, p)
+    pub(crate) fn adjoint_column<A: MulAdd>(&self, t: &Columns) -> (Lane, Lane) {
+        let w = t.rotate::<A>(&self.w);
+        let v = add(t.rotate::<A>(&self.v), cross(t.p(), w));
+        (w, v)
     }
 }
 
@@ -286,7 +287,11 @@ impl Kinematics {
     /// Walks the chain base → tip calling `f(j, joint, θ_j, sin θ_j, cos θ_j)`; the sines and
     /// cosines are computed [`screwkit_lie::trig::LANES`] joints at a time, vectorised.
     #[inline(always)]
-    pub(crate) fn walk(&self, q: &[f64], mut f: impl FnMut(usize, &JointConst, f64, f64, f64)) {
+    pub(crate) fn walk<A: MulAdd>(
+        &self,
+        q: &[f64],
+        mut f: impl FnMut(usize, &JointConst, f64, f64, f64),
+    ) {
         const L: usize = screwkit_lie::trig::LANES;
         for (b, block) in self.joints.chunks(L).enumerate() {
             let mut theta = [0.0; L];
@@ -294,7 +299,7 @@ impl Kinematics {
                 *th = self.theta(b * L + i, q);
             }
             let (mut s, mut c) = ([0.0; L], [0.0; L]);
-            screwkit_lie::trig::sin_cos_lanes(&theta, &mut s, &mut c);
+            screwkit_lie::trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
             for (i, jc) in block.iter().enumerate() {
                 f(b * L + i, jc, theta[i], s[i], c[i]);
             }
@@ -389,9 +394,19 @@ mod tests {
         for (twist, jc) in &cases {
             for theta in [-2.5f64, -0.3, 0.0, 1e-9, 0.7, 3.0] {
                 let (sn, cs) = theta.sin_cos();
-                let fast = jc.apply(&t, theta, sn, cs);
+                let mut cols = Columns::identity();
+                cols.0 = std::array::from_fn(|k| {
+                    let h = t.to_homogeneous();
+                    [h[(0, k)], h[(1, k)], h[(2, k)], h[(3, k)]]
+                });
+                let mut fused = cols;
+                jc.apply::<screwkit_lie::fma::Plain>(&mut cols, theta, sn, cs);
+                // Fused outside an fma function is a library call: slow, but the same values.
+                jc.apply::<screwkit_lie::fma::Fused>(&mut fused, theta, sn, cs);
                 let oracle = t.compose(&Se3::exp(&(*twist * theta)));
-                assert!(fast.max_abs_diff(&oracle) < 1e-14, "{twist:?} {theta}");
+                for got in [cols.to_se3(), fused.to_se3()] {
+                    assert!(got.max_abs_diff(&oracle) < 1e-14, "{twist:?} {theta}");
+                }
             }
         }
     }

@@ -24,6 +24,7 @@
 
 pub mod analysis;
 pub mod batch;
+mod columns;
 pub mod error;
 pub mod fk;
 pub mod ik;

@@ -1,0 +1,121 @@
+//! A pose held as the four columns of its homogeneous matrix T = [[R, p], [0, 1]]: each column
+//! is a 4-lane array (x, y, z, w), w = 0 for the columns of R and 1 for p. Every operation below
+//! is a few lane-wise multiply-adds of whole columns, which the compiler turns into one 4-wide
+//! vector instruction each under AVX2 (two 2-wide ones on baseline SSE2): R stays in four
+//! registers along the chain instead of nine scalars.
+//!
+//! The multiply-add policy `A` ([`screwkit_lie::fma`]) is a type parameter so the same code is
+//! compiled portable and, behind run-time detection, with fused multiply-adds.
+
+use nalgebra::{Matrix3, Vector3};
+use screwkit_lie::fma::MulAdd;
+use screwkit_lie::Se3;
+
+/// One column: (x, y, z, w).
+pub(crate) type Lane = [f64; 4];
+
+/// `a·x + acc`, lane by lane.
+#[inline(always)]
+fn madd<A: MulAdd>(a: Lane, x: f64, acc: Lane) -> Lane {
+    [
+        A::madd(a[0], x, acc[0]),
+        A::madd(a[1], x, acc[1]),
+        A::madd(a[2], x, acc[2]),
+        A::madd(a[3], x, acc[3]),
+    ]
+}
+
+/// `a·x`, lane by lane.
+#[inline(always)]
+fn scale(a: Lane, x: f64) -> Lane {
+    [a[0] * x, a[1] * x, a[2] * x, a[3] * x]
+}
+
+/// a × b on the first three lanes (w = 0).
+#[inline(always)]
+pub(crate) fn cross(a: Lane, b: Lane) -> Lane {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+        0.0,
+    ]
+}
+
+/// `a + b`, lane by lane.
+#[inline(always)]
+pub(crate) fn add(a: Lane, b: Lane) -> Lane {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]]
+}
+
+/// T as columns (R e₁, R e₂, R e₃, p).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Columns(pub(crate) [Lane; 4]);
+
+impl Columns {
+    /// The identity.
+    #[inline(always)]
+    pub(crate) fn identity() -> Self {
+        Self([
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ])
+    }
+
+    /// Back to an [`Se3`] (R, p).
+    #[inline(always)]
+    pub(crate) fn to_se3(self) -> Se3 {
+        let [a, b, c, p] = self.0;
+        Se3::from_parts_unchecked(
+            Matrix3::new(a[0], b[0], c[0], a[1], b[1], c[1], a[2], b[2], c[2]),
+            Vector3::new(p[0], p[1], p[2]),
+        )
+    }
+
+    /// The translation column p (w = 1).
+    #[inline(always)]
+    pub(crate) fn p(&self) -> Lane {
+        self.0[3]
+    }
+
+    /// R x = x₁ R e₁ + x₂ R e₂ + x₃ R e₃ (w = 0).
+    #[inline(always)]
+    pub(crate) fn rotate<A: MulAdd>(&self, x: &[f64; 3]) -> Lane {
+        let [a, b, c, _] = self.0;
+        madd::<A>(a, x[0], madd::<A>(b, x[1], scale(c, x[2])))
+    }
+
+    /// T · [[I, t], [0, 1]]: p ← R t + p.
+    #[inline(always)]
+    pub(crate) fn translate<A: MulAdd>(&mut self, t: &[f64; 3]) {
+        let [a, b, c, p] = self.0;
+        self.0[3] = madd::<A>(a, t[0], madd::<A>(b, t[1], madd::<A>(c, t[2], p)));
+    }
+
+    /// T · [[E, t], [0, 1]] for any 3x3 E: column k of R E is Σᵢ E_ik R eᵢ; p ← R t + p.
+    #[inline(always)]
+    pub(crate) fn compose<A: MulAdd>(&self, e: &Matrix3<f64>, t: &[f64; 3]) -> Self {
+        let [a, b, c, _] = self.0;
+        let col = |k: usize| madd::<A>(a, e[(0, k)], madd::<A>(b, e[(1, k)], scale(c, e[(2, k)])));
+        let mut out = *self;
+        out.translate::<A>(t);
+        out.0[..3].copy_from_slice(&[col(0), col(1), col(2)]);
+        out
+    }
+
+    /// T · [[R_axis(φ), 0], [0, 1]] for the coordinate axis whose rotation mixes columns I and J
+    /// (x: 1, 2; y: 2, 0; z: 0, 1), given (sin φ, cos φ):
+    /// col_I ← c col_I + s col_J, col_J ← c col_J − s col_I.
+    #[inline(always)]
+    pub(crate) fn rotate_axis<A: MulAdd, const I: usize, const J: usize>(
+        &mut self,
+        s: f64,
+        c: f64,
+    ) {
+        let (u, w) = (self.0[I], self.0[J]);
+        self.0[I] = madd::<A>(w, s, scale(u, c));
+        self.0[J] = madd::<A>(u, -s, scale(w, c));
+    }
+}
