@@ -64,6 +64,44 @@ impl Columns {
         ])
     }
 
+    /// From an [`Se3`] (R, p).
+    pub(crate) fn from_se3(t: &Se3) -> Self {
+        let (r, p) = (t.rotation(), t.translation());
+        Self(std::array::from_fn(|k| {
+            if k < 3 {
+                [r[(0, k)], r[(1, k)], r[(2, k)], 0.0]
+            } else {
+                [p.x, p.y, p.z, 1.0]
+            }
+        }))
+    }
+
+    /// T⁻¹ = [[Rᵀ, −Rᵀp], [0, 1]]: the columns of Rᵀ are the rows of R.
+    #[inline(always)]
+    pub(crate) fn inverse<A: MulAdd>(&self) -> Self {
+        let [a, b, c, p] = self.0;
+        let mut out = Self([
+            [a[0], b[0], c[0], 0.0],
+            [a[1], b[1], c[1], 0.0],
+            [a[2], b[2], c[2], 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ]);
+        let rtp = out.rotate::<A>(&[p[0], p[1], p[2]]);
+        out.0[3] = [-rtp[0], -rtp[1], -rtp[2], 1.0];
+        out
+    }
+
+    /// T · U, both as columns: column k of R_T R_U is R_T (column k of R_U); p = R_T p_U + p_T.
+    #[inline(always)]
+    pub(crate) fn then<A: MulAdd>(&self, u: &Columns) -> Self {
+        let col = |k: usize| {
+            let x = u.0[k];
+            self.rotate::<A>(&[x[0], x[1], x[2]])
+        };
+        let p = add(col(3), self.0[3]);
+        Self([col(0), col(1), col(2), [p[0], p[1], p[2], 1.0]])
+    }
+
     /// Back to an [`Se3`] (R, p).
     #[inline(always)]
     pub(crate) fn to_se3(self) -> Se3 {

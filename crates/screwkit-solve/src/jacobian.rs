@@ -4,14 +4,14 @@
 //! Body: J_b = \[Ad_{T⁻¹}\] J_s, so V_b = J_b q̇. Rows are (ω, v). With mimic joints, the
 //! column of a variable is Σ multiplier_j · (column of joint j) over the joints it drives.
 
-use nalgebra::{Matrix6xX, Vector3};
+use nalgebra::Matrix6xX;
 use screwkit_lie::fma::{MulAdd, Plain};
 use screwkit_lie::Se3;
 
-use crate::columns::Columns;
+use crate::columns::{Columns, Lane};
 
 use crate::error::SolveError;
-use crate::kinematics::{Kinematics, Workspace};
+use crate::kinematics::{JointConst, Kinematics, Workspace};
 
 /// Pose and space Jacobian in one pass, unchecked (q must have `dof` finite entries).
 #[inline]
@@ -42,9 +42,15 @@ fn fk_jacobian_fused(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64], fram
     fk_jacobian_with::<screwkit_lie::fma::Fused>(kin, jac, q, frame)
 }
 
-/// The pass: column j of J_s is \[Ad_{T_j}\] S_j with T_j the product of the joints before j
-/// (mimic columns summed with their multipliers); then T = T_n M, and for the body frame every
-/// column becomes \[Ad_{T⁻¹}\] V = (Rᵀω, Rᵀ(v − p × ω)).
+/// One pass for the pose and the Jacobian, mimic columns summed with their multipliers
+/// (column of a variable = Σ m_j · column of joint j).
+///
+/// Space: left to right, column j = \[Ad_{T_j}\] S_j with T_j = e^[S₁]θ₁ ⋯ e^[S_{j−1}]θ_{j−1};
+/// then T = T_n M.
+/// Body: right to left with the body screws, column j = \[Ad_{V_j}\] B_j with
+/// V_j = e^{−[B_n]θ_n} ⋯ e^{−[B_{j+1}]θ_{j+1}} (Modern Robotics eq. 5.18), accumulated as
+/// V ← V e^{−[B_j]θ_j}; at the end V = (e^[B₁]θ₁ ⋯ e^[Bₙ]θₙ)⁻¹, so T = M V⁻¹. Both passes use
+/// the same kernels and cost the same.
 #[inline(always)]
 fn fk_jacobian_with<A: MulAdd>(
     kin: &Kinematics,
@@ -55,9 +61,7 @@ fn fk_jacobian_with<A: MulAdd>(
     if !kin.identity_map {
         jac.fill(0.0);
     }
-    let mut t = Columns::identity();
-    kin.walk::<A>(q, |j, jc, theta, s, c| {
-        let (w, v) = jc.adjoint_column::<A>(&t);
+    let mut store = |j: usize, jc: &JointConst, w: Lane, v: Lane| {
         if kin.identity_map {
             let mut dst = jac.column_mut(j);
             dst[0] = w[0];
@@ -74,33 +78,26 @@ fn fk_jacobian_with<A: MulAdd>(
                 dst[i + 3] = A::madd(m, v[i], dst[i + 3]);
             }
         }
-        jc.apply::<A>(&mut t, theta, s, c);
-    });
-    let t = t
-        .compose::<A>(kin.home.rotation(), &(*kin.home.translation()).into())
-        .to_se3();
-    if frame == Frame::Body {
-        to_body(&t, jac);
-    }
-    t
-}
-
-/// Column-wise [Ad_{T⁻¹}] V = (Rᵀω, Rᵀ(v − p × ω)), in place.
-#[inline(always)]
-fn to_body(t: &Se3, jac: &mut Matrix6xX<f64>) {
-    let rt = t.rotation().transpose();
-    let p = *t.translation();
-    for mut c in jac.column_iter_mut() {
-        let w = Vector3::new(c[0], c[1], c[2]);
-        let v = Vector3::new(c[3], c[4], c[5]);
-        let wb = rt * w;
-        let vb = rt * (v - p.cross(&w));
-        c[0] = wb.x;
-        c[1] = wb.y;
-        c[2] = wb.z;
-        c[3] = vb.x;
-        c[4] = vb.y;
-        c[5] = vb.z;
+    };
+    let mut t = Columns::identity();
+    match frame {
+        Frame::Space => {
+            kin.walk::<A>(q, |j, jc, theta, s, c| {
+                let (w, v) = jc.adjoint_column::<A>(&t);
+                store(j, jc, w, v);
+                jc.apply::<A>(&mut t, theta, s, c);
+            });
+            t.compose::<A>(kin.home.rotation(), &(*kin.home.translation()).into())
+                .to_se3()
+        }
+        Frame::Body => {
+            kin.walk_rev::<A>(q, |j, jb, theta, s, c| {
+                let (w, v) = jb.adjoint_column::<A>(&t);
+                store(j, jb, w, v);
+                jb.apply::<A>(&mut t, -theta, -s, c);
+            });
+            kin.home_columns.then::<A>(&t.inverse::<A>()).to_se3()
+        }
     }
 }
 

@@ -142,6 +142,10 @@ impl JointConst {
 pub struct Kinematics {
     pub(crate) joints: Vec<JointConst>,
     pub(crate) body: Vec<Twist>,
+    /// The same constants for the body screws B_j (used right to left by the body Jacobian).
+    pub(crate) body_joints: Vec<JointConst>,
+    /// M as columns.
+    pub(crate) home_columns: Columns,
     pub(crate) home: Se3,
     pub(crate) links: Vec<(String, Se3, usize)>,
     pub(crate) lower: Vec<f64>,
@@ -170,6 +174,20 @@ impl Kinematics {
         Self {
             joints,
             body: chain.joints.iter().map(|j| *j.b_body.twist()).collect(),
+            body_joints: chain
+                .joints
+                .iter()
+                .map(|j| {
+                    JointConst::new(
+                        *j.b_body.twist(),
+                        j.kind == JointKind::Prismatic,
+                        j.variable,
+                        j.multiplier,
+                        j.offset,
+                    )
+                })
+                .collect(),
+            home_columns: Columns::from_se3(&chain.home),
             home: chain.home,
             links: chain
                 .links
@@ -303,6 +321,40 @@ impl Kinematics {
             for (i, jc) in block.iter().enumerate() {
                 f(b * L + i, jc, theta[i], s[i], c[i]);
             }
+        }
+    }
+}
+
+impl Kinematics {
+    /// Walks the chain tip → base calling `f(j, body joint j, θ_j, sin θ_j, cos θ_j)` with the
+    /// constants of the body screws B_j; sines and cosines computed as in [`Kinematics::walk`].
+    #[inline(always)]
+    pub(crate) fn walk_rev<A: MulAdd>(
+        &self,
+        q: &[f64],
+        mut f: impl FnMut(usize, &JointConst, f64, f64, f64),
+    ) {
+        const L: usize = screwkit_lie::trig::LANES;
+        let n = self.body_joints.len();
+        let mut end = n;
+        while end > 0 {
+            let start = end.saturating_sub(L);
+            let mut theta = [0.0; L];
+            for (i, th) in theta.iter_mut().enumerate().take(end - start) {
+                *th = self.theta(start + i, q);
+            }
+            let (mut s, mut c) = ([0.0; L], [0.0; L]);
+            screwkit_lie::trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
+            for i in (0..end - start).rev() {
+                f(
+                    start + i,
+                    &self.body_joints[start + i],
+                    theta[i],
+                    s[i],
+                    c[i],
+                );
+            }
+            end = start;
         }
     }
 }
