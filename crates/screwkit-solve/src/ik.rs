@@ -23,7 +23,7 @@
 use std::time::{Duration, Instant};
 
 use faer::Mat;
-use nalgebra::{Matrix6, Matrix6xX, Vector6};
+use nalgebra::{Matrix6xX, Vector6};
 use screwkit_lie::Se3;
 
 use crate::error::SolveError;
@@ -266,24 +266,7 @@ fn step(
             LM_ERROR_WEIGHT * e.norm_squared() + lambda_min
         }
     };
-    let mut a = Matrix6::identity() * lambda2;
-    for (k, c) in jac.column_iter().enumerate() {
-        if !locked[k] {
-            a += c * c.transpose();
-        }
-    }
-    let y = match a.cholesky() {
-        Some(ch) => ch.solve(e),
-        None => {
-            return Err(SolveError::Numerical(
-                "J Jᵀ + λI is not positive definite".into(),
-            ))
-        }
-    };
-    for (k, c) in jac.column_iter().enumerate() {
-        dq[k] = if locked[k] { 0.0 } else { c.dot(&y) };
-    }
-    Ok(())
+    crate::dls::dls_step(jac, e, lambda2, locked, dq)
 }
 
 /// Δq = J⁺ e with the faer SVD; σ ≤ 1e-10 σ₁ dropped; locked columns left out.

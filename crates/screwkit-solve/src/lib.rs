@@ -25,6 +25,7 @@
 pub mod analysis;
 pub mod batch;
 mod columns;
+pub mod dls;
 pub mod error;
 pub mod fk;
 pub mod ik;

@@ -4,7 +4,7 @@
 //! (J_b, V_b, F_b).
 
 use faer::Mat;
-use nalgebra::{DVector, Matrix6, Matrix6xX, Vector6};
+use nalgebra::{DVector, Matrix6, Matrix6xX};
 use screwkit_lie::{Twist, Wrench};
 
 use crate::error::SolveError;
@@ -58,7 +58,7 @@ pub fn joint_velocities_pinv(
     Ok(out)
 }
 
-/// Damped least squares q̇ = Jᵀ (J Jᵀ + λ² I)⁻¹ V (6 × 6 Cholesky): bounded near singularities,
+/// Damped least squares q̇ = Jᵀ (J Jᵀ + λ² I)⁻¹ V ([`crate::dls::dls_step`]): bounded near singularities,
 /// exact as λ → 0 for full row rank.
 pub fn joint_velocities_dls(
     j: &Matrix6xX<f64>,
@@ -70,15 +70,16 @@ pub fn joint_velocities_dls(
             "damping λ must be positive, got {lambda}"
         )));
     }
-    let mut a = Matrix6::identity() * (lambda * lambda);
-    for c in j.column_iter() {
-        a += c * c.transpose();
-    }
-    let y: Vector6<f64> = a
-        .cholesky()
-        .ok_or_else(|| SolveError::Numerical("J Jᵀ + λ²I is not positive definite".into()))?
-        .solve(&v.to_vector());
-    Ok(j.transpose() * y)
+    let mut q_dot = DVector::zeros(j.ncols());
+    let free = vec![false; j.ncols()];
+    crate::dls::dls_step(
+        j,
+        &v.to_vector(),
+        lambda * lambda,
+        &free,
+        q_dot.as_mut_slice(),
+    )?;
+    Ok(q_dot)
 }
 
 /// Joint torques balancing a tip wrench: τ = Jᵀ F (F in the Jacobian's frame).
