@@ -113,8 +113,8 @@ fn dls_step_with<A: MulAdd>(
 #[inline(always)]
 fn cholesky_column<const J: usize>(a: &mut [[f64; 6]; 6], inv: &mut [f64; 6]) -> bool {
     let mut d = a[J][J];
-    for k in 0..J {
-        d -= a[J][k] * a[J][k];
+    for x in &a[J][..J] {
+        d -= x * x;
     }
     if !(d > 0.0 && d.is_finite()) {
         return false;
@@ -124,8 +124,8 @@ fn cholesky_column<const J: usize>(a: &mut [[f64; 6]; 6], inv: &mut [f64; 6]) ->
     inv[J] = 1.0 / l;
     for i in J + 1..6 {
         let mut s = a[i][J];
-        for k in 0..J {
-            s -= a[i][k] * a[J][k];
+        for (x, y) in a[i][..J].iter().zip(&a[J][..J]) {
+            s -= x * y;
         }
         a[i][J] = s * inv[J];
     }
