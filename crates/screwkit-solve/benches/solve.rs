@@ -76,7 +76,7 @@ fn batches(c: &mut Criterion) {
     let mut out = vec![Se3::identity(); rows];
     let targets: Vec<Se3> = qs
         .chunks(k.dof())
-        .take(200)
+        .take(1000)
         .map(|q| fk_unchecked(&k, q))
         .collect();
     let opts = IkOptions {

@@ -28,8 +28,14 @@ fn check_rows(kin: &Kinematics, qs: &[f64]) -> Result<usize, SolveError> {
             names: kin.names().join(", "),
         });
     }
-    for row in qs.chunks(n) {
-        kin.check_q(row)?;
+    // In parallel too (a serial scan would cap the speed-up of cheap work such as FK); the
+    // first bad row in input order is the one reported.
+    if let Some(k) = qs
+        .par_chunks(n)
+        .with_min_len(CHUNK)
+        .position_first(|row| row.iter().any(|x| !x.is_finite()))
+    {
+        kin.check_q(&qs[k * n..(k + 1) * n])?;
     }
     Ok(qs.len() / n)
 }

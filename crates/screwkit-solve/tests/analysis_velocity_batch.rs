@@ -185,6 +185,18 @@ fn batches_equal_single_calls_and_ignore_thread_count() {
     // Wrong shapes are errors.
     assert!(fk_batch(&kin, &qs[..n + 1], &mut out[..1]).is_err());
     assert!(fk_batch(&kin, &qs[..2 * n], &mut out[..3]).is_err());
+    // Non-finite values anywhere in a large batch (checked in parallel): an error naming the
+    // joint of the first bad row in input order.
+    let rows = qs.len() / n;
+    let mut bad = qs.clone();
+    bad[(rows - 3) * n + 2] = f64::INFINITY;
+    bad[(rows / 2) * n + 1] = f64::NAN;
+    let err = fk_batch(&kin, &bad, &mut out).unwrap_err().to_string();
+    assert!(
+        err.contains(&kin.names()[1]) && err.contains("NaN"),
+        "{err}"
+    );
+    assert!(jacobian_batch(&kin, &bad, Frame::Space).is_err());
 }
 
 /// Warm start along a path: each solve starts at the previous solution and takes few
