@@ -6,7 +6,7 @@ use screwkit_lie::fma::MulAdd;
 use screwkit_lie::{so3, Se3, Twist};
 
 use crate::columns::{add, cross, Columns, Lane};
-use screwkit_model::{Chain, JointKind};
+use screwkit_model::{Chain, ChainJoint, JointKind};
 
 use crate::error::SolveError;
 
@@ -158,35 +158,26 @@ pub struct Kinematics {
 impl Kinematics {
     /// Prepares a chain for solving.
     pub fn new(chain: &Chain) -> Self {
-        let joints = chain
-            .joints
-            .iter()
-            .map(|j| {
-                JointConst::new(
-                    *j.s_space.twist(),
-                    j.kind == JointKind::Prismatic,
-                    j.variable,
-                    j.multiplier,
-                    j.offset,
-                )
-            })
-            .collect();
-        Self {
-            joints,
-            body: chain.joints.iter().map(|j| *j.b_body.twist()).collect(),
-            body_joints: chain
+        // Closed-form constants of every joint, for the space screws S_j or the body screws B_j.
+        let table = |screw: fn(&ChainJoint) -> Twist| -> Vec<JointConst> {
+            chain
                 .joints
                 .iter()
                 .map(|j| {
                     JointConst::new(
-                        *j.b_body.twist(),
+                        screw(j),
                         j.kind == JointKind::Prismatic,
                         j.variable,
                         j.multiplier,
                         j.offset,
                     )
                 })
-                .collect(),
+                .collect()
+        };
+        Self {
+            joints: table(|j| *j.s_space.twist()),
+            body: chain.joints.iter().map(|j| *j.b_body.twist()).collect(),
+            body_joints: table(|j| *j.b_body.twist()),
             home_columns: Columns::from_se3(&chain.home),
             home: chain.home,
             links: chain
