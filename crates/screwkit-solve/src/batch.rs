@@ -12,7 +12,7 @@ use screwkit_lie::Se3;
 use crate::error::SolveError;
 use crate::fk::fk_unchecked;
 use crate::ik::{solve_unchecked, IkOptions, IkResult, SplitMix};
-use crate::jacobian::{fk_jacobian_body_into, fk_jacobian_space_into, Frame};
+use crate::jacobian::{fk_jacobian_into, Frame};
 use crate::kinematics::{Kinematics, Workspace};
 
 /// Rows per rayon task: large enough to amortise scheduling, small enough to balance.
@@ -74,10 +74,7 @@ pub fn jacobian_batch(
         .par_chunks(n)
         .map(|row| {
             let mut j = Matrix6xX::zeros(n);
-            let t = match frame {
-                Frame::Space => fk_jacobian_space_into(kin, &mut j, row),
-                Frame::Body => fk_jacobian_body_into(kin, &mut j, row),
-            };
+            let t = fk_jacobian_into(kin, &mut j, row, frame);
             (t, j)
         })
         .collect())

@@ -27,7 +27,7 @@ use nalgebra::{Matrix6xX, Vector6};
 use screwkit_lie::Se3;
 
 use crate::error::SolveError;
-use crate::jacobian::fk_jacobian_body_into;
+use crate::jacobian::{fk_jacobian_into, Frame};
 use crate::kinematics::{Kinematics, Workspace};
 
 /// The update rule.
@@ -368,7 +368,7 @@ fn iterate(
         row_weights[..3].fill(0.0);
     }
     let stop = loop {
-        let t = fk_jacobian_body_into(kin, &mut ws.jacobian, q);
+        let t = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Body);
         let es = error_state(&t, target, opts);
         let err2 = es.e.norm_squared();
         if err2 < best.0 {

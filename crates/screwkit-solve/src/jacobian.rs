@@ -13,26 +13,20 @@ use crate::columns::{Columns, Lane};
 use crate::error::SolveError;
 use crate::kinematics::{JointConst, Kinematics, Workspace};
 
-/// Pose and space Jacobian in one pass, unchecked (q must have `dof` finite entries).
+/// Pose and Jacobian in `frame` in one pass, unchecked (q must have `dof` finite entries).
 #[inline]
-pub(crate) fn fk_jacobian_space_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
+pub(crate) fn fk_jacobian_into(
+    kin: &Kinematics,
+    jac: &mut Matrix6xX<f64>,
+    q: &[f64],
+    frame: Frame,
+) -> Se3 {
     #[cfg(target_arch = "x86_64")]
     if screwkit_lie::fma::fused_available() {
         // SAFETY: the CPU has AVX2 and FMA (checked just above).
-        return unsafe { fk_jacobian_fused(kin, jac, q, Frame::Space) };
+        return unsafe { fk_jacobian_fused(kin, jac, q, frame) };
     }
-    fk_jacobian_with::<Plain>(kin, jac, q, Frame::Space)
-}
-
-/// Pose and body Jacobian in one pass, unchecked.
-#[inline]
-pub(crate) fn fk_jacobian_body_into(kin: &Kinematics, jac: &mut Matrix6xX<f64>, q: &[f64]) -> Se3 {
-    #[cfg(target_arch = "x86_64")]
-    if screwkit_lie::fma::fused_available() {
-        // SAFETY: the CPU has AVX2 and FMA (checked just above).
-        return unsafe { fk_jacobian_fused(kin, jac, q, Frame::Body) };
-    }
-    fk_jacobian_with::<Plain>(kin, jac, q, Frame::Body)
+    fk_jacobian_with::<Plain>(kin, jac, q, frame)
 }
 
 /// [`fk_jacobian_with`] compiled for AVX2 + FMA.
@@ -108,7 +102,7 @@ pub fn fk_jacobian_space<'w>(
     q: &[f64],
 ) -> Result<(Se3, &'w Matrix6xX<f64>), SolveError> {
     kin.check_q(q)?;
-    let t = fk_jacobian_space_into(kin, &mut ws.jacobian, q);
+    let t = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Space);
     Ok((t, &ws.jacobian))
 }
 
@@ -119,7 +113,7 @@ pub fn fk_jacobian_body<'w>(
     q: &[f64],
 ) -> Result<(Se3, &'w Matrix6xX<f64>), SolveError> {
     kin.check_q(q)?;
-    let t = fk_jacobian_body_into(kin, &mut ws.jacobian, q);
+    let t = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Body);
     Ok((t, &ws.jacobian))
 }
 

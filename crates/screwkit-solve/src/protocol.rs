@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use crate::fk::fk_unchecked;
 use crate::ik::{random_config, solve_unchecked, IkOptions, SplitMix};
-use crate::jacobian::fk_jacobian_space_into;
+use crate::jacobian::{fk_jacobian_into, Frame};
 use crate::kinematics::{Kinematics, Workspace};
 
 /// Success thresholds of the protocol.
@@ -104,7 +104,7 @@ pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> Pro
     let t0 = Instant::now();
     for _ in 0..reps {
         for q in qs.chunks(n.max(1)) {
-            sink += fk_jacobian_space_into(kin, &mut ws.jacobian, q)
+            sink += fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Space)
                 .translation()
                 .y;
         }
