@@ -22,7 +22,6 @@
 
 use std::time::{Duration, Instant};
 
-use faer::Mat;
 use nalgebra::{Matrix6xX, Vector6};
 use screwkit_lie::Se3;
 
@@ -276,29 +275,7 @@ fn pinv_step(
     locked: &[bool],
     dq: &mut [f64],
 ) -> Result<(), SolveError> {
-    let n = jac.ncols();
-    let m = Mat::<f64>::from_fn(6, n, |r, c| if locked[c] { 0.0 } else { jac[(r, c)] });
-    let svd = m
-        .thin_svd()
-        .map_err(|err| SolveError::Numerical(format!("SVD did not converge: {err:?}")))?;
-    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
-    let k = n.min(6);
-    let tol = if k > 0 { 1e-10 * s[0] } else { 0.0 };
-    dq.iter_mut().for_each(|x| *x = 0.0);
-    for i in 0..k {
-        if s[i] <= tol {
-            continue;
-        }
-        let mut c = 0.0;
-        for r in 0..6 {
-            c += u[(r, i)] * e[r];
-        }
-        c /= s[i];
-        for (r, x) in dq.iter_mut().enumerate() {
-            *x += v[(r, i)] * c;
-        }
-    }
-    Ok(())
+    crate::velocity::pinv_into(jac, e, locked, |s1| 1e-10 * s1, dq)
 }
 
 /// Solves T(q) = `target` from `seed`, checking the input (q length, finite values, target).

@@ -4,7 +4,7 @@
 //! (J_b, V_b, F_b).
 
 use faer::Mat;
-use nalgebra::{DVector, Matrix6, Matrix6xX};
+use nalgebra::{DVector, Matrix6, Matrix6xX, Vector6};
 use screwkit_lie::{Twist, Wrench};
 
 use crate::error::SolveError;
@@ -33,29 +33,47 @@ pub fn joint_velocities_pinv(
     tolerance: Option<f64>,
 ) -> Result<DVector<f64>, SolveError> {
     let n = j.ncols();
-    let m = Mat::<f64>::from_fn(6, n, |r, c| j[(r, c)]);
+    let mut out = DVector::zeros(n);
+    let default = |s1: f64| 6.max(n) as f64 * f64::EPSILON * s1;
+    pinv_into(
+        j,
+        &v.to_vector(),
+        &vec![false; n],
+        |s1| tolerance.unwrap_or(default(s1)),
+        out.as_mut_slice(),
+    )?;
+    Ok(out)
+}
+
+/// x = J⁺ b = Σ_i (u_iᵀ b / σ_i) v_i over the σ_i > `tolerance(σ₁)` of the faer SVD, with the
+/// columns whose `locked` flag is set treated as zero (their x is 0). The one pseudo-inverse of
+/// the crate: [`joint_velocities_pinv`] and the Newton–Raphson IK step.
+pub(crate) fn pinv_into(
+    j: &Matrix6xX<f64>,
+    b: &Vector6<f64>,
+    locked: &[bool],
+    tolerance: impl Fn(f64) -> f64,
+    x: &mut [f64],
+) -> Result<(), SolveError> {
+    let n = j.ncols();
+    let m = Mat::<f64>::from_fn(6, n, |r, c| if locked[c] { 0.0 } else { j[(r, c)] });
     let svd = m
         .thin_svd()
         .map_err(|e| SolveError::Numerical(format!("SVD did not converge: {e:?}")))?;
-    let (u, s, vv) = (svd.U(), svd.S().column_vector(), svd.V());
+    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
     let k = n.min(6);
-    let tol = tolerance.unwrap_or(6.max(n) as f64 * f64::EPSILON * if k > 0 { s[0] } else { 0.0 });
-    let b = v.to_vector();
-    let mut out = DVector::zeros(n);
+    let tol = if k > 0 { tolerance(s[0]) } else { 0.0 };
+    x.iter_mut().for_each(|x| *x = 0.0);
     for i in 0..k {
         if s[i] <= tol {
             continue;
         }
-        let mut c = 0.0;
-        for r in 0..6 {
-            c += u[(r, i)] * b[r];
-        }
-        c /= s[i];
-        for r in 0..n {
-            out[r] += vv[(r, i)] * c;
+        let c = (0..6).map(|r| u[(r, i)] * b[r]).sum::<f64>() / s[i];
+        for (r, x) in x.iter_mut().enumerate() {
+            *x += v[(r, i)] * c;
         }
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Damped least squares q̇ = Jᵀ (J Jᵀ + λ² I)⁻¹ V ([`crate::dls::dls_step`]): bounded near singularities,
