@@ -11,7 +11,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let kin = Kinematics::new(&chain);
     let mut ws = Workspace::new(&kin);
     let q_star = [0.4, -0.3, 0.2, -2.1, 0.1, 1.9, 0.6];
-    let target = fk(&kin, &q_star)?;
+    let target = fk(&kin, &mut ws, &q_star)?;
     println!("target T_sd =\n{target:.4}");
     for (name, method) in [
         ("Levenberg–Marquardt", IkMethod::LM),
@@ -23,10 +23,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ..IkOptions::default()
         };
         let r = ik::solve(&kin, &mut ws, &target, &kin.midpoint(), &opts)?;
-        let err = fk(&kin, &r.q)?.max_abs_diff(&target);
+        let err = fk(&kin, &mut ws, &r.q)?.max_abs_diff(&target);
+        let st = &r.status;
         println!(
             "{name:<24} converged {:<5} iterations {:>3} restarts {}  q = {:.4?}  max |FK(q) - T_sd| = {err:.1e}",
-            r.converged, r.iterations, r.restarts, r.q
+            st.converged, st.iterations, st.restarts, r.q
         );
     }
     Ok(())

@@ -15,7 +15,7 @@ fn main() {
         args.get(1).map(String::as_str),
         args.get(2).map(String::as_str),
     ) {
-        Ok(chain) => print!("{}", table::to_markdown(&chain, table::Frame::Both)),
+        Ok(chain) => print!("{}", table::to_markdown(&chain, &screwkit::lie::Frame::ALL)),
         Err(e) => {
             eprintln!("error: {e}");
             std::process::exit(1);

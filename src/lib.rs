@@ -16,7 +16,7 @@ pub mod prelude {
     pub use screwkit_lie::{ScrewAxis, Se3, Twist, Wrench};
     pub use screwkit_model::{load_chain, Chain, ModelError};
     pub use screwkit_solve::fk::{fk, fk_all_links};
-    pub use screwkit_solve::ik::{IkMethod, IkOptions, IkResult};
-    pub use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space, jacobian};
+    pub use screwkit_solve::ik::{IkMethod, IkOptions, IkResult, IkStatus};
+    pub use screwkit_solve::jacobian::{fk_jacobian, jacobian};
     pub use screwkit_solve::{Frame, Kinematics, SolveError, Workspace};
 }

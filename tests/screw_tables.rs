@@ -15,7 +15,8 @@
 //!
 //! CI runs with INSTA_UPDATE=no, so a changed number fails.
 
-use screwkit::model::table::{to_csv, to_json, to_markdown, Frame};
+use screwkit::lie::Frame;
+use screwkit::model::table::{to_csv, to_json, to_markdown};
 use screwkit::model::{load_chain, Chain};
 
 fn chain(file: &str, base: Option<&str>, tip: Option<&str>) -> Chain {
@@ -31,35 +32,35 @@ fn chain(file: &str, base: Option<&str>, tip: Option<&str>) -> Chain {
 fn planar_3r() {
     insta::assert_snapshot!(to_markdown(
         &chain("planar_3r.urdf", None, None),
-        Frame::Both
+        &Frame::ALL
     ));
 }
 
 #[test]
 fn ur5() {
-    insta::assert_snapshot!(to_markdown(&chain("ur5.urdf", None, None), Frame::Both));
+    insta::assert_snapshot!(to_markdown(&chain("ur5.urdf", None, None), &Frame::ALL));
 }
 
 #[test]
 fn panda() {
-    insta::assert_snapshot!(to_markdown(&chain("panda.urdf", None, None), Frame::Both));
+    insta::assert_snapshot!(to_markdown(&chain("panda.urdf", None, None), &Frame::ALL));
 }
 
 #[test]
 fn iiwa14() {
-    insta::assert_snapshot!(to_markdown(&chain("iiwa14.urdf", None, None), Frame::Both));
+    insta::assert_snapshot!(to_markdown(&chain("iiwa14.urdf", None, None), &Frame::ALL));
 }
 
 #[test]
 fn scara() {
-    insta::assert_snapshot!(to_markdown(&chain("scara.urdf", None, None), Frame::Both));
+    insta::assert_snapshot!(to_markdown(&chain("scara.urdf", None, None), &Frame::ALL));
 }
 
 #[test]
 fn tricky() {
     insta::assert_snapshot!(to_markdown(
         &chain("tricky.urdf", Some("base_link"), None),
-        Frame::Both
+        &Frame::ALL
     ));
 }
 
@@ -67,7 +68,7 @@ fn tricky() {
 fn torso_left_arm() {
     insta::assert_snapshot!(to_markdown(
         &chain("torso_two_arms.urdf", None, Some("left_hand")),
-        Frame::Both
+        &Frame::ALL
     ));
 }
 
@@ -75,13 +76,13 @@ fn torso_left_arm() {
 fn gripper_arm_mimic() {
     insta::assert_snapshot!(to_markdown(
         &chain("gripper_arm.urdf", None, Some("right_finger")),
-        Frame::Both
+        &Frame::ALL
     ));
 }
 
 #[test]
 fn ur5_csv() {
-    insta::assert_snapshot!(to_csv(&chain("ur5.urdf", None, None), Frame::Space));
+    insta::assert_snapshot!(to_csv(&chain("ur5.urdf", None, None), &[Frame::Space]));
 }
 
 #[test]

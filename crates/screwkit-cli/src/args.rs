@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use screwkit_solve::Frame;
 
 /// Robot kinematics from URDF with screw theory: screw axes, FK, Jacobians, IK.
 #[derive(Debug, Parser)]
@@ -94,15 +95,24 @@ pub struct InfoArgs {
     pub urdf: PathBuf,
 }
 
-/// Which screw axes to show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum TableFrame {
-    /// Space axes S_i.
-    Space,
-    /// Body axes B_i.
-    Body,
-    /// Both.
-    Both,
+/// Parses `space` or `body` (the one [`Frame`] of the library).
+pub fn parse_frame(s: &str) -> Result<Frame, String> {
+    s.parse::<Frame>().map_err(|e| e.to_string())
+}
+
+/// The frames a table shows: `space`, `body` or `both`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Frames(pub Vec<Frame>);
+
+/// Parses `space`, `body` or `both` (space then body).
+pub fn parse_frames(s: &str) -> Result<Frames, String> {
+    if s == "both" {
+        Ok(Frames(Frame::ALL.to_vec()))
+    } else {
+        parse_frame(s)
+            .map(|f| Frames(vec![f]))
+            .map_err(|_| format!("unknown frame \"{s}\": expected \"space\", \"body\" or \"both\""))
+    }
 }
 
 /// `table`.
@@ -111,9 +121,9 @@ pub struct TableArgs {
     /// The chain.
     #[command(flatten)]
     pub chain: ChainArgs,
-    /// Which axes.
-    #[arg(long, value_enum, default_value_t = TableFrame::Both)]
-    pub frame: TableFrame,
+    /// Which axes: space (S_i), body (B_i) or both.
+    #[arg(long, value_parser = parse_frames, default_value = "both", value_name = "space|body|both")]
+    pub frame: Frames,
 }
 
 /// `fk`.
@@ -133,15 +143,6 @@ pub struct FkArgs {
     pub input: Option<String>,
 }
 
-/// Jacobian frame.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum JacFrame {
-    /// Space Jacobian J_s.
-    Space,
-    /// Body Jacobian J_b.
-    Body,
-}
-
 /// `jacobian`.
 #[derive(Debug, Args)]
 pub struct JacobianArgs {
@@ -151,9 +152,9 @@ pub struct JacobianArgs {
     /// Joint values q1,q2,...
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
     pub q: Option<List>,
-    /// Frame of the Jacobian.
-    #[arg(long, value_enum, default_value_t = JacFrame::Space)]
-    pub frame: JacFrame,
+    /// Frame of the Jacobian: space (J_s) or body (J_b).
+    #[arg(long, value_parser = parse_frame, default_value = "space", value_name = "space|body")]
+    pub frame: Frame,
     /// Add singular values, rank, manipulability, condition number and a verdict.
     #[arg(long)]
     pub analyze: bool,

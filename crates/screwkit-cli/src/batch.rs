@@ -1,18 +1,31 @@
-//! Batch mode: JSON lines in, JSON lines out in the same order, all cores, a progress bar on a
-//! terminal, a summary line on stderr.
+//! Batch mode: JSON lines in, JSON lines out in the same order, a summary line on stderr.
+//!
+//! The text side (parsing and printing JSON, a few µs a line) runs here, in parallel; the
+//! kinematics of all rows goes through the library's batch functions (`screwkit_solve::batch`)
+//! in one call, so a row gives the same answer here, from the library batch and from a single
+//! call. Rows are the non-blank lines, numbered from 0 in input order (the row index of the
+//! library batch, which seeds IK restarts); errors name the 1-based line number in the file.
 
 use std::io::{BufRead, IsTerminal, Write};
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_solve::{Kinematics, SolveError};
 use serde_json::{json, Value};
 
 use crate::output::{CliResult, Failure};
 
-/// Lines (1-based number, text) of FILE or stdin (`-`), blank lines skipped.
-pub fn read_lines(input: &str) -> CliResult<Vec<(usize, String)>> {
+/// A non-blank input line: its 1-based number in the file and its text.
+pub struct Line {
+    /// 1-based line number in the file.
+    pub number: usize,
+    /// The text.
+    pub text: String,
+}
+
+/// The non-blank lines of FILE or stdin (`-`).
+pub fn read_lines(input: &str) -> CliResult<Vec<Line>> {
     let reader: Box<dyn BufRead> = if input == "-" {
         Box::new(std::io::stdin().lock())
     } else {
@@ -22,9 +35,12 @@ pub fn read_lines(input: &str) -> CliResult<Vec<(usize, String)>> {
     };
     let mut out = Vec::new();
     for (i, line) in reader.lines().enumerate() {
-        let line = line.map_err(|e| Failure(format!("{input}: line {}: {e}", i + 1)))?;
-        if !line.trim().is_empty() {
-            out.push((i + 1, line));
+        let text = line.map_err(|e| Failure(format!("{input}: line {}: {e}", i + 1)))?;
+        if !text.trim().is_empty() {
+            out.push(Line {
+                number: i + 1,
+                text,
+            });
         }
     }
     Ok(out)
@@ -55,12 +71,72 @@ pub fn numbers(obj: &serde_json::Map<String, Value>, key: &str) -> Result<Vec<f6
         .collect()
 }
 
-/// Runs `f` on every line in parallel (one workspace per worker), prints the results in input
-/// order and a summary; returns the number of failures. `f` gives (output, ok).
-pub fn run<F>(kin: &Kinematics, lines: Vec<(usize, String)>, f: F) -> CliResult<usize>
-where
-    F: Fn(&mut Workspace, usize, &str) -> Result<(Value, bool), String> + Sync,
-{
+/// Parses every line in parallel with `parse`.
+pub fn parse_rows<T: Send>(
+    lines: &[Line],
+    parse: impl Fn(&str) -> Result<T, String> + Sync,
+) -> Vec<Result<T, String>> {
+    lines.par_iter().map(|l| parse(&l.text)).collect()
+}
+
+/// The `{"q": [...]}` lines as a flat N × dof buffer (NaN rows where a line is bad) and the
+/// per-line parse errors.
+pub fn q_rows(kin: &Kinematics, lines: &[Line]) -> (Vec<f64>, Vec<Option<String>>) {
+    let parsed = parse_rows(lines, |text| {
+        let q = numbers(&parse_object(text)?, "q")?;
+        kin.check_q(&q).map_err(|e| e.to_string())?;
+        Ok(q)
+    });
+    flatten(parsed, kin.dof())
+}
+
+/// Rows of `width` values into one flat buffer (NaN for the failed rows) and the errors.
+pub fn flatten(
+    rows: Vec<Result<Vec<f64>, String>>,
+    width: usize,
+) -> (Vec<f64>, Vec<Option<String>>) {
+    let mut flat = vec![f64::NAN; rows.len() * width];
+    let errors = rows
+        .into_iter()
+        .enumerate()
+        .map(|(k, r)| match r {
+            Ok(v) => {
+                flat[k * width..(k + 1) * width].copy_from_slice(&v);
+                None
+            }
+            Err(e) => Some(e),
+        })
+        .collect();
+    (flat, errors)
+}
+
+/// Adds the rows a library batch reported as failed (and that parsing had not already failed)
+/// to `errors`; any other error of the batch is the run's failure.
+pub fn merge_row_errors(
+    result: Result<(), SolveError>,
+    errors: &mut [Option<String>],
+) -> CliResult {
+    match result {
+        Ok(()) => Ok(()),
+        Err(SolveError::Rows(rows)) => {
+            for r in rows {
+                errors[r.row].get_or_insert_with(|| r.error.to_string());
+            }
+            Ok(())
+        }
+        Err(e) => Err(Failure(e.to_string())),
+    }
+}
+
+/// Prints one JSON line per row — `output(k)` = (value, ok), or `{"error", "line"}` for a row
+/// in `errors` — in input order, a progress bar on a terminal for large inputs, and the summary
+/// on stderr. Fails (exit code 1) when any row failed or was not ok.
+pub fn emit(
+    lines: &[Line],
+    errors: &[Option<String>],
+    started: Instant,
+    output: impl Fn(usize) -> (Value, bool) + Sync,
+) -> CliResult {
     let total = lines.len();
     let bar = (std::io::stderr().is_terminal() && total >= 10_000).then(|| {
         let b = ProgressBar::new(total as u64);
@@ -71,57 +147,42 @@ where
         }
         b
     });
-    let start = Instant::now();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
     let mut failures = 0usize;
-    for chunk in lines.chunks(4096) {
-        let results: Vec<(Value, bool)> = chunk
-            .par_iter()
-            .enumerate()
-            .map_init(
-                || Workspace::new(kin),
-                |ws, (_, (line_no, text))| match f(ws, *line_no, text) {
-                    Ok(r) => r,
-                    Err(e) => (json!({"error": e, "line": line_no}), false),
-                },
-            )
+    let write_err = |e: std::io::Error| Failure(format!("cannot write the output: {e}"));
+    for start in (0..total).step_by(4096) {
+        let end = (start + 4096).min(total);
+        let texts: Vec<(String, bool)> = (start..end)
+            .into_par_iter()
+            .map(|k| match &errors[k] {
+                Some(e) => (
+                    json!({"error": e, "line": lines[k].number}).to_string(),
+                    false,
+                ),
+                None => {
+                    let (v, ok) = output(k);
+                    (v.to_string(), ok)
+                }
+            })
             .collect();
-        for (v, ok) in results {
-            if !ok {
-                failures += 1;
-            }
-            writeln!(out, "{v}").map_err(|e| Failure(format!("cannot write the output: {e}")))?;
+        for (text, ok) in texts {
+            failures += usize::from(!ok);
+            writeln!(out, "{text}").map_err(write_err)?;
         }
         if let Some(b) = &bar {
-            b.inc(chunk.len() as u64);
+            b.inc((end - start) as u64);
         }
     }
-    out.flush()
-        .map_err(|e| Failure(format!("cannot write the output: {e}")))?;
+    out.flush().map_err(write_err)?;
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    let secs = start.elapsed().as_secs_f64();
+    let secs = started.elapsed().as_secs_f64();
     eprintln!(
         "screwkit: {total} lines, {failures} failed, {:.0} lines/s",
         if secs > 0.0 { total as f64 / secs } else { 0.0 }
     );
-    Ok(failures)
-}
-
-/// Batch mode for commands whose input lines are `{"q": [...]}`: runs `f` on each q and fails
-/// (exit code 1) when any line failed.
-pub fn run_q_lines<F>(kin: &Kinematics, input: &str, f: F) -> CliResult
-where
-    F: Fn(&mut Workspace, &[f64]) -> Result<Value, String> + Sync,
-{
-    let lines = read_lines(input)?;
-    let failures = run(kin, lines, |ws, _, text| {
-        let obj = parse_object(text)?;
-        let q = numbers(&obj, "q")?;
-        Ok((f(ws, &q)?, true))
-    })?;
     if failures == 0 {
         Ok(())
     } else {

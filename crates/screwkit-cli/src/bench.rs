@@ -1,7 +1,7 @@
 //! `screwkit bench`: the IK protocol plus FK and Jacobian costs.
 
 use screwkit_solve::ik::{IkMethod, IkOptions};
-use screwkit_solve::protocol;
+use screwkit_testkit::protocol;
 use serde_json::json;
 
 use crate::args::{BenchArgs, Format, Method};

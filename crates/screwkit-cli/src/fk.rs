@@ -1,5 +1,9 @@
 //! `screwkit fk`: tip pose or every link's pose.
 
+use std::time::Instant;
+
+use screwkit_lie::Se3;
+use screwkit_solve::batch::{fk_all_links_batch, fk_batch};
 use screwkit_solve::fk::{fk, fk_all_links};
 use screwkit_solve::{Kinematics, Workspace};
 use serde_json::{json, Value};
@@ -7,34 +11,58 @@ use serde_json::{json, Value};
 use crate::args::{FkArgs, Format};
 use crate::batch;
 use crate::output::{
-    matrix_text, nums, pose_json, pose_summary, print_json, tuple, CliResult, Failure,
+    matrix_text, nums, pose_json, pose_summary, print_json, rows_json, tuple, CliResult,
 };
 
-fn fk_value(
-    kin: &Kinematics,
-    ws: &mut Workspace,
-    q: &[f64],
-    all_links: bool,
-) -> Result<Value, String> {
-    let t = fk(kin, q).map_err(|e| e.to_string())?;
-    let mut v = json!({"q": nums(q), "pose": pose_json(&t)});
-    if all_links {
-        let poses = fk_all_links(kin, ws, q).map_err(|e| e.to_string())?;
+/// The JSON object of one configuration: `{"q", "pose"}` (+ `"links"`).
+fn fk_json(kin: &Kinematics, q: &[f64], pose: Value, links: Option<Vec<Value>>) -> Value {
+    let mut v = json!({"q": nums(q), "pose": pose});
+    if let Some(poses) = links {
         v["links"] = Value::Array(
-            kin.link_names()
+            kin.links()
+                .iter()
                 .zip(poses)
-                .map(|(name, p)| json!({"name": name, "pose": pose_json(p)}))
+                .map(|(l, p)| json!({"name": l.name, "pose": p}))
                 .collect(),
         );
     }
-    Ok(v)
+    v
+}
+
+/// Batch mode: every row through the library's FK batch.
+fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
+    let started = Instant::now();
+    let lines = batch::read_lines(input)?;
+    let n = kin.dof();
+    let (qs, mut errors) = batch::q_rows(kin, &lines);
+    let rows = lines.len();
+    let mut poses = vec![0.0; rows * 16];
+    batch::merge_row_errors(fk_batch(kin, &qs, &mut poses), &mut errors)?;
+    let l = kin.links().len();
+    let mut links = vec![0.0; if all_links { rows * l * 16 } else { 0 }];
+    if all_links {
+        batch::merge_row_errors(fk_all_links_batch(kin, &qs, &mut links), &mut errors)?;
+    }
+    batch::emit(&lines, &errors, started, |k| {
+        let link_poses = all_links.then(|| {
+            links[k * l * 16..(k + 1) * l * 16]
+                .chunks(16)
+                .map(|m| rows_json(m, 4))
+                .collect()
+        });
+        let pose = rows_json(&poses[k * 16..(k + 1) * 16], 4);
+        (
+            fk_json(kin, &qs[k * n..(k + 1) * n], pose, link_poses),
+            true,
+        )
+    })
 }
 
 /// Runs `fk`.
 pub fn run(args: &FkArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     if let Some(input) = &args.input {
-        return batch::run_q_lines(&kin, input, |ws, q| fk_value(&kin, ws, q, args.all_links));
+        return run_batch(&kin, input, args.all_links);
     }
     let q = &args
         .q
@@ -42,12 +70,17 @@ pub fn run(args: &FkArgs, format: Format) -> CliResult {
         .expect("clap requires --q without --input")
         .0;
     let mut ws = Workspace::new(&kin);
-    let v = fk_value(&kin, &mut ws, q, args.all_links).map_err(Failure)?;
+    let t = fk(&kin, &mut ws, q)?;
+    let links: Option<Vec<Se3>> = if args.all_links {
+        Some(fk_all_links(&kin, &mut ws, q)?.to_vec())
+    } else {
+        None
+    };
     if format == Format::Json {
-        print_json(&v);
+        let link_poses = links.as_ref().map(|ls| ls.iter().map(pose_json).collect());
+        print_json(&fk_json(&kin, q, pose_json(&t), link_poses));
         return Ok(());
     }
-    let t = fk(&kin, q)?;
     let mut s = format!(
         "Pose of `{}` in `{}` at q = {}:\n",
         chain.tip,
@@ -56,16 +89,16 @@ pub fn run(args: &FkArgs, format: Format) -> CliResult {
     );
     s.push_str(&matrix_text(&t));
     s.push_str(&pose_summary(&t));
-    if args.all_links {
-        let poses = fk_all_links(&kin, &mut ws, q)?;
-        let w = kin.link_names().map(str::len).max().unwrap_or(4);
+    if let Some(poses) = links {
+        let w = kin.links().iter().map(|l| l.name.len()).max().unwrap_or(4);
         s.push_str(&format!(
             "\nEvery link on the chain (in `{}`):\n",
             chain.base
         ));
-        for (name, p) in kin.link_names().zip(poses) {
+        for (link, p) in kin.links().iter().zip(&poses) {
             s.push_str(&format!(
-                "{name:<w$}  position {}  rpy {}\n",
+                "{:<w$}  position {}  rpy {}\n",
+                link.name,
                 tuple(p.translation().as_slice()),
                 tuple(&p.rpy())
             ));

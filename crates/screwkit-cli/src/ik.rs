@@ -3,8 +3,8 @@
 use std::time::{Duration, Instant};
 
 use screwkit_lie::Se3;
-use screwkit_solve::batch::row_seed;
-use screwkit_solve::ik::{solve, IkMethod, IkOptions, IkResult};
+use screwkit_solve::batch::ik_batch;
+use screwkit_solve::ik::{solve, IkMethod, IkOptions, IkStatus};
 use screwkit_solve::{Kinematics, Workspace};
 use serde_json::{json, Value};
 
@@ -77,10 +77,10 @@ fn target(args: &IkArgs) -> CliResult<Se3> {
     Ok(Se3::from_row_major(&l.0, TYPED_ROTATION_TOLERANCE)?)
 }
 
-fn result_json(r: &IkResult, time_us: f64) -> Value {
+fn result_json(q: &[f64], r: &IkStatus, time_us: f64) -> Value {
     json!({
         "converged": r.converged,
-        "q": nums(&r.q),
+        "q": nums(q),
         "iterations": r.iterations,
         "restarts": r.restarts,
         "error_rot": num(r.error_rot),
@@ -90,16 +90,83 @@ fn result_json(r: &IkResult, time_us: f64) -> Value {
     })
 }
 
-fn timed(
-    kin: &Kinematics,
-    ws: &mut Workspace,
-    t: &Se3,
-    seed: &[f64],
-    o: &IkOptions,
-) -> Result<(IkResult, f64), String> {
-    let t0 = Instant::now();
-    let r = solve(kin, ws, t, seed, o).map_err(|e| e.to_string())?;
-    Ok((r, t0.elapsed().as_secs_f64() * 1e6))
+/// One batch line `{"target": [[4x4]], "seed": [n] (optional)}`: the target as 16 row-major
+/// values (typed matrices are accepted to [`TYPED_ROTATION_TOLERANCE`] and re-orthonormalised)
+/// and the seed if given.
+fn parse_line(kin: &Kinematics, text: &str) -> Result<(Vec<f64>, Option<Vec<f64>>), String> {
+    let obj = batch::parse_object(text)?;
+    let rows = obj
+        .get("target")
+        .and_then(Value::as_array)
+        .ok_or("missing \"target\" (4 rows of 4 numbers)")?;
+    let mut m = Vec::with_capacity(16);
+    for row in rows {
+        for x in row
+            .as_array()
+            .ok_or("\"target\" must be 4 rows of 4 numbers")?
+        {
+            m.push(x.as_f64().ok_or("\"target\" entries must be numbers")?);
+        }
+    }
+    if rows.len() != 4 || m.len() != 16 {
+        return Err("\"target\" must be 4 rows of 4 numbers".into());
+    }
+    let t =
+        Se3::from_row_major(&m, TYPED_ROTATION_TOLERANCE).map_err(|e| format!("target: {e}"))?;
+    let h = t.to_homogeneous();
+    let target = (0..16).map(|i| h[(i / 4, i % 4)]).collect();
+    let seed = if obj.contains_key("seed") {
+        let s = batch::numbers(&obj, "seed")?;
+        kin.check_q(&s).map_err(|e| format!("seed: {e}"))?;
+        Some(s)
+    } else {
+        None
+    };
+    Ok((target, seed))
+}
+
+/// Batch mode: every row through the library's IK batch.
+fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions) -> CliResult {
+    let started = Instant::now();
+    let lines = batch::read_lines(input)?;
+    let n = kin.dof();
+    let mid = kin.midpoint();
+    let parsed = batch::parse_rows(&lines, |text| {
+        parse_line(kin, text).map(|(t, s)| {
+            let mut row = t;
+            row.extend(s.unwrap_or_else(|| mid.clone()));
+            row
+        })
+    });
+    let (rows, mut errors) = batch::flatten(parsed, 16 + n);
+    let count = lines.len();
+    let mut targets = Vec::with_capacity(count * 16);
+    let mut seeds = Vec::with_capacity(count * n);
+    for row in rows.chunks(16 + n) {
+        targets.extend_from_slice(&row[..16]);
+        seeds.extend_from_slice(&row[16..]);
+    }
+    let mut q = vec![0.0; count * n];
+    let mut status = vec![IkStatus::default(); count];
+    let mut times = vec![0.0; count];
+    let result = ik_batch(
+        kin,
+        &targets,
+        Some(&seeds),
+        opts,
+        &mut q,
+        &mut status,
+        Some(&mut times),
+    );
+    batch::merge_row_errors(result, &mut errors)?;
+    batch::emit(&lines, &errors, started, |k| {
+        let st = &status[k];
+        (
+            result_json(&q[k * n..(k + 1) * n], st, times[k]),
+            st.converged,
+        )
+    })
+    .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
 }
 
 /// Runs `ik`.
@@ -107,47 +174,7 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     let opts = options(args);
     if let Some(input) = &args.input {
-        let lines = batch::read_lines(input)?;
-        let mid = kin.midpoint();
-        let failures = batch::run(&kin, lines, |ws, line_no, text| {
-            let obj = batch::parse_object(text)?;
-            let rows = obj
-                .get("target")
-                .and_then(Value::as_array)
-                .ok_or("missing \"target\" (4 rows of 4 numbers)")?;
-            let mut m = Vec::with_capacity(16);
-            for row in rows {
-                for x in row
-                    .as_array()
-                    .ok_or("\"target\" must be 4 rows of 4 numbers")?
-                {
-                    m.push(x.as_f64().ok_or("\"target\" entries must be numbers")?);
-                }
-            }
-            if rows.len() != 4 || m.len() != 16 {
-                return Err("\"target\" must be 4 rows of 4 numbers".into());
-            }
-            let t = Se3::from_row_major(&m, TYPED_ROTATION_TOLERANCE)
-                .map_err(|e| format!("target: {e}"))?;
-            let seed = if obj.contains_key("seed") {
-                batch::numbers(&obj, "seed")?
-            } else {
-                mid.clone()
-            };
-            let o = IkOptions {
-                seed: row_seed(opts.seed, line_no),
-                ..opts.clone()
-            };
-            let (r, us) = timed(&kin, ws, &t, &seed, &o)?;
-            Ok((result_json(&r, us), r.converged))
-        })?;
-        return if failures == 0 {
-            Ok(())
-        } else {
-            Err(Failure(format!(
-                "{failures} line(s) failed or did not converge"
-            )))
-        };
+        return run_batch(&kin, input, &opts);
     }
     let t = target(args)?;
     let seed = match &args.seed {
@@ -155,9 +182,12 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         None => kin.midpoint(),
     };
     let mut ws = Workspace::new(&kin);
-    let (r, us) = timed(&kin, &mut ws, &t, &seed, &opts).map_err(Failure)?;
+    let t0 = Instant::now();
+    let r = solve(&kin, &mut ws, &t, &seed, &opts)?;
+    let us = t0.elapsed().as_secs_f64() * 1e6;
+    let st = &r.status;
     if format == Format::Json {
-        print_json(&result_json(&r, us));
+        print_json(&result_json(&r.q, st, us));
     } else {
         let mut s = format!(
             "Target pose of `{}` in `{}`:\n{}",
@@ -167,26 +197,26 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         );
         s.push_str(&format!(
             "\nconverged          {}\nq                  {}\njoints             {}\niterations         {} ({} restarts, {:.1} µs)\nrotation error     {:.3e} rad\nposition error     {:.3e} m\nstopped because    {}\n",
-            if r.converged { "yes" } else { "NO" },
+            if st.converged { "yes" } else { "NO" },
             tuple(&r.q),
             kin.names().join(", "),
-            r.iterations,
-            r.restarts,
+            st.iterations,
+            st.restarts,
             us,
-            r.error_rot,
-            r.error_pos,
-            r.stop.as_str()
+            st.error_rot,
+            st.error_pos,
+            st.stop.as_str()
         ));
         print!("{s}");
     }
-    if r.converged {
+    if st.converged {
         Ok(())
     } else {
         Err(Failure(format!(
             "IK did not converge ({}): best rotation error {:.3e} rad, position error {:.3e} m",
-            r.stop.as_str(),
-            r.error_rot,
-            r.error_pos
+            st.stop.as_str(),
+            st.error_rot,
+            st.error_pos
         )))
     }
 }

@@ -1,84 +1,20 @@
 //! `screwkit jacobian`: J_s or J_b, optionally with a singularity analysis.
 
-use nalgebra::{Matrix6xX, Vector6};
+use std::time::Instant;
+
+use nalgebra::Matrix6xX;
 use screwkit_lie::display::fixed;
-use screwkit_solve::analysis::{analyze, Analysis};
-use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space};
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_solve::analysis::{analyze_jacobian, Analysis};
+use screwkit_solve::batch::jacobian_batch;
+use screwkit_solve::jacobian::jacobian;
+use screwkit_solve::{Frame, Kinematics, Workspace};
 use serde_json::{json, Value};
 
-use crate::args::{Format, JacFrame, JacobianArgs};
+use crate::args::{Format, JacobianArgs};
 use crate::batch;
 use crate::output::{num, nums, print_json, tuple, CliResult, Failure, PREC};
 
-/// Above this condition number a configuration is called near singular.
-const NEAR_SINGULAR_CONDITION: f64 = 1e3;
-
-fn compute(
-    kin: &Kinematics,
-    ws: &mut Workspace,
-    q: &[f64],
-    frame: JacFrame,
-) -> Result<Matrix6xX<f64>, String> {
-    let r = match frame {
-        JacFrame::Space => fk_jacobian_space(kin, ws, q),
-        JacFrame::Body => fk_jacobian_body(kin, ws, q),
-    };
-    r.map(|(_, j)| j.clone()).map_err(|e| e.to_string())
-}
-
-/// Plain words for a twist direction (ω, v).
-fn describe(u: &Vector6<f64>) -> String {
-    let w = u.fixed_rows::<3>(0).into_owned();
-    let v = u.fixed_rows::<3>(3).into_owned();
-    if v.norm() < 0.05 {
-        format!("rotation about {}", tuple(w.normalize().as_slice()))
-    } else if w.norm() < 0.05 {
-        format!("translation along {}", tuple(v.normalize().as_slice()))
-    } else {
-        format!(
-            "the twist (ω | v) = ({} | {})",
-            tuple(w.as_slice()),
-            tuple(v.as_slice())
-        )
-    }
-}
-
-/// The verdict in plain words.
-fn verdict(a: &Analysis, n: usize) -> String {
-    let k = n.min(6);
-    if a.rank < k {
-        let dirs: Vec<String> = a
-            .lost_directions
-            .iter()
-            .take(k - a.rank)
-            .map(describe)
-            .collect();
-        format!(
-            "singular (rank {} of {k}): loses motion along {}",
-            a.rank,
-            dirs.join("; ")
-        )
-    } else if a.condition_number > NEAR_SINGULAR_CONDITION {
-        format!(
-            "near singular (condition number {:.3e}): loses motion along {}",
-            a.condition_number,
-            describe(&a.weakest_direction)
-        )
-    } else if n < 6 {
-        format!(
-            "full rank {n}, but a {n}-joint chain can never produce {} of the 6 twist directions",
-            6 - n
-        )
-    } else {
-        format!(
-            "well-conditioned (condition number {:.3})",
-            a.condition_number
-        )
-    }
-}
-
-fn analysis_json(a: &Analysis, n: usize) -> Value {
+fn analysis_json(a: &Analysis) -> Value {
     json!({
         "singular_values": nums(&a.singular_values),
         "rank": a.rank,
@@ -87,40 +23,54 @@ fn analysis_json(a: &Analysis, n: usize) -> Value {
         "condition_number": num(a.condition_number),
         "determinant": a.determinant.map_or(Value::Null, num),
         "lost_directions": a.lost_directions.iter().map(|d| nums(d.as_slice())).collect::<Vec<_>>(),
-        "verdict": verdict(a, n),
+        "verdict": a.verdict(),
     })
 }
 
+/// `{"q", "frame", "jacobian"}` (+ `"analysis"`) for one configuration.
 fn value(
-    kin: &Kinematics,
-    ws: &mut Workspace,
     q: &[f64],
-    frame: JacFrame,
+    j: &Matrix6xX<f64>,
+    frame: Frame,
     with_analysis: bool,
 ) -> Result<Value, String> {
-    let j = compute(kin, ws, q, frame)?;
     let rows: Vec<Value> = (0..6)
         .map(|r| nums(&j.row(r).iter().copied().collect::<Vec<_>>()))
         .collect();
-    let mut v = json!({
-        "q": nums(q),
-        "frame": if frame == JacFrame::Space { "space" } else { "body" },
-        "jacobian": rows,
-    });
+    let mut v = json!({"q": nums(q), "frame": frame.as_str(), "jacobian": rows});
     if with_analysis {
-        let a = analyze(&j).map_err(|e| e.to_string())?;
-        v["analysis"] = analysis_json(&a, j.ncols());
+        let a = analyze_jacobian(j).map_err(|e| e.to_string())?;
+        v["analysis"] = analysis_json(&a);
     }
     Ok(v)
+}
+
+/// Batch mode: every row through the library's Jacobian batch (the analysis, an SVD per row,
+/// runs while the lines are formatted).
+fn run_batch(kin: &Kinematics, input: &str, frame: Frame, with_analysis: bool) -> CliResult {
+    let started = Instant::now();
+    let lines = batch::read_lines(input)?;
+    let n = kin.dof();
+    let (qs, mut errors) = batch::q_rows(kin, &lines);
+    let rows = lines.len();
+    let mut jac = vec![0.0; rows * 6 * n];
+    let mut poses = vec![0.0; rows * 16];
+    let result = jacobian_batch(kin, &qs, frame, &mut jac, Some(&mut poses));
+    batch::merge_row_errors(result, &mut errors)?;
+    batch::emit(&lines, &errors, started, |k| {
+        let j = Matrix6xX::from_row_slice(&jac[k * 6 * n..(k + 1) * 6 * n]);
+        match value(&qs[k * n..(k + 1) * n], &j, frame, with_analysis) {
+            Ok(v) => (v, true),
+            Err(e) => (json!({"error": e, "line": lines[k].number}), false),
+        }
+    })
 }
 
 /// Runs `jacobian`.
 pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     if let Some(input) = &args.input {
-        return batch::run_q_lines(&kin, input, |ws, q| {
-            value(&kin, ws, q, args.frame, args.analyze)
-        });
+        return run_batch(&kin, input, args.frame, args.analyze);
     }
     let q = &args
         .q
@@ -128,14 +78,23 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         .expect("clap requires --q without --input")
         .0;
     let mut ws = Workspace::new(&kin);
+    let j = jacobian(&kin, &mut ws, q, args.frame)?.clone();
+    let analysis = if args.analyze {
+        Some(analyze_jacobian(&j)?)
+    } else {
+        None
+    };
     if format == Format::Json {
-        print_json(&value(&kin, &mut ws, q, args.frame, args.analyze).map_err(Failure)?);
+        let mut v = value(q, &j, args.frame, false).map_err(Failure)?;
+        if let Some(a) = &analysis {
+            v["analysis"] = analysis_json(a);
+        }
+        print_json(&v);
         return Ok(());
     }
-    let j = compute(&kin, &mut ws, q, args.frame).map_err(Failure)?;
     let (name, sym) = match args.frame {
-        JacFrame::Space => ("Space", "J_s"),
-        JacFrame::Body => ("Body", "J_b"),
+        Frame::Space => ("Space", "J_s"),
+        Frame::Body => ("Body", "J_b"),
     };
     let mut s = format!(
         "{name} Jacobian {sym} (6 × {}) of `{}` → `{}` at q = {}; rows ω then v:\n\n|    | {} |\n|---|{}\n",
@@ -150,8 +109,7 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         let cells: Vec<String> = j.row(r).iter().map(|&x| fixed(x, PREC)).collect();
         s.push_str(&format!("| {label} | {} |\n", cells.join(" | ")));
     }
-    if args.analyze {
-        let a = analyze(&j)?;
+    if let Some(a) = analysis {
         s.push_str(&format!(
             "\nsingular values       {}\nrank                  {} of {} (σ ≤ {:.2e} counts as 0)\nmanipulability        {} (√det(J Jᵀ))\ncondition number      {}\n",
             tuple(&a.singular_values),
@@ -170,10 +128,7 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         if let Some(d) = a.determinant {
             s.push_str(&format!("det J                 {}\n", fixed(d, PREC)));
         }
-        s.push_str(&format!(
-            "verdict               {}\n",
-            verdict(&a, j.ncols())
-        ));
+        s.push_str(&format!("verdict               {}\n", a.verdict()));
     }
     print!("{s}");
     Ok(())

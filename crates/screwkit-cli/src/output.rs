@@ -31,7 +31,11 @@ pub type CliResult<T = ()> = Result<T, Failure>;
 
 /// A JSON number; −0 becomes 0 and non-finite values `null`.
 pub fn num(x: f64) -> Value {
-    screwkit_model::table::json_number(x)
+    if x == 0.0 {
+        Value::from(0.0)
+    } else {
+        Value::from(x)
+    }
 }
 
 /// A JSON array of numbers.
@@ -41,7 +45,17 @@ pub fn nums(xs: &[f64]) -> Value {
 
 /// A pose as a JSON 4x4 array of rows.
 pub fn pose_json(t: &Se3) -> Value {
-    screwkit_model::table::json_matrix(t)
+    let m = t.to_homogeneous();
+    Value::Array(
+        (0..4)
+            .map(|i| nums(&[m[(i, 0)], m[(i, 1)], m[(i, 2)], m[(i, 3)]]))
+            .collect(),
+    )
+}
+
+/// A row-major 4x4 (16 values) as a JSON array of rows.
+pub fn rows_json(m: &[f64], cols: usize) -> Value {
+    Value::Array(m.chunks(cols.max(1)).map(nums).collect())
 }
 
 /// `(a, b, c)` with [`PREC`] decimals.

@@ -66,6 +66,14 @@ fn chain(file: &str, tip: Option<&str>) -> (screwkit_model::Chain, screwkit_solv
     (c, k)
 }
 
+/// The library's FK with a fresh workspace.
+fn fk1(
+    kin: &screwkit_solve::Kinematics,
+    q: &[f64],
+) -> Result<screwkit_lie::Se3, screwkit_solve::SolveError> {
+    screwkit_solve::fk::fk(kin, &mut screwkit_solve::Workspace::new(kin), q)
+}
+
 fn q_arg(q: &[f64]) -> String {
     q.iter()
         .map(|x| format!("{x:?}"))
@@ -133,7 +141,7 @@ fn every_subcommand_on_every_bundled_robot() {
             vec!["fk", &path, "--q", &qa, "--format", "json"],
             tip,
         ));
-        let want = screwkit_solve::fk::fk(&kin, &q).unwrap().to_homogeneous();
+        let want = fk1(&kin, &q).unwrap().to_homogeneous();
         assert!(
             (matrix(&fj["pose"]) - want).amax() == 0.0,
             "{file}: full precision JSON"
@@ -166,7 +174,7 @@ fn every_subcommand_on_every_bundled_robot() {
             assert!(jt.contains("verdict"));
         }
         // ik to the FK of q: converged, and the solution reproduces the pose
-        let t = screwkit_solve::fk::fk(&kin, &q).unwrap().to_homogeneous();
+        let t = fk1(&kin, &q).unwrap().to_homogeneous();
         let m: Vec<String> = (0..4)
             .flat_map(|i| (0..4).map(move |j| (i, j)))
             .map(|(i, j)| format!("{:?}", t[(i, j)]))
@@ -192,7 +200,7 @@ fn every_subcommand_on_every_bundled_robot() {
             .iter()
             .map(|x| x.as_f64().unwrap())
             .collect();
-        let back = screwkit_solve::fk::fk(&kin, &qs).unwrap().to_homogeneous();
+        let back = fk1(&kin, &qs).unwrap().to_homogeneous();
         assert!((back - t).amax() < 1e-8, "{file}");
         let it = ok(&with_tip(
             vec!["ik", &path, "--target-matrix", &ma, "--timeout-ms", "0"],
@@ -231,12 +239,7 @@ fn ik_target_forms_agree() {
         .iter()
         .map(|x| x.as_f64().unwrap())
         .collect();
-    assert!(
-        screwkit_solve::fk::fk(&kin, &q)
-            .unwrap()
-            .max_abs_diff(&target)
-            < 1e-8
-    );
+    assert!(fk1(&kin, &q).unwrap().max_abs_diff(&target) < 1e-8);
     let quat = target.quaternion();
     let qa = format!(
         "0.4,0.1,0.3,{:?},{:?},{:?},{:?}",
@@ -355,7 +358,7 @@ fn batch_mode() {
         .collect();
     assert_eq!(lines.len(), 4);
     for (k, q) in qs.iter().enumerate() {
-        let want = screwkit_solve::fk::fk(&kin, q).unwrap().to_homogeneous();
+        let want = fk1(&kin, q).unwrap().to_homogeneous();
         assert_eq!(matrix(&lines[k]["pose"]), want);
     }
     assert_eq!(lines[2]["line"], 3);
@@ -368,7 +371,7 @@ fn batch_mode() {
     // IK batch from a file: targets from FK, with and without seeds; jacobian batch.
     let mut ik_in = String::new();
     for (k, q) in qs.iter().enumerate() {
-        let t = screwkit_solve::fk::fk(&kin, q).unwrap().to_homogeneous();
+        let t = fk1(&kin, q).unwrap().to_homogeneous();
         let rows: Vec<Vec<f64>> = (0..4)
             .map(|i| (0..4).map(|j| t[(i, j)]).collect())
             .collect();

@@ -7,6 +7,9 @@
 //!   roll-pitch-yaw and quaternions.
 //! - [`Se3`]: rigid transforms T = (R, p) — composition, inverse, exp/log, adjoint.
 //! - [`Twist`] V = (ω, v), [`Wrench`] F = (m, f), [`ScrewAxis`] S ↔ (ŝ, q, h).
+//! - [`Frame`]: space or body, the frame a twist or Jacobian is expressed in.
+//! - [`fma`]: the multiply-add policies and the one run-time dispatch of the hot kernels;
+//!   [`trig`]: the inlined, vectorisable sine/cosine those kernels use.
 //!
 //! Conventions: twists and screw axes are ordered (ω, v); wrenches (m, f). A twist changes frame
 //! with the adjoint, V_a = \[Ad_{T_ab}\] V_b; a wrench with its transpose,
@@ -29,6 +32,7 @@
 pub mod display;
 pub mod error;
 pub mod fma;
+pub mod frame;
 pub mod screw;
 pub mod se3;
 pub mod so3;
@@ -37,6 +41,7 @@ pub mod twist;
 pub mod wrench;
 
 pub use error::LieError;
+pub use frame::Frame;
 pub use screw::ScrewAxis;
 pub use se3::Se3;
 pub use twist::Twist;

@@ -6,6 +6,7 @@ use std::ops::Mul;
 use nalgebra::{Matrix3, Matrix4, Matrix6, Vector3};
 
 use crate::error::LieError;
+use crate::fma::{MulAdd, Plain};
 use crate::screw::ScrewAxis;
 use crate::so3;
 use crate::twist::Twist;
@@ -42,6 +43,27 @@ fn log_coefficient(theta: f64, s: f64, c: f64) -> f64 {
     } else {
         (1.0 - 0.5 * theta * s / (1.0 - c)) / t2
     }
+}
+
+/// The translation of the SE(3) exponential, p = (a I + b[ω] + c[ω]²) v
+/// = a v + b (ω × v) + c ω × (ω × v), given ω × v and ω × (ω × v): the one home of this formula.
+///
+/// [`Se3::exp`] of a twist ξ = (ω, v) passes a = 1, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³
+/// (θ = ‖ω‖). A unit screw S = (ω̂, v) turned by θ (sin θ, cos θ known, ω̂ × v and
+/// ω̂ × (ω̂ × v) precomputed, as in the product-of-exponentials kernels) passes a = θ,
+/// b = 1 − cos θ, c = θ − sin θ: the textbook p = G(θ) v, G(θ) = Iθ + (1 − cos θ)[ω̂] +
+/// (θ − sin θ)[ω̂]² (*Modern Robotics* eq. 3.88). `M` is the multiply-add policy
+/// ([`crate::fma`]).
+#[inline(always)]
+pub fn translation_from_coefficients<M: MulAdd>(
+    v: &[f64; 3],
+    w_x_v: &[f64; 3],
+    w_x_w_x_v: &[f64; 3],
+    a: f64,
+    b: f64,
+    c: f64,
+) -> [f64; 3] {
+    std::array::from_fn(|i| M::madd(v[i], a, M::madd(w_x_v[i], b, w_x_w_x_v[i] * c)))
 }
 
 impl Se3 {
@@ -242,10 +264,17 @@ impl Se3 {
         let (a, b, cc) = so3::exp_coefficients(theta);
         let rotation = so3::rotation_from_coefficients(w, theta, a, b);
         let wxv = w.cross(&xi.v);
-        let translation = xi.v + wxv * b + w.cross(&wxv) * cc;
+        let translation = translation_from_coefficients::<Plain>(
+            &xi.v.into(),
+            &wxv.into(),
+            &w.cross(&wxv).into(),
+            1.0,
+            b,
+            cc,
+        );
         Se3 {
             rotation,
-            translation,
+            translation: translation.into(),
         }
     }
 

@@ -86,14 +86,15 @@ pub fn exp(phi: &Vector3<f64>) -> Matrix3<f64> {
     rotation_from_coefficients(phi, theta, a, b)
 }
 
-/// R = I + A[φ] + B[φ]², written with [φ]² = φφᵀ − θ² I.
-#[inline]
-pub(crate) fn rotation_from_coefficients(
-    phi: &Vector3<f64>,
-    theta: f64,
-    a: f64,
-    b: f64,
-) -> Matrix3<f64> {
+/// The rotation of the SO(3)/SE(3) exponential, R = I + A[φ] + B[φ]² with θ = ‖φ‖, written
+/// with [φ]² = φφᵀ − θ² I: the one home of Rodrigues' formula.
+///
+/// [`exp`] and [`crate::Se3::exp`] pass A = sin θ/θ and B = (1 − cos θ)/θ² (series near 0).
+/// A unit axis ω̂ turned by a known angle (sin θ, cos θ already computed, as in the
+/// product-of-exponentials kernels) passes φ = ω̂, θ = 1, A = sin θ, B = 1 − cos θ, which is the
+/// textbook R = I + sin θ [ω̂] + (1 − cos θ)[ω̂]².
+#[inline(always)]
+pub fn rotation_from_coefficients(phi: &Vector3<f64>, theta: f64, a: f64, b: f64) -> Matrix3<f64> {
     let (x, y, z) = (phi.x, phi.y, phi.z);
     let d = 1.0 - b * theta * theta;
     let (bxy, bxz, byz) = (b * x * y, b * x * z, b * y * z);
@@ -184,17 +185,6 @@ pub(crate) fn log_from_angle(
         u = -u;
     }
     u * theta
-}
-
-/// log R as (unit axis ω̂, angle θ ∈ [0, π]); `None` when R = I (θ = 0: any axis).
-pub fn log_axis_angle(r: &Matrix3<f64>) -> Option<(Vector3<f64>, f64)> {
-    let phi = log(r);
-    let theta = phi.norm();
-    if theta > 0.0 {
-        Some((phi / theta, theta))
-    } else {
-        None
-    }
 }
 
 /// Checks that R is a rotation: finite, max |RᵀR − I| ≤ `tolerance`, det R > 0.

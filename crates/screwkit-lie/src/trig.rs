@@ -11,8 +11,6 @@
 // The constants are fdlibm's, written with the digits it publishes.
 #![allow(clippy::excessive_precision)]
 
-#[cfg(target_arch = "x86_64")]
-use crate::fma::Fused;
 use crate::fma::{MulAdd, Plain};
 
 /// 1.5·2⁵²: adding and subtracting it rounds to the nearest integer.
@@ -102,28 +100,28 @@ pub const LANES: usize = 8;
 /// Sines and cosines of [`LANES`] angles at once: `(s[i], c[i]) = (sin x[i], cos x[i])`.
 ///
 /// The same algorithm as [`sin_cos`], written so the compiler vectorises it across the angles;
-/// on x86-64 CPUs with AVX2 and FMA (detected at run time) it runs 4 lanes wide with fused
+/// on x86-64 CPUs with AVX2 and FMA ([`crate::fma::dispatch`]) it runs 4 lanes wide with fused
 /// multiply-adds, so results may differ from [`sin_cos`] in the last bit (both stay within
 /// 2.3e-16 of the standard library). Blocks holding a non-finite or huge angle take the scalar
 /// path.
 #[inline]
 pub fn sin_cos_lanes(x: &[f64; LANES], s: &mut [f64; LANES], c: &mut [f64; LANES]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if crate::fma::fused_available() {
-            // SAFETY: the CPU has the features the function is compiled for (checked above).
-            unsafe { sin_cos_lanes_fma(x, s, c) };
-            return;
-        }
-    }
-    sin_cos_lanes_with::<Plain>(x, s, c);
+    crate::fma::dispatch(SinCosLanes { x, s, c });
 }
 
-/// [`sin_cos_lanes`] compiled for AVX2 + FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn sin_cos_lanes_fma(x: &[f64; LANES], s: &mut [f64; LANES], c: &mut [f64; LANES]) {
-    sin_cos_lanes_with::<Fused>(x, s, c);
+/// The [`sin_cos_lanes`] kernel (see [`crate::fma::Kernel`]).
+struct SinCosLanes<'a> {
+    x: &'a [f64; LANES],
+    s: &'a mut [f64; LANES],
+    c: &'a mut [f64; LANES],
+}
+
+impl crate::fma::Kernel for SinCosLanes<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<A: MulAdd>(self) {
+        sin_cos_lanes_with::<A>(self.x, self.s, self.c);
+    }
 }
 
 /// [`sin_cos_lanes`] with the multiply-add policy `A`, for callers that are themselves compiled

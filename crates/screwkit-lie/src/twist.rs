@@ -7,7 +7,6 @@ use nalgebra::{Matrix4, Matrix6, Vector3, Vector6};
 
 use crate::error::LieError;
 use crate::so3;
-use crate::wrench::Wrench;
 
 /// A twist V = (ω, v) ∈ se(3), ordered angular then linear as in *Modern Robotics*.
 ///
@@ -100,12 +99,6 @@ impl Twist {
             w: self.w.cross(&other.w),
             v: self.v.cross(&other.w) + self.w.cross(&other.v),
         }
-    }
-
-    /// Power P = VᵀF = ω·m + v·f of a wrench on this twist (both in the same frame).
-    #[inline]
-    pub fn power(&self, wrench: &Wrench) -> f64 {
-        self.w.dot(&wrench.m) + self.v.dot(&wrench.f)
     }
 
     /// True when every entry is finite.

@@ -12,7 +12,7 @@ use crate::twist::Twist;
 /// the same frame.
 ///
 /// Wrenches change frame with the *transpose* of the adjoint: F_b = \[Ad_{T_ab}\]ᵀ F_a
-/// ([`crate::Se3::adjoint_transpose_apply`]), so that the power VᵀF ([`Twist::power`]) is the
+/// ([`crate::Se3::adjoint_transpose_apply`]), so that the power VᵀF ([`Wrench::power`]) is the
 /// same in every frame.
 #[derive(Clone, Copy, PartialEq, Default)]
 pub struct Wrench {
@@ -67,7 +67,7 @@ impl Wrench {
     /// Power P = VᵀF = ω·m + v·f delivered to a twist (both in the same frame).
     #[inline]
     pub fn power(&self, twist: &Twist) -> f64 {
-        twist.power(self)
+        twist.w.dot(&self.m) + twist.v.dot(&self.f)
     }
 }
 

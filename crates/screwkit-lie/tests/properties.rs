@@ -83,7 +83,7 @@ proptest! {
         let f_a = Wrench::new(Vector3::from(m), Vector3::from(f));
         let v_a = t_ab.adjoint_apply(&v_b);
         let f_b = t_ab.adjoint_transpose_apply(&f_a);
-        prop_assert!((v_a.power(&f_a) - v_b.power(&f_b)).abs() < 1e-10);
+        prop_assert!((f_a.power(&v_a) - f_b.power(&v_b)).abs() < 1e-10);
         // The matrix-free transpose application equals Ad_Tᵀ F.
         let want = t_ab.adjoint().transpose() * f_a.to_vector();
         prop_assert!((f_b.to_vector() - want).amax() < 1e-12);

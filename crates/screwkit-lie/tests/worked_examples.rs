@@ -181,3 +181,21 @@ fn lecture_twist_of_a_turning_car() {
     let v_s_from_b = t_sb.adjoint_apply(&v_b);
     assert!((v_s_from_b.to_vector() - v_s.to_vector()).amax() < 1e-14);
 }
+
+/// A force f applied at a point r: m = r × f. Pushing with 10 N along y at (0.5, 0, 0) gives a
+/// 5 N·m moment about z; the same force through the origin gives none; and the power on a twist
+/// turning about z at 2 rad/s is ω·m = 10 W (the point moves at 1 m/s along y: f·v = 10 W).
+#[test]
+fn force_at_a_point() {
+    use screwkit_lie::Wrench;
+    let f = Vector3::new(0.0, 10.0, 0.0);
+    let w = Wrench::from_force_at_point(f, Vector3::new(0.5, 0.0, 0.0));
+    assert_eq!(w.m, Vector3::new(0.0, 0.0, 5.0));
+    assert_eq!(w.f, f);
+    assert_eq!(
+        Wrench::from_force_at_point(f, Vector3::zeros()).m,
+        Vector3::zeros()
+    );
+    let v = Twist::new(Vector3::new(0.0, 0.0, 2.0), Vector3::zeros());
+    assert_close(w.power(&v), 10.0, 1e-15, "power");
+}

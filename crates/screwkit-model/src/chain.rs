@@ -1,6 +1,6 @@
 //! The serial chain base → tip with its screw axes: the product-of-exponentials model.
 
-use screwkit_lie::{ScrewAxis, Se3};
+use screwkit_lie::{Frame, ScrewAxis, Se3};
 
 use crate::error::{ErrorKind, ModelError};
 use crate::tree::{JointKind, Tree, TreeJoint};
@@ -22,10 +22,39 @@ pub struct Variable {
     pub effort: Option<f64>,
 }
 
+/// How a chain joint is driven by the chain's variables q: θ = multiplier · q\[variable\] +
+/// offset — (1, 0) for an ordinary joint, the `<mimic>` values (composed along a chain of mimic
+/// joints) for a mimic joint. [`Drive::theta`] is the one place this rule is evaluated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drive {
+    /// Index into [`Chain::variables`] of the variable driving the joint.
+    pub variable: usize,
+    /// θ = multiplier · q + offset.
+    pub multiplier: f64,
+    /// θ = multiplier · q + offset.
+    pub offset: f64,
+}
+
+impl Drive {
+    /// An ordinary joint owning variable `variable`: θ = q\[variable\].
+    pub fn independent(variable: usize) -> Self {
+        Self {
+            variable,
+            multiplier: 1.0,
+            offset: 0.0,
+        }
+    }
+
+    /// θ = multiplier · q\[variable\] + offset (panics if q is too short).
+    #[inline(always)]
+    pub fn theta(&self, q: &[f64]) -> f64 {
+        self.multiplier * q[self.variable] + self.offset
+    }
+}
+
 /// A movable joint on the chain, with its screw axes at the home configuration.
 ///
-/// Its position is θ = multiplier · q\[variable\] + offset: (1, 0) for an ordinary joint,
-/// the `<mimic>` values for a mimic joint.
+/// Its position is θ = [`ChainJoint::drive`]`.theta(q)`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ChainJoint {
     /// Joint name.
@@ -37,14 +66,20 @@ pub struct ChainJoint {
     pub s_space: ScrewAxis,
     /// B_i = \[Ad_{M⁻¹}\] S_i, the same axis in the tip (body) frame at home.
     pub b_body: ScrewAxis,
-    /// Index into [`Chain::variables`] of the variable driving this joint.
-    pub variable: usize,
-    /// θ = multiplier · q + offset.
-    pub multiplier: f64,
-    /// θ = multiplier · q + offset.
-    pub offset: f64,
+    /// Which variable drives the joint, and how (θ = multiplier · q + offset).
+    pub drive: Drive,
     /// The joint frame in the base frame at home.
     pub home: Se3,
+}
+
+impl ChainJoint {
+    /// The joint's screw axis at home in `frame`: S_i (space) or B_i (body).
+    pub fn screw(&self, frame: Frame) -> &ScrewAxis {
+        match frame {
+            Frame::Space => &self.s_space,
+            Frame::Body => &self.b_body,
+        }
+    }
 }
 
 /// A link on the chain with its pose at home.
@@ -116,7 +151,7 @@ impl Chain {
                 .joints
                 .iter()
                 .enumerate()
-                .any(|(i, j)| j.variable != i || j.multiplier != 1.0 || j.offset != 0.0)
+                .any(|(i, j)| j.drive != Drive::independent(i))
     }
 }
 
@@ -176,9 +211,11 @@ fn build(tree: &Tree, base: usize, tip: usize, path: &[usize]) -> Result<Chain, 
             kind: joint.kind,
             b_body: ScrewAxis::from_unit_twist_unchecked(m.adjoint_inverse_apply(s.twist())),
             s_space: s,
-            variable,
-            multiplier,
-            offset,
+            drive: Drive {
+                variable,
+                multiplier,
+                offset,
+            },
             home,
         });
     }

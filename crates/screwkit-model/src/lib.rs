@@ -7,7 +7,6 @@
 //! - [`tree`]: links, joints, paths between links.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
 //! - [`table`]: screw-axis tables (Markdown, CSV, JSON).
-//! - [`reference`]: slow URDF-literal FK by composing joint transforms (the test oracle).
 //!
 //! ```
 //! let chain = screwkit_model::load_chain(
@@ -23,12 +22,11 @@
 
 pub mod chain;
 pub mod error;
-pub mod reference;
 pub mod table;
 pub mod tree;
 pub mod urdf;
 
-pub use chain::{Chain, ChainJoint, ChainLink, Variable};
+pub use chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 pub use error::{ErrorKind, ModelError};
 pub use tree::{JointKind, Limit, Mimic, Tree, TreeJoint};
 

@@ -8,7 +8,7 @@
 //! continuous joints; `mimic` is `null` or `{"leader", "multiplier", "offset"}`.
 
 use screwkit_lie::display::fixed;
-use screwkit_lie::{ScrewAxis, Se3};
+use screwkit_lie::{Frame, Se3};
 use serde_json::{json, Value};
 
 use crate::chain::{Chain, ChainJoint};
@@ -16,46 +16,17 @@ use crate::chain::{Chain, ChainJoint};
 /// Decimals printed in the Markdown and CSV tables.
 pub const PRECISION: usize = 6;
 
-/// Which screw axes a table shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Frame {
-    /// S_i in the base frame.
-    Space,
-    /// B_i in the tip frame.
-    Body,
-    /// Both, one table each.
-    Both,
-}
-
-impl Frame {
-    fn frames(self) -> &'static [Frame] {
-        match self {
-            Frame::Space => &[Frame::Space],
-            Frame::Body => &[Frame::Body],
-            Frame::Both => &[Frame::Space, Frame::Body],
-        }
-    }
-}
-
-fn axis(j: &ChainJoint, frame: Frame) -> &ScrewAxis {
-    if frame == Frame::Body {
-        &j.b_body
-    } else {
-        &j.s_space
-    }
-}
-
 fn kind_label(chain: &Chain, j: &ChainJoint) -> String {
-    let leader = &chain.variables[j.variable].name;
+    let leader = &chain.variables[j.drive.variable].name;
     if *leader == j.name {
         j.kind.as_str().to_string()
     } else {
         format!(
             "{} (mimic: {} × {} + {})",
             j.kind.as_str(),
-            fixed(j.multiplier, 3),
+            fixed(j.drive.multiplier, 3),
             leader,
-            fixed(j.offset, 3)
+            fixed(j.drive.offset, 3)
         )
     }
 }
@@ -68,7 +39,7 @@ fn f(x: f64) -> String {
 ///
 /// q is the point of the axis closest to the frame's origin (base origin for space axes, tip
 /// origin for body axes); q and h are "–" and "∞" for a prismatic joint.
-pub fn to_markdown(chain: &Chain, frame: Frame) -> String {
+pub fn to_markdown(chain: &Chain, frames: &[Frame]) -> String {
     let mut s = format!(
         "Robot `{}`: chain `{}` → `{}`, {} joint(s), {} variable(s). Screw axes S = (ω, v); numbers to {} decimals.\n",
         chain.robot,
@@ -78,16 +49,16 @@ pub fn to_markdown(chain: &Chain, frame: Frame) -> String {
         chain.dof(),
         PRECISION
     );
-    for &fr in frame.frames() {
+    for &fr in frames {
         let (title, origin) = match fr {
             Frame::Body => ("Body screw axes B_i (tip frame)", "tip"),
-            _ => ("Space screw axes S_i (base frame)", "base"),
+            Frame::Space => ("Space screw axes S_i (base frame)", "base"),
         };
         s.push_str(&format!(
             "\n### {title}\n\n| # | joint | type | ω₁ | ω₂ | ω₃ | v₁ | v₂ | v₃ | q (closest to {origin} origin) | h |\n|---|---|---|---|---|---|---|---|---|---|---|\n"
         ));
         for (i, j) in chain.joints.iter().enumerate() {
-            let a = axis(j, fr);
+            let a = j.screw(fr);
             let t = a.twist();
             let (q, h) = match (a.point(), a.pitch()) {
                 (Some(q), Some(h)) => (format!("({}, {}, {})", f(q.x), f(q.y), f(q.z)), f(h)),
@@ -134,12 +105,12 @@ fn matrix_markdown(t: &Se3) -> String {
 
 /// CSV: header `frame,index,joint,type,w1,w2,w3,v1,v2,v3,qx,qy,qz,pitch`, one row per joint
 /// and frame (q and pitch empty for prismatic joints), then four rows `M,<row>,m1,m2,m3,m4`.
-pub fn to_csv(chain: &Chain, frame: Frame) -> String {
+pub fn to_csv(chain: &Chain, frames: &[Frame]) -> String {
     let mut s = String::from("frame,index,joint,type,w1,w2,w3,v1,v2,v3,qx,qy,qz,pitch\n");
-    for &fr in frame.frames() {
-        let label = if fr == Frame::Body { "body" } else { "space" };
+    for &fr in frames {
+        let label = fr.as_str();
         for (i, j) in chain.joints.iter().enumerate() {
-            let a = axis(j, fr);
+            let a = j.screw(fr);
             let t = a.twist();
             let (q, h) = match (a.point(), a.pitch()) {
                 (Some(q), Some(h)) => (format!("{},{},{}", f(q.x), f(q.y), f(q.z)), f(h)),
@@ -182,7 +153,7 @@ fn csv_field(x: &str) -> String {
 }
 
 /// A JSON number with −0 turned into 0 (non-finite values become `null`).
-pub fn json_number(x: f64) -> Value {
+fn json_number(x: f64) -> Value {
     if x == 0.0 {
         json!(0.0)
     } else {
@@ -191,7 +162,7 @@ pub fn json_number(x: f64) -> Value {
 }
 
 /// A transform as a 4x4 array of rows.
-pub fn json_matrix(t: &Se3) -> Value {
+fn json_matrix(t: &Se3) -> Value {
     let m = t.to_homogeneous();
     Value::Array(
         (0..4)
@@ -214,11 +185,11 @@ pub fn to_json(chain: &Chain) -> Value {
         .joints
         .iter()
         .map(|j| {
-            let var = &chain.variables[j.variable];
+            let var = &chain.variables[j.drive.variable];
             let mimic = if var.name == j.name {
                 Value::Null
             } else {
-                json!({"leader": var.name, "multiplier": j.multiplier, "offset": json_number(j.offset)})
+                json!({"leader": var.name, "multiplier": j.drive.multiplier, "offset": json_number(j.drive.offset)})
             };
             json!({
                 "name": j.name,
@@ -227,7 +198,7 @@ pub fn to_json(chain: &Chain) -> Value {
                 "screw_body": j.b_body.twist().to_vector().iter().map(|&x| json_number(x)).collect::<Vec<_>>(),
                 "lower": json_limit(var.lower),
                 "upper": json_limit(var.upper),
-                "variable": j.variable,
+                "variable": j.drive.variable,
                 "mimic": mimic,
             })
         })

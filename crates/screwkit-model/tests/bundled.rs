@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{asset, poe_space, Rng};
+use common::{asset, poe_space, Sampler};
 use nalgebra::{Matrix4, Vector3, Vector6};
 use screwkit_model::{load_chain, urdf, ErrorKind, JointKind};
 
@@ -47,7 +47,7 @@ const CHAINS: &[ChainCase] = &[
 /// random configurations on every bundled chain.
 #[test]
 fn poe_matches_direct_composition_on_every_bundled_chain() {
-    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    let mut rng = Sampler::new(0x9E37_79B9_7F4A_7C15);
     for &(file, base, tip, dof, njoints) in CHAINS {
         let tree = urdf::load_file(asset(file)).unwrap();
         let chain = screwkit_model::Chain::from_tree(&tree, base, tip).unwrap();
@@ -148,9 +148,9 @@ fn planar_3r_by_hand() {
         assert!((j.s_space.twist().to_vector() - s([0.0, 0.0, 1.0, 0.0, -x, 0.0])).amax() < 1e-15);
     }
     assert_eq!(*chain.home.translation(), Vector3::new(2.3, 0.0, 0.0));
-    let mut rng = Rng(7);
+    let mut rng = Sampler::new(7);
     for _ in 0..100 {
-        let q = rng.config(&chain);
+        let q = rng.chain_config(&chain);
         let t = poe_space(&chain, &q);
         let (a, b, c) = (q[0], q[0] + q[1], q[0] + q[1] + q[2]);
         let x = a.cos() + 0.8 * b.cos() + 0.5 * c.cos();
@@ -171,9 +171,9 @@ fn scara_closed_form() {
         (chain.joints[2].s_space.twist().to_vector() - s([0.0, 0.0, 0.0, 0.0, 0.0, -1.0])).amax()
             < 1e-15
     );
-    let mut rng = Rng(11);
+    let mut rng = Sampler::new(11);
     for _ in 0..100 {
-        let q = rng.config(&chain);
+        let q = rng.chain_config(&chain);
         let t = poe_space(&chain, &q);
         let x = 0.35 * q[0].cos() + 0.30 * (q[0] + q[1]).cos();
         let y = 0.35 * q[0].sin() + 0.30 * (q[0] + q[1]).sin();
@@ -202,9 +202,9 @@ fn panda_matches_its_dh_table() {
     let tr = |x: f64, y: f64, z: f64| nalgebra::Translation3::new(x, y, z).to_homogeneous();
     let chain = load_chain(asset("panda.urdf"), None, None).unwrap();
     assert_eq!(chain.tip, "panda_hand_tcp");
-    let mut rng = Rng(3);
+    let mut rng = Sampler::new(3);
     for _ in 0..100 {
-        let q = rng.config(&chain);
+        let q = rng.chain_config(&chain);
         let mut t = Matrix4::identity();
         for (i, &(a, d, alpha)) in dh.iter().enumerate() {
             t = t * rx(alpha) * tr(a, 0.0, 0.0) * rz(q[i]) * tr(0.0, 0.0, d);
@@ -253,7 +253,14 @@ fn mimic_joints_fold_into_their_leaders() {
     let names: Vec<_> = chain
         .joints
         .iter()
-        .map(|j| (j.name.as_str(), j.variable, j.multiplier, j.offset))
+        .map(|j| {
+            (
+                j.name.as_str(),
+                j.drive.variable,
+                j.drive.multiplier,
+                j.drive.offset,
+            )
+        })
         .collect();
     assert_eq!(
         names,

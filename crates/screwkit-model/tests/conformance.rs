@@ -6,8 +6,7 @@
 
 mod common;
 
-use common::{poe_space, Rng};
-use screwkit_model::reference::fk_by_composition;
+use common::{fk_by_composition, poe_space, Sampler};
 use screwkit_model::{urdf, Chain, JointKind};
 
 /// (file, base, tip, revolute count, prismatic count)
@@ -24,7 +23,7 @@ const CHAINS: &[(&str, &str, &str, usize, usize)] = &[
 fn real_world_urdfs_conform() {
     let dir = std::env::var("SCREWKIT_SHARED_URDF")
         .expect("SCREWKIT_SHARED_URDF must name the folder with the shared real-world URDFs");
-    let mut rng = Rng(0xC0FF_EE00_1234_5678);
+    let mut rng = Sampler::new(0xC0FF_EE00_1234_5678);
     for &(file, base, tip, revolute, prismatic) in CHAINS {
         let path = format!("{dir}/{file}");
         let tree = urdf::load_file(&path).unwrap_or_else(|e| panic!("{e}"));
@@ -56,9 +55,9 @@ fn panda_mimic_finger() {
     assert_eq!(chain.dof(), 8);
     assert_eq!(chain.variables[7].name, "panda_finger_joint1");
     assert_eq!(chain.joints[7].name, "panda_finger_joint2");
-    let mut rng = Rng(99);
+    let mut rng = Sampler::new(99);
     for _ in 0..100 {
-        let q = rng.config(&chain);
+        let q = rng.chain_config(&chain);
         let want = fk_by_composition(&tree, &chain, &q).unwrap();
         assert!((poe_space(&chain, &q).to_homogeneous() - want).amax() < 1e-12);
     }

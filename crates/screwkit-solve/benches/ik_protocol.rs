@@ -1,9 +1,10 @@
-//! The IK protocol of the performance issue ([`screwkit_solve::protocol`]) on the bundled
+//! The IK benchmark protocol of BENCHMARKS.md ([`screwkit_testkit::protocol`]) on the bundled
 //! UR5-, Panda- and iiwa-class arms, per method. Run:
 //! `cargo bench -p screwkit-solve --bench ik_protocol [-- N]`.
 
 use screwkit_solve::ik::{IkMethod, IkOptions};
-use screwkit_solve::{protocol, Kinematics};
+use screwkit_solve::Kinematics;
+use screwkit_testkit::protocol;
 
 fn main() {
     let n: usize = std::env::args()
@@ -12,10 +13,7 @@ fn main() {
         .unwrap_or(2000);
     for name in ["ur5", "panda", "iiwa14"] {
         let chain = screwkit_model::load_chain(
-            format!(
-                "{}/../../assets/urdf/{name}.urdf",
-                env!("CARGO_MANIFEST_DIR")
-            ),
+            screwkit_testkit::bundled(&format!("{name}.urdf")),
             None,
             None,
         )

@@ -12,9 +12,9 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use screwkit_solve::fk::{fk_all_links, fk_unchecked};
-use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space};
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_solve::fk::{fk, fk_all_links};
+use screwkit_solve::jacobian::fk_jacobian;
+use screwkit_solve::{Frame, Kinematics, Workspace};
 
 const ROBOTS: &[(&str, &str)] = &[
     ("ur5", "tool0"),
@@ -58,7 +58,7 @@ fn main() {
                 .unwrap(),
         );
         let n = kin.dof();
-        let qs = screwkit_solve::protocol::sample_configurations(&kin, 64, 7);
+        let qs = screwkit_solve::sample::configurations(&kin, 64, 7);
         let q = |i: usize| &qs[(i % 64) * n..(i % 64 + 1) * n];
         let mut ws = Workspace::new(&kin);
         let mut best = [f64::INFINITY; 6];
@@ -69,7 +69,7 @@ fn main() {
                     arm.end_transform().translation.x
                 }),
                 time(calls, |i| {
-                    fk_unchecked(&kin, black_box(q(i))).translation().x
+                    fk(&kin, &mut ws, black_box(q(i))).unwrap().translation().x
                 }),
                 time(calls, |i| {
                     fk_all_links(&kin, &mut ws, black_box(q(i))).unwrap()[0]
@@ -77,10 +77,14 @@ fn main() {
                         .x
                 }),
                 time(calls, |i| {
-                    fk_jacobian_space(&kin, &mut ws, black_box(q(i))).unwrap().1[(0, 0)]
+                    fk_jacobian(&kin, &mut ws, black_box(q(i)), Frame::Space)
+                        .unwrap()
+                        .jacobian[(0, 0)]
                 }),
                 time(calls, |i| {
-                    fk_jacobian_body(&kin, &mut ws, black_box(q(i))).unwrap().1[(0, 0)]
+                    fk_jacobian(&kin, &mut ws, black_box(q(i)), Frame::Body)
+                        .unwrap()
+                        .jacobian[(0, 0)]
                 }),
                 time(calls, |i| {
                     arm.set_joint_positions_unchecked(black_box(q(i)));

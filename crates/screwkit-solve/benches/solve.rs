@@ -4,21 +4,17 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use screwkit_lie::Se3;
 use screwkit_solve::batch::{fk_batch, ik_batch};
-use screwkit_solve::fk::{fk_all_links, fk_unchecked};
-use screwkit_solve::ik::{solve, IkOptions};
-use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space};
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_solve::fk::{fk, fk_all_links};
+use screwkit_solve::ik::{solve, IkOptions, IkStatus};
+use screwkit_solve::jacobian::fk_jacobian;
+use screwkit_solve::{Frame, Kinematics, Workspace};
 
 const ROBOTS: &[&str] = &["ur5", "panda", "iiwa14"];
 
 fn kin(name: &str) -> Kinematics {
     let chain = screwkit_model::load_chain(
-        format!(
-            "{}/../../assets/urdf/{name}.urdf",
-            env!("CARGO_MANIFEST_DIR")
-        ),
+        screwkit_testkit::bundled(&format!("{name}.urdf")),
         None,
         None,
     )
@@ -27,7 +23,7 @@ fn kin(name: &str) -> Kinematics {
 }
 
 fn configs(kin: &Kinematics, rows: usize) -> Vec<f64> {
-    screwkit_solve::protocol::sample_configurations(kin, rows, 0x1234_5678_9ABC_DEF1)
+    screwkit_solve::sample::configurations(kin, rows, 0x1234_5678_9ABC_DEF1)
 }
 
 fn single(c: &mut Criterion) {
@@ -37,19 +33,27 @@ fn single(c: &mut Criterion) {
         let q = configs(&k, 1);
         let mut ws = Workspace::new(&k);
         g.bench_with_input(BenchmarkId::new("fk", name), &q, |b, q| {
-            b.iter(|| fk_unchecked(&k, black_box(q)))
+            b.iter(|| fk(&k, &mut ws, black_box(q)).unwrap())
         });
         g.bench_with_input(BenchmarkId::new("fk_all_links", name), &q, |b, q| {
             b.iter(|| fk_all_links(&k, &mut ws, black_box(q)).unwrap().len())
         });
         g.bench_with_input(BenchmarkId::new("fk_jacobian_space", name), &q, |b, q| {
-            b.iter(|| fk_jacobian_space(&k, &mut ws, black_box(q)).unwrap().0)
+            b.iter(|| {
+                fk_jacobian(&k, &mut ws, black_box(q), Frame::Space)
+                    .unwrap()
+                    .pose
+            })
         });
         g.bench_with_input(BenchmarkId::new("fk_jacobian_body", name), &q, |b, q| {
-            b.iter(|| fk_jacobian_body(&k, &mut ws, black_box(q)).unwrap().0)
+            b.iter(|| {
+                fk_jacobian(&k, &mut ws, black_box(q), Frame::Body)
+                    .unwrap()
+                    .pose
+            })
         });
         // One IK iteration = one solve that converges in a single step from very close.
-        let target = fk_unchecked(&k, &q);
+        let target = fk(&k, &mut ws, &q).unwrap();
         let mut near = q.clone();
         near[0] += 1e-7;
         let one_step = IkOptions {
@@ -61,6 +65,7 @@ fn single(c: &mut Criterion) {
             b.iter(|| {
                 solve(&k, &mut ws, black_box(&target), &near, &one_step)
                     .unwrap()
+                    .status
                     .iterations
             })
         });
@@ -73,12 +78,10 @@ fn batches(c: &mut Criterion) {
     let k = kin("panda");
     let rows = 20_000;
     let qs = configs(&k, rows);
-    let mut out = vec![Se3::identity(); rows];
-    let targets: Vec<Se3> = qs
-        .chunks(k.dof())
-        .take(1000)
-        .map(|q| fk_unchecked(&k, q))
-        .collect();
+    let mut out = vec![0.0; rows * 16];
+    fk_batch(&k, &qs, &mut out).unwrap();
+    let targets = out[..1000 * 16].to_vec();
+    let (mut q_out, mut status) = (vec![0.0; 1000 * k.dof()], vec![IkStatus::default(); 1000]);
     let opts = IkOptions {
         timeout: None,
         ..IkOptions::default()
@@ -92,9 +95,13 @@ fn batches(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new("fk_20k_panda", threads), |b| {
             b.iter(|| pool.install(|| fk_batch(&k, &qs, &mut out).unwrap()))
         });
-        g.throughput(Throughput::Elements(targets.len() as u64));
+        g.throughput(Throughput::Elements(1000));
         g.bench_function(BenchmarkId::new("ik_1000_panda", threads), |b| {
-            b.iter(|| pool.install(|| ik_batch(&k, &targets, None, &opts).unwrap().len()))
+            b.iter(|| {
+                pool.install(|| {
+                    ik_batch(&k, &targets, None, &opts, &mut q_out, &mut status, None).unwrap()
+                })
+            })
         });
     }
     g.finish();

@@ -14,10 +14,15 @@ use std::time::{Duration, Instant};
 use criterion::{BenchmarkId, Criterion};
 use k::InverseKinematicsSolver;
 use screwkit_lie::Se3;
-use screwkit_solve::fk::fk_unchecked;
+use screwkit_solve::fk::fk;
 use screwkit_solve::ik::{solve, IkOptions};
-use screwkit_solve::jacobian::fk_jacobian_space;
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_solve::jacobian::fk_jacobian;
+use screwkit_solve::{Frame, Kinematics, Workspace};
+
+/// The tip pose with a fresh workspace (for checks, not timed).
+fn tip_pose(kin: &Kinematics, q: &[f64]) -> Se3 {
+    fk(kin, &mut Workspace::new(kin), q).unwrap()
+}
 
 const ROBOTS: &[(&str, &str)] = &[
     ("ur5", "tool0"),
@@ -43,7 +48,7 @@ fn theirs(name: &str, tip: &str) -> k::SerialChain<f64> {
 }
 
 fn configs(kin: &Kinematics, rows: usize, seed: u64) -> Vec<Vec<f64>> {
-    screwkit_solve::protocol::sample_configurations(kin, rows, seed)
+    screwkit_solve::sample::configurations(kin, rows, seed)
         .chunks(kin.dof())
         .map(<[f64]>::to_vec)
         .collect()
@@ -107,7 +112,7 @@ fn ik_protocol_side_by_side(queries: usize) {
         let mid = kin.midpoint();
         let targets: Vec<Se3> = configs(&kin, queries, 0xC0FF_EE12_3456_789A)
             .iter()
-            .map(|q| fk_unchecked(&kin, q))
+            .map(|q| tip_pose(&kin, q))
             .collect();
         // screwkit
         let mut ws = Workspace::new(&kin);
@@ -120,7 +125,7 @@ fn ik_protocol_side_by_side(queries: usize) {
             let t0 = Instant::now();
             let r = solve(&kin, &mut ws, t, &mid, &opts).unwrap();
             times.push(t0.elapsed().as_secs_f64() * 1e6);
-            let (er, ep) = errors(&fk_unchecked(&kin, &r.q), t);
+            let (er, ep) = errors(&tip_pose(&kin, &r.q), t);
             if er <= 1e-5 && ep <= 1e-5 && kin.within_limits(&r.q, 0.0) {
                 ok += 1;
             }
@@ -145,7 +150,7 @@ fn ik_protocol_side_by_side(queries: usize) {
             }
             times.push(t0.elapsed().as_secs_f64() * 1e6);
             let q = arm.joint_positions();
-            let (er, ep) = errors(&fk_unchecked(&kin, &q), t);
+            let (er, ep) = errors(&tip_pose(&kin, &q), t);
             let lim = kin.within_limits(&q, 0.0);
             if er <= 1e-5 && ep <= 1e-5 {
                 in_limits += usize::from(lim);
@@ -174,14 +179,15 @@ fn benches(c: &mut Criterion) {
         let q = configs(&kin, 1, 0x1234_5678_9ABC_DEF1).remove(0);
         // Same answer first: the two libraries agree on FK.
         arm.set_joint_positions_unchecked(&q);
-        let diff = k_pose(&arm).max_abs_diff(&fk_unchecked(&kin, &q));
+        let diff = k_pose(&arm).max_abs_diff(&tip_pose(&kin, &q));
         assert!(
             diff < 1e-12,
             "{name}: screwkit and k disagree on FK by {diff:e}"
         );
         let mut g = c.benchmark_group(format!("vs_k/{name}"));
+        let mut ws = Workspace::new(&kin);
         g.bench_function(BenchmarkId::new("fk_tip", "screwkit"), |b| {
-            b.iter(|| fk_unchecked(&kin, black_box(&q)))
+            b.iter(|| fk(&kin, &mut ws, black_box(&q)).unwrap())
         });
         g.bench_function(BenchmarkId::new("fk_tip", "k"), |b| {
             b.iter(|| {
@@ -189,9 +195,12 @@ fn benches(c: &mut Criterion) {
                 arm.end_transform()
             })
         });
-        let mut ws = Workspace::new(&kin);
         g.bench_function(BenchmarkId::new("fk_and_jacobian", "screwkit"), |b| {
-            b.iter(|| fk_jacobian_space(&kin, &mut ws, black_box(&q)).unwrap().0)
+            b.iter(|| {
+                fk_jacobian(&kin, &mut ws, black_box(&q), Frame::Space)
+                    .unwrap()
+                    .pose
+            })
         });
         g.bench_function(BenchmarkId::new("fk_and_jacobian", "k"), |b| {
             b.iter(|| {

@@ -6,7 +6,16 @@
 use faer::Mat;
 use nalgebra::{Matrix3, Matrix6xX, SymmetricEigen, Vector3, Vector6};
 
+use screwkit_lie::display::fixed_list;
+use screwkit_lie::Frame;
+
 use crate::error::SolveError;
+use crate::kinematics::Kinematics;
+use crate::workspace::Workspace;
+
+/// Above this condition number a full-rank configuration is called near singular in
+/// [`Analysis::verdict`].
+pub const NEAR_SINGULAR_CONDITION: f64 = 1e3;
 
 /// A manipulability ellipsoid {J q̇ : ‖q̇‖ ≤ 1} projected on 3 rows (angular or linear):
 /// principal axes are the eigenvectors of A = J_p J_pᵀ, semi-axis lengths √λ_i.
@@ -21,6 +30,8 @@ pub struct Ellipsoid {
 /// What the SVD J = U Σ Vᵀ says about a configuration.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Analysis {
+    /// The number of columns of J (the chain's DoF).
+    pub columns: usize,
     /// The min(6, n) singular values σ₁ ≥ σ₂ ≥ … ≥ 0.
     pub singular_values: Vec<f64>,
     /// Number of σ_i above [`Analysis::rank_tolerance`]; at most min(6, n).
@@ -66,18 +77,28 @@ fn ellipsoid(a: Matrix3<f64>) -> Ellipsoid {
     }
 }
 
-/// Analyses a 6 × n Jacobian (space or body; the directions are in its frame).
-pub fn analyze(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
+/// Analyses the Jacobian of `kin` at q in `frame` (the directions are in that frame). Checks q.
+pub fn analyze(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &[f64],
+    frame: Frame,
+) -> Result<Analysis, SolveError> {
+    analyze_jacobian(crate::jacobian::jacobian(kin, ws, q, frame)?)
+}
+
+/// Analyses any 6 × n Jacobian (space or body; the directions are in its frame).
+pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
     let n = j.ncols();
     if j.iter().any(|x| !x.is_finite()) {
-        return Err(SolveError::Numerical(
+        return Err(SolveError::InvalidInput(
             "the Jacobian has non-finite entries".into(),
         ));
     }
     let m = Mat::<f64>::from_fn(6, n, |r, c| j[(r, c)]);
     let svd = m
         .svd()
-        .map_err(|e| SolveError::Numerical(format!("SVD did not converge: {e:?}")))?;
+        .map_err(|e| SolveError::Numerical(format!("the SVD did not converge: {e:?}")))?;
     let k = n.min(6);
     let s = svd.S().column_vector();
     let singular_values: Vec<f64> = (0..k).map(|i| s[i]).collect();
@@ -97,6 +118,7 @@ pub fn analyze(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
     let jw = j.fixed_rows::<3>(0);
     let jv = j.fixed_rows::<3>(3);
     Ok(Analysis {
+        columns: n,
         manipulability: if n >= 6 {
             singular_values.iter().product()
         } else {
@@ -116,4 +138,57 @@ pub fn analyze(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
         rank,
         rank_tolerance,
     })
+}
+
+/// Plain words for a twist direction (ω, v): a rotation, a translation, or the twist itself.
+fn describe(u: &Vector6<f64>) -> String {
+    let w = u.fixed_rows::<3>(0).into_owned();
+    let v = u.fixed_rows::<3>(3).into_owned();
+    let tuple = |x: &Vector3<f64>| format!("({})", fixed_list(x.as_slice(), 6));
+    if v.norm() < 0.05 {
+        format!("rotation about {}", tuple(&w.normalize()))
+    } else if w.norm() < 0.05 {
+        format!("translation along {}", tuple(&v.normalize()))
+    } else {
+        format!("the twist (ω | v) = ({} | {})", tuple(&w), tuple(&v))
+    }
+}
+
+impl Analysis {
+    /// The verdict in plain words: singular (with the lost motions), near singular (condition
+    /// number above [`NEAR_SINGULAR_CONDITION`], with the weakest motion), a chain too short to
+    /// make every twist, or well-conditioned.
+    pub fn verdict(&self) -> String {
+        let n = self.columns;
+        let k = n.min(6);
+        if self.rank < k {
+            let dirs: Vec<String> = self
+                .lost_directions
+                .iter()
+                .take(k - self.rank)
+                .map(describe)
+                .collect();
+            format!(
+                "singular (rank {} of {k}): loses motion along {}",
+                self.rank,
+                dirs.join("; ")
+            )
+        } else if self.condition_number > NEAR_SINGULAR_CONDITION {
+            format!(
+                "near singular (condition number {:.3e}): loses motion along {}",
+                self.condition_number,
+                describe(&self.weakest_direction)
+            )
+        } else if n < 6 {
+            format!(
+                "full rank {n}, but a {n}-joint chain can never produce {} of the 6 twist directions",
+                6 - n
+            )
+        } else {
+            format!(
+                "well-conditioned (condition number {:.3})",
+                self.condition_number
+            )
+        }
+    }
 }

@@ -1,114 +1,332 @@
-//! Batches over many configurations or targets, in parallel with rayon.
+//! Batches over many configurations or targets, in parallel with rayon, on flat row-major
+//! buffers (so that numpy arrays and memory-mapped files pass without copies):
 //!
-//! Inputs are flat row-major slices (row k = q of configuration k); results come back in input
-//! order. Each worker uses its own [`Workspace`]. IK restarts are seeded per row from
-//! (seed, row index), so results do not depend on the number of threads (when the wall-time
-//! budget does not bind: set `timeout: None` for bit-for-bit reproducibility).
+//! | function | input | output |
+//! |---|---|---|
+//! | [`fk_batch`] | q: N × dof | poses: N × 16 (each a row-major 4 × 4 [[R, p], [0, 1]]) |
+//! | [`fk_all_links_batch`] | q: N × dof | poses: N × L × 16 (L links, [`Kinematics::links`] order) |
+//! | [`jacobian_batch`] | q: N × dof | Jacobians: N × 6 × dof (row-major, rows (ω, v)), poses: N × 16 (optional) |
+//! | [`ik_batch`] | targets: N × 16, seeds: N × dof (optional) | q: N × dof, status: N, times: N (optional) |
+//!
+//! Every batch function has the shape `batch(&kin, inputs, outputs) -> Result<(), SolveError>`:
+//! the workspaces are per worker, inside. A buffer of the wrong length is an error before any
+//! work. A bad row (a NaN in q, a target that is not finite) does not stop the others: its
+//! output is NaN, every other row is computed, and the call returns [`SolveError::Rows`]
+//! listing the bad rows in order. Row k's result equals the single call on row k bit for bit,
+//! whatever the number of threads; IK row k uses the restart seed [`row_seed`]`(opts.seed, k)`
+//! (with `timeout: None` IK is fully deterministic; a wall-time budget can bind differently
+//! under load).
+
+use std::time::Instant;
 
 use nalgebra::Matrix6xX;
 use rayon::prelude::*;
-use screwkit_lie::Se3;
+use screwkit_lie::{Frame, Se3};
 
-use crate::error::SolveError;
-use crate::fk::fk_unchecked;
-use crate::ik::{solve_unchecked, IkOptions, IkResult, SplitMix};
-use crate::jacobian::{fk_jacobian_into, Frame};
-use crate::kinematics::{Kinematics, Workspace};
+use crate::error::{RowError, SolveError};
+use crate::fk::{fk_unchecked, link_poses_unchecked};
+use crate::ik::{check_options, check_target, solve_unchecked, IkOptions, IkStatus};
+use crate::jacobian::fk_jacobian_into;
+use crate::kinematics::Kinematics;
+use crate::sample::SplitMix64;
+use crate::workspace::Workspace;
 
-/// Rows per rayon task: large enough to amortise scheduling, small enough to balance.
+/// Rows per rayon task for the cheap kernels: large enough to amortise scheduling, small
+/// enough to balance.
 const CHUNK: usize = 256;
 
-fn check_rows(kin: &Kinematics, qs: &[f64]) -> Result<usize, SolveError> {
-    let n = kin.dof();
-    if n == 0 || !qs.len().is_multiple_of(n) {
+/// The number of rows of a flat buffer of `len` values with `width` per row.
+fn rows_of(len: usize, width: usize, what: &'static str) -> Result<usize, SolveError> {
+    if width == 0 || !len.is_multiple_of(width) {
         return Err(SolveError::WrongLength {
-            what: "joint values (a multiple of the DoF)",
-            expected: n * (qs.len() / n.max(1)),
+            what,
+            expected: width * (len / width.max(1)),
+            got: len,
+            names: format!("a multiple of {width}"),
+        });
+    }
+    Ok(len / width)
+}
+
+/// The number of rows of a batch: from q (N × dof), or for a chain without joints (whose q
+/// rows are empty) from the output buffer (N × `out_width`).
+fn batch_rows(
+    kin: &Kinematics,
+    qs: &[f64],
+    out_len: usize,
+    out_width: usize,
+) -> Result<usize, SolveError> {
+    if kin.dof() > 0 {
+        rows_of(qs.len(), kin.dof(), "joint values (N × dof)")
+    } else if qs.is_empty() {
+        rows_of(out_len, out_width, "output values")
+    } else {
+        Err(SolveError::WrongLength {
+            what: "joint values",
+            expected: 0,
             got: qs.len(),
-            names: kin.names().join(", "),
-        });
+            names: "the chain has no joints".into(),
+        })
     }
-    // In parallel too (a serial scan would cap the speed-up of cheap work such as FK); the
-    // first bad row in input order is the one reported.
-    if let Some(k) = qs
-        .par_chunks(n)
-        .with_min_len(CHUNK)
-        .position_first(|row| row.iter().any(|x| !x.is_finite()))
-    {
-        kin.check_q(&qs[k * n..(k + 1) * n])?;
-    }
-    Ok(qs.len() / n)
 }
 
-/// Tip poses of many configurations: `out[k] = T(q_k)`.
-pub fn fk_batch(kin: &Kinematics, qs: &[f64], out: &mut [Se3]) -> Result<(), SolveError> {
-    let rows = check_rows(kin, qs)?;
-    if out.len() != rows {
-        return Err(SolveError::WrongLength {
-            what: "output poses",
-            expected: rows,
-            got: out.len(),
-            names: String::new(),
-        });
+/// An output buffer must hold `rows` × `width` values.
+fn check_out(len: usize, rows: usize, width: usize, what: &'static str) -> Result<(), SolveError> {
+    if len == rows * width {
+        Ok(())
+    } else {
+        Err(SolveError::WrongLength {
+            what,
+            expected: rows * width,
+            got: len,
+            names: format!("{rows} rows of {width}"),
+        })
     }
+}
+
+/// Collects the rows that failed (in row order) into [`SolveError::Rows`].
+fn finish(errors: Vec<RowError>) -> Result<(), SolveError> {
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(SolveError::Rows(errors))
+    }
+}
+
+/// Writes T as a row-major 4 × 4 into 16 values.
+#[inline]
+fn write_pose(t: &Se3, out: &mut [f64]) {
+    let (r, p) = (t.rotation(), t.translation());
+    for i in 0..3 {
+        out[4 * i] = r[(i, 0)];
+        out[4 * i + 1] = r[(i, 1)];
+        out[4 * i + 2] = r[(i, 2)];
+        out[4 * i + 3] = p[i];
+    }
+    out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+}
+
+/// Runs `f(ws, q_row, out_row, extra_row)` over the rows of `qs` in parallel chunks, the
+/// checked rows only; a row that fails the check gets NaN output and an entry in the returned
+/// list (in row order). `extra` is an optional second output of `width` values per row.
+fn for_each_row(
+    kin: &Kinematics,
+    rows: usize,
+    qs: &[f64],
+    (out, out_width): (&mut [f64], usize),
+    extra: Option<(&mut [f64], usize)>,
+    f: impl Fn(&mut Workspace, &[f64], &mut [f64], Option<&mut [f64]>) + Sync,
+) -> Vec<RowError> {
     let n = kin.dof();
-    out.par_chunks_mut(CHUNK)
+    if n == 0 || out_width == 0 {
+        // A chain without joints: every row is the same constant work; no row can be bad.
+        let mut ws = Workspace::new(kin);
+        let extra_width = extra.as_ref().map_or(0, |e| e.1);
+        let mut extra = extra.map(|e| e.0);
+        for k in 0..rows {
+            let e = extra
+                .as_deref_mut()
+                .map(|e| &mut e[k * extra_width..(k + 1) * extra_width]);
+            f(
+                &mut ws,
+                &qs[k * n..(k + 1) * n],
+                &mut out[k * out_width..(k + 1) * out_width],
+                e,
+            );
+        }
+        return Vec::new();
+    }
+    let chunks = qs.len().div_ceil((CHUNK * n).max(1));
+    let extra_width = extra.as_ref().map_or(0, |e| e.1);
+    let extra_chunks: Vec<Option<&mut [f64]>> = match extra {
+        Some((buf, w)) => buf.chunks_mut(CHUNK * w).map(Some).collect(),
+        None => (0..chunks).map(|_| None).collect(),
+    };
+    out.par_chunks_mut(CHUNK * out_width)
+        .zip(extra_chunks)
         .zip(qs.par_chunks(CHUNK * n))
-        .for_each(|(o, q)| {
-            for (t, row) in o.iter_mut().zip(q.chunks(n)) {
-                *t = fk_unchecked(kin, row);
-            }
-        });
-    Ok(())
+        .enumerate()
+        .map_init(
+            || Workspace::new(kin),
+            |ws, (c, ((o, mut e), q))| {
+                let mut errors = Vec::new();
+                for (i, (row_out, row)) in o.chunks_mut(out_width).zip(q.chunks(n)).enumerate() {
+                    let row_extra = e
+                        .as_deref_mut()
+                        .map(|e| &mut e[i * extra_width..(i + 1) * extra_width]);
+                    match kin.check_q(row) {
+                        Ok(()) => f(ws, row, row_out, row_extra),
+                        Err(error) => {
+                            row_out.fill(f64::NAN);
+                            if let Some(x) = row_extra {
+                                x.fill(f64::NAN);
+                            }
+                            errors.push(RowError {
+                                row: c * CHUNK + i,
+                                error,
+                            });
+                        }
+                    }
+                }
+                errors
+            },
+        )
+        .flatten()
+        .collect()
 }
 
-/// Poses and Jacobians of many configurations (Jacobians allocated once per row).
+/// Tip poses of N configurations: `poses[16k..16k+16]` = T(q_k) as a row-major 4 × 4.
+/// `qs` holds N × dof values.
+pub fn fk_batch(kin: &Kinematics, qs: &[f64], poses: &mut [f64]) -> Result<(), SolveError> {
+    let rows = batch_rows(kin, qs, poses.len(), 16)?;
+    check_out(poses.len(), rows, 16, "pose values (N × 16)")?;
+    finish(for_each_row(
+        kin,
+        rows,
+        qs,
+        (poses, 16),
+        None,
+        |_, q, out, _| write_pose(&fk_unchecked(kin, q), out),
+    ))
+}
+
+/// Every link's pose for N configurations: `poses[16(L k + i)..]` = pose of link i (in the order
+/// of [`Kinematics::links`]) at q_k, row-major 4 × 4. `qs` holds N × dof values.
+pub fn fk_all_links_batch(
+    kin: &Kinematics,
+    qs: &[f64],
+    poses: &mut [f64],
+) -> Result<(), SolveError> {
+    let links = kin.links().len();
+    let rows = batch_rows(kin, qs, poses.len(), 16 * links)?;
+    check_out(
+        poses.len(),
+        rows,
+        16 * links,
+        "pose values (N × links × 16)",
+    )?;
+    finish(for_each_row(
+        kin,
+        rows,
+        qs,
+        (poses, 16 * links),
+        None,
+        |ws, q, out, _| {
+            link_poses_unchecked(kin, &mut ws.links, q);
+            for (t, o) in ws.links.iter().zip(out.chunks_mut(16)) {
+                write_pose(t, o);
+            }
+        },
+    ))
+}
+
+/// Jacobians in `frame` of N configurations: `jacobians[6n·k..6n·(k+1)]` = J(q_k), row-major
+/// 6 × n (rows (ω, v)); with `poses`, also the tip poses (N × 16) from the same pass.
 pub fn jacobian_batch(
     kin: &Kinematics,
     qs: &[f64],
     frame: Frame,
-) -> Result<Vec<(Se3, Matrix6xX<f64>)>, SolveError> {
-    check_rows(kin, qs)?;
+    jacobians: &mut [f64],
+    poses: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
     let n = kin.dof();
-    Ok(qs
-        .par_chunks(n)
-        .map(|row| {
-            let mut j = Matrix6xX::zeros(n);
-            let t = fk_jacobian_into(kin, &mut j, row, frame);
-            (t, j)
-        })
-        .collect())
+    let rows = match &poses {
+        Some(p) if n == 0 => batch_rows(kin, qs, p.len(), 16)?,
+        _ => rows_of(qs.len(), n, "joint values (N × dof)")?,
+    };
+    check_out(
+        jacobians.len(),
+        rows,
+        6 * n,
+        "Jacobian values (N × 6 × dof)",
+    )?;
+    if let Some(p) = &poses {
+        check_out(p.len(), rows, 16, "pose values (N × 16)")?;
+    }
+    let poses = poses.map(|p| (p, 16));
+    finish(for_each_row(
+        kin,
+        rows,
+        qs,
+        (jacobians, 6 * n),
+        poses,
+        |ws, q, j_out, pose_out| {
+            let t = fk_jacobian_into(kin, &mut ws.jacobian, q, frame);
+            write_jacobian(&ws.jacobian, j_out);
+            if let Some(p) = pose_out {
+                write_pose(&t, p);
+            }
+        },
+    ))
 }
 
-/// The restart seed of row `index` of a batch.
+/// Writes a 6 × n Jacobian row-major.
+#[inline]
+fn write_jacobian(j: &Matrix6xX<f64>, out: &mut [f64]) {
+    let n = j.ncols();
+    for r in 0..6 {
+        for c in 0..n {
+            out[r * n + c] = j[(r, c)];
+        }
+    }
+}
+
+/// The restart seed of row `index` of a batch: IK row k of a batch with `opts.seed = s` equals
+/// the single solve with `opts.seed = row_seed(s, k)`.
 pub fn row_seed(seed: u64, index: usize) -> u64 {
-    let mut g = SplitMix(seed ^ (index as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    let mut g = SplitMix64(seed ^ (index as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
     g.next_u64()
 }
 
-/// IK for many targets. `seeds`: one row of initial guesses per target, or `None` for the
-/// midpoint of the limits. Row k uses restart seed [`row_seed`]`(opts.seed, k)`.
+/// IK for N targets (`targets`: N × 16, each a row-major 4 × 4 whose rotation is trusted, as
+/// [`Se3`]'s checked constructors or an FK output give it), from `seeds` (N × dof; `None`: the
+/// midpoint of the limits). Writes the solutions into `q` (N × dof) and how each solve ended
+/// into `status` (N), and with `times_us` each solve's wall time in µs (the one output that
+/// differs between runs). Row k uses restart seed [`row_seed`]`(opts.seed, k)`. A target row that
+/// is not finite or not a rigid transform, or a seed row with NaN, fails alone (NaN q,
+/// [`IkStatus::unsolved`]); a row that does not converge is not a failure (its status
+/// says so).
 pub fn ik_batch(
     kin: &Kinematics,
-    targets: &[Se3],
+    targets: &[f64],
     seeds: Option<&[f64]>,
     opts: &IkOptions,
-) -> Result<Vec<Result<IkResult, SolveError>>, SolveError> {
+    q: &mut [f64],
+    status: &mut [IkStatus],
+    times_us: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
     let n = kin.dof();
+    check_options(opts)?;
+    let rows = rows_of(targets.len(), 16, "target values (N × 16)")?;
     if let Some(s) = seeds {
-        let rows = check_rows(kin, s)?;
-        if rows != targets.len() {
-            return Err(SolveError::WrongLength {
-                what: "seed rows",
-                expected: targets.len(),
-                got: rows,
-                names: String::new(),
-            });
-        }
+        check_out(s.len(), rows, n, "seed values (N × dof)")?;
     }
+    check_out(q.len(), rows, n, "solution values (N × dof)")?;
+    check_out(status.len(), rows, 1, "status entries (N)")?;
+    if let Some(t) = &times_us {
+        check_out(t.len(), rows, 1, "times (N)")?;
+    }
+    let mut no_times = Vec::new();
+    let times = match times_us {
+        Some(t) => t,
+        None => {
+            no_times.resize(rows, 0.0);
+            &mut no_times[..]
+        }
+    };
+    // A chain without joints has empty q rows; give the row iterator one dummy value per row.
+    let mut no_q = Vec::new();
+    let q = if n == 0 {
+        no_q.resize(rows, 0.0);
+        &mut no_q[..]
+    } else {
+        q
+    };
     let mid = kin.midpoint();
-    Ok(targets
-        .par_iter()
+    let errors: Vec<RowError> = q
+        .par_chunks_mut(n.max(1))
+        .zip(status.par_iter_mut())
+        .zip(times.par_iter_mut())
         .enumerate()
         // One target per task: IK costs are heavy-tailed (a restart can cost 10× a median
         // solve), so coarse chunks leave one worker finishing alone; work stealing at single
@@ -116,46 +334,71 @@ pub fn ik_batch(
         .with_max_len(1)
         .map_init(
             || Workspace::new(kin),
-            |ws, (k, target)| {
-                if !target.is_finite() {
-                    return Err(SolveError::BadTarget);
-                }
+            |ws, (k, ((q_row, st), time))| {
+                let q_row = &mut q_row[..n];
                 let seed = seeds.map_or(mid.as_slice(), |s| &s[k * n..(k + 1) * n]);
-                let o = IkOptions {
-                    seed: row_seed(opts.seed, k),
-                    ..opts.clone()
-                };
-                solve_unchecked(kin, ws, target, seed, &o)
+                let row = target_row(&targets[16 * k..16 * (k + 1)])
+                    .and_then(|t| kin.check_q(seed).map(|()| t));
+                match row {
+                    Ok(target) => {
+                        let o = IkOptions {
+                            seed: row_seed(opts.seed, k),
+                            ..opts.clone()
+                        };
+                        let t0 = Instant::now();
+                        *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                        *time = t0.elapsed().as_secs_f64() * 1e6;
+                        None
+                    }
+                    Err(error) => {
+                        q_row.fill(f64::NAN);
+                        *st = IkStatus::unsolved();
+                        Some(RowError { row: k, error })
+                    }
+                }
             },
         )
-        .collect())
+        .flatten()
+        .collect();
+    finish(errors)
 }
 
-/// IK along a path: target k is seeded with the solution of target k − 1 (warm start),
-/// the first with `seed`. Sequential by nature.
+/// A target row as an [`Se3`]: finite, last row (0, 0, 0, 1), rotation orthonormal to 1e-6.
+fn target_row(v: &[f64]) -> Result<Se3, SolveError> {
+    let t = Se3::from_row_major(v, screwkit_lie::so3::DEFAULT_ROTATION_TOLERANCE)
+        .map_err(|e| SolveError::BadTarget(format!(": {e}")))?;
+    check_target(&t)?;
+    Ok(t)
+}
+
+/// IK along a path: target k is seeded with the solution of target k − 1 when that converged
+/// (warm start), the first with `seed`; restart seeds as in [`ik_batch`]. Sequential by nature.
 pub fn ik_path(
     kin: &Kinematics,
+    ws: &mut Workspace,
     targets: &[Se3],
     seed: &[f64],
     opts: &IkOptions,
-) -> Result<Vec<IkResult>, SolveError> {
+) -> Result<Vec<crate::ik::IkResult>, SolveError> {
     kin.check_q(seed)?;
-    let mut ws = Workspace::new(kin);
+    check_options(opts)?;
+    for (k, t) in targets.iter().enumerate() {
+        check_target(t).map_err(|error| SolveError::Rows(vec![RowError { row: k, error }]))?;
+    }
+    ws.fit(kin);
     let mut q = seed.to_vec();
     let mut out = Vec::with_capacity(targets.len());
     for (k, target) in targets.iter().enumerate() {
-        if !target.is_finite() {
-            return Err(SolveError::BadTarget);
-        }
         let o = IkOptions {
             seed: row_seed(opts.seed, k),
             ..opts.clone()
         };
-        let r = solve_unchecked(kin, &mut ws, target, &q, &o)?;
-        if r.converged {
-            q.copy_from_slice(&r.q);
+        let mut sol = vec![0.0; kin.dof()];
+        let status = solve_unchecked(kin, ws, target, &q, &o, &mut sol);
+        if status.converged {
+            q.copy_from_slice(&sol);
         }
-        out.push(r);
+        out.push(crate::ik::IkResult { q: sol, status });
     }
     Ok(out)
 }

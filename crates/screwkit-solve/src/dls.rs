@@ -1,47 +1,54 @@
-//! The damped least-squares step of a 6-row Jacobian, Δq = Jᵀ (J Jᵀ + λ² I)⁻¹ e, on fixed-size
-//! 6×6 arrays: A = Σ_k c_k c_kᵀ + λ² I over the free columns c_k (lower triangle only, 21
-//! entries), A = L Lᵀ (Cholesky), L z = e, Lᵀ y = z, Δq_k = c_k · y (0 for locked columns).
+//! The damped least-squares step of a 6-row Jacobian, Δq = Jᵀ (J Jᵀ + μ I)⁻¹ e (μ = λ² for a
+//! damping λ), on fixed-size 6×6 arrays: A = Σ_k c_k c_kᵀ + μ I over the free columns c_k,
+//! A = L Lᵀ (Cholesky), L z = e, Lᵀ y = z, Δq_k = c_k · y (0 for locked columns).
 //!
-//! It equals the SVD form Δq = Σ_i σ_i / (σ_i² + λ²) v_i (u_iᵀ e) that faer computes (tested in
-//! `tests/ik.rs`), at a fraction of the cost: everything is unrolled and stays in registers.
+//! It equals the SVD form Δq = Σ_i σ_i / (σ_i² + μ) v_i (u_iᵀ e) that faer computes (tested
+//! below on every bundled chain), at a fraction of the cost: everything is unrolled and stays
+//! in registers. Used by the LM and DLS IK steps and by damped joint velocities.
 
 use nalgebra::{Matrix6xX, Vector6};
 
-use screwkit_lie::fma::{MulAdd, Plain};
+use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 
 use crate::error::SolveError;
 
-/// Writes Δq = J_freeᵀ (J_free J_freeᵀ + λ² I)⁻¹ e into `dq` (`lambda2` = λ² ≥ 0; columns with
-/// `locked[k]` set are left out and get Δq_k = 0). Fails when the 6×6 system is not positive
-/// definite (λ = 0 and J_free without full row rank) or not finite. Panics if `locked` or `dq`
-/// is shorter than the number of columns.
-pub fn dls_step(
+/// Writes Δq = J_freeᵀ (J_free J_freeᵀ + μ I)⁻¹ e into `dq` (`mu` = μ ≥ 0 is the term added
+/// to the diagonal: λ² for damped least squares with damping λ); columns with `locked[k]` set
+/// are left out and get Δq_k = 0. Fails when the 6×6 system is not positive definite (μ = 0 and
+/// J_free without full row rank) or not finite. Panics if `locked` or `dq` is shorter than the
+/// number of columns.
+pub(crate) fn dls_step(
     jac: &Matrix6xX<f64>,
     e: &Vector6<f64>,
-    lambda2: f64,
+    mu: f64,
     locked: &[bool],
     dq: &mut [f64],
 ) -> Result<(), SolveError> {
     assert!(locked.len() >= jac.ncols() && dq.len() >= jac.ncols());
-    #[cfg(target_arch = "x86_64")]
-    if screwkit_lie::fma::fused_available() {
-        // SAFETY: the CPU has AVX2 and FMA (checked just above).
-        return unsafe { dls_step_fused(jac, e, lambda2, locked, dq) };
-    }
-    dls_step_with::<Plain>(jac, e, lambda2, locked, dq)
+    dispatch(DlsStep {
+        jac,
+        e,
+        mu,
+        locked,
+        dq,
+    })
 }
 
-/// [`dls_step_with`] compiled for AVX2 + FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn dls_step_fused(
-    jac: &Matrix6xX<f64>,
-    e: &Vector6<f64>,
-    lambda2: f64,
-    locked: &[bool],
-    dq: &mut [f64],
-) -> Result<(), SolveError> {
-    dls_step_with::<screwkit_lie::fma::Fused>(jac, e, lambda2, locked, dq)
+/// The step's kernel (see [`screwkit_lie::fma::Kernel`]).
+struct DlsStep<'a> {
+    jac: &'a Matrix6xX<f64>,
+    e: &'a Vector6<f64>,
+    mu: f64,
+    locked: &'a [bool],
+    dq: &'a mut [f64],
+}
+
+impl Kernel for DlsStep<'_> {
+    type Output = Result<(), SolveError>;
+    #[inline(always)]
+    fn run<A: MulAdd>(self) -> Self::Output {
+        dls_step_with::<A>(self.jac, self.e, self.mu, self.locked, self.dq)
+    }
 }
 
 /// The step with the multiply-add policy `A` (see [`screwkit_lie::fma`]).
@@ -49,7 +56,7 @@ fn dls_step_fused(
 fn dls_step_with<A: MulAdd>(
     jac: &Matrix6xX<f64>,
     e: &Vector6<f64>,
-    lambda2: f64,
+    mu: f64,
     locked: &[bool],
     dq: &mut [f64],
 ) -> Result<(), SolveError> {
@@ -67,7 +74,7 @@ fn dls_step_with<A: MulAdd>(
         }
     }
     for (i, row) in a.iter_mut().enumerate() {
-        row[i] += lambda2;
+        row[i] += mu;
     }
     // Cholesky A = L Lᵀ in place (L_ij at a[i][j], i ≥ j), one const-generic step per column
     // so every loop has a fixed trip count and unrolls; keep 1 / L_jj for the solves.
@@ -155,31 +162,90 @@ fn backward<const I: usize>(a: &[[f64; 6]; 6], inv: &[f64; 6], y: &mut [f64; 6])
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_chains;
+    use screwkit_lie::fma::{Fused, Plain};
+    use screwkit_lie::Frame;
 
-    /// The portable and fused instantiations agree (the public function runs one of them;
-    /// `tests/ik.rs` checks that one against faer's SVD).
+    /// The fixed-size step equals the SVD form computed with faer,
+    /// Δq = Σ_i σ_i / (σ_i² + μ) v_i (u_iᵀ e) over the free columns, on every bundled chain at
+    /// random and singular configurations, for small to large μ and with locked columns; the
+    /// portable and the fused instantiation both.
     #[test]
-    fn portable_and_fused_agree() {
-        let mut s = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
-        for n in [3, 6, 7, 9] {
-            for _ in 0..50 {
-                let j = Matrix6xX::from_fn(n, |_, _| next());
-                let e = Vector6::from_fn(|_, _| next());
-                let locked: Vec<bool> = (0..n).map(|k| k == 1).collect();
-                let (mut a, mut b) = (vec![0.0; n], vec![0.0; n]);
-                dls_step_with::<Plain>(&j, &e, 1e-3, &locked, &mut a).unwrap();
-                dls_step_with::<screwkit_lie::fma::Fused>(&j, &e, 1e-3, &locked, &mut b).unwrap();
-                let scale = a.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-                for k in 0..n {
-                    assert!((a[k] - b[k]).abs() < 1e-9 * scale, "{a:?} {b:?}");
+    fn step_equals_the_faer_svd_form() {
+        let mut rng = crate::sample::SplitMix64(0x0D15_C0DE_5EED_0001);
+        let mut checked = 0;
+        for (file, kin) in test_chains() {
+            let n = kin.dof();
+            let mut ws = crate::Workspace::new(&kin);
+            let mut configs: Vec<Vec<f64>> = crate::sample::configurations(&kin, 20, 3)
+                .chunks(n)
+                .map(<[f64]>::to_vec)
+                .collect();
+            if file == "ur5.urdf" {
+                configs.push(vec![0.3, -0.7, 1.2, 0.4, 0.0, 0.2]); // wrist singular
+                configs.push(vec![0.3, -0.7, 0.0, 0.4, 0.5, 0.2]); // elbow singular
+            }
+            for (c, q) in configs.iter().enumerate() {
+                for frame in Frame::ALL {
+                    let j = crate::jacobian::jacobian(&kin, &mut ws, q, frame)
+                        .unwrap()
+                        .clone();
+                    let e = Vector6::from_fn(|_, _| rng.uniform() - 0.5);
+                    let locked: Vec<bool> = (0..n).map(|k| c % 3 == 1 && k % 3 == 0).collect();
+                    for mu in [1e-6, 1e-3, 0.5] {
+                        let m = faer::Mat::<f64>::from_fn(6, n, |r, k| {
+                            if locked[k] {
+                                0.0
+                            } else {
+                                j[(r, k)]
+                            }
+                        });
+                        let svd = m.thin_svd().unwrap();
+                        let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
+                        let mut oracle = vec![0.0; n];
+                        for i in 0..n.min(6) {
+                            let ute: f64 = (0..6).map(|r| u[(r, i)] * e[r]).sum();
+                            let g = s[i] / (s[i] * s[i] + mu) * ute;
+                            for (k, x) in oracle.iter_mut().enumerate() {
+                                *x += v[(k, i)] * g;
+                            }
+                        }
+                        // Rounding grows with the condition number of J Jᵀ + μI.
+                        let cond = (s[0] * s[0] + mu) / mu;
+                        let scale = oracle.iter().fold(1.0f64, |m, x| m.max(x.abs()));
+                        let mut dispatched = vec![f64::NAN; n];
+                        dls_step(&j, &e, mu, &locked, &mut dispatched).unwrap();
+                        let (mut plain, mut fused) = (vec![f64::NAN; n], vec![f64::NAN; n]);
+                        dls_step_with::<Plain>(&j, &e, mu, &locked, &mut plain).unwrap();
+                        dls_step_with::<Fused>(&j, &e, mu, &locked, &mut fused).unwrap();
+                        for dq in [&dispatched, &plain, &fused] {
+                            for k in 0..n {
+                                assert!(
+                                    (dq[k] - oracle[k]).abs() <= 1e-14 * cond * scale,
+                                    "{file} {frame:?} μ={mu}: Δq_{k} {} vs {}",
+                                    dq[k],
+                                    oracle[k]
+                                );
+                                if locked[k] {
+                                    assert_eq!(dq[k], 0.0);
+                                }
+                            }
+                        }
+                        checked += 1;
+                    }
                 }
             }
         }
+        assert!(checked >= 700, "{checked}");
+    }
+
+    /// Not positive definite (μ = 0, fewer than 6 free columns): a numerical error, not garbage.
+    #[test]
+    fn singular_system_is_an_error() {
+        let j = Matrix6xX::from_fn(3, |r, c| (r + c) as f64);
+        let mut dq = [0.0; 3];
+        let e = Vector6::repeat(0.1);
+        let err = dls_step(&j, &e, 0.0, &[false; 3], &mut dq).unwrap_err();
+        assert!(!err.is_invalid_input(), "{err}");
     }
 }

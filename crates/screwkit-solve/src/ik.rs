@@ -1,33 +1,40 @@
 //! Inverse kinematics: find q with T(q) = T_sd.
 //!
-//! Every method iterates on the body twist error V_b = log(T_sb(q)⁻¹ T_sd) (the seeds'
-//! algorithm) with the body Jacobian J_b(q), and stops when ‖ω_b‖ ≤ ε_ω and ‖v_b‖ ≤ ε_v
-//! (over the components whose weight is not 0; position-only uses (0, R_sbᵀ(p_d − p))):
+//! Every method is the Newton–Raphson iteration of *Modern Robotics* §6.2.2 on the body twist
+//! error V_b = log(T_sb(q)⁻¹ T_sd) with the body Jacobian J_b(q), and stops when ‖ω_b‖ ≤ ε_ω
+//! and ‖v_b‖ ≤ ε_v (over the components whose weight is not 0; position-only uses
+//! (0, R_sbᵀ(p_d − p))). They differ in the step:
 //!
 //! - [`IkMethod::NewtonRaphson`]: Δq = J_b⁺ V_b, SVD pseudo-inverse (faer).
-//! - [`IkMethod::Dls`]: Δq = J_bᵀ (J_b J_bᵀ + λ² I)⁻¹ V_b with a fixed λ (6 × 6 Cholesky).
-//! - [`IkMethod::LevenbergMarquardt`] (default): the same with adaptive damping
-//!   λ = w ‖V_b‖² + λ̄ (after Sugihara 2011, with w = 0.05), so steps are Gauss–Newton near the
-//!   solution and damped far from it or near singularities.
+//! - [`IkMethod::Dls`]: Δq = J_bᵀ (J_b J_bᵀ + λ² I)⁻¹ V_b with a fixed damping λ.
+//! - [`IkMethod::LevenbergMarquardt`] (default): Δq = J_bᵀ (J_b J_bᵀ + μ I)⁻¹ V_b with the
+//!   adaptive diagonal term μ = 0.05 ‖V_b‖² + μ̄ (after Sugihara, "Solvability-unconcerned
+//!   inverse kinematics by the Levenberg–Marquardt method", IEEE T-RO 2011, whose W_N = E + W̄_N
+//!   with E = ½‖e‖²; the weight 0.05 instead of ½ damps less far from the target), so steps are
+//!   Gauss–Newton near the solution and damped far from it or near singularities.
 //!
 //! Joint limits: a joint at a bound that the step would push outward is taken out of the step
 //! (active set) and the step is solved again without it; then q is projected into the limits
 //! (continuous joints wrapped to (−π, π]), so solutions are always within limits. When an
-//! attempt stalls (less than quartering the error in 5 iterations) or hits 60 iterations, it
-//! restarts from a random
-//! configuration drawn from a seeded generator — reproducible — until the iteration budget,
-//! the restart budget or the wall-time budget (default 5 ms, like TRAC-IK) runs out.
-//! Not converging is an explicit result ([`IkResult::converged`] = false, with the best q
-//! found and why it stopped), never silent garbage.
+//! attempt stalls (its error norm ‖e‖ does not halve within 5 iterations) or reaches 60
+//! iterations, it restarts from a random configuration drawn from a seeded generator —
+//! reproducible — until the iteration budget, the restart budget or the wall-time budget
+//! (default 5 ms, like TRAC-IK) runs out. Not converging is an explicit result
+//! ([`IkStatus::converged`] = false, with the best q found and why it stopped), never silent
+//! garbage.
 
 use std::time::{Duration, Instant};
 
 use nalgebra::{Matrix6xX, Vector6};
 use screwkit_lie::Se3;
 
+use screwkit_lie::Frame;
+
 use crate::error::SolveError;
-use crate::jacobian::{fk_jacobian_into, Frame};
-use crate::kinematics::{Kinematics, Workspace};
+use crate::jacobian::fk_jacobian_into;
+use crate::kinematics::Kinematics;
+use crate::sample::{configuration_into, SplitMix64};
+use crate::workspace::{IkScratch, Workspace};
 
 /// The update rule.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -39,18 +46,20 @@ pub enum IkMethod {
         /// Damping λ (same units as the twist error).
         lambda: f64,
     },
-    /// Levenberg–Marquardt with adaptive damping λ = 0.05 ‖e‖² + λ̄.
+    /// Levenberg–Marquardt: J Jᵀ + μ I with the adaptive diagonal term μ = 0.05 ‖e‖² + μ̄.
     LevenbergMarquardt {
-        /// The floor λ̄ of the damping.
-        lambda_min: f64,
+        /// The floor μ̄ of the diagonal term (not squared).
+        damping_floor: f64,
     },
 }
 
 impl IkMethod {
     /// Damped least squares with λ = 0.02.
     pub const DLS: IkMethod = IkMethod::Dls { lambda: 0.02 };
-    /// Levenberg–Marquardt with λ̄ = 1e-8.
-    pub const LM: IkMethod = IkMethod::LevenbergMarquardt { lambda_min: 1e-8 };
+    /// Levenberg–Marquardt with μ̄ = 1e-8.
+    pub const LM: IkMethod = IkMethod::LevenbergMarquardt {
+        damping_floor: 1e-8,
+    };
 }
 
 /// Why a solve stopped.
@@ -64,6 +73,8 @@ pub enum StopReason {
     RestartLimit,
     /// The wall-time budget ran out.
     TimeLimit,
+    /// Not solved: the row's input was invalid (batches only; see [`crate::batch::ik_batch`]).
+    InvalidInput,
 }
 
 impl StopReason {
@@ -74,6 +85,7 @@ impl StopReason {
             StopReason::IterationLimit => "iteration limit",
             StopReason::RestartLimit => "restart limit",
             StopReason::TimeLimit => "time limit",
+            StopReason::InvalidInput => "invalid input",
         }
     }
 }
@@ -120,11 +132,10 @@ impl Default for IkOptions {
     }
 }
 
-/// The outcome of a solve.
-#[derive(Debug, Clone, PartialEq)]
-pub struct IkResult {
-    /// The solution (or, if not converged, the best configuration found); always within limits.
-    pub q: Vec<f64>,
+/// How a solve ended, without the solution vector (which [`solve_into`] writes into the
+/// caller's buffer and [`IkResult`] carries).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IkStatus {
     /// True when the tolerances were met.
     pub converged: bool,
     /// Iterations used (all attempts).
@@ -139,39 +150,39 @@ pub struct IkResult {
     pub stop: StopReason,
 }
 
-/// SplitMix64: a small, well-distributed, seedable generator (reproducible restarts).
-#[derive(Debug, Clone)]
-pub(crate) struct SplitMix(pub(crate) u64);
-
-impl SplitMix {
-    pub(crate) fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    pub(crate) fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+impl IkStatus {
+    /// The status of a row that was not solved because its input was invalid: not converged,
+    /// no iterations, NaN errors, stop [`StopReason::InvalidInput`].
+    pub fn unsolved() -> Self {
+        Self {
+            converged: false,
+            iterations: 0,
+            restarts: 0,
+            error_rot: f64::NAN,
+            error_pos: f64::NAN,
+            stop: StopReason::InvalidInput,
+        }
     }
 }
 
-/// Uniform within the limits ([−π, π] for unbounded variables).
-pub(crate) fn random_config(kin: &Kinematics, rng: &mut SplitMix, q: &mut [f64]) {
-    for (k, x) in q.iter_mut().enumerate() {
-        let (l, u) = (kin.lower[k], kin.upper[k]);
-        let (l, u) = if l.is_finite() && u.is_finite() {
-            (l, u)
-        } else {
-            (-std::f64::consts::PI, std::f64::consts::PI)
-        };
-        *x = l + (u - l) * rng.uniform();
+impl Default for IkStatus {
+    /// [`IkStatus::unsolved`]: what an output buffer holds before a batch fills it.
+    fn default() -> Self {
+        Self::unsolved()
     }
+}
+
+/// The outcome of [`solve`]: the solution and how the solve ended.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IkResult {
+    /// The solution (or, if not converged, the best configuration found); always within limits.
+    pub q: Vec<f64>,
+    /// Converged or not, iterations, errors, why it stopped.
+    pub status: IkStatus,
 }
 
 /// Projects q into the limits; continuous variables are wrapped to (−π, π].
-pub(crate) fn project(kin: &Kinematics, q: &mut [f64]) {
+fn project(kin: &Kinematics, q: &mut [f64]) {
     use std::f64::consts::PI;
     for (k, x) in q.iter_mut().enumerate() {
         if kin.continuous[k] {
@@ -231,8 +242,9 @@ fn error_state(t: &Se3, target: &Se3, opts: &IkOptions) -> ErrorState {
     }
 }
 
-/// LM damping λ = w ‖e‖² + λ̄: w = 0.05 (Sugihara's λ = E = ½‖e‖² damps too much far from the
-/// target on these arms: 26 → 17 iterations per solve on the UR5 protocol).
+/// The weight w of the LM diagonal term μ = w ‖e‖² + μ̄: Sugihara's ½ (μ = E = ½‖e‖²) damps
+/// too much far from the target on these arms (26 → 17 iterations per solve on the UR5
+/// benchmark protocol of BENCHMARKS.md with 0.05).
 const LM_ERROR_WEIGHT: f64 = 0.05;
 
 /// Scales the rows of J by the weights (skipped when all are 1).
@@ -256,29 +268,26 @@ fn step(
     locked: &[bool],
     dq: &mut [f64],
 ) -> Result<(), SolveError> {
-    let lambda2 = match method {
+    let mu = match method {
+        // Δq = J⁺ e with the faer SVD; σ ≤ 1e-10 σ₁ dropped.
         IkMethod::NewtonRaphson => {
-            return pinv_step(jac, e, locked, dq);
+            return crate::velocity::pinv_into(jac, e, locked, |s1| 1e-10 * s1, dq);
         }
         IkMethod::Dls { lambda } => lambda * lambda,
-        IkMethod::LevenbergMarquardt { lambda_min } => {
-            LM_ERROR_WEIGHT * e.norm_squared() + lambda_min
-        }
+        IkMethod::LevenbergMarquardt { damping_floor } => lm_diagonal(e, damping_floor),
     };
-    crate::dls::dls_step(jac, e, lambda2, locked, dq)
+    crate::dls::dls_step(jac, e, mu, locked, dq)
 }
 
-/// Δq = J⁺ e with the faer SVD; σ ≤ 1e-10 σ₁ dropped; locked columns left out.
-fn pinv_step(
-    jac: &Matrix6xX<f64>,
-    e: &Vector6<f64>,
-    locked: &[bool],
-    dq: &mut [f64],
-) -> Result<(), SolveError> {
-    crate::velocity::pinv_into(jac, e, locked, |s1| 1e-10 * s1, dq)
+/// The LM diagonal term μ = 0.05 ‖e‖² + μ̄ (see the module documentation).
+#[inline]
+fn lm_diagonal(e: &Vector6<f64>, damping_floor: f64) -> f64 {
+    LM_ERROR_WEIGHT * e.norm_squared() + damping_floor
 }
 
-/// Solves T(q) = `target` from `seed`, checking the input (q length, finite values, target).
+/// Solves T(q) = `target` from `seed` (one value per variable). Checks the seed, the target
+/// and the options; a solve that does not converge is an `Ok` result with
+/// `status.converged == false`.
 pub fn solve(
     kin: &Kinematics,
     ws: &mut Workspace,
@@ -286,28 +295,110 @@ pub fn solve(
     seed: &[f64],
     opts: &IkOptions,
 ) -> Result<IkResult, SolveError> {
-    kin.check_q(seed)?;
-    if !target.is_finite() {
-        return Err(SolveError::BadTarget);
-    }
-    solve_unchecked(kin, ws, target, seed, opts)
+    let mut q = vec![0.0; kin.dof()];
+    let status = solve_into(kin, ws, target, seed, opts, &mut q)?;
+    Ok(IkResult { q, status })
 }
 
+/// [`solve`] writing the solution into `q` (one value per variable) instead of allocating it:
+/// nothing is allocated once the workspace has been used for this chain.
+pub fn solve_into(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    target: &Se3,
+    seed: &[f64],
+    opts: &IkOptions,
+    q: &mut [f64],
+) -> Result<IkStatus, SolveError> {
+    kin.check_q(seed)?;
+    check_target(target)?;
+    check_options(opts)?;
+    if q.len() != kin.dof() {
+        return Err(SolveError::WrongLength {
+            what: "solution values",
+            expected: kin.dof(),
+            got: q.len(),
+            names: kin.names.join(", "),
+        });
+    }
+    ws.fit(kin);
+    Ok(solve_unchecked(kin, ws, target, seed, opts, q))
+}
+
+/// A target must be finite (its rotation is trusted to be one: [`Se3`]'s checked constructors
+/// validate user input).
+pub(crate) fn check_target(target: &Se3) -> Result<(), SolveError> {
+    if target.is_finite() {
+        Ok(())
+    } else {
+        Err(SolveError::BadTarget(": it holds NaN or infinity".into()))
+    }
+}
+
+/// Tolerances ≥ 0, a positive step cap, finite weights and damping.
+pub(crate) fn check_options(o: &IkOptions) -> Result<(), SolveError> {
+    let bad = |what: &str, x: f64| {
+        Err(SolveError::InvalidInput(format!(
+            "IK option {what} must be finite and non-negative, got {x}"
+        )))
+    };
+    for (what, x) in [("tol_rot", o.tol_rot), ("tol_pos", o.tol_pos)] {
+        if !(x.is_finite() && x >= 0.0) {
+            return bad(what, x);
+        }
+    }
+    if o.max_step.is_nan() || o.max_step <= 0.0 {
+        return bad("max_step (> 0)", o.max_step);
+    }
+    if let Some(w) = o.weights.iter().find(|w| !(w.is_finite() && **w >= 0.0)) {
+        return bad("weights", *w);
+    }
+    match o.method {
+        IkMethod::Dls { lambda: x } | IkMethod::LevenbergMarquardt { damping_floor: x }
+            if !(x.is_finite() && x >= 0.0) =>
+        {
+            bad("damping", x)
+        }
+        _ => Ok(()),
+    }
+}
+
+/// The solve on checked input, writing the solution into `q_out`.
 pub(crate) fn solve_unchecked(
     kin: &Kinematics,
     ws: &mut Workspace,
     target: &Se3,
     seed: &[f64],
     opts: &IkOptions,
-) -> Result<IkResult, SolveError> {
+    q_out: &mut [f64],
+) -> IkStatus {
     let start = opts.timeout.map(|d| (Instant::now(), d));
     let mut scratch = std::mem::take(&mut ws.ik);
-    let result = iterate(kin, ws, target, seed, opts, start, &mut scratch);
+    let status = iterate(kin, ws, target, seed, opts, start, &mut scratch);
+    q_out.copy_from_slice(&scratch.best_q);
     ws.ik = scratch;
-    result
+    status
 }
 
-/// The IK loop proper, on the workspace's scratch buffers (no allocation but the result's q).
+/// The best iterate's error so far.
+#[derive(Debug, Clone, Copy)]
+struct Best {
+    /// ‖e‖² of the weighted error twist: what "best" minimises.
+    err2: f64,
+    error_rot: f64,
+    error_pos: f64,
+}
+
+/// The restart rule: an attempt whose error norm has not halved since the start of the
+/// window (‖e‖ > ½ ‖e₀‖, compared as squares: ‖e‖² > ¼ ‖e₀‖²) has stalled.
+#[inline]
+fn stalled(err2: f64, window_start_err2: f64) -> bool {
+    const NORM_FACTOR: f64 = 0.5;
+    err2 > NORM_FACTOR * NORM_FACTOR * window_start_err2
+}
+
+/// The IK loop proper, on the workspace's scratch buffers (no allocation); the answer is left
+/// in `scratch.best_q`.
 fn iterate(
     kin: &Kinematics,
     ws: &mut Workspace,
@@ -315,16 +406,15 @@ fn iterate(
     seed: &[f64],
     opts: &IkOptions,
     start: Option<(Instant, Duration)>,
-    scratch: &mut crate::kinematics::IkScratch,
-) -> Result<IkResult, SolveError> {
-    // Tuned on the IK protocol (see BENCHMARKS.md): an attempt that does not quarter its error
-    // in 5 iterations, or reaches 60, restarts.
+    scratch: &mut IkScratch,
+) -> IkStatus {
+    // Tuned on the benchmark protocol of BENCHMARKS.md: an attempt that does not halve its
+    // error norm within 5 iterations, or reaches 60, restarts.
     const WINDOW: usize = 5;
     const ATTEMPT_CAP: usize = 60;
-    const STALL_FACTOR: f64 = 0.25;
     let n = kin.dof();
-    let mut rng = SplitMix(opts.seed ^ 0x5C7E_3B1D_0000_0001);
-    let crate::kinematics::IkScratch {
+    let mut rng = SplitMix64(opts.seed ^ 0x5C7E_3B1D_0000_0001);
+    let IkScratch {
         q,
         dq,
         best_q,
@@ -337,9 +427,13 @@ fn iterate(
     q.copy_from_slice(seed);
     project(kin, q);
     best_q.copy_from_slice(q);
-    let mut best = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
+    let mut best = Best {
+        err2: f64::INFINITY,
+        error_rot: f64::INFINITY,
+        error_pos: f64::INFINITY,
+    };
     let (mut iterations, mut restarts, mut attempt_iter) = (0usize, 0usize, 0usize);
-    let mut window_start_err = f64::INFINITY;
+    let mut window_start_err2 = f64::INFINITY;
     let mut row_weights = opts.weights;
     if opts.position_only {
         row_weights[..3].fill(0.0);
@@ -348,13 +442,16 @@ fn iterate(
         let t = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Body);
         let es = error_state(&t, target, opts);
         let err2 = es.e.norm_squared();
-        if err2 < best.0 {
-            best = (err2, es.rot, es.pos);
+        let converged = es.check_rot <= opts.tol_rot && es.check_lin <= opts.tol_pos;
+        if err2 < best.err2 || converged {
+            best = Best {
+                err2,
+                error_rot: es.rot,
+                error_pos: es.pos,
+            };
             best_q.copy_from_slice(q);
         }
-        if es.check_rot <= opts.tol_rot && es.check_lin <= opts.tol_pos {
-            best = (err2, es.rot, es.pos);
-            best_q.copy_from_slice(q);
+        if converged {
             break StopReason::Converged;
         }
         if iterations >= opts.max_iterations {
@@ -367,22 +464,24 @@ fn iterate(
         }
         // Stall detection and restarts.
         if attempt_iter.is_multiple_of(WINDOW) {
-            let stalled = attempt_iter > 0 && err2 > STALL_FACTOR * window_start_err;
-            if stalled || attempt_iter >= ATTEMPT_CAP {
+            if (attempt_iter > 0 && stalled(err2, window_start_err2)) || attempt_iter >= ATTEMPT_CAP
+            {
                 if restarts >= opts.max_restarts {
                     break StopReason::RestartLimit;
                 }
                 restarts += 1;
-                random_config(kin, &mut rng, q);
+                configuration_into(kin, &mut rng, q);
                 attempt_iter = 0;
-                window_start_err = f64::INFINITY;
+                window_start_err2 = f64::INFINITY;
                 continue;
             }
-            window_start_err = err2;
+            window_start_err2 = err2;
         }
         weight_rows(&mut ws.jacobian, &row_weights);
         locked.iter_mut().for_each(|l| *l = false);
-        step(opts.method, &ws.jacobian, &es.e, locked, dq)?;
+        // A numerical failure of the step (not possible with a positive damping) counts as a
+        // stall of this attempt.
+        let mut ok = step(opts.method, &ws.jacobian, &es.e, locked, dq).is_ok();
         // Active set: a joint at a bound that the step pushes outward is left out and the
         // step is solved again with the others, so the clamp does not distort the direction.
         let mut any = false;
@@ -392,20 +491,20 @@ fn iterate(
                 any = true;
             }
         }
-        if any && locked.iter().any(|l| !l) {
-            step(opts.method, &ws.jacobian, &es.e, locked, dq)?;
+        if ok && any && locked.iter().any(|l| !l) {
+            ok = step(opts.method, &ws.jacobian, &es.e, locked, dq).is_ok();
         }
         let largest = dq.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if !ok || !largest.is_finite() {
+            // A numerical blow-up: treat as a stall.
+            attempt_iter = ATTEMPT_CAP;
+            continue;
+        }
         let scale = if largest > opts.max_step {
             opts.max_step / largest
         } else {
             1.0
         };
-        if !largest.is_finite() {
-            // A numerical blow-up: treat as a stall.
-            attempt_iter = ATTEMPT_CAP;
-            continue;
-        }
         for (x, d) in q.iter_mut().zip(dq.iter()) {
             *x += d * scale;
         }
@@ -413,13 +512,25 @@ fn iterate(
         iterations += 1;
         attempt_iter += 1;
     };
-    Ok(IkResult {
-        q: best_q.clone(),
+    IkStatus {
         converged: stop == StopReason::Converged,
         iterations,
         restarts,
-        error_rot: best.1,
-        error_pos: best.2,
+        error_rot: best.error_rot,
+        error_pos: best.error_pos,
         stop,
-    })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stall rule halves the error norm: ‖e‖ = 0.6 ‖e₀‖ has stalled, 0.4 ‖e₀‖ has not.
+    #[test]
+    fn stall_means_the_norm_did_not_halve() {
+        let e0 = 2.0f64;
+        assert!(stalled((0.6 * e0).powi(2), e0 * e0));
+        assert!(!stalled((0.4 * e0).powi(2), e0 * e0));
+    }
 }

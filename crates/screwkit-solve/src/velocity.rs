@@ -1,53 +1,108 @@
-//! Joint velocities from a twist and joint torques from a wrench.
-//!
-//! The twist/wrench must be expressed in the Jacobian's frame: (J_s, V_s, F_s) or
-//! (J_b, V_b, F_b).
+//! Joint velocities from a tip twist and joint torques from a tip wrench:
+//! V = J(q) q̇ and τ = J(q)ᵀ F (*Modern Robotics* eqs. 5.1 and 5.26), with the twist or wrench
+//! expressed in the Jacobian's frame — (J_s, V_s, F_s) or (J_b, V_b, F_b).
 
 use faer::Mat;
 use nalgebra::{DVector, Matrix6, Matrix6xX, Vector6};
-use screwkit_lie::{Twist, Wrench};
+use screwkit_lie::{Frame, Twist, Wrench};
 
 use crate::error::SolveError;
+use crate::kinematics::Kinematics;
+use crate::workspace::Workspace;
 
-/// q̇ = J⁻¹ V for a square, full-rank J (LU); an error when J is not 6 × 6 or is singular.
-pub fn joint_velocities_exact(j: &Matrix6xX<f64>, v: &Twist) -> Result<DVector<f64>, SolveError> {
+/// How [`joint_velocities`] inverts V = J q̇.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum VelocitySolver {
+    /// q̇ = J⁻¹ V for a square (6-DoF), non-singular J (LU); an error otherwise (rank decided by
+    /// the SVD with the analysis's tolerance, 6 ε σ₁).
+    Exact,
+    /// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ (faer): least squares and minimum
+    /// norm. σ_i ≤ `tolerance` count as 0 (`None`: max(6, n) · ε · σ₁).
+    PseudoInverse {
+        /// Singular values at or below this are dropped.
+        tolerance: Option<f64>,
+    },
+    /// Damped least squares q̇ = Jᵀ (J Jᵀ + λ² I)⁻¹ V with damping λ > 0: bounded near
+    /// singularities, exact as λ → 0 for full row rank.
+    Damped {
+        /// The damping λ (same units as the twist).
+        lambda: f64,
+    },
+}
+
+/// The joint velocities q̇ giving the tip twist `twist` (in `frame`) at q. Checks q and the
+/// twist.
+pub fn joint_velocities(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &[f64],
+    twist: &Twist,
+    frame: Frame,
+    solver: VelocitySolver,
+) -> Result<DVector<f64>, SolveError> {
+    if !twist.is_finite() {
+        return Err(SolveError::InvalidInput("the twist is not finite".into()));
+    }
+    let j = crate::jacobian::jacobian(kin, ws, q, frame)?;
+    let v = twist.to_vector();
+    match solver {
+        VelocitySolver::Exact => exact(j, &v),
+        VelocitySolver::PseudoInverse { tolerance } => {
+            let n = j.ncols();
+            let mut out = DVector::zeros(n);
+            let default = |s1: f64| 6.max(n) as f64 * f64::EPSILON * s1;
+            pinv_into(
+                j,
+                &v,
+                &vec![false; n],
+                |s1| tolerance.unwrap_or(default(s1)),
+                out.as_mut_slice(),
+            )?;
+            Ok(out)
+        }
+        VelocitySolver::Damped { lambda } => {
+            if !(lambda.is_finite() && lambda > 0.0) {
+                return Err(SolveError::InvalidInput(format!(
+                    "the damping λ must be positive and finite, got {lambda}"
+                )));
+            }
+            let mut out = DVector::zeros(j.ncols());
+            let free = vec![false; j.ncols()];
+            crate::dls::dls_step(j, &v, lambda * lambda, &free, out.as_mut_slice())?;
+            Ok(out)
+        }
+    }
+}
+
+/// q̇ = J⁻¹ V for a square, full-rank J (LU).
+fn exact(j: &Matrix6xX<f64>, v: &Vector6<f64>) -> Result<DVector<f64>, SolveError> {
     if j.ncols() != 6 {
-        return Err(SolveError::Numerical(format!(
+        return Err(SolveError::InvalidInput(format!(
             "an exact solve needs a square 6 × 6 Jacobian, this one is 6 × {}",
             j.ncols()
         )));
     }
     let sq: Matrix6<f64> = j.fixed_columns::<6>(0).into_owned();
-    let x = sq
-        .lu()
-        .solve(&v.to_vector())
-        .ok_or_else(|| SolveError::Numerical("the Jacobian is singular".into()))?;
+    // Rounding makes a singular J look invertible to LU (pivots of 1e-17, answers of 1e16), so
+    // the rank is decided first, with the tolerance of the analysis (6 ε σ₁).
+    let s = sq.singular_values();
+    let singular = || {
+        SolveError::Numerical(format!(
+            "the Jacobian is singular (σ_min = {:.3e}, σ_max = {:.3e}): no exact joint velocities; use the pseudo-inverse or damped least squares",
+            s.min(),
+            s.max()
+        ))
+    };
+    if s.min() <= 6.0 * f64::EPSILON * s.max() {
+        return Err(singular());
+    }
+    let x = sq.lu().solve(v).ok_or_else(singular)?;
     Ok(DVector::from_column_slice(x.as_slice()))
-}
-
-/// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ (faer), σ_i ≤ `tolerance` treated as 0
-/// (default: max(6, n) · ε · σ₁). Least-squares and minimum-norm.
-pub fn joint_velocities_pinv(
-    j: &Matrix6xX<f64>,
-    v: &Twist,
-    tolerance: Option<f64>,
-) -> Result<DVector<f64>, SolveError> {
-    let n = j.ncols();
-    let mut out = DVector::zeros(n);
-    let default = |s1: f64| 6.max(n) as f64 * f64::EPSILON * s1;
-    pinv_into(
-        j,
-        &v.to_vector(),
-        &vec![false; n],
-        |s1| tolerance.unwrap_or(default(s1)),
-        out.as_mut_slice(),
-    )?;
-    Ok(out)
 }
 
 /// x = J⁺ b = Σ_i (u_iᵀ b / σ_i) v_i over the σ_i > `tolerance(σ₁)` of the faer SVD, with the
 /// columns whose `locked` flag is set treated as zero (their x is 0). The one pseudo-inverse of
-/// the crate: [`joint_velocities_pinv`] and the Newton–Raphson IK step.
+/// the crate: [`VelocitySolver::PseudoInverse`] and the Newton–Raphson IK step.
 pub(crate) fn pinv_into(
     j: &Matrix6xX<f64>,
     b: &Vector6<f64>,
@@ -59,7 +114,7 @@ pub(crate) fn pinv_into(
     let m = Mat::<f64>::from_fn(6, n, |r, c| if locked[c] { 0.0 } else { j[(r, c)] });
     let svd = m
         .thin_svd()
-        .map_err(|e| SolveError::Numerical(format!("SVD did not converge: {e:?}")))?;
+        .map_err(|e| SolveError::Numerical(format!("the SVD did not converge: {e:?}")))?;
     let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
     let k = n.min(6);
     let tol = if k > 0 { tolerance(s[0]) } else { 0.0 };
@@ -76,31 +131,18 @@ pub(crate) fn pinv_into(
     Ok(())
 }
 
-/// Damped least squares q̇ = Jᵀ (J Jᵀ + λ² I)⁻¹ V ([`crate::dls::dls_step`]): bounded near singularities,
-/// exact as λ → 0 for full row rank.
-pub fn joint_velocities_dls(
-    j: &Matrix6xX<f64>,
-    v: &Twist,
-    lambda: f64,
+/// The joint torques τ = Jᵀ F that balance the tip wrench `wrench` (in `frame`) at q. Checks q
+/// and the wrench.
+pub fn joint_torques(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &[f64],
+    wrench: &Wrench,
+    frame: Frame,
 ) -> Result<DVector<f64>, SolveError> {
-    if !(lambda.is_finite() && lambda > 0.0) {
-        return Err(SolveError::Numerical(format!(
-            "damping λ must be positive, got {lambda}"
-        )));
+    if !wrench.to_vector().iter().all(|x| x.is_finite()) {
+        return Err(SolveError::InvalidInput("the wrench is not finite".into()));
     }
-    let mut q_dot = DVector::zeros(j.ncols());
-    let free = vec![false; j.ncols()];
-    crate::dls::dls_step(
-        j,
-        &v.to_vector(),
-        lambda * lambda,
-        &free,
-        q_dot.as_mut_slice(),
-    )?;
-    Ok(q_dot)
-}
-
-/// Joint torques balancing a tip wrench: τ = Jᵀ F (F in the Jacobian's frame).
-pub fn joint_torques(j: &Matrix6xX<f64>, f: &Wrench) -> DVector<f64> {
-    j.transpose() * f.to_vector()
+    let j = crate::jacobian::jacobian(kin, ws, q, frame)?;
+    Ok(j.transpose() * wrench.to_vector())
 }

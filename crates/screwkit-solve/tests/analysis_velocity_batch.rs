@@ -3,28 +3,36 @@
 
 mod common;
 
-use common::{load, Rng};
-use nalgebra::{DVector, Vector6};
+use common::{fk1, load, Sampler};
+use nalgebra::{DVector, Matrix6xX, Vector6};
 use screwkit_lie::{Twist, Wrench};
-use screwkit_solve::analysis::analyze;
-use screwkit_solve::batch::{fk_batch, ik_batch, ik_path, jacobian_batch, row_seed};
-use screwkit_solve::fk::fk;
-use screwkit_solve::ik::{solve, IkOptions};
-use screwkit_solve::jacobian::jacobian;
-use screwkit_solve::velocity::{
-    joint_torques, joint_velocities_dls, joint_velocities_exact, joint_velocities_pinv,
+use screwkit_solve::analysis::{analyze, analyze_jacobian};
+use screwkit_solve::batch::{
+    fk_all_links_batch, fk_batch, ik_batch, ik_path, jacobian_batch, row_seed,
 };
-use screwkit_solve::{Frame, Workspace};
+use screwkit_solve::fk::fk_all_links;
+use screwkit_solve::ik::{solve, IkOptions, IkStatus, StopReason};
+use screwkit_solve::jacobian::{fk_jacobian, jacobian};
+use screwkit_solve::velocity::{joint_torques, joint_velocities, VelocitySolver};
+use screwkit_solve::{Frame, Kinematics, SolveError, Workspace};
+
+/// J with a fresh workspace, owned.
+fn jac(kin: &Kinematics, q: &[f64], frame: Frame) -> Matrix6xX<f64> {
+    jacobian(kin, &mut Workspace::new(kin), q, frame)
+        .unwrap()
+        .clone()
+}
 
 #[test]
 fn analysis_matches_nalgebra_svd() {
-    let mut rng = Rng(21);
+    let mut rng = Sampler::new(21);
     for file in ["ur5.urdf", "panda.urdf", "planar_3r.urdf"] {
         let (_, _, kin) = load(file, None, None);
         for _ in 0..20 {
             let q = rng.config(&kin);
-            let j = jacobian(&kin, &q, Frame::Space).unwrap();
-            let a = analyze(&j).unwrap();
+            let j = jac(&kin, &q, Frame::Space);
+            let a = analyze(&kin, &mut Workspace::new(&kin), &q, Frame::Space).unwrap();
+            assert_eq!(a, analyze_jacobian(&j).unwrap());
             let mut sv: Vec<f64> = j
                 .clone()
                 .svd(false, false)
@@ -64,9 +72,14 @@ fn known_singularities() {
         [0.3, -0.7, 1.2, 0.4, 0.0, 0.2],
         [0.3, -0.7, 0.0, 0.4, 0.5, 0.2],
     ] {
-        let j = jacobian(&kin, &q, Frame::Space).unwrap();
-        let a = analyze(&j).unwrap();
+        let j = jac(&kin, &q, Frame::Space);
+        let a = analyze_jacobian(&j).unwrap();
         assert_eq!(a.rank, 5, "{:?}", a.singular_values);
+        assert!(
+            a.verdict().starts_with("singular (rank 5 of 6)"),
+            "{}",
+            a.verdict()
+        );
         assert_eq!(a.lost_directions.len(), 1);
         assert!(a.manipulability < 1e-12);
         // Rank deficient: σ_min is rounding noise, so the condition number is ∞, not 1e16-ish.
@@ -79,15 +92,24 @@ fn known_singularities() {
         }
     }
     // Generic configuration: full rank.
-    let j = jacobian(&kin, &[0.3, -0.7, 1.2, 0.4, 0.5, 0.2], Frame::Space).unwrap();
-    let a = analyze(&j).unwrap();
+    let a = analyze_jacobian(&jac(&kin, &[0.3, -0.7, 1.2, 0.4, 0.5, 0.2], Frame::Space)).unwrap();
     assert_eq!(a.rank, 6);
+    assert!(
+        a.verdict().starts_with("well-conditioned"),
+        "{}",
+        a.verdict()
+    );
     assert!(a.lost_directions.is_empty());
     let s = &a.singular_values;
     assert_eq!(a.condition_number, s[0] / s[5]);
     // Planar 3R: rank 3 of 6 at most (min(6, n)), three lost directions.
     let (_, _, kin3) = load("planar_3r.urdf", None, None);
-    let a = analyze(&jacobian(&kin3, &[0.1, 0.5, -0.3], Frame::Space).unwrap()).unwrap();
+    let a = analyze_jacobian(&jac(&kin3, &[0.1, 0.5, -0.3], Frame::Space)).unwrap();
+    assert!(
+        a.verdict().contains("3-joint chain can never produce 3"),
+        "{}",
+        a.verdict()
+    );
     assert_eq!(
         (a.rank, a.lost_directions.len(), a.manipulability),
         (3, 3, 0.0)
@@ -97,25 +119,39 @@ fn known_singularities() {
 #[test]
 fn joint_velocities_and_torques() {
     let (_, _, kin) = load("ur5.urdf", None, None);
+    let mut ws = Workspace::new(&kin);
     let q = [0.3, -0.7, 1.2, 0.4, 0.5, 0.2];
-    let j = jacobian(&kin, &q, Frame::Body).unwrap();
+    let j = jac(&kin, &q, Frame::Body);
     let v = Twist::from_vector(&Vector6::new(0.1, -0.2, 0.3, 0.05, 0.02, -0.04));
-    let exact = joint_velocities_exact(&j, &v).unwrap();
+    let qd = |kin: &Kinematics, q: &[f64], solver| {
+        joint_velocities(kin, &mut Workspace::new(kin), q, &v, Frame::Body, solver)
+    };
+    let exact = qd(&kin, &q, VelocitySolver::Exact).unwrap();
     assert!((&j * &exact - v.to_vector()).amax() < 1e-12);
-    let pinv = joint_velocities_pinv(&j, &v, None).unwrap();
+    let pinv = qd(&kin, &q, VelocitySolver::PseudoInverse { tolerance: None }).unwrap();
     assert!((&pinv - &exact).amax() < 1e-10);
-    let dls = joint_velocities_dls(&j, &v, 1e-6).unwrap();
+    let dls = qd(&kin, &q, VelocitySolver::Damped { lambda: 1e-6 }).unwrap();
     assert!((&dls - &exact).amax() < 1e-6);
     // Power balance: q̇ᵀτ = Vᵀ F for τ = Jᵀ F.
     let f = Wrench::from_vector(&Vector6::new(1.0, 2.0, -1.0, 10.0, -5.0, 3.0));
-    let tau = joint_torques(&j, &f);
-    assert!((exact.dot(&tau) - v.power(&f)).abs() < 1e-12);
-    // Redundant arm: pinv gives the minimum-norm solution; exact is refused.
+    let tau = joint_torques(&kin, &mut ws, &q, &f, Frame::Body).unwrap();
+    assert!((exact.dot(&tau) - f.power(&v)).abs() < 1e-12);
+    // Redundant arm: pinv gives the minimum-norm solution; exact is refused as bad input.
     let (_, _, panda) = load("panda.urdf", None, None);
-    let j7 = jacobian(&panda, &[0.1, 0.2, -0.1, -1.5, 0.3, 1.6, 0.2], Frame::Space).unwrap();
-    assert!(joint_velocities_exact(&j7, &v).is_err());
-    let qd = joint_velocities_pinv(&j7, &v, None).unwrap();
-    assert!((&j7 * &qd - v.to_vector()).amax() < 1e-12);
+    let q7 = [0.1, 0.2, -0.1, -1.5, 0.3, 1.6, 0.2];
+    let j7 = jac(&panda, &q7, Frame::Body);
+    let e = qd(&panda, &q7, VelocitySolver::Exact).unwrap_err();
+    assert!(
+        e.is_invalid_input() && e.to_string().contains("6 × 7"),
+        "{e}"
+    );
+    let qd7 = qd(
+        &panda,
+        &q7,
+        VelocitySolver::PseudoInverse { tolerance: None },
+    )
+    .unwrap();
+    assert!((&j7 * &qd7 - v.to_vector()).amax() < 1e-12);
     // The null-space direction: pad J to 7 × 7 with a zero row so nalgebra's (thin) SVD
     // returns a full V, and take the right singular vector of the zero singular value.
     let mut padded = nalgebra::DMatrix::<f64>::zeros(7, 7);
@@ -125,54 +161,95 @@ fn joint_velocities_and_torques() {
     let n7: DVector<f64> = svd.v_t.unwrap().row(k).transpose().into_owned();
     assert!((&j7 * &n7).amax() < 1e-12);
     assert!(
-        qd.dot(&n7).abs() < 1e-10,
+        qd7.dot(&n7).abs() < 1e-10,
         "minimum norm: no null-space component"
     );
-    assert!(joint_velocities_dls(&j7, &v, 0.0).is_err());
+    let e = qd(&panda, &q7, VelocitySolver::Damped { lambda: 0.0 }).unwrap_err();
+    assert!(e.is_invalid_input(), "{e}");
+    // A singular square Jacobian is a numerical failure, not bad input.
+    let wrist = [0.3, -0.7, 1.2, 0.4, 0.0, 0.2];
+    let e = qd(&kin, &wrist, VelocitySolver::Exact).unwrap_err();
+    assert!(!e.is_invalid_input(), "{e}");
+}
+
+/// A row-major 4 × 4 from 16 values.
+fn pose_rows(v: &[f64]) -> nalgebra::Matrix4<f64> {
+    nalgebra::Matrix4::from_row_slice(v)
 }
 
 #[test]
 fn batches_equal_single_calls_and_ignore_thread_count() {
-    let (_, _, kin) = load("panda.urdf", None, None);
+    let (_, chain, kin) = load("panda.urdf", None, None);
     let n = kin.dof();
-    let mut rng = Rng(4);
+    let mut ws = Workspace::new(&kin);
     let rows = 600;
-    let qs: Vec<f64> = (0..rows).flat_map(|_| rng.config(&kin)).collect();
-    let mut out = vec![screwkit_lie::Se3::identity(); rows];
-    fk_batch(&kin, &qs, &mut out).unwrap();
-    for (k, t) in out.iter().enumerate() {
-        assert_eq!(*t, fk(&kin, &qs[k * n..(k + 1) * n]).unwrap());
-    }
-    let js = jacobian_batch(&kin, &qs[..10 * n], Frame::Body).unwrap();
-    for (k, (_, jk)) in js.iter().enumerate() {
+    let qs = screwkit_solve::sample::configurations(&kin, rows, 4);
+    // FK, all-link FK and Jacobians with poses: 1 thread = 2 threads = single calls, bit for bit.
+    let links = chain.links.len();
+    let run_all = |threads: usize| {
+        let (mut p, mut l) = (vec![0.0; rows * 16], vec![0.0; rows * links * 16]);
+        let (mut js, mut jp) = (vec![0.0; rows * 6 * n], vec![0.0; rows * 16]);
+        let mut jb = vec![0.0; rows * 6 * n];
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                fk_batch(&kin, &qs, &mut p).unwrap();
+                fk_all_links_batch(&kin, &qs, &mut l).unwrap();
+                jacobian_batch(&kin, &qs, Frame::Space, &mut js, Some(&mut jp)).unwrap();
+                jacobian_batch(&kin, &qs, Frame::Body, &mut jb, None).unwrap();
+            });
+        (p, l, js, jp, jb)
+    };
+    let one = run_all(1);
+    assert_eq!(one, run_all(2));
+    let (poses, all, js, jp, jb) = one;
+    for k in 0..rows {
+        let q = &qs[k * n..(k + 1) * n];
+        let t = fk1(&kin, q).unwrap();
+        assert_eq!(pose_rows(&poses[16 * k..16 * (k + 1)]), t.to_homogeneous());
+        assert_eq!(pose_rows(&jp[16 * k..16 * (k + 1)]), t.to_homogeneous());
+        let each = fk_all_links(&kin, &mut ws, q).unwrap();
+        for (i, p) in each.iter().enumerate() {
+            let o = 16 * (k * links + i);
+            assert_eq!(pose_rows(&all[o..o + 16]), p.to_homogeneous());
+        }
+        let single = fk_jacobian(&kin, &mut ws, q, Frame::Space).unwrap();
         assert_eq!(
-            *jk,
-            jacobian(&kin, &qs[k * n..(k + 1) * n], Frame::Body).unwrap()
+            Matrix6xX::from_row_slice(&js[6 * n * k..6 * n * (k + 1)]),
+            *single.jacobian
+        );
+        let body = jac(&kin, q, Frame::Body);
+        assert_eq!(
+            Matrix6xX::from_row_slice(&jb[6 * n * k..6 * n * (k + 1)]),
+            body
         );
     }
     // IK: batch = single calls with the row seeds; 1 thread = 2 threads, bit for bit.
-    let targets: Vec<_> = out[..200].to_vec();
+    let targets = poses[..200 * 16].to_vec();
     let opts = IkOptions {
         timeout: None,
         seed: 7,
         ..IkOptions::default()
     };
-    let run = |threads: usize| {
+    let run_ik = |threads: usize| {
+        let (mut q, mut st) = (vec![0.0; 200 * n], vec![IkStatus::default(); 200]);
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| ik_batch(&kin, &targets, None, &opts).unwrap())
+            .install(|| ik_batch(&kin, &targets, None, &opts, &mut q, &mut st, None).unwrap());
+        (q, st)
     };
-    let (one, two) = (run(1), run(2));
-    let mut ws = Workspace::new(&kin);
-    for (k, (a, b)) in one.iter().zip(&two).enumerate() {
-        let (a, b) = (a.as_ref().unwrap(), b.as_ref().unwrap());
-        assert_eq!(a, b);
+    let (q1, st1) = run_ik(1);
+    assert_eq!((q1.clone(), st1.clone()), run_ik(2));
+    for k in 0..200 {
+        let t = screwkit_lie::Se3::from_row_major(&targets[16 * k..16 * (k + 1)], 1e-6).unwrap();
         let single = solve(
             &kin,
             &mut ws,
-            &targets[k],
+            &t,
             &kin.midpoint(),
             &IkOptions {
                 seed: row_seed(7, k),
@@ -180,23 +257,82 @@ fn batches_equal_single_calls_and_ignore_thread_count() {
             },
         )
         .unwrap();
-        assert_eq!(*a, single);
+        assert_eq!(single.q, q1[k * n..(k + 1) * n]);
+        assert_eq!(single.status, st1[k]);
+        assert!(st1[k].converged);
     }
-    // Wrong shapes are errors.
-    assert!(fk_batch(&kin, &qs[..n + 1], &mut out[..1]).is_err());
-    assert!(fk_batch(&kin, &qs[..2 * n], &mut out[..3]).is_err());
-    // Non-finite values anywhere in a large batch (checked in parallel): an error naming the
-    // joint of the first bad row in input order.
-    let rows = qs.len() / n;
-    let mut bad = qs.clone();
-    bad[(rows - 3) * n + 2] = f64::INFINITY;
-    bad[(rows / 2) * n + 1] = f64::NAN;
-    let err = fk_batch(&kin, &bad, &mut out).unwrap_err().to_string();
-    assert!(
-        err.contains(&kin.names()[1]) && err.contains("NaN"),
-        "{err}"
+}
+
+/// Bad rows fail alone: NaN output, the others computed, an error listing them in order.
+#[test]
+fn batches_report_bad_rows_and_finish_the_rest() {
+    let (_, _, kin) = load("panda.urdf", None, None);
+    let n = kin.dof();
+    let rows = 700;
+    let mut qs = screwkit_solve::sample::configurations(&kin, rows, 9);
+    qs[(rows - 3) * n + 2] = f64::INFINITY;
+    qs[(rows / 2) * n + 1] = f64::NAN;
+    let mut out = vec![0.0; rows * 16];
+    let err = fk_batch(&kin, &qs, &mut out).unwrap_err();
+    let SolveError::Rows(bad) = &err else {
+        panic!("{err}")
+    };
+    assert_eq!(
+        bad.iter().map(|r| r.row).collect::<Vec<_>>(),
+        [rows / 2, rows - 3]
     );
-    assert!(jacobian_batch(&kin, &bad, Frame::Space).is_err());
+    assert!(err.is_invalid_input());
+    let msg = err.to_string();
+    assert!(
+        msg.starts_with(&format!("row {}:", rows / 2))
+            && msg.contains(&kin.names()[1])
+            && msg.contains("NaN"),
+        "{msg}"
+    );
+    for k in 0..rows {
+        let row = &out[16 * k..16 * (k + 1)];
+        if k == rows / 2 || k == rows - 3 {
+            assert!(row.iter().all(|x| x.is_nan()));
+        } else {
+            let t = fk1(&kin, &qs[k * n..(k + 1) * n]).unwrap();
+            assert_eq!(pose_rows(row), t.to_homogeneous());
+        }
+    }
+    let mut js = vec![0.0; rows * 6 * n];
+    assert!(matches!(
+        jacobian_batch(&kin, &qs, Frame::Space, &mut js, None),
+        Err(SolveError::Rows(r)) if r.len() == 2
+    ));
+    // Wrong shapes are errors before any work.
+    assert!(matches!(
+        fk_batch(&kin, &qs[..n + 1], &mut out[..16]),
+        Err(SolveError::WrongLength { .. })
+    ));
+    assert!(matches!(
+        fk_batch(&kin, &qs[..2 * n], &mut out[..3 * 16]),
+        Err(SolveError::WrongLength { .. })
+    ));
+    // IK: a target that is not a rigid transform and one with NaN fail alone.
+    let good = {
+        let t = fk1(&kin, &qs[..n]).unwrap().to_homogeneous();
+        (0..16).map(|i| t[(i / 4, i % 4)]).collect::<Vec<f64>>()
+    };
+    let mut targets = [good.clone(), good.clone(), good.clone()].concat();
+    targets[16] = 3.0; // R no longer orthonormal
+    targets[32 + 3] = f64::NAN;
+    let (mut q, mut st) = (vec![0.0; 3 * n], vec![IkStatus::default(); 3]);
+    let opts = IkOptions {
+        timeout: None,
+        ..IkOptions::default()
+    };
+    let err = ik_batch(&kin, &targets, None, &opts, &mut q, &mut st, None).unwrap_err();
+    let SolveError::Rows(bad) = &err else {
+        panic!("{err}")
+    };
+    assert_eq!(bad.iter().map(|r| r.row).collect::<Vec<_>>(), [1, 2]);
+    assert!(st[0].converged);
+    assert_eq!(st[1].stop, StopReason::InvalidInput);
+    assert!(q[n..].iter().all(|x| x.is_nan()));
 }
 
 /// Warm start along a path: each solve starts at the previous solution and takes few
@@ -210,19 +346,19 @@ fn warm_started_path() {
             let mut q = q0;
             q[0] += 0.01 * k as f64;
             q[2] -= 0.005 * k as f64;
-            fk(&kin, &q).unwrap()
+            fk1(&kin, &q).unwrap()
         })
         .collect();
     let opts = IkOptions {
         timeout: None,
         ..IkOptions::default()
     };
-    let res = ik_path(&kin, &targets, &q0, &opts).unwrap();
-    assert!(res.iter().all(|r| r.converged));
-    let mean: f64 = res.iter().map(|r| r.iterations as f64).sum::<f64>() / res.len() as f64;
+    let res = ik_path(&kin, &mut Workspace::new(&kin), &targets, &q0, &opts).unwrap();
+    assert!(res.iter().all(|r| r.status.converged));
+    let mean: f64 = res.iter().map(|r| r.status.iterations as f64).sum::<f64>() / res.len() as f64;
     assert!(
         mean < 8.0,
         "warm start should need few iterations, mean {mean}"
     );
-    assert!(res.iter().all(|r| r.restarts == 0));
+    assert!(res.iter().all(|r| r.status.restarts == 0));
 }

@@ -3,30 +3,36 @@
 
 mod common;
 
-use common::{load, Rng, CHAINS};
+use common::{fk1, load, Sampler, CHAINS};
 use nalgebra::Vector6;
 use screwkit_lie::Se3;
-use screwkit_model::reference::fk_by_composition;
-use screwkit_solve::fk::{fk, fk_all_links, fk_body, fk_unchecked};
-use screwkit_solve::jacobian::{fk_jacobian_body, fk_jacobian_space, jacobian};
+use screwkit_solve::fk::fk_all_links;
+use screwkit_solve::jacobian::{fk_jacobian, jacobian};
 use screwkit_solve::{Frame, SolveError, Workspace};
+use screwkit_testkit::reference::{fk_by_composition, poe_body, poe_space};
 
 #[test]
-fn fk_matches_composition_and_body_form() {
-    let mut rng = Rng(42);
+fn fk_matches_composition_and_the_plain_product() {
+    let mut rng = Sampler::new(42);
     for &(file, base, tip) in CHAINS {
         let (tree, chain, kin) = load(file, base, tip);
         for _ in 0..200 {
             let q = rng.config(&kin);
             let want = fk_by_composition(&tree, &chain, &q).unwrap();
-            let t = fk(&kin, &q).unwrap();
+            let t = fk1(&kin, &q).unwrap();
             assert!((t.to_homogeneous() - want).amax() < 1e-12, "{file}");
-            let tb = fk_body(&kin, &q).unwrap();
-            assert!(
-                t.max_abs_diff(&tb) < 1e-12,
-                "{file}: space vs body {:e}",
-                t.max_abs_diff(&tb)
-            );
+            // The fast column kernels equal the product of exponentials written plainly
+            // (one Se3::exp per joint), in the space and the body form.
+            for (form, plain) in [
+                ("space", poe_space(&chain, &q)),
+                ("body", poe_body(&chain, &q)),
+            ] {
+                assert!(
+                    t.max_abs_diff(&plain) < 1e-13,
+                    "{file}: kernel vs plain {form} form {:e}",
+                    t.max_abs_diff(&plain)
+                );
+            }
         }
     }
 }
@@ -36,7 +42,7 @@ fn fk_matches_composition_and_body_form() {
 fn planar_closed_form() {
     let (_, _, kin) = load("planar_3r.urdf", None, None);
     let q = [0.3, -1.1, 2.0];
-    let t = fk(&kin, &q).unwrap();
+    let t = fk1(&kin, &q).unwrap();
     let (a, b, c) = (q[0], q[0] + q[1], q[0] + q[1] + q[2]);
     let x = a.cos() + 0.8 * b.cos() + 0.5 * c.cos();
     let y = a.sin() + 0.8 * b.sin() + 0.5 * c.sin();
@@ -46,7 +52,7 @@ fn planar_closed_form() {
 /// Every link's pose equals direct composition to that link.
 #[test]
 fn all_links_match_composition() {
-    let mut rng = Rng(5);
+    let mut rng = Sampler::new(5);
     for &(file, base, tip) in CHAINS {
         let (tree, chain, kin) = load(file, base, tip);
         let mut ws = Workspace::new(&kin);
@@ -76,7 +82,7 @@ fn all_links_match_composition() {
                 link.name
             );
         }
-        assert!(poses.last().unwrap().max_abs_diff(&fk_unchecked(&kin, &q)) < 1e-15);
+        assert!(poses.last().unwrap().max_abs_diff(&fk1(&kin, &q).unwrap()) < 1e-15);
     }
 }
 
@@ -95,25 +101,26 @@ fn space_delta(t: &Se3, t2: &Se3) -> Vector6<f64> {
 /// prismatic joints.
 #[test]
 fn jacobians_match_finite_differences() {
-    let mut rng = Rng(77);
+    let mut rng = Sampler::new(77);
     let h = 1e-6;
     for &(file, base, tip) in CHAINS {
         let (_, _, kin) = load(file, base, tip);
         let mut ws = Workspace::new(&kin);
         for _ in 0..50 {
             let q = rng.config(&kin);
-            let t = fk(&kin, &q).unwrap();
-            let (ts, js) = fk_jacobian_space(&kin, &mut ws, &q).unwrap();
-            let js = js.clone();
+            let t = fk1(&kin, &q).unwrap();
+            let space = fk_jacobian(&kin, &mut ws, &q, Frame::Space).unwrap();
+            let (ts, js) = (space.pose, space.jacobian.clone());
             assert!(ts.max_abs_diff(&t) < 1e-14);
-            let (_, jb) = fk_jacobian_body(&kin, &mut ws, &q).unwrap();
-            let jb = jb.clone();
+            let body = fk_jacobian(&kin, &mut ws, &q, Frame::Body).unwrap();
+            assert!(body.pose.max_abs_diff(&t) < 1e-14);
+            let jb = body.jacobian.clone();
             for k in 0..kin.dof() {
                 let mut qp = q.clone();
                 let mut qm = q.clone();
                 qp[k] += h;
                 qm[k] -= h;
-                let (tp, tm) = (fk(&kin, &qp).unwrap(), fk(&kin, &qm).unwrap());
+                let (tp, tm) = (fk1(&kin, &qp).unwrap(), fk1(&kin, &qm).unwrap());
                 let fd_b = (body_delta(&t, &tp) - body_delta(&t, &tm)) / (2.0 * h);
                 let fd_s = (space_delta(&t, &tp) - space_delta(&t, &tm)) / (2.0 * h);
                 let eb = (jb.column(k) - fd_b).amax();
@@ -131,7 +138,7 @@ fn jacobians_match_finite_differences() {
 #[test]
 fn bad_joint_vectors_are_errors() {
     let (_, _, kin) = load("ur5.urdf", None, None);
-    let e = fk(&kin, &[0.0; 5]).unwrap_err();
+    let e = fk1(&kin, &[0.0; 5]).unwrap_err();
     assert!(matches!(
         e,
         SolveError::WrongLength {
@@ -141,12 +148,12 @@ fn bad_joint_vectors_are_errors() {
         }
     ));
     assert!(e.to_string().contains("shoulder_pan_joint"), "{e}");
-    let e = fk(&kin, &[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0]).unwrap_err();
+    let e = fk1(&kin, &[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0]).unwrap_err();
     assert!(
         e.to_string().contains("#2 (elbow_joint) is not finite"),
         "{e}"
     );
-    assert!(jacobian(&kin, &[0.0; 7], Frame::Space).is_err());
     let mut ws = Workspace::new(&kin);
+    assert!(jacobian(&kin, &mut ws, &[0.0; 7], Frame::Space).is_err());
     assert!(fk_all_links(&kin, &mut ws, &[f64::INFINITY; 6]).is_err());
 }

@@ -4,11 +4,11 @@
 
 mod common;
 
-use common::{load, Rng, CHAINS};
-use nalgebra::Vector3;
-use screwkit_lie::Se3;
-use screwkit_solve::fk::fk;
+use common::{fk1, load, Sampler, CHAINS};
+use nalgebra::{Vector3, Vector6};
+use screwkit_lie::{Frame, Se3};
 use screwkit_solve::ik::{solve, IkMethod, IkOptions, StopReason};
+use screwkit_solve::jacobian::jacobian;
 use screwkit_solve::Workspace;
 
 fn options(method: IkMethod) -> IkOptions {
@@ -30,21 +30,21 @@ fn solve_rate(
 ) -> f64 {
     let (_, _, kin) = load(file, base, tip);
     let mut ws = Workspace::new(&kin);
-    let mut rng = Rng(0xABCD_EF01_2345_6789);
+    let mut rng = Sampler::new(0xABCD_EF01_2345_6789);
     let seed = kin.midpoint();
     let mut ok = 0;
     for _ in 0..count {
         let q_star = rng.config(&kin);
-        let target = fk(&kin, &q_star).unwrap();
+        let target = fk1(&kin, &q_star).unwrap();
         let r = solve(&kin, &mut ws, &target, &seed, opts).unwrap();
         assert!(
             kin.within_limits(&r.q, 0.0),
             "{file}: solution outside limits {:?}",
             r.q
         );
-        if r.converged {
+        if r.status.converged {
             // Independent check: a fresh FK call, rotation angle and position distance.
-            let t = fk(&kin, &r.q).unwrap();
+            let t = fk1(&kin, &r.q).unwrap();
             let d = t.inverse_compose(&target);
             let rot = screwkit_lie::so3::log(d.rotation()).norm();
             let pos = (t.translation() - target.translation()).norm();
@@ -54,7 +54,26 @@ fn solve_rate(
             );
             ok += 1;
         } else {
-            assert_ne!(r.stop, StopReason::Converged);
+            // A failure is reported as one: the errors it gives are the best q's true errors
+            // (by an independent FK call), above the tolerance, and the budget that stopped it
+            // was really spent.
+            let t = fk1(&kin, &r.q).unwrap();
+            let rot = screwkit_lie::so3::log(t.inverse_compose(&target).rotation()).norm();
+            let pos = (t.translation() - target.translation()).norm();
+            let st = &r.status;
+            assert!(
+                (st.error_rot - rot).abs() < 1e-12 && (st.error_pos - pos).abs() < 1e-12,
+                "{file}: reported {} rad {} m, true {rot} rad {pos} m",
+                st.error_rot,
+                st.error_pos
+            );
+            assert!(rot > opts.tol_rot || pos > opts.tol_pos, "{file}: {st:?}");
+            match st.stop {
+                StopReason::IterationLimit => assert!(st.iterations >= opts.max_iterations),
+                StopReason::RestartLimit => assert_eq!(st.restarts, opts.max_restarts),
+                StopReason::TimeLimit => assert!(opts.timeout.is_some()),
+                other => panic!("{file}: not converged but stopped by {other:?}"),
+            }
         }
     }
     ok as f64 / count as f64
@@ -96,12 +115,12 @@ fn unreachable_target_is_reported() {
         ..options(IkMethod::LM)
     };
     let r = solve(&kin, &mut ws, &target, &kin.midpoint(), &opts).unwrap();
-    assert!(!r.converged);
+    assert!(!r.status.converged);
     assert!(matches!(
-        r.stop,
+        r.status.stop,
         StopReason::IterationLimit | StopReason::RestartLimit
     ));
-    assert!(r.error_pos > 4.0, "{}", r.error_pos);
+    assert!(r.status.error_pos > 4.0, "{}", r.status.error_pos);
     assert!(kin.within_limits(&r.q, 0.0));
     assert!(r.q.iter().all(|x| x.is_finite()));
 }
@@ -119,11 +138,11 @@ fn singular_targets() {
     for (file, q_star) in cases {
         let (_, _, kin) = load(file, None, None);
         let mut ws = Workspace::new(&kin);
-        let target = fk(&kin, q_star).unwrap();
+        let target = fk1(&kin, q_star).unwrap();
         for m in [IkMethod::LM, IkMethod::DLS] {
             let r = solve(&kin, &mut ws, &target, &kin.midpoint(), &options(m)).unwrap();
             assert!(r.q.iter().all(|x| x.is_finite()));
-            assert!(r.converged, "{file} {m:?}: {r:?}");
+            assert!(r.status.converged, "{file} {m:?}: {r:?}");
         }
     }
 }
@@ -132,10 +151,10 @@ fn singular_targets() {
 fn position_only_and_masks() {
     let (_, _, kin) = load("panda.urdf", None, None);
     let mut ws = Workspace::new(&kin);
-    let mut rng = Rng(3);
+    let mut rng = Sampler::new(3);
     for _ in 0..50 {
         let q_star = rng.config(&kin);
-        let p = *fk(&kin, &q_star).unwrap().translation();
+        let p = *fk1(&kin, &q_star).unwrap().translation();
         // Any orientation: only the position matters.
         let target = Se3::from_translation(p);
         let opts = IkOptions {
@@ -143,12 +162,12 @@ fn position_only_and_masks() {
             ..options(IkMethod::LM)
         };
         let r = solve(&kin, &mut ws, &target, &kin.midpoint(), &opts).unwrap();
-        assert!(r.converged);
-        assert!((fk(&kin, &r.q).unwrap().translation() - p).norm() < 1e-8);
+        assert!(r.status.converged);
+        assert!((fk1(&kin, &r.q).unwrap().translation() - p).norm() < 1e-8);
     }
     // Masking rotation about the tool z: a 5-D task.
     let q_star = rng.config(&kin);
-    let t = fk(&kin, &q_star).unwrap();
+    let t = fk1(&kin, &q_star).unwrap();
     let spun = t * Se3::exp(&screwkit_lie::Twist::new(
         Vector3::z() * 0.7,
         Vector3::zeros(),
@@ -158,8 +177,8 @@ fn position_only_and_masks() {
         ..options(IkMethod::LM)
     };
     let r = solve(&kin, &mut ws, &spun, &kin.midpoint(), &opts).unwrap();
-    assert!(r.converged);
-    let got = fk(&kin, &r.q).unwrap();
+    assert!(r.status.converged);
+    let got = fk1(&kin, &r.q).unwrap();
     assert!((got.translation() - spun.translation()).norm() < 1e-8);
     // The tool z axis matches; rotation about it is free.
     let (za, zb) = (got.rotation().column(2), spun.rotation().column(2));
@@ -170,10 +189,18 @@ fn position_only_and_masks() {
 fn bad_input() {
     let (_, _, kin) = load("ur5.urdf", None, None);
     let mut ws = Workspace::new(&kin);
-    let t = fk(&kin, &[0.0; 6]).unwrap();
-    assert!(solve(&kin, &mut ws, &t, &[0.0; 5], &IkOptions::default()).is_err());
+    let t = fk1(&kin, &[0.0; 6]).unwrap();
+    let e = solve(&kin, &mut ws, &t, &[0.0; 5], &IkOptions::default()).unwrap_err();
+    assert!(
+        e.is_invalid_input() && e.to_string().contains("expected 6 joint values"),
+        "{e}"
+    );
     let nan = Se3::from_translation(Vector3::new(f64::NAN, 0.0, 0.0));
-    assert!(solve(&kin, &mut ws, &nan, &[0.0; 6], &IkOptions::default()).is_err());
+    let e = solve(&kin, &mut ws, &nan, &[0.0; 6], &IkOptions::default()).unwrap_err();
+    assert!(
+        e.is_invalid_input() && e.to_string().contains("target"),
+        "{e}"
+    );
 }
 
 /// Continuous joints come back wrapped to (−π, π].
@@ -181,10 +208,10 @@ fn bad_input() {
 fn continuous_joints_are_wrapped() {
     let (_, _, kin) = load("tricky.urdf", Some("base_link"), None);
     let mut ws = Workspace::new(&kin);
-    let mut rng = Rng(8);
+    let mut rng = Sampler::new(8);
     for _ in 0..50 {
         let q_star = rng.config(&kin);
-        let target = fk(&kin, &q_star).unwrap();
+        let target = fk1(&kin, &q_star).unwrap();
         let r = solve(
             &kin,
             &mut ws,
@@ -197,79 +224,98 @@ fn continuous_joints_are_wrapped() {
     }
 }
 
-/// The fixed-size damped least-squares step (6×6 Cholesky) equals the SVD form computed with
-/// faer, Δq = Σ_i σ_i / (σ_i² + λ²) v_i (u_iᵀ e) over the free columns, on every bundled chain
-/// at random and singular configurations, for small to large damping and with locked columns.
+/// One Levenberg–Marquardt iteration is the documented step: Δq = J_bᵀ (J_b J_bᵀ + μ I)⁻¹ V_b
+/// with μ = 0.05 ‖V_b‖² + μ̄ added to the diagonal as it is (not squared), computed here with
+/// nalgebra from the body Jacobian and the error twist. A large floor μ̄ = 0.3 makes μ and μ²
+/// far apart, so a λ² reading of the formula fails this test.
 #[test]
-fn fixed_size_dls_step_equals_the_faer_svd_form() {
-    use screwkit_solve::dls::dls_step;
-    use screwkit_solve::jacobian::jacobian;
-    use screwkit_solve::Frame;
-    let mut rng = Rng(0x0D15_C0DE_5EED_0001);
-    let mut checked = 0;
-    for (file, base, tip) in CHAINS {
-        let (_, _, kin) = load(file, *base, *tip);
-        let n = kin.dof();
-        let mut configs: Vec<Vec<f64>> = (0..20).map(|_| rng.config(&kin)).collect();
-        if *file == "ur5.urdf" {
-            configs.push(vec![0.3, -0.7, 1.2, 0.4, 0.0, 0.2]); // wrist singular
-            configs.push(vec![0.3, -0.7, 0.0, 0.4, 0.5, 0.2]); // elbow singular
-        }
-        for (c, q) in configs.iter().enumerate() {
-            for frame in [Frame::Space, Frame::Body] {
-                let j = jacobian(&kin, q, frame).unwrap();
-                let e = nalgebra::Vector6::from_fn(|_, _| rng.uniform() - 0.5);
-                let locked: Vec<bool> = (0..n).map(|k| c % 3 == 1 && k % 3 == 0).collect();
-                for lambda2 in [1e-6, 1e-3, 0.5] {
-                    let mut dq = vec![f64::NAN; n];
-                    dls_step(&j, &e, lambda2, &locked, &mut dq).unwrap();
-                    // Oracle: faer's SVD of J with the locked columns zeroed.
-                    let m =
-                        faer::Mat::<f64>::from_fn(
-                            6,
-                            n,
-                            |r, k| {
-                                if locked[k] {
-                                    0.0
-                                } else {
-                                    j[(r, k)]
-                                }
-                            },
-                        );
-                    let svd = m.thin_svd().unwrap();
-                    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
-                    let mut oracle = vec![0.0; n];
-                    for i in 0..n.min(6) {
-                        let ute: f64 = (0..6).map(|r| u[(r, i)] * e[r]).sum();
-                        let g = s[i] / (s[i] * s[i] + lambda2) * ute;
-                        for (k, x) in oracle.iter_mut().enumerate() {
-                            *x += v[(k, i)] * g;
-                        }
-                    }
-                    // Rounding grows with the condition number of J Jᵀ + λ²I.
-                    let cond = (s[0] * s[0] + lambda2) / lambda2;
-                    let scale = oracle.iter().fold(1.0f64, |m, x| m.max(x.abs()));
-                    for k in 0..n {
-                        assert!(
-                            (dq[k] - oracle[k]).abs() <= 1e-14 * cond * scale,
-                            "{file} {frame:?} λ²={lambda2}: Δq_{k} {} vs {}",
-                            dq[k],
-                            oracle[k]
-                        );
-                        if locked[k] {
-                            assert_eq!(dq[k], 0.0);
-                        }
-                    }
-                    checked += 1;
-                }
-            }
-        }
+fn one_lm_iteration_is_the_documented_step() {
+    let (_, _, kin) = load("ur5.urdf", None, None);
+    let mut ws = Workspace::new(&kin);
+    let q0 = vec![0.3, -0.9, 1.2, -0.4, 0.5, 0.2];
+    let mut q_star = q0.clone();
+    q_star[0] += 0.05;
+    q_star[3] -= 0.04;
+    let target = fk1(&kin, &q_star).unwrap();
+    let floor = 0.3;
+    let opts = IkOptions {
+        method: IkMethod::LevenbergMarquardt {
+            damping_floor: floor,
+        },
+        max_iterations: 1,
+        max_restarts: 0,
+        timeout: None,
+        ..IkOptions::default()
+    };
+    let r = solve(&kin, &mut ws, &target, &q0, &opts).unwrap();
+    assert_eq!(r.status.iterations, 1);
+    // The oracle step.
+    let t = fk1(&kin, &q0).unwrap();
+    let e: Vector6<f64> = t.inverse_compose(&target).log().to_vector();
+    let jb = jacobian(&kin, &mut ws, &q0, Frame::Body).unwrap().clone();
+    let mu = 0.05 * e.norm_squared() + floor;
+    let a = &jb * jb.transpose() + nalgebra::Matrix6::identity() * mu;
+    let dq = jb.transpose() * a.try_inverse().unwrap() * e;
+    // The best of {q0, q1} is returned: q1 is better here (checked), so r.q = q0 + Δq.
+    let q1: Vec<f64> = q0.iter().zip(dq.iter()).map(|(a, b)| a + b).collect();
+    let err = |q: &[f64]| {
+        fk1(&kin, q)
+            .unwrap()
+            .inverse_compose(&target)
+            .log()
+            .to_vector()
+            .norm()
+    };
+    assert!(err(&q1) < err(&q0));
+    for (k, (got, want)) in r.q.iter().zip(&q1).enumerate() {
+        assert!((got - want).abs() < 1e-13, "joint {k}: {got} vs {want}");
     }
-    assert!(checked > 900, "{checked}");
-    // Not positive definite (λ = 0, fewer than 6 free columns): an error, not garbage.
-    let (_, _, kin) = load("planar_3r.urdf", None, None);
-    let j = jacobian(&kin, &[0.1, 0.2, 0.3], Frame::Space).unwrap();
-    let mut dq = [0.0; 3];
-    let e = nalgebra::Vector6::repeat(0.1);
-    assert!(dls_step(&j, &e, 0.0, &[false; 3], &mut dq).is_err());
+}
+
+/// Options that make no sense are input errors naming the option, not silent garbage.
+#[test]
+fn bad_options_are_input_errors() {
+    let (_, _, kin) = load("ur5.urdf", None, None);
+    let mut ws = Workspace::new(&kin);
+    let t = fk1(&kin, &[0.0; 6]).unwrap();
+    for (opts, name) in [
+        (
+            IkOptions {
+                tol_rot: f64::NAN,
+                ..IkOptions::default()
+            },
+            "tol_rot",
+        ),
+        (
+            IkOptions {
+                tol_pos: -1.0,
+                ..IkOptions::default()
+            },
+            "tol_pos",
+        ),
+        (
+            IkOptions {
+                max_step: 0.0,
+                ..IkOptions::default()
+            },
+            "max_step",
+        ),
+        (
+            IkOptions {
+                weights: [1.0, 1.0, 1.0, f64::INFINITY, 1.0, 1.0],
+                ..IkOptions::default()
+            },
+            "weights",
+        ),
+        (
+            IkOptions {
+                method: IkMethod::Dls { lambda: -0.1 },
+                ..IkOptions::default()
+            },
+            "damping",
+        ),
+    ] {
+        let e = solve(&kin, &mut ws, &t, &[0.0; 6], &opts).unwrap_err();
+        assert!(e.is_invalid_input() && e.to_string().contains(name), "{e}");
+    }
 }

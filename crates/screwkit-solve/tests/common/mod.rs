@@ -2,8 +2,10 @@
 
 #![allow(dead_code)]
 
+use screwkit_lie::Se3;
 use screwkit_model::{urdf, Chain, Tree};
-use screwkit_solve::Kinematics;
+use screwkit_solve::{Kinematics, SolveError, Workspace};
+pub use screwkit_testkit::Sampler;
 
 /// (file, base, tip) of every bundled chain the solver is tested on.
 pub const CHAINS: &[(&str, Option<&str>, Option<&str>)] = &[
@@ -19,39 +21,13 @@ pub const CHAINS: &[(&str, Option<&str>, Option<&str>)] = &[
 
 /// Loads a bundled chain with its tree.
 pub fn load(file: &str, base: Option<&str>, tip: Option<&str>) -> (Tree, Chain, Kinematics) {
-    let tree = urdf::load_file(format!(
-        "{}/../../assets/urdf/{file}",
-        env!("CARGO_MANIFEST_DIR")
-    ))
-    .unwrap();
+    let tree = urdf::load_file(screwkit_testkit::bundled(file)).unwrap();
     let chain = Chain::from_tree(&tree, base, tip).unwrap();
     let kin = Kinematics::new(&chain);
     (tree, chain, kin)
 }
 
-/// xorshift64: reproducible test randomness.
-pub struct Rng(pub u64);
-
-impl Rng {
-    pub fn uniform(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform within limits ([−π, π] when unbounded).
-    pub fn config(&mut self, kin: &Kinematics) -> Vec<f64> {
-        (0..kin.dof())
-            .map(|k| {
-                let (l, u) = (kin.lower()[k], kin.upper()[k]);
-                let (l, u) = if l.is_finite() && u.is_finite() {
-                    (l, u)
-                } else {
-                    (-std::f64::consts::PI, std::f64::consts::PI)
-                };
-                l + (u - l) * self.uniform()
-            })
-            .collect()
-    }
+/// The tip pose with a fresh workspace: a call independent of any solver's state.
+pub fn fk1(kin: &Kinematics, q: &[f64]) -> Result<Se3, SolveError> {
+    screwkit_solve::fk::fk(kin, &mut Workspace::new(kin), q)
 }

@@ -1,5 +1,5 @@
-//! The IK benchmark protocol (the performance issue's, shared by `screwkit bench` and the
-//! benches): q* uniform within the limits (continuous joints in [−π, π]) from a fixed seed,
+//! The IK benchmark protocol of BENCHMARKS.md, shared by `screwkit bench` and the benches:
+//! q* uniform within the limits (continuous joints in [−π, π]) from a fixed seed,
 //! target = FK(q*), initial guess = the midpoint of the limits (0 for continuous), success =
 //! rotation error ≤ 1e-5 rad and position error ≤ 1e-5 m checked by an FK call independent of
 //! the solver's bookkeeping, with the solution within limits; every query timed, failures
@@ -7,10 +7,12 @@
 
 use std::time::Instant;
 
-use crate::fk::fk_unchecked;
-use crate::ik::{random_config, solve_unchecked, IkOptions, SplitMix};
-use crate::jacobian::{fk_jacobian_into, Frame};
-use crate::kinematics::{Kinematics, Workspace};
+use screwkit_solve::batch::row_seed;
+use screwkit_solve::fk::fk;
+use screwkit_solve::ik::{solve_into, IkOptions};
+use screwkit_solve::jacobian::fk_jacobian;
+use screwkit_solve::sample::configurations;
+use screwkit_solve::{Frame, Kinematics, Workspace};
 
 /// Success thresholds of the protocol.
 pub const SUCCESS_ROT: f64 = 1e-5;
@@ -49,64 +51,51 @@ impl ProtocolReport {
     }
 }
 
-/// `count` configurations drawn uniformly within the limits ([−π, π] for unbounded
-/// variables) from `seed` (SplitMix64), as flat row-major rows of `dof` values: the protocol's
-/// q*, and the inputs of the benches and examples.
-pub fn sample_configurations(kin: &Kinematics, count: usize, seed: u64) -> Vec<f64> {
-    let mut rng = SplitMix(seed);
-    let n = kin.dof();
-    let mut qs = vec![0.0; count * n];
-    for row in qs.chunks_mut(n.max(1)) {
-        random_config(kin, &mut rng, row);
-    }
-    qs
-}
-
 /// Runs the protocol with `queries` targets drawn from `seed`, solving with `opts`.
 pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> ProtocolReport {
     let n = kin.dof();
-    let qs = sample_configurations(kin, queries, seed);
+    let qs = configurations(kin, queries, seed);
     let mut ws = Workspace::new(kin);
     let mid = kin.midpoint();
     let mut times = Vec::with_capacity(queries);
     let (mut solved, mut iterations) = (0usize, 0usize);
+    let mut sol = vec![0.0; n];
     for (k, q_star) in qs.chunks(n.max(1)).enumerate().take(queries) {
-        let target = fk_unchecked(kin, q_star);
+        let target = fk(kin, &mut ws, q_star).expect("sampled within limits");
         let o = IkOptions {
-            seed: crate::batch::row_seed(opts.seed, k),
+            seed: row_seed(opts.seed, k),
             ..opts.clone()
         };
         let t0 = Instant::now();
-        let r = solve_unchecked(kin, &mut ws, &target, &mid, &o);
+        let r = solve_into(kin, &mut ws, &target, &mid, &o, &mut sol);
         times.push(t0.elapsed().as_secs_f64() * 1e6);
-        if let Ok(r) = r {
-            iterations += r.iterations;
-            let t = fk_unchecked(kin, &r.q);
+        if let Ok(status) = r {
+            iterations += status.iterations;
+            let t = fk(kin, &mut ws, &sol).expect("solutions are finite");
             let d = t.inverse_compose(&target);
             let rot = screwkit_lie::so3::log(d.rotation()).norm();
             let pos = (t.translation() - target.translation()).norm();
-            if rot <= SUCCESS_ROT && pos <= SUCCESS_POS && kin.within_limits(&r.q, 0.0) {
+            if rot <= SUCCESS_ROT && pos <= SUCCESS_POS && kin.within_limits(&sol, 0.0) {
                 solved += 1;
             }
         }
     }
-    // Per-call FK and FK+J costs over the same configurations.
+    // Per-call FK and FK+J costs over the same configurations (the public, checked calls).
     // About 20,000 timed calls of each kind.
     let reps = (20_000 / queries.max(1)).max(1);
     let t0 = Instant::now();
     let mut sink = 0.0;
     for _ in 0..reps {
         for q in qs.chunks(n.max(1)) {
-            sink += fk_unchecked(kin, q).translation().x;
+            sink += fk(kin, &mut ws, q).map_or(0.0, |t| t.translation().x);
         }
     }
     let fk_ns = t0.elapsed().as_secs_f64() * 1e9 / (reps * queries.max(1)) as f64;
     let t0 = Instant::now();
     for _ in 0..reps {
         for q in qs.chunks(n.max(1)) {
-            sink += fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Space)
-                .translation()
-                .y;
+            sink +=
+                fk_jacobian(kin, &mut ws, q, Frame::Space).map_or(0.0, |r| r.pose.translation().y);
         }
     }
     let jacobian_ns = t0.elapsed().as_secs_f64() * 1e9 / (reps * queries.max(1)) as f64;

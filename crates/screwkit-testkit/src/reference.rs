@@ -5,12 +5,17 @@
 //! rotation about the unit axis by θ (nalgebra's axis-angle) or a translation along it. It
 //! uses none of the screw machinery, so it is the independent oracle for the
 //! product-of-exponentials FK: slow (allocates, looks names up), exact, URDF-literal.
+//!
+//! [`poe_space`] and [`poe_body`] are the product of exponentials written plainly, joint by
+//! joint with `Se3::exp` — the reference the fast column kernels of `screwkit-solve` are
+//! checked against, and (against [`fk_by_composition`]) the check of the extracted screws.
 
 use nalgebra::{Matrix4, Rotation3, Translation3, Unit, Vector3};
 
-use crate::chain::Chain;
-use crate::error::{ErrorKind, ModelError};
-use crate::tree::{JointKind, Tree};
+use screwkit_lie::Se3;
+use screwkit_model::Chain;
+use screwkit_model::{ErrorKind, ModelError};
+use screwkit_model::{JointKind, Tree};
 
 /// The tip pose (4x4) of `chain` for variables `q`, composing the URDF transforms of `tree`
 /// along the chain's path; mimic joints follow `<mimic>` (θ = multiplier · θ_leader + offset).
@@ -78,4 +83,29 @@ pub fn fk_by_composition(
         t *= motion;
     }
     Ok(t)
+}
+
+/// θ_j of every chain joint for variables q (each joint's [`screwkit_model::Drive`]).
+pub fn joint_positions(chain: &Chain, q: &[f64]) -> Vec<f64> {
+    chain.joints.iter().map(|j| j.drive.theta(q)).collect()
+}
+
+/// Space form T = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M, one `Se3::exp` per joint.
+pub fn poe_space(chain: &Chain, q: &[f64]) -> Se3 {
+    let theta = joint_positions(chain, q);
+    let mut t = Se3::identity();
+    for (j, th) in chain.joints.iter().zip(theta) {
+        t = t * Se3::exp_screw(&j.s_space, th);
+    }
+    t * chain.home
+}
+
+/// Body form T = M e^[B₁]θ₁ ⋯ e^[Bₙ]θₙ, one `Se3::exp` per joint.
+pub fn poe_body(chain: &Chain, q: &[f64]) -> Se3 {
+    let theta = joint_positions(chain, q);
+    let mut t = chain.home;
+    for (j, th) in chain.joints.iter().zip(theta) {
+        t = t * Se3::exp_screw(&j.b_body, th);
+    }
+    t
 }

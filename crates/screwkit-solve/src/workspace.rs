@@ -1,0 +1,59 @@
+//! [`Workspace`]: the reusable scratch of one thread (Pinocchio's `Data`).
+
+use nalgebra::Matrix6xX;
+use screwkit_lie::Se3;
+
+use crate::kinematics::Kinematics;
+
+/// Reusable scratch for one thread, sized for one [`Kinematics`]: the algorithms write their
+/// intermediate and bulky results here (Jacobians, link poses, the IK loop's vectors) and
+/// allocate nothing in their hot loops. Create one per thread with [`Workspace::new`]; it is
+/// cheap to keep and reuse across calls.
+#[derive(Debug, Clone)]
+pub struct Workspace {
+    pub(crate) jacobian: Matrix6xX<f64>,
+    pub(crate) links: Vec<Se3>,
+    pub(crate) ik: IkScratch,
+}
+
+/// The per-solve buffers of the IK loop, kept in the workspace so a solve allocates only the
+/// q it returns.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct IkScratch {
+    /// The current iterate.
+    pub(crate) q: Vec<f64>,
+    /// The step.
+    pub(crate) dq: Vec<f64>,
+    /// The best iterate so far.
+    pub(crate) best_q: Vec<f64>,
+    /// Active-set flags: joints held at a limit this iteration.
+    pub(crate) locked: Vec<bool>,
+}
+
+impl Workspace {
+    /// Scratch sized for `kin`.
+    pub fn new(kin: &Kinematics) -> Self {
+        let n = kin.dof();
+        Self {
+            jacobian: Matrix6xX::zeros(n),
+            links: vec![Se3::identity(); kin.links.len()],
+            ik: IkScratch {
+                q: vec![0.0; n],
+                dq: vec![0.0; n],
+                best_q: vec![0.0; n],
+                locked: vec![false; n],
+            },
+        }
+    }
+}
+
+impl Workspace {
+    /// Makes the workspace fit `kin` (a workspace made for another chain is rebuilt, so a
+    /// mix-up costs an allocation, never a panic or a wrong size).
+    #[inline]
+    pub(crate) fn fit(&mut self, kin: &Kinematics) {
+        if self.jacobian.ncols() != kin.dof() || self.links.len() != kin.links.len() {
+            *self = Workspace::new(kin);
+        }
+    }
+}

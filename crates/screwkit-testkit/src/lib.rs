@@ -1,0 +1,53 @@
+//! # screwkit-testkit
+//!
+//! What screwkit's tests and benchmarks share and its users do not need (so it is not part of
+//! the library's public API, and not published):
+//!
+//! - [`reference`]: forward kinematics by composing the URDF's joint transforms one by one —
+//!   the independent oracle every product-of-exponentials result is checked against.
+//! - [`protocol`]: the IK benchmark protocol behind `screwkit bench`, the criterion benches
+//!   and BENCHMARKS.md.
+//! - [`bundled`]: the path of a robot file in `assets/urdf/`, and [`Sampler`]: random
+//!   configurations within a chain's limits (the library's sampler,
+//!   [`screwkit_solve::sample`], for tests that hold a [`Chain`]).
+
+pub mod protocol;
+pub mod reference;
+
+use screwkit_model::Chain;
+use screwkit_solve::sample::{configuration_into, SplitMix64};
+use screwkit_solve::Kinematics;
+
+/// The path of a bundled robot file, `assets/urdf/<file>`.
+pub fn bundled(file: &str) -> String {
+    format!("{}/../../assets/urdf/{file}", env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Reproducible random configurations for tests: the library's sampler
+/// ([`screwkit_solve::sample::configuration_into`], uniform within the limits, [−π, π] for
+/// unbounded variables) on a seeded SplitMix64.
+pub struct Sampler(pub SplitMix64);
+
+impl Sampler {
+    /// A sampler seeded with `seed`.
+    pub fn new(seed: u64) -> Self {
+        Self(SplitMix64(seed))
+    }
+
+    /// Uniform in [0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        self.0.uniform()
+    }
+
+    /// One configuration of `kin`, within its limits.
+    pub fn config(&mut self, kin: &Kinematics) -> Vec<f64> {
+        let mut q = vec![0.0; kin.dof()];
+        configuration_into(kin, &mut self.0, &mut q);
+        q
+    }
+
+    /// One configuration of `chain`, within its limits.
+    pub fn chain_config(&mut self, chain: &Chain) -> Vec<f64> {
+        self.config(&Kinematics::new(chain))
+    }
+}
