@@ -1,4 +1,5 @@
-//! `screwkit exp` and `screwkit log`: the textbook calculator of the seed documents.
+//! `screwkit exp` and `screwkit log`: the exponential and logarithm of
+//! *Modern Robotics* §3.3.3 as a calculator.
 
 use screwkit_lie::{ScrewAxis, Se3, Twist};
 use serde_json::{json, Value};

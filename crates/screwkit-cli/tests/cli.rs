@@ -288,7 +288,7 @@ fn ik_target_forms_agree() {
 
 #[test]
 fn exp_and_log_calculator() {
-    // The lesson's example: T_sb → S, θ = 2π/3, h, q = (1, 1, 0).
+    // The textbook example: T_sb = [[0,−1,0,3],[0,0,−1,0],[1,0,0,0]] → S, θ = 2π/3, h, q = (1, 1, 0).
     let v = json(&[
         "log",
         "--matrix",
@@ -317,7 +317,7 @@ fn exp_and_log_calculator() {
     assert_eq!(t["point"], Value::Null);
     let text = ok(&["log", "--matrix", "1,0,0,3,0,1,0,4,0,0,1,0,0,0,0,1"]);
     assert!(text.contains("Pure translation"));
-    // exp of Sθ = (0,1,2,3,0,0): the lesson's second example, exact.
+    // exp of Sθ = (0,1,2,3,0,0): the textbook's second example, exact.
     let e = json(&["exp", "--twist", "0,1,2,3,0,0", "--format", "json"]);
     let m = matrix(&e["pose"]);
     assert!((m[(0, 0)] + 0.617_272_876_457_166_4).abs() < 1e-14);
@@ -540,7 +540,7 @@ fn zero_dof_chain() {
 }
 
 /// Human-readable output pinned once (reviewed by hand: the UR5 numbers are the Modern
-/// Robotics Example 4.5 values; the log output is the lesson's worked example).
+/// Robotics Example 4.5 values; the log output is the textbook example T_sb → (S, θ = 2π/3)).
 #[test]
 fn human_output_snapshots() {
     insta::assert_snapshot!(
@@ -565,4 +565,95 @@ fn human_output_snapshots() {
             "--analyze"
         ])
     );
+}
+
+/// One path: IK rows give the same answers from the CLI batch, the library batch and single
+/// solves seeded with the row seed — bit for bit, with a bad line in the middle (rows are the
+/// non-blank lines, numbered from 0, so the rows after it keep their seeds) and a blank line.
+/// The targets are far from the seed, so restarts (which the row seed drives) happen.
+#[test]
+fn cli_batch_equals_library_batch_and_single_calls() {
+    use screwkit_solve::batch::{ik_batch, row_seed};
+    use screwkit_solve::ik::{solve, IkOptions, IkStatus};
+    let path = asset("ur5.urdf");
+    let (_, kin) = chain("ur5.urdf", None);
+    let n = kin.dof();
+    let rows = 40;
+    let qs = screwkit_solve::sample::configurations(&kin, rows, 1234);
+    let mut input = String::new();
+    let mut targets = Vec::new();
+    for (k, q) in qs.chunks(n).enumerate() {
+        let t = fk1(&kin, q).unwrap().to_homogeneous();
+        let m: Vec<Vec<f64>> = (0..4)
+            .map(|i| (0..4).map(|j| t[(i, j)]).collect())
+            .collect();
+        input.push_str(&format!("{{\"target\": {m:?}}}\n"));
+        targets.extend((0..16).map(|i| t[(i / 4, i % 4)]));
+        if k == 10 {
+            input.push_str("{\"target\": [[1, 2]]}\n\n"); // a bad row, then a blank line
+            targets.extend([f64::NAN; 16]);
+        }
+    }
+    let o = run(
+        &[
+            "ik",
+            &path,
+            "--input",
+            "-",
+            "--timeout-ms",
+            "0",
+            "--random-seed",
+            "5",
+        ],
+        Some(&input),
+    );
+    assert_eq!(o.code, 1, "the bad line fails the run: {}", o.stderr);
+    let lines: Vec<Value> = o
+        .stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), rows + 1);
+    assert_eq!(lines[11]["line"], 12);
+    let opts = IkOptions {
+        timeout: None,
+        seed: 5,
+        ..IkOptions::default()
+    };
+    let (mut q, mut st) = (
+        vec![0.0; (rows + 1) * n],
+        vec![IkStatus::default(); rows + 1],
+    );
+    let _bad_row = ik_batch(&kin, &targets, None, &opts, &mut q, &mut st, None).unwrap_err();
+    let mut ws = screwkit_solve::Workspace::new(&kin);
+    let mut restarted = 0;
+    for (k, line) in lines.iter().enumerate() {
+        if k == 11 {
+            assert!(line["error"].as_str().unwrap().contains("4 rows of 4"));
+            continue;
+        }
+        let cli_q: Vec<f64> = line["q"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert_eq!(
+            cli_q,
+            q[k * n..(k + 1) * n],
+            "row {k}: CLI vs library batch"
+        );
+        assert_eq!(line["iterations"], st[k].iterations);
+        assert_eq!(line["restarts"], st[k].restarts);
+        let t = screwkit_lie::Se3::from_row_major(&targets[16 * k..16 * (k + 1)], 1e-6).unwrap();
+        let o = IkOptions {
+            seed: row_seed(5, k),
+            ..opts.clone()
+        };
+        let single = solve(&kin, &mut ws, &t, &kin.midpoint(), &o).unwrap();
+        assert_eq!(single.q, cli_q, "row {k}: single call vs batch");
+        assert_eq!(single.status, st[k]);
+        restarted += usize::from(st[k].restarts > 0);
+    }
+    assert!(restarted > 0, "some rows restart, so the row seeds matter");
 }

@@ -1,6 +1,7 @@
-//! The worked examples of ../shared/seeds, checked with exact values.
+//! Textbook worked examples of screw motions (exponential coordinates, logarithms, twists in
+//! two frames; *Modern Robotics* ch. 3), each stated in full below and checked with exact values.
 //!
-//! The seeds round their intermediate results (θ = 2.23, 1.055, 0.6121, …). The expected
+//! The printed solutions round their intermediate results (θ = 2.23, 1.055, 0.6121, …). The expected
 //! values here were computed independently in double precision from the closed forms
 //! (Rodrigues, G(θ), G⁻¹(θ) written out by hand in a separate script), not with this crate.
 
@@ -42,7 +43,7 @@ fn lesson_transform_to_screw() {
     for i in 0..6 {
         assert_close(got[i], want[i], 1e-13, &format!("S[{i}]"));
     }
-    // The 7-decimal figures, as written.
+    // The printed 7-decimal figures, as written.
     assert_close(got[3], 1.0548151, 5e-8, "S_v1 (7 decimals)");
     assert_close(got[5], -0.6772357, 5e-8, "S_v3 (7 decimals)");
     assert_close(
@@ -61,7 +62,7 @@ fn lesson_transform_to_screw() {
 }
 
 /// Lesson, "Exponential Coordinates of Motion to Homogenous Transformation Matrix":
-/// Sθ = (0, 1, 2, 3, 0, 0). The seed rounds θ = √5 to 2.23 and gets −0.6121; exactly, the
+/// Sθ = (0, 1, 2, 3, 0, 0). The printed solution rounds θ = √5 to 2.23 and gets −0.6121; exactly, the
 /// first row of R is (−0.6173, −0.7037, 0.3518) and p = (1.0555, 1.9407, −0.9704).
 #[test]
 fn lesson_exponential_coordinates_to_transform() {
@@ -100,7 +101,7 @@ fn lesson_exponential_coordinates_to_transform() {
     for (i, &w) in want_p.iter().enumerate() {
         assert_close(t.translation()[i], w, 1e-14, &format!("p[{i}]"));
     }
-    // The 4-decimal figures.
+    // The printed 4-decimal figures.
     for (got, want) in [
         (r[(0, 0)], -0.6173),
         (r[(0, 1)], -0.7037),
@@ -155,8 +156,8 @@ fn lecture_screw_between_two_frames() {
         "v = {:?}, want {v_exact:?}",
         got.v
     );
-    assert_close(got.v.x, 3.3660254, 5e-8, "v₁ (issue's 7 decimals)");
-    assert_close(got.v.y, -3.3660254, 5e-8, "v₂ (issue's 7 decimals)");
+    assert_close(got.v.x, 3.3660254, 5e-8, "v₁ (printed 7 decimals)");
+    assert_close(got.v.y, -3.3660254, 5e-8, "v₂ (printed 7 decimals)");
     assert_close(got.v.z, 0.0, 1e-14, "v₃");
     assert_close(s.pitch().unwrap(), 0.0, 1e-14, "zero pitch");
 }

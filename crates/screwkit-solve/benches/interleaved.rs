@@ -6,8 +6,9 @@
 //!
 //! Run: `cargo bench -p screwkit-solve --bench interleaved [-- ROUNDS [CALLS]]` (default 25
 //! rounds of 100,000 calls per kernel). The last columns rescale screwkit's times to the speed
-//! at which `k`'s FK takes 460 ns — the middle of the 400–520 ns the performance issue gives
-//! for `k` on this machine class — so they can be set against the issue's targets.
+//! at which `k`'s FK takes 460 ns — the middle of the 400–520 ns measured for `k` on this
+//! machine class when the performance targets of BENCHMARKS.md were set — so they can be set
+//! against those targets.
 
 use std::hint::black_box;
 use std::time::Instant;

@@ -2,9 +2,9 @@
 //! and for every link of the chain.
 //!
 //! θ_j follows from q by each joint's [`screwkit_model::Drive`] (θ_j = q_j for ordinary joints,
-//! m q_leader + o for mimic joints). The kernels run on [`Columns`] through the one dispatch of
-//! [`screwkit_lie::fma`] (portable, or AVX2 + FMA chosen at run time; the two agree to the last
-//! bit or so).
+//! m q_leader + o for mimic joints). The kernels run on the column form of the pose
+//! (`columns.rs`) through the one dispatch of [`screwkit_lie::fma`] (portable, or AVX2 + FMA
+//! chosen at run time; the two agree to the last bit or so).
 
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::Se3;
@@ -76,10 +76,10 @@ pub(crate) fn link_poses_unchecked(kin: &Kinematics, out: &mut [Se3], q: &[f64])
 
 /// The all-link kernel: the links before the first joint are their home poses; after joint j,
 /// the links with j + 1 joints before them are (prefix through j) · home.
-struct LinkPoses<'a> {
-    kin: &'a Kinematics,
-    out: &'a mut [Se3],
-    q: &'a [f64],
+pub(crate) struct LinkPoses<'a> {
+    pub(crate) kin: &'a Kinematics,
+    pub(crate) out: &'a mut [Se3],
+    pub(crate) q: &'a [f64],
 }
 
 impl Kernel for LinkPoses<'_> {
@@ -108,47 +108,5 @@ impl Kernel for LinkPoses<'_> {
                 }
             },
         );
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::test_chains;
-    use screwkit_lie::fma::{Fused, Plain};
-
-    /// The portable and fused instantiations agree (the public functions run only one of them
-    /// on a given CPU; the integration tests check that one against the oracles).
-    #[test]
-    fn portable_and_fused_kernels_agree() {
-        for (file, kin) in test_chains() {
-            let n = kin.dof();
-            let mut ws = Workspace::new(&kin);
-            let (mut lp, mut lf) = (ws.links.clone(), ws.links.clone());
-            for q in crate::sample::configurations(&kin, 50, 99).chunks(n) {
-                let t = fk(&kin, &mut ws, q).unwrap();
-                for other in [
-                    TipPose { kin: &kin, q }.run::<Plain>(),
-                    TipPose { kin: &kin, q }.run::<Fused>(),
-                ] {
-                    assert!(t.max_abs_diff(&other) < 1e-14, "{file}");
-                }
-                LinkPoses {
-                    kin: &kin,
-                    out: &mut lp,
-                    q,
-                }
-                .run::<Plain>();
-                LinkPoses {
-                    kin: &kin,
-                    out: &mut lf,
-                    q,
-                }
-                .run::<Fused>();
-                for (a, b) in lp.iter().zip(&lf) {
-                    assert!(a.max_abs_diff(b) < 1e-14, "{file}");
-                }
-            }
-        }
     }
 }

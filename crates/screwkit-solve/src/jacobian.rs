@@ -127,39 +127,3 @@ impl Kernel for PoseAndJacobian<'_> {
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::test_chains;
-    use screwkit_lie::fma::{Fused, Plain};
-
-    /// The portable and fused instantiations agree, in both frames.
-    #[test]
-    fn portable_and_fused_kernels_agree() {
-        for (file, kin) in test_chains() {
-            let n = kin.dof();
-            let (mut jp, mut jf) = (Matrix6xX::zeros(n), Matrix6xX::zeros(n));
-            for q in crate::sample::configurations(&kin, 50, 99).chunks(n) {
-                for frame in Frame::ALL {
-                    let tp = PoseAndJacobian {
-                        kin: &kin,
-                        jac: &mut jp,
-                        q,
-                        frame,
-                    }
-                    .run::<Plain>();
-                    let tf = PoseAndJacobian {
-                        kin: &kin,
-                        jac: &mut jf,
-                        q,
-                        frame,
-                    }
-                    .run::<Fused>();
-                    assert!(tp.max_abs_diff(&tf) < 1e-14, "{file}");
-                    assert!((&jp - &jf).amax() < 1e-14, "{file} {frame:?}");
-                }
-            }
-        }
-    }
-}

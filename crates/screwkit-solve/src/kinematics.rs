@@ -131,14 +131,14 @@ impl Kinematics {
                 names: self.names.join(", "),
             });
         }
-        if let Some((i, &x)) = q.iter().enumerate().find(|(_, x)| !x.is_finite()) {
-            return Err(SolveError::NonFinite {
+        match q.iter().position(|x| !x.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(SolveError::NonFinite {
                 what: "joint value",
                 index: i,
                 name: self.names[i].clone(),
-                value: x,
-            });
+                value: q[i],
+            }),
         }
-        Ok(())
     }
 }

@@ -83,3 +83,70 @@ pub(crate) fn test_chains() -> Vec<(&'static str, Kinematics)> {
     })
     .collect()
 }
+
+/// Every kernel's portable and fused instantiations agree (the public functions run only one
+/// of them on a given CPU; the integration tests check that one against the oracles). `Fused`
+/// outside the dispatched clone is slow but computes the same values.
+#[cfg(test)]
+mod kernels_agree {
+    use crate::fk::{LinkPoses, TipPose};
+    use crate::jacobian::PoseAndJacobian;
+    use crate::{test_chains, Frame, Workspace};
+    use nalgebra::Matrix6xX;
+    use screwkit_lie::fma::{Fused, Kernel, Plain};
+
+    #[test]
+    fn portable_and_fused_kernels_agree() {
+        for (file, kin) in test_chains() {
+            let n = kin.dof();
+            let mut ws = Workspace::new(&kin);
+            let (mut lp, mut lf) = (ws.links.clone(), ws.links.clone());
+            let (mut jp, mut jf) = (Matrix6xX::zeros(n), Matrix6xX::zeros(n));
+            for q in crate::sample::configurations(&kin, 50, 99).chunks(n) {
+                let t = crate::fk::fk(&kin, &mut ws, q).unwrap();
+                for other in [
+                    TipPose { kin: &kin, q }.run::<Plain>(),
+                    TipPose { kin: &kin, q }.run::<Fused>(),
+                ] {
+                    assert!(t.max_abs_diff(&other) < 1e-14, "{file}");
+                }
+                LinkPoses {
+                    kin: &kin,
+                    out: &mut lp,
+                    q,
+                }
+                .run::<Plain>();
+                LinkPoses {
+                    kin: &kin,
+                    out: &mut lf,
+                    q,
+                }
+                .run::<Fused>();
+                for (a, b) in lp.iter().zip(&lf) {
+                    assert!(a.max_abs_diff(b) < 1e-14, "{file}");
+                }
+                for frame in Frame::ALL {
+                    let tp = PoseAndJacobian {
+                        kin: &kin,
+                        jac: &mut jp,
+                        q,
+                        frame,
+                    }
+                    .run::<Plain>();
+                    let tf = PoseAndJacobian {
+                        kin: &kin,
+                        jac: &mut jf,
+                        q,
+                        frame,
+                    }
+                    .run::<Fused>();
+                    assert!(
+                        tp.max_abs_diff(&tf) < 1e-14 && tp.max_abs_diff(&t) < 1e-14,
+                        "{file}"
+                    );
+                    assert!((&jp - &jf).amax() < 1e-14, "{file} {frame:?}");
+                }
+            }
+        }
+    }
+}

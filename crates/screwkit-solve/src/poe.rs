@@ -140,7 +140,12 @@ pub(crate) fn walk<A: MulAdd>(
 ) {
     const L: usize = trig::LANES;
     for (b, block) in joints.chunks(L).enumerate() {
-        let (theta, s, c) = block_trig::<A>(block, b * L, identity_map, q);
+        let mut theta = [0.0; L];
+        for (i, th) in theta.iter_mut().enumerate().take(block.len()) {
+            *th = joint_theta(joints, identity_map, b * L + i, q);
+        }
+        let (mut s, mut c) = ([0.0; L], [0.0; L]);
+        trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
         for (i, jc) in block.iter().enumerate() {
             f(b * L + i, jc, theta[i], s[i], c[i]);
         }
@@ -156,37 +161,31 @@ pub(crate) fn walk_rev<A: MulAdd>(
     mut f: impl FnMut(usize, &PoeJoint, f64, f64, f64),
 ) {
     const L: usize = trig::LANES;
-    let mut end = joints.len();
+    let n = joints.len();
+    let mut end = n;
     while end > 0 {
         let start = end.saturating_sub(L);
-        let block = &joints[start..end];
-        let (theta, s, c) = block_trig::<A>(block, start, identity_map, q);
-        for (i, jc) in block.iter().enumerate().rev() {
-            f(start + i, jc, theta[i], s[i], c[i]);
+        let mut theta = [0.0; L];
+        for (i, th) in theta.iter_mut().enumerate().take(end - start) {
+            *th = joint_theta(joints, identity_map, start + i, q);
+        }
+        let (mut s, mut c) = ([0.0; L], [0.0; L]);
+        trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
+        for i in (0..end - start).rev() {
+            f(start + i, &joints[start + i], theta[i], s[i], c[i]);
         }
         end = start;
     }
 }
 
-/// θ, sin θ, cos θ of a block of at most [`trig::LANES`] joints starting at joint `first`.
+/// θ_j: q\[j\] when every joint owns its variable, else the joint's [`Drive`].
 #[inline(always)]
-fn block_trig<A: MulAdd>(
-    block: &[PoeJoint],
-    first: usize,
-    identity_map: bool,
-    q: &[f64],
-) -> ([f64; trig::LANES], [f64; trig::LANES], [f64; trig::LANES]) {
-    let mut theta = [0.0; trig::LANES];
-    for (i, (th, jc)) in theta.iter_mut().zip(block).enumerate() {
-        *th = if identity_map {
-            q[first + i]
-        } else {
-            jc.drive.theta(q)
-        };
+fn joint_theta(joints: &[PoeJoint], identity_map: bool, j: usize, q: &[f64]) -> f64 {
+    if identity_map {
+        q[j]
+    } else {
+        joints[j].drive.theta(q)
     }
-    let (mut s, mut c) = ([0.0; trig::LANES], [0.0; trig::LANES]);
-    trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
-    (theta, s, c)
 }
 
 #[cfg(test)]

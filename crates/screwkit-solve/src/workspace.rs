@@ -50,10 +50,17 @@ impl Workspace {
 impl Workspace {
     /// Makes the workspace fit `kin` (a workspace made for another chain is rebuilt, so a
     /// mix-up costs an allocation, never a panic or a wrong size).
-    #[inline]
+    #[inline(always)]
     pub(crate) fn fit(&mut self, kin: &Kinematics) {
         if self.jacobian.ncols() != kin.dof() || self.links.len() != kin.links.len() {
-            *self = Workspace::new(kin);
+            self.refit(kin);
         }
+    }
+
+    /// The cold path of [`Workspace::fit`].
+    #[cold]
+    #[inline(never)]
+    fn refit(&mut self, kin: &Kinematics) {
+        *self = Workspace::new(kin);
     }
 }

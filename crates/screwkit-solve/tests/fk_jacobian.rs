@@ -157,3 +157,29 @@ fn bad_joint_vectors_are_errors() {
     assert!(jacobian(&kin, &mut ws, &[0.0; 7], Frame::Space).is_err());
     assert!(fk_all_links(&kin, &mut ws, &[f64::INFINITY; 6]).is_err());
 }
+
+/// A workspace made for another chain is refitted, never a panic or a wrongly sized result;
+/// `within_limits` is false for a q of the wrong length.
+#[test]
+fn workspaces_and_limits_check_their_sizes() {
+    let (_, _, ur5) = load("ur5.urdf", None, None);
+    let (_, _, panda) = load("panda.urdf", None, None);
+    let mut ws = Workspace::new(&ur5);
+    let q7 = [0.1, 0.2, -0.1, -1.5, 0.3, 1.6, 0.2];
+    let j = jacobian(&panda, &mut ws, &q7, Frame::Body).unwrap();
+    assert_eq!(j.ncols(), 7);
+    assert_eq!(
+        fk_all_links(&panda, &mut ws, &q7).unwrap().len(),
+        panda.links().len()
+    );
+    assert_eq!(
+        jacobian(&ur5, &mut ws, &[0.0; 6], Frame::Space)
+            .unwrap()
+            .ncols(),
+        6
+    );
+    assert!(ur5.within_limits(&[0.0; 6], 0.0));
+    assert!(!ur5.within_limits(&[0.0; 5], 0.0));
+    assert!(!ur5.within_limits(&[0.0; 7], 0.0));
+    assert!(!ur5.within_limits(&[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0], 0.0));
+}
