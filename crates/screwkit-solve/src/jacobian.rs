@@ -60,7 +60,8 @@ pub(crate) fn fk_jacobian_into(
     q: &[f64],
     frame: Frame,
 ) -> Se3 {
-    dispatch(PoseAndJacobian { kin, jac, q, frame })
+    // Columns out of the kernel, converted here (see `fk::fk_unchecked` for why).
+    dispatch(PoseAndJacobian { kin, jac, q, frame }).to_se3()
 }
 
 /// The one-pass kernel for the pose and the Jacobian, mimic columns summed with their
@@ -80,9 +81,9 @@ pub(crate) struct PoseAndJacobian<'a> {
 }
 
 impl Kernel for PoseAndJacobian<'_> {
-    type Output = Se3;
+    type Output = Columns;
     #[inline(always)]
-    fn run<A: MulAdd>(self) -> Se3 {
+    fn run<A: MulAdd>(self) -> Columns {
         let Self { kin, jac, q, frame } = self;
         if !kin.identity_map {
             jac.fill(0.0);
@@ -114,7 +115,6 @@ impl Kernel for PoseAndJacobian<'_> {
                     jc.apply::<A>(&mut t, theta, s, c);
                 });
                 t.compose::<A>(kin.home.rotation(), &(*kin.home.translation()).into())
-                    .to_se3()
             }
             Frame::Body => {
                 walk_rev::<A>(&kin.body, kin.identity_map, q, |j, jb, theta, s, c| {
@@ -122,7 +122,7 @@ impl Kernel for PoseAndJacobian<'_> {
                     store(j, jb, w, v);
                     jb.apply::<A>(&mut t, -theta, -s, c);
                 });
-                kin.home_columns.then::<A>(&t.inverse::<A>()).to_se3()
+                kin.home_columns.then::<A>(&t.inverse::<A>())
             }
         }
     }

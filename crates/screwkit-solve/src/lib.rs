@@ -105,8 +105,8 @@ mod kernels_agree {
             for q in crate::sample::configurations(&kin, 50, 99).chunks(n) {
                 let t = crate::fk::fk(&kin, &mut ws, q).unwrap();
                 for other in [
-                    TipPose { kin: &kin, q }.run::<Plain>(),
-                    TipPose { kin: &kin, q }.run::<Fused>(),
+                    TipPose { kin: &kin, q }.run::<Plain>().to_se3(),
+                    TipPose { kin: &kin, q }.run::<Fused>().to_se3(),
                 ] {
                     assert!(t.max_abs_diff(&other) < 1e-14, "{file}");
                 }
