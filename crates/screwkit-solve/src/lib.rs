@@ -132,14 +132,16 @@ mod kernels_agree {
                         q,
                         frame,
                     }
-                    .run::<Plain>();
+                    .run::<Plain>()
+                    .to_se3();
                     let tf = PoseAndJacobian {
                         kin: &kin,
                         jac: &mut jf,
                         q,
                         frame,
                     }
-                    .run::<Fused>();
+                    .run::<Fused>()
+                    .to_se3();
                     assert!(
                         tp.max_abs_diff(&tf) < 1e-14 && tp.max_abs_diff(&t) < 1e-14,
                         "{file}"
