@@ -3,7 +3,7 @@
 //!
 //! | function | input | output |
 //! |---|---|---|
-//! | [`fk_batch`] | q: N × dof | poses: N × 16 (each a row-major 4 × 4 [[R, p], [0, 1]]) |
+//! | [`fk_batch`] | q: N × dof | poses: N × 16 (each a row-major 4 × 4 `[[R, p], [0, 1]]`) |
 //! | [`fk_all_links_batch`] | q: N × dof | poses: N × L × 16 (L links, [`Kinematics::links`] order) |
 //! | [`jacobian_batch`] | q: N × dof | Jacobians: N × 6 × dof (row-major, rows (ω, v)), poses: N × 16 (optional) |
 //! | [`ik_batch`] | targets: N × 16, seeds: N × dof (optional) | q: N × dof, status: N, times: N (optional) |
@@ -212,7 +212,7 @@ pub fn fk_all_links_batch(
         (poses, 16 * links),
         None,
         |ws, q, out, _| {
-            link_poses_unchecked(kin, &mut ws.links, q);
+            link_poses_unchecked(kin, &mut ws.link_columns, &mut ws.links, q);
             for (t, o) in ws.links.iter().zip(out.chunks_mut(16)) {
                 write_pose(t, o);
             }
@@ -363,7 +363,9 @@ pub fn ik_batch(
     finish(errors)
 }
 
-/// A target row as an [`Se3`]: finite, last row (0, 0, 0, 1), rotation orthonormal to 1e-6.
+/// A target row as an [`Se3`]: finite, last row (0, 0, 0, 1), rotation orthonormal to 1e-6
+/// (a rotation orthonormal to 1e-14, as FK gives, is used exactly as given; a looser one is
+/// projected onto SO(3) first, [`Se3::from_row_major`]).
 fn target_row(v: &[f64]) -> Result<Se3, SolveError> {
     let t = Se3::from_row_major(v, screwkit_lie::so3::DEFAULT_ROTATION_TOLERANCE)
         .map_err(|e| SolveError::BadTarget(format!(": {e}")))?;

@@ -68,21 +68,35 @@ pub fn fk_all_links<'w>(
 ) -> Result<&'w [Se3], SolveError> {
     kin.check_q(q)?;
     ws.fit(kin);
-    link_poses_unchecked(kin, &mut ws.links, q);
+    link_poses_unchecked(kin, &mut ws.link_columns, &mut ws.links, q);
     Ok(&ws.links)
 }
 
-/// [`fk_all_links`] without the checks, into `out` (one pose per link).
+/// [`fk_all_links`] without the checks: the kernel writes each link's pose as columns into
+/// `columns` and the conversion to `Se3` into `out` happens here, outside the AVX2 clone (see
+/// [`fk_unchecked`]).
 #[inline]
-pub(crate) fn link_poses_unchecked(kin: &Kinematics, out: &mut [Se3], q: &[f64]) {
-    dispatch(LinkPoses { kin, out, q });
+pub(crate) fn link_poses_unchecked(
+    kin: &Kinematics,
+    columns: &mut [Columns],
+    out: &mut [Se3],
+    q: &[f64],
+) {
+    dispatch(LinkPoses {
+        kin,
+        out: columns,
+        q,
+    });
+    for (o, c) in out.iter_mut().zip(columns.iter()) {
+        *o = c.to_se3();
+    }
 }
 
 /// The all-link kernel: the links before the first joint are their home poses; after joint j,
 /// the links with j + 1 joints before them are (prefix through j) · home.
 pub(crate) struct LinkPoses<'a> {
     pub(crate) kin: &'a Kinematics,
-    pub(crate) out: &'a mut [Se3],
+    pub(crate) out: &'a mut [Columns],
     pub(crate) q: &'a [f64],
 }
 
@@ -90,24 +104,23 @@ impl Kernel for LinkPoses<'_> {
     type Output = ();
     #[inline(always)]
     fn run<A: MulAdd>(self) {
-        let (links, out) = (&self.kin.links, self.out);
+        let (kin, out) = (self.kin, self.out);
+        let links = &kin.links;
         let mut prefix = Columns::identity();
         let mut k = 0;
         while k < links.len() && links[k].joints_before == 0 {
-            out[k] = links[k].home;
+            out[k] = kin.link_columns[k];
             k += 1;
         }
         walk::<A>(
-            &self.kin.space,
-            self.kin.identity_map,
+            &kin.space,
+            kin.identity_map,
             self.q,
             |j, jc, theta, s, c| {
                 jc.apply::<A>(&mut prefix, theta, s, c);
                 while k < links.len() && links[k].joints_before == j + 1 {
                     let home = &links[k].home;
-                    out[k] = prefix
-                        .compose::<A>(home.rotation(), &(*home.translation()).into())
-                        .to_se3();
+                    out[k] = prefix.compose::<A>(home.rotation(), &(*home.translation()).into());
                     k += 1;
                 }
             },

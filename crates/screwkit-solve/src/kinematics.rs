@@ -22,6 +22,8 @@ pub struct Kinematics {
     pub(crate) home_columns: Columns,
     pub(crate) home: Se3,
     pub(crate) links: Vec<ChainLink>,
+    /// The links' home poses as columns.
+    pub(crate) link_columns: Vec<Columns>,
     pub(crate) lower: Vec<f64>,
     pub(crate) upper: Vec<f64>,
     pub(crate) continuous: Vec<bool>,
@@ -53,6 +55,11 @@ impl Kinematics {
             home_columns: Columns::from_se3(&chain.home),
             home: chain.home,
             links: chain.links.clone(),
+            link_columns: chain
+                .links
+                .iter()
+                .map(|l| Columns::from_se3(&l.home))
+                .collect(),
             lower: chain.variables.iter().map(|v| v.lower).collect(),
             upper: chain.variables.iter().map(|v| v.upper).collect(),
             continuous: chain

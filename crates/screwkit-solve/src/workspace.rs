@@ -3,6 +3,7 @@
 use nalgebra::Matrix6xX;
 use screwkit_lie::Se3;
 
+use crate::columns::Columns;
 use crate::kinematics::Kinematics;
 
 /// Reusable scratch for one thread, sized for one [`Kinematics`]: the algorithms write their
@@ -13,6 +14,8 @@ use crate::kinematics::Kinematics;
 pub struct Workspace {
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) links: Vec<Se3>,
+    /// The link poses as the all-link kernel writes them (columns), converted into `links`.
+    pub(crate) link_columns: Vec<Columns>,
     pub(crate) ik: IkScratch,
 }
 
@@ -37,6 +40,7 @@ impl Workspace {
         Self {
             jacobian: Matrix6xX::zeros(n),
             links: vec![Se3::identity(); kin.links.len()],
+            link_columns: vec![Columns::identity(); kin.links.len()],
             ik: IkScratch {
                 q: vec![0.0; n],
                 dq: vec![0.0; n],
