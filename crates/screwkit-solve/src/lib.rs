@@ -132,16 +132,14 @@ mod kernels_agree {
                         q,
                         frame,
                     }
-                    .run::<Plain>()
-                    .to_se3();
+                    .run::<Plain>();
                     let tf = PoseAndJacobian {
                         kin: &kin,
                         jac: &mut jf,
                         q,
                         frame,
                     }
-                    .run::<Fused>()
-                    .to_se3();
+                    .run::<Fused>();
                     assert!(
                         tp.max_abs_diff(&tf) < 1e-14 && tp.max_abs_diff(&t) < 1e-14,
                         "{file}"
