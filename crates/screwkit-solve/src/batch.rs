@@ -306,6 +306,7 @@ pub fn ik_batch(
     if let Some(t) = &times_us {
         check_out(t.len(), rows, 1, "times (N)")?;
     }
+    let timed = times_us.is_some();
     let mut no_times = Vec::new();
     let times = match times_us {
         Some(t) => t,
@@ -345,9 +346,13 @@ pub fn ik_batch(
                             seed: row_seed(opts.seed, k),
                             ..opts.clone()
                         };
-                        let t0 = Instant::now();
-                        *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
-                        *time = t0.elapsed().as_secs_f64() * 1e6;
+                        if timed {
+                            let t0 = Instant::now();
+                            *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                            *time = t0.elapsed().as_secs_f64() * 1e6;
+                        } else {
+                            *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                        }
                         None
                     }
                     Err(error) => {
