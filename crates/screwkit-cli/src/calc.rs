@@ -9,7 +9,7 @@ use crate::output::{
     matrix_text, num, nums, pose_json, pose_summary, print_json, tuple, CliResult,
 };
 
-/// Runs `exp`: T = e^[S]θ (or e^[ξ] with θ = 1).
+/// Runs `exp`: T = e^\[S\]θ (or e^\[ξ\] with θ = 1).
 pub fn exp(args: &ExpArgs, format: Format) -> CliResult {
     let s = Twist::try_from_slice(&args.twist.0)?;
     let t = Se3::exp(&(s * args.theta));
@@ -27,7 +27,7 @@ pub fn exp(args: &ExpArgs, format: Format) -> CliResult {
     Ok(())
 }
 
-/// Runs `log`: [S]θ = log T, with the screw's direction, point and pitch.
+/// Runs `log`: \[S\]θ = log T, with the screw's direction, point and pitch.
 pub fn log(args: &LogArgs, format: Format) -> CliResult {
     let t = Se3::from_row_major(&args.matrix.0, 1e-3)?;
     let xi = t.log();

@@ -45,7 +45,7 @@ fn log_coefficient(theta: f64, s: f64, c: f64) -> f64 {
     }
 }
 
-/// The translation of the SE(3) exponential, p = (a I + b[ω] + c[ω]²) v
+/// The translation of the SE(3) exponential, p = (a I + b\[ω\] + c\[ω\]²) v
 /// = a v + b (ω × v) + c ω × (ω × v), given ω × v and ω × (ω × v): the one home of this formula.
 ///
 /// [`Se3::exp`] of a twist ξ = (ω, v) passes a = 1, b = (1 − cos θ)/θ², c = (θ − sin θ)/θ³
@@ -249,10 +249,10 @@ impl Se3 {
         self.rotation * x
     }
 
-    /// e^[ξ] for any twist ξ = (ω, v) (unit or not; for a screw axis S and distance θ, ξ = Sθ):
+    /// e^\[ξ\] for any twist ξ = (ω, v) (unit or not; for a screw axis S and distance θ, ξ = Sθ):
     ///
-    /// - θ = ‖ω‖, R = I + A[ω] + B[ω]²,
-    /// - p = (I + B[ω] + C[ω]²) v,
+    /// - θ = ‖ω‖, R = I + A\[ω\] + B\[ω\]²,
+    /// - p = (I + B\[ω\] + C\[ω\]²) v,
     ///
     /// with A = sin θ/θ, B = (1 − cos θ)/θ², C = (θ − sin θ)/θ³ (series near θ = 0). For a unit
     /// axis ω̂ this is the textbook p = G(θ)v, G(θ) = Iθ + (1 − cos θ)[ω̂] + (θ − sin θ)[ω̂]²;
@@ -278,7 +278,7 @@ impl Se3 {
         }
     }
 
-    /// e^[S]θ for a screw axis S and a distance θ along it (radians for a rotating screw,
+    /// e^\[S\]θ for a screw axis S and a distance θ along it (radians for a rotating screw,
     /// metres for a pure translation).
     #[inline]
     pub fn exp_screw(screw: &ScrewAxis, theta: f64) -> Se3 {
@@ -288,7 +288,7 @@ impl Se3 {
     /// log T = ξ = Sθ, the exponential coordinates of T as a twist (ω, v):
     ///
     /// - ω = log R ([`so3::log`]) with θ = ‖ω‖ ∈ [0, π],
-    /// - v = V⁻¹ p with V⁻¹ = I − ½[ω] + D[ω]², D = (1 − (θ/2) cot(θ/2))/θ²
+    /// - v = V⁻¹ p with V⁻¹ = I − ½\[ω\] + D\[ω\]², D = (1 − (θ/2) cot(θ/2))/θ²
     ///   (the textbook v_S = G⁻¹(θ) p, G⁻¹(θ) = I/θ − [ω̂]/2 + (1/θ − ½cot(θ/2))[ω̂]², times θ).
     ///
     /// R = I gives the pure translation ξ = (0, p). Accurate near θ = 0 (series) and θ = π.
@@ -302,7 +302,7 @@ impl Se3 {
         Twist { w, v }
     }
 
-    /// log T as a unit screw axis S and the distance θ along it (T = e^[S]θ).
+    /// log T as a unit screw axis S and the distance θ along it (T = e^\[S\]θ).
     ///
     /// θ is the rotation angle (in [0, π]) when R ≠ I, otherwise the distance ‖p‖ of a pure
     /// translation. `None` for the identity, which has no axis.
@@ -310,7 +310,7 @@ impl Se3 {
         ScrewAxis::from_twist(&self.log()).ok()
     }
 
-    /// \[Ad_T\] = [[R, 0], [[p]R, R]] (6x6, acting on twists ordered (ω, v)).
+    /// \[Ad_T\] = [[R, 0], [\[p\]R, R]] (6x6, acting on twists ordered (ω, v)).
     pub fn adjoint(&self) -> Matrix6<f64> {
         let r = &self.rotation;
         let pr = so3::hat(&self.translation) * r;

@@ -10,7 +10,7 @@ use crate::error::LieError;
 /// Default tolerance on max |RᵀR − I| when a rotation is read from user input.
 pub const DEFAULT_ROTATION_TOLERANCE: f64 = 1e-6;
 
-/// [ω]: the skew-symmetric matrix with [ω] x = ω × x.
+/// \[ω\]: the skew-symmetric matrix with \[ω\] x = ω × x.
 ///
 /// ```text
 ///        ⎡  0  −ω₃  ω₂ ⎤
@@ -22,7 +22,7 @@ pub fn hat(w: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -w.z, w.y, w.z, 0.0, -w.x, -w.y, w.x, 0.0)
 }
 
-/// vee([ω]) = ω: the inverse of [`hat`], reading (m₃₂, m₁₃, m₂₁).
+/// vee(\[ω\]) = ω: the inverse of [`hat`], reading (m₃₂, m₁₃, m₂₁).
 ///
 /// For a matrix that is not exactly skew-symmetric this returns the vee of its skew part,
 /// ½ vee(M − Mᵀ), which is the nearest skew-symmetric matrix in the Frobenius norm.
@@ -75,7 +75,7 @@ pub(crate) fn exp_coefficients(theta: f64) -> (f64, f64, f64) {
     }
 }
 
-/// e^[φ]: Rodrigues' formula R = I + A [φ] + B [φ]² with θ = ‖φ‖, A = sin θ/θ,
+/// e^\[φ\]: Rodrigues' formula R = I + A \[φ\] + B \[φ\]² with θ = ‖φ‖, A = sin θ/θ,
 /// B = (1 − cos θ)/θ² (for unit ω̂ and φ = ω̂θ: R = I + sin θ [ω̂] + (1 − cos θ)[ω̂]²).
 ///
 /// Exact for every φ, including ‖φ‖ → 0 (series coefficients) and ‖φ‖ ≥ π.
@@ -86,8 +86,8 @@ pub fn exp(phi: &Vector3<f64>) -> Matrix3<f64> {
     rotation_from_coefficients(phi, theta, a, b)
 }
 
-/// The rotation of the SO(3)/SE(3) exponential, R = I + A[φ] + B[φ]² with θ = ‖φ‖, written
-/// with [φ]² = φφᵀ − θ² I: the one home of Rodrigues' formula.
+/// The rotation of the SO(3)/SE(3) exponential, R = I + A\[φ\] + B\[φ\]² with θ = ‖φ‖, written
+/// with \[φ\]² = φφᵀ − θ² I: the one home of Rodrigues' formula.
 ///
 /// [`exp`] and [`crate::Se3::exp`] pass A = sin θ/θ and B = (1 − cos θ)/θ² (series near 0).
 /// A unit axis ω̂ turned by a known angle (sin θ, cos θ already computed, as in the

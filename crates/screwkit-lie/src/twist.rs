@@ -64,7 +64,7 @@ impl Twist {
         Vector6::new(self.w.x, self.w.y, self.w.z, self.v.x, self.v.y, self.v.z)
     }
 
-    /// [V] = [[[ω], v], [0, 0]] ∈ se(3), the 4x4 matrix form.
+    /// \[V\] = [[\[ω\], v], [0, 0]] ∈ se(3), the 4x4 matrix form.
     pub fn hat(&self) -> Matrix4<f64> {
         let mut m = Matrix4::zeros();
         m.fixed_view_mut::<3, 3>(0, 0).copy_from(&so3::hat(&self.w));
@@ -81,7 +81,7 @@ impl Twist {
         }
     }
 
-    /// \[ad_V\] = [[[ω], 0], [[v], [ω]]]: the Lie bracket as a 6x6 matrix, \[ad_V1\] V2 = [V1, V2].
+    /// \[ad_V\] = [[\[ω\], 0], [\[v\], \[ω\]]]: the Lie bracket as a 6x6 matrix, \[ad_V1\] V2 = [V1, V2].
     pub fn ad(&self) -> Matrix6<f64> {
         let w = so3::hat(&self.w);
         let mut m = Matrix6::zeros();
@@ -92,7 +92,7 @@ impl Twist {
     }
 
     /// The Lie bracket [V1, V2] = \[ad_V1\] V2 = (ω₁ × ω₂, v₁ × ω₂ + ω₁ × v₂),
-    /// equal to vee([V1][V2] − [V2][V1]).
+    /// equal to vee(\[V1\]\[V2\] − \[V2\]\[V1\]).
     #[inline]
     pub fn bracket(&self, other: &Twist) -> Twist {
         Twist {

@@ -90,11 +90,11 @@ pub struct ChainLink {
     /// Pose of the link frame in the base frame at home (all θ = 0).
     pub home: Se3,
     /// How many chain joints (of [`Chain::joints`]) lie between the base and this link: the
-    /// link's pose is e^[S₁]θ₁ ⋯ e^[S_k]θ_k · home with k = `joints_before`.
+    /// link's pose is e^\[S₁\]θ₁ ⋯ e^\[S_k\]θ_k · home with k = `joints_before`.
     pub joints_before: usize,
 }
 
-/// The serial chain from a base link to a tip link: T(q) = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M.
+/// The serial chain from a base link to a tip link: T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M.
 ///
 /// Space frame = the base link frame; body frame = the tip link frame. Fixed joints are
 /// folded into M and into the joint frames. A mimic joint keeps its own screw axis and is

@@ -1,7 +1,7 @@
 //! # screwkit-model
 //!
 //! URDF → kinematic tree → serial chain with the screw axes of the product of exponentials,
-//! T(q) = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M (space form) = M e^[B₁]θ₁ ⋯ e^[Bₙ]θₙ (body form).
+//! T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M (space form) = M e^\[B₁\]θ₁ ⋯ e^\[Bₙ\]θₙ (body form).
 //!
 //! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
 //! - [`tree`]: links, joints, paths between links.

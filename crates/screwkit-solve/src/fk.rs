@@ -1,4 +1,4 @@
-//! Forward kinematics: T(q) = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M (*Modern Robotics* eq. 4.14), for the tip
+//! Forward kinematics: T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M (*Modern Robotics* eq. 4.14), for the tip
 //! and for every link of the chain.
 //!
 //! θ_j follows from q by each joint's [`screwkit_model::Drive`] (θ_j = q_j for ordinary joints,
@@ -15,7 +15,7 @@ use crate::kinematics::Kinematics;
 use crate::poe::walk;
 use crate::workspace::Workspace;
 
-/// The tip pose T(q) = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M. Checks q (length, finite).
+/// The tip pose T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M. Checks q (length, finite).
 ///
 /// The workspace is not used by the tip pose (it needs no scratch) but is taken like in every
 /// algorithm, so that callers hold one shape: `algorithm(&kin, &mut ws, inputs)`.
@@ -59,7 +59,7 @@ impl Kernel for TipPose<'_> {
 }
 
 /// The poses of every link on the chain, base first, tip last (the order of
-/// [`Kinematics::links`]), written into the workspace: link k is e^[S₁]θ₁ ⋯ e^[S_m]θ_m · home_k
+/// [`Kinematics::links`]), written into the workspace: link k is e^\[S₁\]θ₁ ⋯ e^\[S_m\]θ_m · home_k
 /// with m the joints before it. Checks q.
 pub fn fk_all_links<'w>(
     kin: &Kinematics,

@@ -1,6 +1,6 @@
 //! Space and body Jacobians, computed with the tip pose in one O(n) pass.
 //!
-//! Space: J_s column i = \[Ad_{e^[S₁]θ₁ ⋯ e^[S_{i−1}]θ_{i−1}}\] S_i, so V_s = J_s q̇ (*Modern
+//! Space: J_s column i = \[Ad_{e^\[S₁\]θ₁ ⋯ e^[S_{i−1}]θ_{i−1}}\] S_i, so V_s = J_s q̇ (*Modern
 //! Robotics* eq. 5.11). Body: J_b = \[Ad_{T⁻¹}\] J_s, so V_b = J_b q̇ (eq. 5.18). Rows are
 //! (ω, v). With mimic joints, the column of a variable is Σ multiplier_j · (column of joint j)
 //! over the joints it drives.

@@ -3,7 +3,7 @@
 //! What screwkit's tests and benchmarks share and its users do not need (so it is not part of
 //! the library's public API, and not published):
 //!
-//! - [`reference`]: forward kinematics by composing the URDF's joint transforms one by one —
+//! - [`reference`](mod@reference): forward kinematics by composing the URDF's joint transforms one by one —
 //!   the independent oracle every product-of-exponentials result is checked against.
 //! - [`protocol`]: the IK benchmark protocol behind `screwkit bench`, the criterion benches
 //!   and BENCHMARKS.md.

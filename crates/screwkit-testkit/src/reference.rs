@@ -90,7 +90,7 @@ pub fn joint_positions(chain: &Chain, q: &[f64]) -> Vec<f64> {
     chain.joints.iter().map(|j| j.drive.theta(q)).collect()
 }
 
-/// Space form T = e^[S₁]θ₁ ⋯ e^[Sₙ]θₙ M, one `Se3::exp` per joint.
+/// Space form T = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M, one `Se3::exp` per joint.
 pub fn poe_space(chain: &Chain, q: &[f64]) -> Se3 {
     let theta = joint_positions(chain, q);
     let mut t = Se3::identity();
@@ -100,7 +100,7 @@ pub fn poe_space(chain: &Chain, q: &[f64]) -> Se3 {
     t * chain.home
 }
 
-/// Body form T = M e^[B₁]θ₁ ⋯ e^[Bₙ]θₙ, one `Se3::exp` per joint.
+/// Body form T = M e^\[B₁\]θ₁ ⋯ e^\[Bₙ\]θₙ, one `Se3::exp` per joint.
 pub fn poe_body(chain: &Chain, q: &[f64]) -> Se3 {
     let theta = joint_positions(chain, q);
     let mut t = chain.home;
