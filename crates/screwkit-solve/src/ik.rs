@@ -313,14 +313,7 @@ pub fn solve_into(
     kin.check_q(seed)?;
     check_target(target)?;
     check_options(opts)?;
-    if q.len() != kin.dof() {
-        return Err(SolveError::WrongLength {
-            what: "solution values",
-            expected: kin.dof(),
-            got: q.len(),
-            names: kin.names.join(", "),
-        });
-    }
+    kin.check_len("solution values", q.len())?;
     ws.fit(kin);
     Ok(solve_unchecked(kin, ws, target, seed, opts, q))
 }

@@ -127,17 +127,24 @@ impl Kinematics {
                 .all(|(&x, (&l, &u))| x >= l - tol && x <= u + tol)
     }
 
+    /// A slice of `got` values that must hold one value per variable (`what` names it in the
+    /// error, with the variables' names).
+    pub(crate) fn check_len(&self, what: &'static str, got: usize) -> Result<(), SolveError> {
+        if got == self.dof() {
+            return Ok(());
+        }
+        Err(SolveError::WrongLength {
+            what,
+            expected: self.dof(),
+            got,
+            names: self.names.join(", "),
+        })
+    }
+
     /// Checks a joint vector: one value per variable, all finite. Every checked algorithm
     /// calls this first; the error names the variable.
     pub fn check_q(&self, q: &[f64]) -> Result<(), SolveError> {
-        if q.len() != self.dof() {
-            return Err(SolveError::WrongLength {
-                what: "joint values",
-                expected: self.dof(),
-                got: q.len(),
-                names: self.names.join(", "),
-            });
-        }
+        self.check_len("joint values", q.len())?;
         match q.iter().position(|x| !x.is_finite()) {
             None => Ok(()),
             Some(i) => Err(SolveError::NonFinite {
