@@ -1,0 +1,197 @@
+"""Type stubs of screwkit's native module (pyo3). Arrays are float64 unless said otherwise."""
+
+import os
+from collections.abc import Sequence
+from typing import Any, Literal, final
+
+import numpy as np
+import numpy.typing as npt
+from typing_extensions import TypeAlias
+
+__version__: str
+__all__ = [
+    "Robot",
+    "IkResult",
+    "IkBatchResult",
+    "Analysis",
+    "BatchError",
+    "exp",
+    "log",
+    "adjoint",
+    "row_seed",
+    "set_num_threads",
+    "num_threads",
+    "__version__",
+]
+
+_Frame: TypeAlias = Literal["space", "body"]
+_F64: TypeAlias = npt.NDArray[np.float64]
+_ArrayLike: TypeAlias = npt.ArrayLike
+
+class BatchError(ValueError):
+    """Some rows of a batch had bad input; every other row was computed.
+
+    `result` is the whole result (bad rows NaN, or not converged for IK), `rows` the bad rows
+    (0-based) and `messages` what was wrong with each.
+    """
+
+    result: Any
+    rows: list[int]
+    messages: list[str]
+
+@final
+class IkResult:
+    """The outcome of `Robot.ik` for one target (4, 4)."""
+
+    @property
+    def q(self) -> _F64: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def restarts(self) -> int: ...
+    @property
+    def error_rot(self) -> float: ...
+    @property
+    def error_pos(self) -> float: ...
+    @property
+    def stop(self) -> str: ...
+
+@final
+class IkBatchResult:
+    """The outcome of `Robot.ik` for N targets (N, 4, 4): one entry per target in each attribute."""
+
+    @property
+    def q(self) -> _F64: ...
+    @property
+    def converged(self) -> npt.NDArray[np.bool_]: ...
+    @property
+    def iterations(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def restarts(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def error_rot(self) -> _F64: ...
+    @property
+    def error_pos(self) -> _F64: ...
+    @property
+    def stop(self) -> list[str]: ...
+    def __len__(self) -> int: ...
+
+@final
+class Analysis:
+    """The SVD of a Jacobian and what it means (`Robot.analyze`)."""
+
+    @property
+    def frame(self) -> str: ...
+    @property
+    def jacobian(self) -> _F64: ...
+    @property
+    def singular_values(self) -> _F64: ...
+    @property
+    def rank(self) -> int: ...
+    @property
+    def rank_tolerance(self) -> float: ...
+    @property
+    def manipulability(self) -> float: ...
+    @property
+    def condition_number(self) -> float: ...
+    @property
+    def determinant(self) -> float | None: ...
+    @property
+    def lost_directions(self) -> _F64: ...
+    @property
+    def weakest_direction(self) -> _F64: ...
+    @property
+    def angular_axes(self) -> _F64: ...
+    @property
+    def angular_lengths(self) -> _F64: ...
+    @property
+    def linear_axes(self) -> _F64: ...
+    @property
+    def linear_lengths(self) -> _F64: ...
+    @property
+    def verdict(self) -> str: ...
+
+@final
+class Robot:
+    """A serial chain base -> tip of a URDF, ready for kinematics.
+
+    Conventions: twists and screw axes (omega, v); metres, radians; poses row-major (4, 4)
+    float64; the space frame is the base link, the body frame the tip link. q of shape (dof,)
+    gives one result, q of shape (N, dof) N results computed on all cores, GIL released.
+    """
+
+    @classmethod
+    def from_urdf(
+        cls,
+        path: str | os.PathLike[str],
+        base: str | None = None,
+        tip: str | None = None,
+    ) -> Robot: ...
+    @classmethod
+    def from_string(
+        cls,
+        xml: str,
+        base: str | None = None,
+        tip: str | None = None,
+        source: str = "<string>",
+    ) -> Robot: ...
+    def __reduce__(self) -> Any: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def source(self) -> str: ...
+    @property
+    def base(self) -> str: ...
+    @property
+    def tip(self) -> str: ...
+    @property
+    def dof(self) -> int: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def axis_names(self) -> list[str]: ...
+    @property
+    def link_names(self) -> list[str]: ...
+    @property
+    def lower(self) -> _F64: ...
+    @property
+    def upper(self) -> _F64: ...
+    @property
+    def midpoint(self) -> _F64: ...
+    @property
+    def home(self) -> _F64: ...
+    def screw_axes(self, frame: _Frame = "space") -> _F64: ...
+    def table(
+        self,
+        fmt: Literal["markdown", "md", "csv", "json"] = "markdown",
+        frame: Literal["space", "body", "both"] = "both",
+    ) -> str: ...
+    def fk(self, q: _ArrayLike) -> _F64: ...
+    def fk_all_links(self, q: _ArrayLike) -> _F64: ...
+    def jacobian(self, q: _ArrayLike, frame: _Frame = "space") -> _F64: ...
+    def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
+    def ik(
+        self,
+        target: _ArrayLike,
+        seed: _ArrayLike | None = None,
+        *,
+        method: Literal["lm", "dls", "nr"] = "lm",
+        tol_rot: float = 1e-9,
+        tol_pos: float = 1e-9,
+        position_only: bool = False,
+        timeout_ms: float | None = None,
+        seed_rng: int = 0,
+        max_iterations: int = 2000,
+        max_restarts: int = 200,
+        damping: float | None = None,
+        weights: Sequence[float] | None = None,
+    ) -> IkResult | IkBatchResult: ...
+
+def exp(twist: _ArrayLike, theta: float = 1.0) -> _F64: ...
+def log(t: _ArrayLike) -> _F64: ...
+def adjoint(t: _ArrayLike) -> _F64: ...
+def row_seed(seed: int, k: int) -> int: ...
+def set_num_threads(threads: int | None = None) -> None: ...
+def num_threads() -> int: ...

@@ -1,0 +1,76 @@
+//! The library's errors as Python exceptions.
+//!
+//! | Rust | Python |
+//! |---|---|
+//! | a file that cannot be read | `FileNotFoundError`, `PermissionError`, `IsADirectoryError` or `OSError` |
+//! | `ModelError` (bad URDF, unknown link, no chain) | `ValueError` |
+//! | `SolveError` on bad input (shape, NaN, bad target, bad option) | `ValueError` |
+//! | `SolveError::Rows` (some rows of a batch) | `screwkit.BatchError` (a `ValueError`) carrying the finished result |
+//! | `SolveError::Numerical` | `RuntimeError` |
+
+use pyo3::create_exception;
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError, PyRuntimeError,
+    PyValueError,
+};
+use pyo3::prelude::*;
+use screwkit_model::ModelError;
+use screwkit_solve::SolveError;
+
+create_exception!(
+    screwkit,
+    BatchError,
+    PyValueError,
+    "Some rows of a batch had bad input. Every other row was computed: `result` holds the whole \
+     result (the bad rows NaN, or not converged for IK), `rows` the bad rows' indices (0-based) \
+     and `messages` what was wrong with each."
+);
+
+/// A file that could not be read, as the matching `OSError` subclass.
+pub fn io_error(path: &str, e: &std::io::Error) -> PyErr {
+    let msg = format!("{path}: cannot read the file: {e}");
+    match e.kind() {
+        std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(msg),
+        std::io::ErrorKind::PermissionDenied => PyPermissionError::new_err(msg),
+        std::io::ErrorKind::IsADirectory => PyIsADirectoryError::new_err(msg),
+        std::io::ErrorKind::InvalidData => PyValueError::new_err(msg),
+        _ => PyOSError::new_err(msg),
+    }
+}
+
+/// A model error (bad file, unknown link, …) as `ValueError` with the library's message.
+pub fn model_error(e: ModelError) -> PyErr {
+    PyValueError::new_err(e.to_string())
+}
+
+/// A solver error: `ValueError` for bad input, `RuntimeError` for a numerical failure.
+/// (`Rows` is handled by the batch calls, which attach their result: [`batch_error`].)
+pub fn solve_error(e: SolveError) -> PyErr {
+    if e.is_invalid_input() {
+        PyValueError::new_err(e.to_string())
+    } else {
+        PyRuntimeError::new_err(e.to_string())
+    }
+}
+
+/// The error of a batch call, with its result attached when only some rows failed.
+pub fn batch_error(py: Python<'_>, e: SolveError, result: Bound<'_, PyAny>) -> PyErr {
+    let SolveError::Rows(rows) = &e else {
+        return solve_error(e);
+    };
+    let err = BatchError::new_err(e.to_string());
+    let value = err.value(py);
+    let attach = || -> PyResult<()> {
+        value.setattr("result", result)?;
+        value.setattr("rows", rows.iter().map(|r| r.row).collect::<Vec<_>>())?;
+        value.setattr(
+            "messages",
+            rows.iter().map(|r| r.error.to_string()).collect::<Vec<_>>(),
+        )?;
+        Ok(())
+    };
+    match attach() {
+        Ok(()) => err,
+        Err(other) => other,
+    }
+}

@@ -1,0 +1,98 @@
+//! The `screwkit` Python package's native module (`screwkit._screwkit`): pyo3 bindings of the
+//! screwkit library. Everything here converts arguments and results and maps errors; the
+//! kinematics, batching and threading are the library's (`screwkit-solve`).
+//!
+//! Single calls hold the GIL (they take well under a microsecond, less than releasing it
+//! would cost), except IK; batch calls and IK release it and run on the pool of [`pool`].
+
+mod array;
+mod errors;
+mod pool;
+mod results;
+mod robot;
+
+use numpy::{PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Se3, Twist};
+
+use array::{f64_array, new_array, shape_str, write_pose};
+
+/// A rigid transform from a (4, 4) array-like (rotation orthonormal to 1e-6, then projected).
+fn se3_arg(t: &Bound<'_, PyAny>, what: &str) -> PyResult<Se3> {
+    let a = f64_array(t, what)?;
+    if a.shape() != [4, 4] {
+        return Err(PyValueError::new_err(format!(
+            "{what}: expected shape (4, 4), got {}",
+            shape_str(a.shape())
+        )));
+    }
+    let r = a.readonly();
+    Se3::from_row_major(r.as_slice()?, DEFAULT_ROTATION_TOLERANCE)
+        .map_err(|e| PyValueError::new_err(format!("{what}: not a rigid transform: {e}")))
+}
+
+/// e^{[ξ]θ}: the rigid transform (4, 4) of moving along the twist ξ = (ω, v) (shape (6,))
+/// for θ (for a unit screw axis S, θ is the angle in rad, or the distance in m if ω = 0).
+#[pyfunction]
+#[pyo3(signature = (twist, theta = 1.0))]
+fn exp<'py>(py: Python<'py>, twist: &Bound<'py, PyAny>, theta: f64) -> PyResult<Bound<'py, PyAny>> {
+    let a = f64_array(twist, "twist")?;
+    let r = a.readonly();
+    let x = Twist::try_from_slice(r.as_slice()?)
+        .map_err(|e| PyValueError::new_err(format!("twist: {e}")))?;
+    if !theta.is_finite() {
+        return Err(PyValueError::new_err(format!("theta: not finite: {theta}")));
+    }
+    let t = Se3::exp(&Twist::new(x.w * theta, x.v * theta));
+    Ok(new_array(py, &[4, 4], |o| write_pose(&t, o))?.into_any())
+}
+
+/// The matrix logarithm: the exponential coordinates ξ = Sθ (shape (6,), (ω, v)) with
+/// exp(ξ) = T, rotation angle ‖ω‖ in [0, π].
+#[pyfunction]
+fn log<'py>(py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    let t = se3_arg(t, "T")?;
+    let x = t.log().to_vector();
+    Ok(new_array(py, &[6], |o| o.copy_from_slice(x.as_slice()))?.into_any())
+}
+
+/// The adjoint [Ad_T] (6 × 6) mapping twists (ω, v) from the frame of T to the frame T is
+/// expressed in: V_a = [Ad_{T_ab}] V_b.
+#[pyfunction]
+fn adjoint<'py>(py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    let ad = se3_arg(t, "T")?.adjoint();
+    Ok(new_array(py, &[6, 6], |o| {
+        for r in 0..6 {
+            for c in 0..6 {
+                o[6 * r + c] = ad[(r, c)];
+            }
+        }
+    })?
+    .into_any())
+}
+
+/// The restart seed IK row k of a batch uses: batch row k with `seed_rng=s` equals the single
+/// call with `seed_rng=row_seed(s, k)`.
+#[pyfunction]
+fn row_seed(seed: u64, k: usize) -> u64 {
+    screwkit_solve::batch::row_seed(seed, k)
+}
+
+/// The native module.
+#[pymodule]
+fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<robot::Robot>()?;
+    m.add_class::<results::IkResult>()?;
+    m.add_class::<results::IkBatchResult>()?;
+    m.add_class::<results::Analysis>()?;
+    m.add("BatchError", m.py().get_type::<errors::BatchError>())?;
+    m.add_function(wrap_pyfunction!(exp, m)?)?;
+    m.add_function(wrap_pyfunction!(log, m)?)?;
+    m.add_function(wrap_pyfunction!(adjoint, m)?)?;
+    m.add_function(wrap_pyfunction!(row_seed, m)?)?;
+    m.add_function(wrap_pyfunction!(pool::set_num_threads, m)?)?;
+    m.add_function(wrap_pyfunction!(pool::num_threads, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

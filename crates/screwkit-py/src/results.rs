@@ -1,0 +1,120 @@
+//! Result objects: IK (one target or a batch) and the singularity analysis.
+
+use numpy::{PyArray1, PyArray2};
+use pyo3::prelude::*;
+
+/// The outcome of `Robot.ik` for one target (4, 4).
+#[pyclass(frozen, get_all, module = "screwkit")]
+pub struct IkResult {
+    /// The solution, shape (dof,), within the joint limits; if not converged, the best
+    /// configuration found.
+    pub q: Py<PyArray1<f64>>,
+    /// True when both tolerances were met.
+    pub converged: bool,
+    /// Iterations used, over all attempts.
+    pub iterations: usize,
+    /// Random restarts used.
+    pub restarts: usize,
+    /// Final rotation error: the angle of R(q)ᵀ R_target (rad).
+    pub error_rot: f64,
+    /// Final position error ‖p_target − p(q)‖ (m).
+    pub error_pos: f64,
+    /// Why the solve stopped: "converged", "iteration limit", "restart limit", "time limit".
+    pub stop: String,
+}
+
+#[pymethods]
+impl IkResult {
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(format!(
+            "IkResult(converged={}, q={}, iterations={}, restarts={}, error_rot={:.3e}, error_pos={:.3e}, stop={:?})",
+            if self.converged { "True" } else { "False" },
+            self.q.bind(py).repr()?,
+            self.iterations,
+            self.restarts,
+            self.error_rot,
+            self.error_pos,
+            self.stop
+        ))
+    }
+}
+
+/// The outcome of `Robot.ik` for N targets (N, 4, 4): every attribute is one entry per target.
+#[pyclass(frozen, get_all, module = "screwkit")]
+pub struct IkBatchResult {
+    /// Solutions, shape (N, dof) (NaN rows for invalid targets or seeds).
+    pub q: Py<PyArray2<f64>>,
+    /// Converged or not, shape (N,), bool.
+    pub converged: Py<PyArray1<bool>>,
+    /// Iterations per target, shape (N,), int64.
+    pub iterations: Py<PyArray1<i64>>,
+    /// Restarts per target, shape (N,), int64.
+    pub restarts: Py<PyArray1<i64>>,
+    /// Final rotation errors (rad), shape (N,).
+    pub error_rot: Py<PyArray1<f64>>,
+    /// Final position errors (m), shape (N,).
+    pub error_pos: Py<PyArray1<f64>>,
+    /// Why each solve stopped (as in `IkResult.stop`, plus "invalid input").
+    pub stop: Vec<String>,
+}
+
+#[pymethods]
+impl IkBatchResult {
+    fn __len__(&self) -> usize {
+        self.stop.len()
+    }
+
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let converged = self.converged.bind(py).call_method0("sum")?;
+        Ok(format!(
+            "IkBatchResult(targets={}, converged={converged})",
+            self.stop.len()
+        ))
+    }
+}
+
+/// The singular value decomposition of a Jacobian and what it means (`Robot.analyze`).
+#[pyclass(frozen, get_all, module = "screwkit")]
+pub struct Analysis {
+    /// The frame of the analysed Jacobian ("space" or "body").
+    pub frame: String,
+    /// The Jacobian analysed, shape (6, dof).
+    pub jacobian: Py<PyArray2<f64>>,
+    /// Singular values, largest first, shape (min(6, dof),).
+    pub singular_values: Py<PyArray1<f64>>,
+    /// Numerical rank: singular values above `rank_tolerance`.
+    pub rank: usize,
+    /// max(6, dof) · ε · σ₁.
+    pub rank_tolerance: f64,
+    /// Yoshikawa's manipulability √det(J Jᵀ) = ∏σᵢ (0 for fewer than 6 joints).
+    pub manipulability: f64,
+    /// σ_max / σ_min (inf when rank deficient).
+    pub condition_number: f64,
+    /// det J for a 6-joint chain, else None.
+    pub determinant: Option<f64>,
+    /// Unit twists (ω, v) the arm cannot make at q (rows), shape (k, 6).
+    pub lost_directions: Py<PyArray2<f64>>,
+    /// The twist direction of the smallest singular value, shape (6,).
+    pub weakest_direction: Py<PyArray1<f64>>,
+    /// Principal axes of the angular-velocity ellipsoid (rows), shape (3, 3).
+    pub angular_axes: Py<PyArray2<f64>>,
+    /// Its semi-axis lengths, shape (3,).
+    pub angular_lengths: Py<PyArray1<f64>>,
+    /// Principal axes of the linear-velocity ellipsoid (rows), shape (3, 3).
+    pub linear_axes: Py<PyArray2<f64>>,
+    /// Its semi-axis lengths, shape (3,).
+    pub linear_lengths: Py<PyArray1<f64>>,
+    /// The verdict in words: singular (and what motion is lost), near singular, or
+    /// well-conditioned.
+    pub verdict: String,
+}
+
+#[pymethods]
+impl Analysis {
+    fn __repr__(&self) -> String {
+        format!(
+            "Analysis(rank={}, manipulability={:.6e}, condition_number={:.6e}, verdict={:?})",
+            self.rank, self.manipulability, self.condition_number, self.verdict
+        )
+    }
+}

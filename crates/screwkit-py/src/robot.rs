@@ -1,0 +1,622 @@
+//! `screwkit.Robot`: a chain of a URDF, prepared once, with FK, Jacobians, analysis and IK on
+//! one configuration or on N at once (all cores, GIL released).
+
+use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard};
+use std::time::Duration;
+
+use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods, ToPyArray};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyType;
+use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Frame, Se3};
+use screwkit_model::{table, Chain};
+use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
+use screwkit_solve::{analysis, batch, fk, ik, jacobian, Kinematics, Workspace};
+
+use crate::array::{f64_array, new_array, poses, shape_str, write_pose, zeros};
+use crate::errors::{batch_error, io_error, model_error, solve_error};
+use crate::pool;
+use crate::results::{Analysis, IkBatchResult, IkResult};
+
+/// A serial chain base → tip of a robot description, ready for kinematics.
+///
+/// Conventions: twists and screw axes (ω, v); metres, radians; poses are row-major 4 × 4
+/// float64; the space frame is the base link, the body frame the tip link.
+#[pyclass(frozen, module = "screwkit")]
+pub struct Robot {
+    chain: Chain,
+    kin: Kinematics,
+    /// Scratch of single calls (a fresh one is made when another thread holds it).
+    ws: Mutex<Workspace>,
+    /// The URDF text, for pickling.
+    text: String,
+}
+
+/// A frame name ("space" or "body").
+fn parse_frame(frame: &str) -> PyResult<Frame> {
+    frame
+        .parse::<Frame>()
+        .map_err(|e| PyValueError::new_err(format!("frame: {e} (expected \"space\" or \"body\")")))
+}
+
+/// Whether q is one configuration (dof,) or a stack (N, dof); the error names the joints.
+enum Rows {
+    One,
+    Many(usize),
+}
+
+impl Robot {
+    fn build(text: String, source: &str, base: Option<&str>, tip: Option<&str>) -> PyResult<Self> {
+        let tree = screwkit_model::urdf::load_str(&text, source).map_err(model_error)?;
+        let chain = Chain::from_tree(&tree, base, tip).map_err(model_error)?;
+        let kin = Kinematics::new(&chain);
+        let ws = Mutex::new(Workspace::new(&kin));
+        Ok(Self {
+            chain,
+            kin,
+            ws,
+            text,
+        })
+    }
+
+    /// The shared scratch, or a new one when another thread is using it.
+    fn workspace(&self) -> WorkspaceGuard<'_> {
+        match self.ws.try_lock() {
+            Ok(g) => WorkspaceGuard::Shared(g),
+            Err(_) => WorkspaceGuard::Own(Box::new(Workspace::new(&self.kin))),
+        }
+    }
+
+    /// Checks q's shape: (dof,) or (N, dof).
+    fn rows_of(&self, a: &Bound<'_, PyArrayDyn<f64>>, what: &str) -> PyResult<Rows> {
+        let n = self.kin.dof();
+        match a.shape() {
+            [m] if *m == n => Ok(Rows::One),
+            [rows, m] if *m == n => Ok(Rows::Many(*rows)),
+            shape => Err(PyValueError::new_err(format!(
+                "{what}: expected shape ({n},) or (N, {n}) for the joints {}, got {}",
+                self.kin.names().join(", "),
+                shape_str(shape)
+            ))),
+        }
+    }
+
+    fn ik_options(&self, o: IkArgs) -> PyResult<IkOptions> {
+        let d = IkOptions::default();
+        let method = match (o.method, o.damping) {
+            ("lm", None) => IkMethod::LM,
+            ("lm", Some(f)) => IkMethod::LevenbergMarquardt { damping_floor: f },
+            ("dls", None) => IkMethod::DLS,
+            ("dls", Some(l)) => IkMethod::Dls { lambda: l },
+            ("nr", None) => IkMethod::NewtonRaphson,
+            ("nr", Some(_)) => {
+                return Err(PyValueError::new_err(
+                    "damping: Newton-Raphson (method=\"nr\") takes no damping",
+                ))
+            }
+            (other, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "method: unknown IK method {other:?} (expected \"lm\", \"dls\" or \"nr\")"
+                )))
+            }
+        };
+        let timeout = match o.timeout_ms {
+            None => None,
+            Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t / 1e3)),
+            Some(t) => {
+                return Err(PyValueError::new_err(format!(
+                    "timeout_ms: expected a positive number of milliseconds or None, got {t}"
+                )))
+            }
+        };
+        let weights = match o.weights {
+            None => d.weights,
+            Some(w) => w.try_into().map_err(|w: Vec<f64>| {
+                PyValueError::new_err(format!(
+                    "weights: expected 6 weights (ω1, ω2, ω3, v1, v2, v3), got {}",
+                    w.len()
+                ))
+            })?,
+        };
+        Ok(IkOptions {
+            method,
+            tol_rot: o.tol_rot,
+            tol_pos: o.tol_pos,
+            max_iterations: o.max_iterations,
+            max_restarts: o.max_restarts,
+            timeout,
+            seed: o.seed_rng,
+            position_only: o.position_only,
+            weights,
+            ..d
+        })
+    }
+}
+
+/// The scratch of one single call.
+enum WorkspaceGuard<'a> {
+    Shared(MutexGuard<'a, Workspace>),
+    Own(Box<Workspace>),
+}
+
+impl std::ops::Deref for WorkspaceGuard<'_> {
+    type Target = Workspace;
+    fn deref(&self) -> &Workspace {
+        match self {
+            WorkspaceGuard::Shared(g) => g,
+            WorkspaceGuard::Own(w) => w,
+        }
+    }
+}
+
+impl std::ops::DerefMut for WorkspaceGuard<'_> {
+    fn deref_mut(&mut self) -> &mut Workspace {
+        match self {
+            WorkspaceGuard::Shared(g) => &mut *g,
+            WorkspaceGuard::Own(w) => &mut *w,
+        }
+    }
+}
+
+/// IK settings as given from Python.
+struct IkArgs<'a> {
+    method: &'a str,
+    damping: Option<f64>,
+    tol_rot: f64,
+    tol_pos: f64,
+    max_iterations: usize,
+    max_restarts: usize,
+    timeout_ms: Option<f64>,
+    seed_rng: u64,
+    position_only: bool,
+    weights: Option<Vec<f64>>,
+}
+
+/// The IK status fields of a batch as arrays.
+fn batch_result(
+    py: Python<'_>,
+    q: Bound<'_, PyArrayDyn<f64>>,
+    st: &[IkStatus],
+) -> PyResult<IkBatchResult> {
+    let q = q.cast_into::<PyArray2<f64>>()?;
+    Ok(IkBatchResult {
+        q: q.unbind(),
+        converged: PyArray1::from_iter(py, st.iter().map(|s| s.converged)).unbind(),
+        iterations: PyArray1::from_iter(py, st.iter().map(|s| s.iterations as i64)).unbind(),
+        restarts: PyArray1::from_iter(py, st.iter().map(|s| s.restarts as i64)).unbind(),
+        error_rot: PyArray1::from_iter(py, st.iter().map(|s| s.error_rot)).unbind(),
+        error_pos: PyArray1::from_iter(py, st.iter().map(|s| s.error_pos)).unbind(),
+        stop: st.iter().map(|s| s.stop.as_str().to_string()).collect(),
+    })
+}
+
+#[pymethods]
+impl Robot {
+    /// Loads the chain `base` → `tip` of a URDF file (default base: the root link; default
+    /// tip: the only leaf below the base).
+    #[classmethod]
+    #[pyo3(signature = (path, base = None, tip = None))]
+    fn from_urdf(
+        _cls: &Bound<'_, PyType>,
+        path: PathBuf,
+        base: Option<&str>,
+        tip: Option<&str>,
+    ) -> PyResult<Self> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(&path).map_err(|e| io_error(&label, &e))?;
+        Self::build(text, &label, base, tip)
+    }
+
+    /// Loads the chain `base` → `tip` of URDF text; `source` names it in error messages.
+    #[classmethod]
+    #[pyo3(signature = (xml, base = None, tip = None, source = "<string>"))]
+    fn from_string(
+        _cls: &Bound<'_, PyType>,
+        xml: String,
+        base: Option<&str>,
+        tip: Option<&str>,
+        source: &str,
+    ) -> PyResult<Self> {
+        Self::build(xml, source, base, tip)
+    }
+
+    fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        let py = slf.py();
+        let r = slf.get();
+        let ctor = py.get_type::<Robot>().getattr("from_string")?;
+        let args = (
+            r.text.clone(),
+            r.chain.base.clone(),
+            r.chain.tip.clone(),
+            r.chain.source.clone(),
+        );
+        Ok((ctor, args).into_pyobject(py)?.into_any())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Robot({:?}, base={:?}, tip={:?}, dof={})",
+            self.chain.source,
+            self.chain.base,
+            self.chain.tip,
+            self.kin.dof()
+        )
+    }
+
+    /// The robot's name (`<robot name=…>`).
+    #[getter]
+    fn name(&self) -> &str {
+        &self.chain.robot
+    }
+
+    /// The file the robot came from (or the `source` label of `from_string`).
+    #[getter]
+    fn source(&self) -> &str {
+        &self.chain.source
+    }
+
+    /// Base link (the space frame).
+    #[getter]
+    fn base(&self) -> &str {
+        &self.chain.base
+    }
+
+    /// Tip link (the body frame).
+    #[getter]
+    fn tip(&self) -> &str {
+        &self.chain.tip
+    }
+
+    /// Degrees of freedom: the length of q.
+    #[getter]
+    fn dof(&self) -> usize {
+        self.kin.dof()
+    }
+
+    /// The joints of q, in order (mimic joints follow their leader and are not in q).
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.kin.names().to_vec()
+    }
+
+    /// The moving joints base → tip, one per row of `screw_axes` (mimic joints included).
+    #[getter]
+    fn axis_names(&self) -> Vec<String> {
+        self.chain.joints.iter().map(|j| j.name.clone()).collect()
+    }
+
+    /// The links base → tip, one per pose of `fk_all_links`.
+    #[getter]
+    fn link_names(&self) -> Vec<String> {
+        self.kin.links().iter().map(|l| l.name.clone()).collect()
+    }
+
+    /// Lower joint limits, shape (dof,) (−inf for continuous joints).
+    #[getter]
+    fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.kin.lower().to_pyarray(py)
+    }
+
+    /// Upper joint limits, shape (dof,) (+inf for continuous joints).
+    #[getter]
+    fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.kin.upper().to_pyarray(py)
+    }
+
+    /// The midpoint of the limits (0 for continuous joints): the default IK seed, shape (dof,).
+    #[getter]
+    fn midpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
+        self.kin.midpoint().to_pyarray(py)
+    }
+
+    /// M: the tip pose at q = 0, shape (4, 4).
+    #[getter]
+    fn home<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        Ok(new_array(py, &[4, 4], |o| write_pose(&self.chain.home, o))?.into_any())
+    }
+
+    /// The screw axes at home, one row (ω, v) per moving joint (`axis_names`): S_i in the
+    /// space frame or B_i in the body frame. Shape (joints, 6).
+    #[pyo3(signature = (frame = "space"))]
+    fn screw_axes<'py>(&self, py: Python<'py>, frame: &str) -> PyResult<Bound<'py, PyAny>> {
+        let frame = parse_frame(frame)?;
+        let joints = &self.chain.joints;
+        Ok(new_array(py, &[joints.len(), 6], |o| {
+            for (j, row) in joints.iter().zip(o.chunks_mut(6)) {
+                row.copy_from_slice(j.screw(frame).twist().to_vector().as_slice());
+            }
+        })?
+        .into_any())
+    }
+
+    /// The screw-axis table as text: `fmt` "markdown", "csv" or "json"; `frame` "space",
+    /// "body" or "both" (JSON always has both).
+    #[pyo3(signature = (fmt = "markdown", frame = "both"))]
+    fn table(&self, fmt: &str, frame: &str) -> PyResult<String> {
+        let frames = match frame {
+            "both" => Frame::ALL.to_vec(),
+            f => vec![parse_frame(f)?],
+        };
+        match fmt {
+            "markdown" | "md" => Ok(table::to_markdown(&self.chain, &frames)),
+            "csv" => Ok(table::to_csv(&self.chain, &frames)),
+            "json" => Ok(table::to_json(&self.chain).to_string()),
+            other => Err(PyValueError::new_err(format!(
+                "fmt: unknown table format {other:?} (expected \"markdown\", \"csv\" or \"json\")"
+            ))),
+        }
+    }
+
+    /// Forward kinematics T(q) = e^[S1]q1 ⋯ e^[Sn]qn M: q (dof,) → (4, 4); q (N, dof) →
+    /// (N, 4, 4), computed on all cores with the GIL released.
+    fn fk<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let q = f64_array(q, "q")?;
+        let rows = self.rows_of(&q, "q")?;
+        let q = q.readonly();
+        let qs = q.as_slice()?;
+        match rows {
+            Rows::One => {
+                let t = fk::fk(&self.kin, &mut self.workspace(), qs).map_err(solve_error)?;
+                Ok(new_array(py, &[4, 4], |o| write_pose(&t, o))?.into_any())
+            }
+            Rows::Many(n) => {
+                let out = zeros(py, &[n, 4, 4]);
+                let res = {
+                    let mut w = out.readwrite();
+                    let o = w.as_slice_mut()?;
+                    py.detach(|| pool::run(|| batch::fk_batch(&self.kin, qs, o)))
+                };
+                res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
+                Ok(out.into_any())
+            }
+        }
+    }
+
+    /// Every link's pose (`link_names` order): q (dof,) → (links, 4, 4); q (N, dof) →
+    /// (N, links, 4, 4).
+    fn fk_all_links<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let q = f64_array(q, "q")?;
+        let rows = self.rows_of(&q, "q")?;
+        let q = q.readonly();
+        let qs = q.as_slice()?;
+        let links = self.kin.links().len();
+        match rows {
+            Rows::One => {
+                let mut ws = self.workspace();
+                let poses = fk::fk_all_links(&self.kin, &mut ws, qs).map_err(solve_error)?;
+                Ok(new_array(py, &[links, 4, 4], |o| {
+                    for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
+                        write_pose(t, out);
+                    }
+                })?
+                .into_any())
+            }
+            Rows::Many(n) => {
+                let out = zeros(py, &[n, links, 4, 4]);
+                let res = {
+                    let mut w = out.readwrite();
+                    let o = w.as_slice_mut()?;
+                    py.detach(|| pool::run(|| batch::fk_all_links_batch(&self.kin, qs, o)))
+                };
+                res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
+                Ok(out.into_any())
+            }
+        }
+    }
+
+    /// The Jacobian in `frame` ("space": J_s, "body": J_b), rows (ω, v): q (dof,) → (6, dof);
+    /// q (N, dof) → (N, 6, dof).
+    #[pyo3(signature = (q, frame = "space"))]
+    fn jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        frame: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let frame = parse_frame(frame)?;
+        let q = f64_array(q, "q")?;
+        let rows = self.rows_of(&q, "q")?;
+        let q = q.readonly();
+        let qs = q.as_slice()?;
+        let n = self.kin.dof();
+        match rows {
+            Rows::One => {
+                let mut ws = self.workspace();
+                let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
+                Ok(new_array(py, &[6, n], |o| write_matrix(j, o))?.into_any())
+            }
+            Rows::Many(rows) => {
+                let out = zeros(py, &[rows, 6, n]);
+                let res = {
+                    let mut w = out.readwrite();
+                    let o = w.as_slice_mut()?;
+                    py.detach(|| pool::run(|| batch::jacobian_batch(&self.kin, qs, frame, o, None)))
+                };
+                res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
+                Ok(out.into_any())
+            }
+        }
+    }
+
+    /// Singular values, rank, manipulability, condition number, ellipsoids and the verdict in
+    /// words of the Jacobian in `frame` at one configuration q (dof,).
+    #[pyo3(signature = (q, frame = "space"))]
+    fn analyze(&self, py: Python<'_>, q: &Bound<'_, PyAny>, frame: &str) -> PyResult<Analysis> {
+        let frame_name = frame.to_string();
+        let frame = parse_frame(frame)?;
+        let q = f64_array(q, "q")?;
+        if let Rows::Many(_) = self.rows_of(&q, "q")? {
+            return Err(PyValueError::new_err(format!(
+                "q: analyze takes one configuration of shape ({},), got {}",
+                self.kin.dof(),
+                shape_str(q.shape())
+            )));
+        }
+        let q = q.readonly();
+        let qs = q.as_slice()?;
+        let mut ws = self.workspace();
+        let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
+        let a = analysis::analyze_jacobian(j).map_err(solve_error)?;
+        let n = self.kin.dof();
+        let jac = new_array(py, &[6, n], |o| write_matrix(j, o))?.cast_into::<PyArray2<f64>>()?;
+        let rows3 = |axes: &[nalgebra::Vector3<f64>; 3]| {
+            PyArray2::from_vec2(
+                py,
+                &axes
+                    .iter()
+                    .map(|a| a.as_slice().to_vec())
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let lost: Vec<Vec<f64>> = a
+            .lost_directions
+            .iter()
+            .map(|d| d.as_slice().to_vec())
+            .collect();
+        let lost = if lost.is_empty() {
+            PyArray2::zeros(py, [0, 6], false)
+        } else {
+            PyArray2::from_vec2(py, &lost)?
+        };
+        Ok(Analysis {
+            verdict: a.verdict(),
+            frame: frame_name,
+            jacobian: jac.unbind(),
+            singular_values: a.singular_values.to_pyarray(py).unbind(),
+            rank: a.rank,
+            rank_tolerance: a.rank_tolerance,
+            manipulability: a.manipulability,
+            condition_number: a.condition_number,
+            determinant: a.determinant,
+            lost_directions: lost.unbind(),
+            weakest_direction: a.weakest_direction.as_slice().to_pyarray(py).unbind(),
+            angular_axes: rows3(&a.angular.axes)?.unbind(),
+            angular_lengths: a.angular.lengths.to_pyarray(py).unbind(),
+            linear_axes: rows3(&a.linear.axes)?.unbind(),
+            linear_lengths: a.linear.lengths.to_pyarray(py).unbind(),
+        })
+    }
+
+    /// Inverse kinematics: joint values q, within the limits, with T(q) = target.
+    ///
+    /// `target` (4, 4) → `IkResult`; (N, 4, 4) → `IkBatchResult` (all cores, GIL released;
+    /// row k restarts from `row_seed(seed_rng, k)`, so it equals the single call with that
+    /// seed, whatever the thread count). `seed`: the start, (dof,) or (N, dof) (default: the
+    /// midpoint of the limits). `method`: "lm" (Levenberg–Marquardt), "dls" (damped least
+    /// squares), "nr" (Newton–Raphson); `damping`: LM's floor μ̄ or DLS's λ. Converged when the
+    /// body twist error has ‖ω‖ ≤ tol_rot (rad) and ‖v‖ ≤ tol_pos (m). Budgets: iterations and
+    /// random restarts over all attempts, and `timeout_ms` of wall time per target (None, the
+    /// default: no clock, so results are reproducible). Not converging is a result
+    /// (converged=False), not an exception.
+    #[pyo3(signature = (target, seed = None, *, method = "lm", tol_rot = 1e-9, tol_pos = 1e-9,
+        position_only = false, timeout_ms = None, seed_rng = 0, max_iterations = 2000,
+        max_restarts = 200, damping = None, weights = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'py, PyAny>,
+        seed: Option<&Bound<'py, PyAny>>,
+        method: &str,
+        tol_rot: f64,
+        tol_pos: f64,
+        position_only: bool,
+        timeout_ms: Option<f64>,
+        seed_rng: u64,
+        max_iterations: usize,
+        max_restarts: usize,
+        damping: Option<f64>,
+        weights: Option<Vec<f64>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let opts = self.ik_options(IkArgs {
+            method,
+            damping,
+            tol_rot,
+            tol_pos,
+            max_iterations,
+            max_restarts,
+            timeout_ms,
+            seed_rng,
+            position_only,
+            weights,
+        })?;
+        let n = self.kin.dof();
+        let (targets, count) = poses(target, "target")?;
+        let seed = seed.map(|s| f64_array(s, "seed")).transpose()?;
+        let seed_rows = seed.as_ref().map(|s| self.rows_of(s, "seed")).transpose()?;
+        let targets = targets.readonly();
+        let tv = targets.as_slice()?;
+        let seed_ro = seed.as_ref().map(|s| s.readonly());
+        let seed_values = seed_ro.as_ref().map(|s| s.as_slice()).transpose()?;
+        match count {
+            None => {
+                if let Some(Rows::Many(_)) = seed_rows {
+                    return Err(PyValueError::new_err(format!(
+                        "seed: one target takes one seed of shape ({n},)"
+                    )));
+                }
+                let target = Se3::from_row_major(tv, DEFAULT_ROTATION_TOLERANCE).map_err(|e| {
+                    PyValueError::new_err(format!("target: not a rigid transform: {e}"))
+                })?;
+                let mid = self.kin.midpoint();
+                let seed = seed_values.unwrap_or(&mid);
+                let r = py
+                    .detach(|| ik::solve(&self.kin, &mut self.workspace(), &target, seed, &opts))
+                    .map_err(solve_error)?;
+                let st = r.status;
+                let res = IkResult {
+                    q: r.q.to_pyarray(py).unbind(),
+                    converged: st.converged,
+                    iterations: st.iterations,
+                    restarts: st.restarts,
+                    error_rot: st.error_rot,
+                    error_pos: st.error_pos,
+                    stop: st.stop.as_str().to_string(),
+                };
+                Ok(Bound::new(py, res)?.into_any())
+            }
+            Some(rows) => {
+                // One seed for all targets is repeated; a stack must have one per target.
+                let tiled: Option<Vec<f64>> = match (&seed_rows, seed_values) {
+                    (Some(Rows::One), Some(s)) => Some(s.repeat(rows)),
+                    (Some(Rows::Many(m)), _) if *m != rows => {
+                        return Err(PyValueError::new_err(format!(
+                            "seed: {m} seeds for {rows} targets (give one seed, or one per target)"
+                        )))
+                    }
+                    _ => None,
+                };
+                let seeds = tiled.as_deref().or(seed_values);
+                let q = zeros(py, &[rows, n]);
+                let mut status = vec![IkStatus::unsolved(); rows];
+                let res = {
+                    let mut w = q.readwrite();
+                    let qo = w.as_slice_mut()?;
+                    py.detach(|| {
+                        pool::run(|| {
+                            batch::ik_batch(&self.kin, tv, seeds, &opts, qo, &mut status, None)
+                        })
+                    })
+                };
+                let result = Bound::new(py, batch_result(py, q, &status)?)?.into_any();
+                res.map_err(|e| batch_error(py, e, result.clone()))?;
+                Ok(result)
+            }
+        }
+    }
+}
+
+/// Writes a 6 × n matrix row-major.
+fn write_matrix(j: &nalgebra::Matrix6xX<f64>, out: &mut [f64]) {
+    let n = j.ncols();
+    for r in 0..6 {
+        for c in 0..n {
+            out[r * n + c] = j[(r, c)];
+        }
+    }
+}

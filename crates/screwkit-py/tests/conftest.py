@@ -1,0 +1,101 @@
+"""Shared fixtures: the bundled robots, the real URDFs of ../shared/urdf, random configurations."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+import pytest
+
+import screwkit
+
+REPO = Path(__file__).resolve().parents[3]
+ASSETS = REPO / "assets" / "urdf"
+
+
+def shared_urdf_dir() -> Path | None:
+    """../shared/urdf beside the clone (or SCREWKIT_SHARED_URDF)."""
+    env = os.environ.get("SCREWKIT_SHARED_URDF")
+    d = Path(env) if env else REPO.parent / "shared" / "urdf"
+    return d if d.is_dir() else None
+
+
+@dataclass(frozen=True)
+class ChainSpec:
+    path: Path
+    base: str | None
+    tip: str | None
+
+    @property
+    def id(self) -> str:
+        return f"{self.path.name}:{self.tip or 'default'}"
+
+    def robot(self) -> screwkit.Robot:
+        return screwkit.Robot.from_urdf(self.path, base=self.base, tip=self.tip)
+
+
+BUNDLED = [
+    ChainSpec(ASSETS / "ur5.urdf", None, None),
+    ChainSpec(ASSETS / "panda.urdf", None, None),
+    ChainSpec(ASSETS / "iiwa14.urdf", None, None),
+    ChainSpec(ASSETS / "scara.urdf", None, None),
+    ChainSpec(ASSETS / "planar_3r.urdf", None, None),
+    ChainSpec(ASSETS / "tricky.urdf", "base_link", None),
+    ChainSpec(ASSETS / "torso_two_arms.urdf", None, "left_hand"),
+    ChainSpec(ASSETS / "gripper_arm.urdf", None, "right_finger"),
+]
+
+# The chains ../shared/urdf/README.md lists to test.
+SHARED_CHAINS = [
+    ("ur5_robot.urdf", "base_link", "tool0"),
+    ("panda.urdf", "panda_link0", "panda_hand_tcp"),
+    ("panda.urdf", "panda_link0", "panda_leftfinger"),
+    ("xarm7.urdf", "link_base", "link_eef"),
+    ("z1.urdf", "link00", "gripperMover"),
+    ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
+]
+
+
+def shared_chains() -> list[ChainSpec]:
+    d = shared_urdf_dir()
+    if d is None:
+        return []
+    return [ChainSpec(d / f, b, t) for f, b, t in SHARED_CHAINS]
+
+
+def all_chains() -> list[object]:
+    """Every bundled chain, and the shared ones (or one explicit skip when ../shared is absent)."""
+    chains: list[object] = [pytest.param(c, id=c.id) for c in BUNDLED]
+    shared = shared_chains()
+    if shared:
+        chains += [pytest.param(c, id="shared/" + c.id) for c in shared]
+    else:
+        chains.append(
+            pytest.param(
+                None,
+                id="shared",
+                marks=pytest.mark.skip(reason="../shared/urdf not found beside the clone"),
+            )
+        )
+    return chains
+
+
+def configurations(robot: screwkit.Robot, n: int, seed: int) -> npt.NDArray[np.float64]:
+    """n configurations uniform within the limits ([-pi, pi] for continuous joints)."""
+    rng = np.random.default_rng(seed)
+    lo = np.where(np.isfinite(robot.lower), robot.lower, -np.pi)
+    hi = np.where(np.isfinite(robot.upper), robot.upper, np.pi)
+    return np.asarray(lo + (hi - lo) * rng.random((n, robot.dof)), dtype=np.float64)
+
+
+@pytest.fixture
+def ur5() -> screwkit.Robot:
+    return screwkit.Robot.from_urdf(ASSETS / "ur5.urdf")
+
+
+@pytest.fixture
+def panda() -> screwkit.Robot:
+    return screwkit.Robot.from_urdf(ASSETS / "panda.urdf")

@@ -1,0 +1,80 @@
+"""IK: every answer checked by an independent FK (the numpy URDF composition), within limits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import screwkit
+
+from conftest import ChainSpec, all_chains, configurations
+from urdf_oracle import UrdfChain
+
+
+@pytest.mark.parametrize("spec", all_chains())
+def test_ik_answers_reach_their_targets_within_limits(spec: ChainSpec) -> None:
+    robot = spec.robot()
+    oracle = UrdfChain(str(spec.path), robot.base, robot.tip)
+    targets = robot.fk(configurations(robot, 30, seed=21))
+    position_only = robot.dof < 6
+    result = robot.ik(targets, position_only=position_only, seed_rng=1)
+    assert isinstance(result, screwkit.IkBatchResult)
+    assert result.q.shape == (30, robot.dof)
+    assert result.converged.dtype == np.bool_ and result.iterations.dtype == np.int64
+    assert result.converged.mean() >= 0.9, result.stop
+    for q, ok, t in zip(result.q, result.converged, targets):
+        assert np.all(q >= robot.lower - 1e-12) and np.all(q <= robot.upper + 1e-12)
+        if ok:
+            reached = oracle.fk(robot.joint_names, q)
+            np.testing.assert_allclose(reached[:3, 3], t[:3, 3], atol=1e-8)
+            if not position_only:
+                np.testing.assert_allclose(reached[:3, :3], t[:3, :3], atol=1e-8)
+
+
+def test_single_ik_result(ur5: screwkit.Robot) -> None:
+    q = np.array([0.1, -0.5, 1.0, 0.2, 0.3, -0.4])
+    r = ur5.ik(ur5.fk(q), seed=q + 0.05, tol_rot=1e-12, tol_pos=1e-12)
+    assert isinstance(r, screwkit.IkResult)
+    assert r.converged and r.stop == "converged" and r.restarts == 0
+    assert r.error_rot <= 1e-12 and r.error_pos <= 1e-12
+    np.testing.assert_allclose(r.q, q, atol=1e-9)
+    assert "converged=True" in repr(r)
+
+
+def test_methods_and_options(panda: screwkit.Robot) -> None:
+    target = panda.fk(configurations(panda, 1, seed=22)[0])
+    for method in ("lm", "dls", "nr"):
+        r = panda.ik(target, method=method, tol_rot=1e-8, tol_pos=1e-8)
+        assert isinstance(r, screwkit.IkResult)
+        assert r.converged, (method, r)
+    r = panda.ik(target, method="dls", damping=0.05)
+    assert isinstance(r, screwkit.IkResult) and r.converged
+    # Position only: the position is reached, the orientation is free.
+    r = panda.ik(target, position_only=True)
+    assert isinstance(r, screwkit.IkResult) and r.converged
+    np.testing.assert_allclose(panda.fk(r.q)[:3, 3], target[:3, 3], atol=1e-9)
+    # Weights: masking z makes z free.
+    r = panda.ik(target, weights=[1, 1, 1, 1, 1, 0])
+    assert isinstance(r, screwkit.IkResult) and r.converged
+
+
+def test_unreachable_target_is_a_result_not_an_exception(ur5: screwkit.Robot) -> None:
+    far = np.eye(4)
+    far[0, 3] = 5.0  # the UR5 reaches under 1 m
+    r = ur5.ik(far, max_iterations=200, max_restarts=5)
+    assert isinstance(r, screwkit.IkResult)
+    assert not r.converged
+    assert r.stop in ("iteration limit", "restart limit")
+    assert r.error_pos > 3.9
+    assert np.all(r.q >= ur5.lower) and np.all(r.q <= ur5.upper)
+    t = ur5.ik(far, timeout_ms=1.0, max_iterations=10**9, max_restarts=10**9)
+    assert isinstance(t, screwkit.IkResult) and t.stop == "time limit" and not t.converged
+
+
+def test_one_seed_for_many_targets(ur5: screwkit.Robot) -> None:
+    targets = ur5.fk(configurations(ur5, 6, seed=23))
+    seed = np.full(6, 0.3)
+    a = ur5.ik(targets, seed)
+    b = ur5.ik(targets, np.tile(seed, (6, 1)))
+    assert isinstance(a, screwkit.IkBatchResult) and isinstance(b, screwkit.IkBatchResult)
+    np.testing.assert_array_equal(a.q, b.q)

@@ -1,0 +1,126 @@
+//! Project tasks, run as `cargo xtask <task>` (the cargo-xtask pattern: plain Rust, no tools to
+//! install first).
+//!
+//! - `cargo xtask test`: the whole suite. Rust: `cargo test --workspace`. Python: a venv in
+//!   `target/xtask-venv` (made with `python3 -m venv` when missing) with the pinned test
+//!   requirements of `crates/screwkit-py/tests/requirements.txt`, the package installed exactly
+//!   as a user does (`pip install ./crates/screwkit-py`), then `ruff format --check`, `ruff
+//!   check`, `mypy --strict` (package stubs and tests), `mypy.stubtest` (the stubs against the
+//!   built module) and `pytest`.
+//! - `cargo xtask test --rust` or `--python`: one half.
+//!
+//! The Python interpreter is `$PYTHON`, else `python3`.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+const USAGE: &str = "usage: cargo xtask test [--rust | --python]";
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let result = match args.as_slice() {
+        ["test"] => test(true, true),
+        ["test", "--rust"] => test(true, false),
+        ["test", "--python"] => test(false, true),
+        _ => Err(USAGE.to_string()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The workspace root (the parent of this crate's directory).
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
+}
+
+/// Runs a command in the workspace root; an error names it and its exit status.
+fn run(cmd: &mut Command) -> Result<(), String> {
+    let shown = format!("{cmd:?}");
+    eprintln!("xtask: {shown}");
+    let status = cmd
+        .current_dir(root())
+        .status()
+        .map_err(|e| format!("cannot start {shown}: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{shown} failed ({status})"))
+    }
+}
+
+fn test(rust: bool, python: bool) -> Result<(), String> {
+    if rust {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+        run(Command::new(cargo).args(["test", "--workspace"]))?;
+    }
+    if python {
+        test_python()?;
+    }
+    Ok(())
+}
+
+fn test_python() -> Result<(), String> {
+    let root = root();
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root.join("target"));
+    let venv = target.join("xtask-venv");
+    let bin = venv.join(if cfg!(windows) { "Scripts" } else { "bin" });
+    let py = bin.join("python");
+    if !py.exists() {
+        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+        run(Command::new(python).arg("-m").arg("venv").arg(&venv))?;
+        run(Command::new(&py).args(["-m", "pip", "install", "--quiet", "--upgrade", "pip"]))?;
+    }
+    let pkg = "crates/screwkit-py";
+    run(Command::new(&py).args([
+        "-m",
+        "pip",
+        "install",
+        "--quiet",
+        "-r",
+        "crates/screwkit-py/tests/requirements.txt",
+    ]))?;
+    // Exactly the README's install command.
+    run(Command::new(&py).args(["-m", "pip", "install", "--quiet", "./crates/screwkit-py"]))?;
+    let sources = [
+        "crates/screwkit-py/python",
+        "crates/screwkit-py/tests",
+        "crates/screwkit-py/benchmarks",
+    ];
+    run(Command::new(&py)
+        .args(["-m", "ruff", "format", "--check"])
+        .args(sources))?;
+    run(Command::new(&py)
+        .args(["-m", "ruff", "check"])
+        .args(sources))?;
+    run(Command::new(&py)
+        .args([
+            "-m",
+            "mypy",
+            "--config-file",
+            "crates/screwkit-py/pyproject.toml",
+        ])
+        .args(sources))?;
+    run(Command::new(&py)
+        .args(["-m", "mypy.stubtest", "screwkit", "--mypy-config-file"])
+        .arg(format!("{pkg}/pyproject.toml")))?;
+    let mut pytest = Command::new(&py);
+    pytest.args(["-m", "pytest", "-q", "crates/screwkit-py/tests"]);
+    if std::env::var_os("SCREWKIT_SHARED_URDF").is_none() {
+        let shared = root.join("../shared/urdf");
+        if shared.is_dir() {
+            pytest.env("SCREWKIT_SHARED_URDF", shared);
+        }
+    }
+    run(&mut pytest)
+}
