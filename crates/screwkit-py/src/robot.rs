@@ -430,6 +430,9 @@ impl Robot {
                 let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
                 Ok(new_array(py, &[6, n], |o| write_matrix(j, o))?.into_any())
             }
+            // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
+            // empty rows).
+            Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0]).into_any()),
             Rows::Many(rows) => {
                 let out = zeros(py, &[rows, 6, n]);
                 let res = {

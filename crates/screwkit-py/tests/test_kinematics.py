@@ -154,3 +154,33 @@ def test_analyze_ur5(ur5: screwkit.Robot) -> None:
     assert s.lost_directions.shape == (1, 6)
     jb = ur5.jacobian(np.zeros(6), "body")
     np.testing.assert_allclose(s.lost_directions[0] @ jb, np.zeros(6), atol=1e-12)
+
+
+@pytest.mark.parametrize("spec", all_chains())
+def test_analyze_equals_numpy_svd(spec: ChainSpec) -> None:
+    robot = spec.robot()
+    for q in configurations(robot, 3, seed=5):
+        for frame in ("space", "body"):
+            a = robot.analyze(q, frame)
+            sv = np.linalg.svd(robot.jacobian(q, frame), compute_uv=False)
+            np.testing.assert_allclose(a.singular_values, sv, rtol=1e-10, atol=1e-14)
+            assert a.rank == int((sv > a.rank_tolerance).sum())
+            assert a.frame == frame
+            assert isinstance(a.verdict, str) and a.verdict
+
+
+def test_chain_without_joints() -> None:
+    xml = """<robot name="rigid"><link name="a"/><link name="b"/>
+      <joint name="j" type="fixed"><parent link="a"/><child link="b"/>
+      <origin xyz="1 0 0" rpy="0 0 1.5707963267948966"/></joint></robot>"""
+    robot = screwkit.Robot.from_string(xml)
+    assert robot.dof == 0 and robot.joint_names == [] and robot.link_names == ["a", "b"]
+    t = robot.fk([])
+    np.testing.assert_allclose(t[:3, 3], [1, 0, 0])
+    np.testing.assert_allclose(t[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-15)
+    assert robot.fk(np.zeros((3, 0))).shape == (3, 4, 4)
+    assert robot.jacobian(np.zeros((2, 0))).shape == (2, 6, 0)
+    r = robot.ik(t)
+    assert isinstance(r, screwkit.IkResult) and r.q.shape == (0,) and r.converged
+    far = robot.ik(np.eye(4), max_restarts=2)
+    assert isinstance(far, screwkit.IkResult) and not far.converged and far.error_pos == 1.0
