@@ -178,6 +178,20 @@ impl Se3 {
         Self::from_homogeneous_with_tolerance(&Matrix4::from_row_slice(values), tolerance)
     }
 
+    /// Writes T as a row-major 4 × 4 into `out[..16]` (the inverse of [`Se3::from_row_major`];
+    /// the layout of every flat pose buffer).
+    #[inline]
+    pub fn write_row_major(&self, out: &mut [f64]) {
+        let (r, p) = (&self.rotation, &self.translation);
+        for i in 0..3 {
+            out[4 * i] = r[(i, 0)];
+            out[4 * i + 1] = r[(i, 1)];
+            out[4 * i + 2] = r[(i, 2)];
+            out[4 * i + 3] = p[i];
+        }
+        out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
+    }
+
     /// The rotation R.
     #[inline]
     pub fn rotation(&self) -> &Matrix3<f64> {

@@ -231,6 +231,24 @@ fn rounded_rotation_is_projected() {
     assert!((r[(0, 0)] - (PI / 6.0).cos()).abs() < 1e-4);
 }
 
+/// `write_row_major` writes the homogeneous matrix row by row: the inverse of `from_row_major`.
+#[test]
+fn row_major_round_trip() {
+    let t = Se3::exp(&Twist::new(
+        Vector3::new(0.3, -0.2, 0.9),
+        Vector3::new(1.0, 2.0, -3.0),
+    ));
+    let mut out = [f64::NAN; 16];
+    t.write_row_major(&mut out);
+    let h = t.to_homogeneous();
+    for r in 0..4 {
+        for c in 0..4 {
+            assert_eq!(out[4 * r + c], h[(r, c)]);
+        }
+    }
+    assert_eq!(Se3::from_row_major(&out, 1e-12).unwrap(), t);
+}
+
 /// Non-finite input to the hot-path functions gives non-finite output, not a panic.
 #[test]
 fn nan_through_hot_path_does_not_panic() {

@@ -50,19 +50,6 @@ pub fn new_array<'py, T: Element>(
     Ok(a)
 }
 
-/// Writes a pose row-major into 16 values.
-pub fn write_pose(t: &screwkit_lie::Se3, out: &mut [f64]) {
-    let r = t.rotation();
-    let p = t.translation();
-    for i in 0..3 {
-        out[4 * i] = r[(i, 0)];
-        out[4 * i + 1] = r[(i, 1)];
-        out[4 * i + 2] = r[(i, 2)];
-        out[4 * i + 3] = p[i];
-    }
-    out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
-}
-
 /// A shape in Python's notation, e.g. `(3, 6)` or `(6,)`.
 pub fn shape_str(shape: &[usize]) -> String {
     match shape {

@@ -16,7 +16,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Se3, Twist};
 
-use array::{f64_array, new_array, shape_str, write_pose};
+use array::{f64_array, new_array, shape_str};
 
 /// A rigid transform from a (4, 4) array-like (rotation orthonormal to 1e-6, then projected).
 fn se3_arg(t: &Bound<'_, PyAny>, what: &str) -> PyResult<Se3> {
@@ -45,7 +45,7 @@ fn exp<'py>(py: Python<'py>, twist: &Bound<'py, PyAny>, theta: f64) -> PyResult<
         return Err(PyValueError::new_err(format!("theta: not finite: {theta}")));
     }
     let t = Se3::exp(&Twist::new(x.w * theta, x.v * theta));
-    Ok(new_array(py, &[4, 4], |o| write_pose(&t, o))?.into_any())
+    Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
 }
 
 /// The matrix logarithm: the exponential coordinates ξ = Sθ (shape (6,), (ω, v)) with

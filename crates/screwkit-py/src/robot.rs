@@ -12,9 +12,9 @@ use pyo3::types::PyType;
 use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Frame, Se3};
 use screwkit_model::{table, Chain};
 use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
-use screwkit_solve::{analysis, batch, fk, ik, jacobian, Kinematics, Workspace};
+use screwkit_solve::{analysis, batch, fk, ik, jacobian, Kinematics, SolveError, Workspace};
 
-use crate::array::{f64_array, new_array, poses, shape_str, write_pose, zeros};
+use crate::array::{f64_array, new_array, poses, shape_str, zeros};
 use crate::errors::{batch_error, io_error, model_error, solve_error};
 use crate::pool;
 use crate::results::{Analysis, IkBatchResult, IkResult};
@@ -173,6 +173,23 @@ struct IkArgs<'a> {
     weights: Option<Vec<f64>>,
 }
 
+/// Runs a batch function into a new zeroed float64 array of `shape` on the batch pool with the
+/// GIL released; bad rows raise `BatchError` carrying the array (every other row computed).
+fn run_batch<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    f: impl FnOnce(&mut [f64]) -> Result<(), SolveError> + Send,
+) -> PyResult<Bound<'py, PyAny>> {
+    let out = zeros(py, shape);
+    let res = {
+        let mut w = out.readwrite();
+        let o = w.as_slice_mut()?;
+        py.detach(|| pool::run(|| f(o)))
+    };
+    res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
+    Ok(out.into_any())
+}
+
 /// The IK status fields of a batch as arrays.
 fn batch_result(
     py: Python<'_>,
@@ -313,7 +330,7 @@ impl Robot {
     /// M: the tip pose at q = 0, shape (4, 4).
     #[getter]
     fn home<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        Ok(new_array(py, &[4, 4], |o| write_pose(&self.chain.home, o))?.into_any())
+        Ok(new_array(py, &[4, 4], |o| self.chain.home.write_row_major(o))?.into_any())
     }
 
     /// The screw axes at home, one row (ω, v) per moving joint (`axis_names`): S_i in the
@@ -358,18 +375,9 @@ impl Robot {
         match rows {
             Rows::One => {
                 let t = fk::fk(&self.kin, &mut self.workspace(), qs).map_err(solve_error)?;
-                Ok(new_array(py, &[4, 4], |o| write_pose(&t, o))?.into_any())
+                Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
-            Rows::Many(n) => {
-                let out = zeros(py, &[n, 4, 4]);
-                let res = {
-                    let mut w = out.readwrite();
-                    let o = w.as_slice_mut()?;
-                    py.detach(|| pool::run(|| batch::fk_batch(&self.kin, qs, o)))
-                };
-                res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
-                Ok(out.into_any())
-            }
+            Rows::Many(n) => run_batch(py, &[n, 4, 4], |o| batch::fk_batch(&self.kin, qs, o)),
         }
     }
 
@@ -391,21 +399,14 @@ impl Robot {
                 let poses = fk::fk_all_links(&self.kin, &mut ws, qs).map_err(solve_error)?;
                 Ok(new_array(py, &[links, 4, 4], |o| {
                     for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
-                        write_pose(t, out);
+                        t.write_row_major(out);
                     }
                 })?
                 .into_any())
             }
-            Rows::Many(n) => {
-                let out = zeros(py, &[n, links, 4, 4]);
-                let res = {
-                    let mut w = out.readwrite();
-                    let o = w.as_slice_mut()?;
-                    py.detach(|| pool::run(|| batch::fk_all_links_batch(&self.kin, qs, o)))
-                };
-                res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
-                Ok(out.into_any())
-            }
+            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], |o| {
+                batch::fk_all_links_batch(&self.kin, qs, o)
+            }),
         }
     }
 
@@ -428,21 +429,14 @@ impl Robot {
             Rows::One => {
                 let mut ws = self.workspace();
                 let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
-                Ok(new_array(py, &[6, n], |o| write_matrix(j, o))?.into_any())
+                Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
             }
             // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
             // empty rows).
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0]).into_any()),
-            Rows::Many(rows) => {
-                let out = zeros(py, &[rows, 6, n]);
-                let res = {
-                    let mut w = out.readwrite();
-                    let o = w.as_slice_mut()?;
-                    py.detach(|| pool::run(|| batch::jacobian_batch(&self.kin, qs, frame, o, None)))
-                };
-                res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
-                Ok(out.into_any())
-            }
+            Rows::Many(rows) => run_batch(py, &[rows, 6, n], |o| {
+                batch::jacobian_batch(&self.kin, qs, frame, o, None)
+            }),
         }
     }
 
@@ -466,7 +460,8 @@ impl Robot {
         let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
         let a = analysis::analyze_jacobian(j).map_err(solve_error)?;
         let n = self.kin.dof();
-        let jac = new_array(py, &[6, n], |o| write_matrix(j, o))?.cast_into::<PyArray2<f64>>()?;
+        let jac = new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?
+            .cast_into::<PyArray2<f64>>()?;
         let rows3 = |axes: &[nalgebra::Vector3<f64>; 3]| {
             PyArray2::from_vec2(
                 py,
@@ -610,16 +605,6 @@ impl Robot {
                 res.map_err(|e| batch_error(py, e, result.clone()))?;
                 Ok(result)
             }
-        }
-    }
-}
-
-/// Writes a 6 × n matrix row-major.
-fn write_matrix(j: &nalgebra::Matrix6xX<f64>, out: &mut [f64]) {
-    let n = j.ncols();
-    for r in 0..6 {
-        for c in 0..n {
-            out[r * n + c] = j[(r, c)];
         }
     }
 }

@@ -10,7 +10,7 @@ import pytest
 import screwkit
 
 from conftest import ChainSpec, all_chains, configurations
-from urdf_oracle import UrdfChain
+from urdf_oracle import UrdfChain, adjoint
 
 Array = npt.NDArray[np.float64]
 
@@ -22,16 +22,6 @@ def oracle(spec: ChainSpec, robot: screwkit.Robot) -> UrdfChain:
 def vee(m: Array) -> Array:
     """se(3) matrix -> twist (omega, v)."""
     return np.array([m[2, 1], m[0, 2], m[1, 0], m[0, 3], m[1, 3], m[2, 3]])
-
-
-def adjoint_of(t: Array) -> Array:
-    r, p = t[:3, :3], t[:3, 3]
-    px = np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-    ad = np.zeros((6, 6))
-    ad[:3, :3] = r
-    ad[3:, 3:] = r
-    ad[3:, :3] = px @ r
-    return ad
 
 
 @pytest.mark.parametrize("spec", all_chains())
@@ -86,7 +76,7 @@ def test_screw_axes_at_home_are_jacobian_columns_at_zero(spec: ChainSpec) -> Non
     assert s.shape == b.shape == (len(robot.axis_names), 6)
     # S_i = Ad_M B_i, with M from the oracle.
     m = oracle(spec, robot).home()
-    np.testing.assert_allclose(s, (adjoint_of(m) @ b.T).T, atol=1e-12)
+    np.testing.assert_allclose(s, (adjoint(m) @ b.T).T, atol=1e-12)
     if robot.axis_names == robot.joint_names:
         z = np.zeros(robot.dof)
         np.testing.assert_allclose(s.T, robot.jacobian(z, "space"), atol=1e-12)

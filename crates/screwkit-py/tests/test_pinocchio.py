@@ -18,7 +18,7 @@ import pytest
 import screwkit
 
 from conftest import ChainSpec, all_chains, configurations
-from urdf_oracle import UrdfChain
+from urdf_oracle import UrdfChain, adjoint
 
 pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin) is a test dependency")
 
@@ -94,16 +94,6 @@ class PinChain:
         return np.asarray(t, dtype=np.float64), jb
 
 
-def adjoint_of(t: Array) -> Array:
-    r, p = t[:3, :3], t[:3, 3]
-    px = np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-    ad = np.zeros((6, 6))
-    ad[:3, :3] = r
-    ad[3:, 3:] = r
-    ad[3:, :3] = px @ r
-    return ad
-
-
 @pytest.mark.parametrize("spec", all_chains())
 def test_fk_and_jacobians_equal_pinocchio(spec: ChainSpec) -> None:
     robot = spec.robot()
@@ -116,4 +106,4 @@ def test_fk_and_jacobians_equal_pinocchio(spec: ChainSpec) -> None:
         t_pin, jb_pin = peer.pose_and_body_jacobian(q)
         np.testing.assert_allclose(t, t_pin, rtol=0, atol=1e-12)
         np.testing.assert_allclose(jb, jb_pin, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(js, adjoint_of(t_pin) @ jb_pin, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(js, adjoint(t_pin) @ jb_pin, rtol=0, atol=1e-12)

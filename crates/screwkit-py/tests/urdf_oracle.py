@@ -63,6 +63,17 @@ def axis_angle(axis: Array, theta: float) -> Array:
     )
 
 
+def adjoint(t: Array) -> Array:
+    """[Ad_T] = [[R, 0], [[p]R, R]] for twists ordered (omega, v)."""
+    r, p = t[:3, :3], t[:3, 3]
+    px = np.array([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
+    ad = np.zeros((6, 6))
+    ad[:3, :3] = r
+    ad[3:, 3:] = r
+    ad[3:, :3] = px @ r
+    return ad
+
+
 def homogeneous(r: Array, p: Array) -> Array:
     t = np.eye(4)
     t[:3, :3] = r

@@ -93,19 +93,6 @@ fn finish(errors: Vec<RowError>) -> Result<(), SolveError> {
     }
 }
 
-/// Writes T as a row-major 4 × 4 into 16 values.
-#[inline]
-fn write_pose(t: &Se3, out: &mut [f64]) {
-    let (r, p) = (t.rotation(), t.translation());
-    for i in 0..3 {
-        out[4 * i] = r[(i, 0)];
-        out[4 * i + 1] = r[(i, 1)];
-        out[4 * i + 2] = r[(i, 2)];
-        out[4 * i + 3] = p[i];
-    }
-    out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
-}
-
 /// Runs `f(ws, q_row, out_row, extra_row)` over the rows of `qs` in parallel chunks, the
 /// checked rows only; a row that fails the check gets NaN output and an entry in the returned
 /// list (in row order). `extra` is an optional second output of `width` values per row.
@@ -186,7 +173,7 @@ pub fn fk_batch(kin: &Kinematics, qs: &[f64], poses: &mut [f64]) -> Result<(), S
         qs,
         (poses, 16),
         None,
-        |_, q, out, _| write_pose(&fk_unchecked(kin, q), out),
+        |_, q, out, _| fk_unchecked(kin, q).write_row_major(out),
     ))
 }
 
@@ -214,7 +201,7 @@ pub fn fk_all_links_batch(
         |ws, q, out, _| {
             link_poses_unchecked(kin, &mut ws.link_columns, &mut ws.links, q);
             for (t, o) in ws.links.iter().zip(out.chunks_mut(16)) {
-                write_pose(t, o);
+                t.write_row_major(o);
             }
         },
     ))
@@ -254,15 +241,15 @@ pub fn jacobian_batch(
             let t = fk_jacobian_into(kin, &mut ws.jacobian, q, frame);
             write_jacobian(&ws.jacobian, j_out);
             if let Some(p) = pose_out {
-                write_pose(&t, p);
+                t.write_row_major(p);
             }
         },
     ))
 }
 
-/// Writes a 6 × n Jacobian row-major.
+/// Writes a 6 × n Jacobian row-major into 6n values: the layout of [`jacobian_batch`]'s rows.
 #[inline]
-fn write_jacobian(j: &Matrix6xX<f64>, out: &mut [f64]) {
+pub fn write_jacobian(j: &Matrix6xX<f64>, out: &mut [f64]) {
     let n = j.ncols();
     for r in 0..6 {
         for c in 0..n {
