@@ -49,6 +49,10 @@ pub enum Command {
     Log(LogArgs),
     /// The IK benchmark protocol (solve rate, mean/median/p99) plus FK and Jacobian ns/call.
     Bench(BenchArgs),
+    /// An SVG picture of the chain at q: skeleton, joints, screw axes S_i(q), base/tip frames.
+    Draw(DrawArgs),
+    /// A self-contained interactive HTML page: the chain in 3D with a slider per joint.
+    View(ViewArgs),
 }
 
 /// A URDF file and the chain in it.
@@ -256,4 +260,36 @@ pub struct BenchArgs {
     /// IK method.
     #[arg(long, value_enum, default_value_t = Method::Lm)]
     pub method: Method,
+}
+
+/// `draw`.
+#[derive(Debug, Args)]
+pub struct DrawArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Joint values q1,q2,... (default: all zeros, the home configuration).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub q: Option<List>,
+    /// The view: iso, front (from +x), side (from -y), top (from +z), or all four on one sheet.
+    #[arg(long, default_value = "iso")]
+    pub view: String,
+    /// The SVG file to write (- for standard output).
+    #[arg(short, long)]
+    pub output: String,
+}
+
+/// `view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Joint values q1,q2,... shown first (default: all zeros); a `#q=...` in the page's URL
+    /// overrides them.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub q: Option<List>,
+    /// The HTML file to write (- for standard output).
+    #[arg(short, long)]
+    pub output: String,
 }

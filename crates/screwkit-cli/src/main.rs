@@ -8,6 +8,7 @@ mod args;
 mod batch;
 mod bench;
 mod calc;
+mod draw;
 mod fk;
 mod ik;
 mod info;
@@ -32,6 +33,11 @@ pub(crate) fn load(c: &ChainArgs) -> CliResult<(Chain, Kinematics)> {
 }
 
 fn run(cli: &Cli) -> CliResult {
+    if cli.format != Format::Text && matches!(cli.command, Command::Draw(_) | Command::View(_)) {
+        return Err(Failure(
+            "--format does not apply to `draw` and `view` (they write SVG or HTML)".into(),
+        ));
+    }
     if cli.format == Format::Csv && !matches!(cli.command, Command::Table(_)) {
         return Err(Failure("--format csv is only available for `table`".into()));
     }
@@ -44,6 +50,8 @@ fn run(cli: &Cli) -> CliResult {
         Command::Exp(a) => calc::exp(a, cli.format),
         Command::Log(a) => calc::log(a, cli.format),
         Command::Bench(a) => bench::run(a, cli.format),
+        Command::Draw(a) => draw::draw(a),
+        Command::View(a) => draw::view(a),
     }
 }
 

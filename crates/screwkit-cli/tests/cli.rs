@@ -657,3 +657,49 @@ fn cli_batch_equals_library_batch_and_single_calls() {
     }
     assert!(restarted > 0, "some rows restart, so the row seeds matter");
 }
+
+/// `draw` and `view` write to stdout with `-o -` (the same bytes as to a file), and fail in one
+/// line naming what is wrong.
+#[test]
+fn draw_and_view_outputs_and_errors() {
+    let ur5 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/ur5.urdf");
+    let svg = ok(&["draw", ur5, "--q", "0.1,0.2,0.3,0.4,0.5,0.6", "-o", "-"]);
+    assert!(svg.starts_with("<?xml") && svg.contains("<svg") && svg.trim_end().ends_with("</svg>"));
+    let file = std::env::temp_dir().join(format!("screwkit-cli-draw-{}.svg", std::process::id()));
+    ok(&[
+        "draw",
+        ur5,
+        "--q",
+        "0.1,0.2,0.3,0.4,0.5,0.6",
+        "-o",
+        file.to_str().unwrap(),
+    ]);
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), svg);
+    let _ = std::fs::remove_file(&file);
+    let page = ok(&["view", ur5, "-o", "-"]);
+    assert!(page.starts_with("<!DOCTYPE html>"));
+    for (args, message) in [
+        (
+            vec!["draw", ur5, "--view", "back", "-o", "-"],
+            "unknown view \"back\"",
+        ),
+        (
+            vec!["draw", ur5, "--q", "1,2", "-o", "-"],
+            "expected 6 joint values",
+        ),
+        (
+            vec!["view", ur5, "-o", "/nonexistent/x.html"],
+            "/nonexistent/x.html: cannot write",
+        ),
+        (
+            vec!["draw", ur5, "--format", "json", "-o", "-"],
+            "--format does not apply",
+        ),
+        (vec!["draw", "missing.urdf", "-o", "-"], "missing.urdf"),
+    ] {
+        let o = run(&args, None);
+        assert_eq!(o.code, 1, "{args:?}");
+        assert_eq!(o.stderr.lines().count(), 1, "{args:?}: {}", o.stderr);
+        assert!(o.stderr.contains(message), "{args:?}: {}", o.stderr);
+    }
+}

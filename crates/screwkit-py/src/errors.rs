@@ -26,9 +26,9 @@ create_exception!(
      and `messages` what was wrong with each."
 );
 
-/// A file that could not be read, as the matching `OSError` subclass.
+/// A file that could not be read or written, as the matching `OSError` subclass.
 pub fn io_error(path: &str, e: &std::io::Error) -> PyErr {
-    let msg = format!("{path}: cannot read the file: {e}");
+    let msg = format!("{path}: {e}");
     match e.kind() {
         std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(msg),
         std::io::ErrorKind::PermissionDenied => PyPermissionError::new_err(msg),

@@ -9,6 +9,7 @@ use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethod
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
+use screwkit_draw::{html, svg, Scene, View};
 use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Frame, Se3};
 use screwkit_model::{table, Chain};
 use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
@@ -80,6 +81,27 @@ impl Robot {
                 shape_str(shape)
             ))),
         }
+    }
+
+    /// Runs `f` on one configuration q of shape (dof,), or on `None`.
+    fn with_one_q<T>(
+        &self,
+        q: Option<&Bound<'_, PyAny>>,
+        f: impl FnOnce(Option<&[f64]>) -> Result<T, SolveError>,
+    ) -> PyResult<T> {
+        let Some(q) = q else {
+            return f(None).map_err(solve_error);
+        };
+        let q = f64_array(q, "q")?;
+        if let Rows::Many(_) = self.rows_of(&q, "q")? {
+            return Err(PyValueError::new_err(format!(
+                "q: expected one configuration of shape ({},), got {}",
+                self.kin.dof(),
+                shape_str(q.shape())
+            )));
+        }
+        let q = q.readonly();
+        f(Some(q.as_slice()?)).map_err(solve_error)
     }
 
     fn ik_options(&self, o: IkArgs) -> PyResult<IkOptions> {
@@ -190,6 +212,17 @@ fn run_batch<'py>(
     Ok(out.into_any())
 }
 
+/// Writes `text` to `path` when one is given.
+fn write_text(path: Option<PathBuf>, text: &str) -> PyResult<()> {
+    match path {
+        Some(p) => std::fs::write(&p, text).map_err(|e| {
+            let label = p.display().to_string();
+            crate::errors::io_error(&label, &e)
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The IK status fields of a batch as arrays.
 fn batch_result(
     py: Python<'_>,
@@ -221,7 +254,8 @@ impl Robot {
         tip: Option<&str>,
     ) -> PyResult<Self> {
         let label = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| io_error(&label, &e))?;
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| io_error(&format!("{label}: cannot read the file"), &e))?;
         Self::build(text, &label, base, tip)
     }
 
@@ -498,6 +532,41 @@ impl Robot {
             linear_axes: rows3(&a.linear.axes)?.unbind(),
             linear_lengths: a.linear.lengths.to_pyarray(py).unbind(),
         })
+    }
+
+    /// An SVG picture of the chain at q (default: home): the skeleton through the link
+    /// origins, joints by kind, every joint's screw axis S_i(q), base and tip frames, a scale
+    /// bar and a legend. `view`: "iso", "front", "side", "top" or "all" (the four on one sheet).
+    /// Returns the SVG text and writes it to `path` when given. Deterministic.
+    #[pyo3(signature = (q = None, path = None, *, view = "iso"))]
+    fn draw(
+        &self,
+        q: Option<&Bound<'_, PyAny>>,
+        path: Option<PathBuf>,
+        view: &str,
+    ) -> PyResult<String> {
+        let views = if view == "all" {
+            View::ALL.to_vec()
+        } else {
+            vec![view
+                .parse::<View>()
+                .map_err(|e| PyValueError::new_err(format!("view: {e}")))?]
+        };
+        let text = self.with_one_q(q, |q| {
+            Scene::new(&self.chain, &self.kin, q).map(|scene| svg::render(&scene, &views))
+        })?;
+        write_text(path, &text)?;
+        Ok(text)
+    }
+
+    /// A self-contained interactive HTML page of the chain at q (default: home): 3D view with
+    /// orbit and zoom, a slider per joint, the live tip pose and screw axes; `#q=a,b,…` in its
+    /// URL sets the joints. Returns the HTML and writes it to `path` when given.
+    #[pyo3(signature = (q = None, path = None))]
+    fn viewer(&self, q: Option<&Bound<'_, PyAny>>, path: Option<PathBuf>) -> PyResult<String> {
+        let text = self.with_one_q(q, |q| html::page(&self.chain, &self.kin, q))?;
+        write_text(path, &text)?;
+        Ok(text)
     }
 
     /// Inverse kinematics: joint values q, within the limits, with T(q) = target.

@@ -39,6 +39,32 @@ pub fn jacobian<'w>(
     Ok(fk_jacobian(kin, ws, q, frame)?.jacobian)
 }
 
+/// Every chain joint's screw axis at q in the space frame, one per joint of the chain in chain
+/// order (mimic joints included: `kin.links()` and the model's `Chain::joints` order):
+/// S_j(q) = \[Ad_{e^\[S₁\]θ₁ ⋯ e^\[S_{j−1}\]θ_{j−1}}\] S_j, the axis the joint turns about (or
+/// slides along) at this configuration. Without mimic joints these are the columns of J_s(q);
+/// with them, column k of J_s is Σ m_j S_j(q) over the joints driven by q_k. For pictures and
+/// analysis, not a hot path (it uses the general `Se3::exp`). Checks q.
+pub fn joint_screws(
+    kin: &Kinematics,
+    _ws: &mut Workspace,
+    q: &[f64],
+) -> Result<Vec<screwkit_lie::Twist>, SolveError> {
+    kin.check_q(q)?;
+    let mut t = Se3::identity();
+    let mut out = Vec::with_capacity(kin.space.len());
+    for joint in &kin.space {
+        let s = joint.twist();
+        out.push(t.adjoint_apply(&s));
+        let theta = joint.drive.theta(q);
+        t = t.compose(&Se3::exp(&screwkit_lie::Twist::new(
+            s.w * theta,
+            s.v * theta,
+        )));
+    }
+    Ok(out)
+}
+
 /// The tip pose and the Jacobian in `frame`, from the same pass (the cost of the Jacobian
 /// alone). Checks q.
 pub fn fk_jacobian<'w>(

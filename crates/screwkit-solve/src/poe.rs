@@ -61,6 +61,11 @@ pub(crate) struct PoeJoint {
 }
 
 impl PoeJoint {
+    /// The joint's screw axis (ω, v) as given to [`PoeJoint::new`].
+    pub(crate) fn twist(&self) -> Twist {
+        Twist::new(self.w.into(), self.v.into())
+    }
+
     pub(crate) fn new(s: Twist, prismatic: bool, drive: Drive) -> Self {
         let wv = s.w.cross(&s.v);
         let wwv = s.w.cross(&wv);

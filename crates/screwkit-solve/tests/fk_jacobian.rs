@@ -183,3 +183,45 @@ fn workspaces_and_limits_check_their_sizes() {
     assert!(!ur5.within_limits(&[0.0; 7], 0.0));
     assert!(!ur5.within_limits(&[0.0, 0.0, f64::NAN, 0.0, 0.0, 0.0], 0.0));
 }
+
+/// Each joint's screw at q recombines into the space Jacobian by the mimic rule (column k =
+/// Σ m_j S_j(q) over the joints q_k drives); at q = 0 the joints before any offset mimic joint
+/// have their home screws.
+#[test]
+fn joint_screws_recombine_into_the_space_jacobian() {
+    use screwkit_solve::jacobian::joint_screws;
+    let mut rng = Sampler::new(9);
+    for &(file, base, tip) in CHAINS {
+        let (_, chain, kin) = load(file, base, tip);
+        let mut ws = Workspace::new(&kin);
+        for _ in 0..5 {
+            let q = rng.config(&kin);
+            let screws = joint_screws(&kin, &mut ws, &q).unwrap();
+            assert_eq!(screws.len(), chain.joints.len());
+            let js = jacobian(&kin, &mut ws, &q, Frame::Space).unwrap().clone();
+            for k in 0..kin.dof() {
+                let mut col = Vector6::zeros();
+                for (j, s) in chain.joints.iter().zip(&screws) {
+                    if j.drive.variable == k {
+                        col += s.to_vector() * j.drive.multiplier;
+                    }
+                }
+                let diff = (col - js.column(k)).amax();
+                assert!(diff < 1e-12, "{file}: variable {k}: {diff:e}");
+            }
+        }
+    }
+    // The space screws at q = 0 are the home screws S_j.
+    let (_, chain, kin) = load("gripper_arm.urdf", None, Some("right_finger"));
+    let offsets: Vec<f64> = vec![0.0; kin.dof()];
+    let screws = joint_screws(&kin, &mut Workspace::new(&kin), &offsets).unwrap();
+    // The coupled joint has a mimic offset: joints after it see it turned, so compare only up
+    // to and including it.
+    for (j, s) in chain.joints.iter().zip(&screws).take(3) {
+        assert!(
+            (s.to_vector() - j.s_space.twist().to_vector()).amax() < 1e-15,
+            "{}",
+            j.name
+        );
+    }
+}

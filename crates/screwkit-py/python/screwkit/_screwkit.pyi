@@ -172,6 +172,18 @@ class Robot:
     def fk_all_links(self, q: _ArrayLike) -> _F64: ...
     def jacobian(self, q: _ArrayLike, frame: _Frame = "space") -> _F64: ...
     def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
+    def draw(
+        self,
+        q: _ArrayLike | None = None,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        view: Literal["iso", "front", "side", "top", "all"] = "iso",
+    ) -> str: ...
+    def viewer(
+        self,
+        q: _ArrayLike | None = None,
+        path: str | os.PathLike[str] | None = None,
+    ) -> str: ...
     def ik(
         self,
         target: _ArrayLike,

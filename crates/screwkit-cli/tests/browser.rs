@@ -1,0 +1,208 @@
+//! The interactive page in a real headless browser (Chromium from the distribution's packages;
+//! `.ci/run` installs it and runs these with `--ignored`; `SCREWKIT_CHROMIUM` names another
+//! binary): the page's own FK, computed in JavaScript from the embedded chain with q from the
+//! URL, equals `screwkit fk` to 1e-12 on every bundled chain and every chain of ../shared/urdf;
+//! screenshots of the page and of a drawing are not blank.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use screwkit_model::load_chain;
+use screwkit_solve::Kinematics;
+use screwkit_testkit::{bundled, Sampler};
+
+const BIN: &str = env!("CARGO_BIN_EXE_screwkit");
+
+fn chromium(dir: &Path, args: &[&str]) -> Output {
+    let exe = std::env::var("SCREWKIT_CHROMIUM").unwrap_or_else(|_| "chromium".into());
+    let profile = dir.join("profile");
+    Command::new(&exe)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--hide-scrollbars",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .args(args)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {exe} (install Debian's chromium): {e}"))
+}
+
+fn screwkit(args: &[&str]) -> Output {
+    let out = Command::new(BIN).args(args).output().unwrap();
+    assert!(
+        out.status.success(),
+        "screwkit {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("screwkit-browser-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every chain the page is tested on: the bundled ones and ../shared/urdf's.
+fn chains() -> Vec<(String, Option<&'static str>, Option<&'static str>)> {
+    let mut v: Vec<(String, Option<&str>, Option<&str>)> = [
+        ("planar_3r.urdf", None, None),
+        ("ur5.urdf", None, None),
+        ("panda.urdf", None, None),
+        ("iiwa14.urdf", None, None),
+        ("scara.urdf", None, None),
+        ("tricky.urdf", Some("base_link"), None),
+        ("torso_two_arms.urdf", None, Some("left_hand")),
+        ("gripper_arm.urdf", None, Some("right_finger")),
+    ]
+    .into_iter()
+    .map(|(f, b, t)| (bundled(f), b, t))
+    .collect();
+    let shared = std::env::var("SCREWKIT_SHARED_URDF")
+        .expect("SCREWKIT_SHARED_URDF must name ../shared/urdf for the browser tests");
+    for (f, b, t) in [
+        ("ur5_robot.urdf", "base_link", "tool0"),
+        ("panda.urdf", "panda_link0", "panda_hand_tcp"),
+        ("panda.urdf", "panda_link0", "panda_leftfinger"),
+        ("xarm7.urdf", "link_base", "link_eef"),
+        ("z1.urdf", "link00", "gripperMover"),
+        ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
+    ] {
+        v.push((format!("{shared}/{f}"), Some(b), Some(t)));
+    }
+    v
+}
+
+fn chain_args(file: &str, base: Option<&str>, tip: Option<&str>) -> Vec<String> {
+    let mut a = vec![file.to_string()];
+    if let Some(b) = base {
+        a.extend(["--base".into(), b.into()]);
+    }
+    if let Some(t) = tip {
+        a.extend(["--tip".into(), t.into()]);
+    }
+    a
+}
+
+/// The numbers in `<pre id="ID">[…]</pre>` of a dumped DOM.
+fn pre_numbers(dom: &str, id: &str) -> Vec<f64> {
+    let open = format!("<pre id=\"{id}\">");
+    let start = dom
+        .find(&open)
+        .unwrap_or_else(|| panic!("no {open} in the page"))
+        + open.len();
+    let end = start + dom[start..].find("</pre>").unwrap();
+    serde_json::from_str(&dom[start..end]).unwrap_or_else(|e| panic!("{id}: {e}"))
+}
+
+#[test]
+#[ignore = "needs Chromium: run by .ci/run with --ignored"]
+fn the_page_computes_the_same_fk_as_the_library() {
+    let dir = scratch("fk");
+    let mut rng = Sampler::new(17);
+    for (file, base, tip) in chains() {
+        let args = chain_args(&file, base, tip);
+        let page = dir.join("page.html");
+        let mut view: Vec<&str> = vec!["view"];
+        view.extend(args.iter().map(String::as_str));
+        view.extend(["-o", page.to_str().unwrap()]);
+        screwkit(&view);
+        let kin = Kinematics::new(&load_chain(&file, base, tip).unwrap());
+        for _ in 0..2 {
+            let q = rng.config(&kin);
+            let list: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
+            let url = format!("file://{}#q={}", page.display(), list.join(","));
+            let out = chromium(&dir, &["--dump-dom", &url]);
+            let dom = String::from_utf8_lossy(&out.stdout);
+            assert_eq!(pre_numbers(&dom, "q-exact"), q, "{file}: the page read q");
+            let page_fk = pre_numbers(&dom, "fk-exact");
+            let q_arg = list.join(",");
+            let mut fk: Vec<&str> = vec!["fk"];
+            fk.extend(args.iter().map(String::as_str));
+            fk.extend(["--q", &q_arg, "--format", "json"]);
+            let json: serde_json::Value = serde_json::from_slice(&screwkit(&fk).stdout).unwrap();
+            let lib: Vec<f64> = json["pose"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+                .collect();
+            assert_eq!(page_fk.len(), 16);
+            let diff = page_fk
+                .iter()
+                .zip(&lib)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                diff < 1e-12,
+                "{file} {tip:?}: page vs library FK differ by {diff:e}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Pixels darker than the background and panels (the links and joints, whose grey is #3a3a3a,
+/// and dark text) in the box x < `max_x`, y ≥ `min_y`.
+fn dark_pixels(png_file: &Path, max_x: usize, min_y: usize) -> usize {
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(png_file).unwrap(),
+    ));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let channels = info.color_type.samples();
+    let width = info.width as usize;
+    buf[..info.buffer_size()]
+        .chunks(channels)
+        .enumerate()
+        .filter(|(i, _)| i % width < max_x && i / width >= min_y)
+        .filter(|(_, p)| p[0] < 100 && p[1] < 100 && p[2] < 100)
+        .count()
+}
+
+#[test]
+#[ignore = "needs Chromium: run by .ci/run with --ignored"]
+fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
+    let dir = scratch("shots");
+    let ur5 = bundled("ur5.urdf");
+    let page = dir.join("ur5.html");
+    let svg = dir.join("ur5.svg");
+    let q = "0.3,-1.0,1.4,-0.8,-1.2,0.4";
+    screwkit(&["view", &ur5, "--q", q, "-o", page.to_str().unwrap()]);
+    screwkit(&[
+        "draw",
+        &ur5,
+        "--q",
+        q,
+        "--view",
+        "all",
+        "-o",
+        svg.to_str().unwrap(),
+    ]);
+    // The page: its canvas, left of the 430 px side panel (whose text is dark too). The
+    // drawing: below its caption line.
+    for (file, size, max_x, min_y) in [(&page, "1200,800", 760, 0), (&svg, "1160,1000", 1160, 40)] {
+        let shot = dir.join("shot.png");
+        let _ = std::fs::remove_file(&shot);
+        chromium(
+            &dir,
+            &[
+                &format!("--screenshot={}", shot.display()),
+                &format!("--window-size={size}"),
+                &format!("file://{}", file.display()),
+            ],
+        );
+        let dark = dark_pixels(&shot, max_x, min_y);
+        // The UR5's links alone are several thousand dark pixels; an empty page has none.
+        assert!(dark > 2000, "{}: only {dark} dark pixels", file.display());
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -1,0 +1,33 @@
+//! # screwkit-draw
+//!
+//! Pictures of a chain and its screw axes, computed from the solver's all-link FK and
+//! per-joint space screws (no kinematics here):
+//!
+//! - [`svg::render`]: an SVG 1.1 drawing — the skeleton through the link origins, joints marked
+//!   by kind, every joint's screw axis S_i(q) as a line (a prismatic joint as an arrow along v),
+//!   the base and tip frames as RGB triads, a scale bar, a legend; orthographic front, side and
+//!   top views and an isometric one, or all four on one sheet. Deterministic (same input, same
+//!   bytes); every joint, axis, link and frame is a `<g>` with an `id`, a `class` and a
+//!   `<title>` naming it with its screw.
+//! - [`html::page`]: one self-contained HTML file (no network) with the chain embedded as JSON
+//!   (S, M, limits, mimic rule) and a small canvas renderer: orbit and zoom, a slider per joint,
+//!   the live tip pose and space screw axes. Its FK is the product of exponentials written in
+//!   JavaScript, tested equal to the library's in a headless browser.
+//!
+//! ```
+//! use screwkit_draw::{svg, Scene, View};
+//! let chain = screwkit_model::load_chain(
+//!     concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/planar_3r.urdf"), None, None)?;
+//! let kin = screwkit_solve::Kinematics::new(&chain);
+//! let scene = Scene::new(&chain, &kin, Some(&[0.3, -0.5, 0.8]))?;
+//! let picture = svg::render(&scene, &[View::Top]);
+//! assert!(picture.contains("<g id=\"top-axis-1\" class=\"axis revolute\""));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+pub mod html;
+pub mod scene;
+pub mod svg;
+
+pub use scene::Scene;
+pub use svg::View;

@@ -1,0 +1,583 @@
+//! The scene as SVG 1.1: orthographic views (front, side, top) and an isometric one, fitted to
+//! the page, each element with a `<title>` (shown on hover) and an `id`/`class` scripts can find.
+//!
+//! Written by hand rather than with the `svg` crate: the document is a few element kinds with
+//! fixed attribute order and number formatting (two decimals in px), which is what makes the
+//! output byte-for-byte deterministic and easy to diff; a builder crate would add a dependency
+//! for the same `format!` calls.
+
+use std::fmt::Write;
+
+use nalgebra::{Vector2, Vector3};
+use screwkit_model::JointKind;
+
+use crate::scene::Scene;
+
+/// A direction to look from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum View {
+    /// From +x (y to the right, z up).
+    Front,
+    /// From −y (x to the right, z up).
+    Side,
+    /// From +z (x to the right, y up).
+    Top,
+    /// From (1, 1, 1) (z up): the isometric view.
+    Iso,
+}
+
+impl View {
+    /// The four views, in the order `all` places them (left to right, top to bottom).
+    pub const ALL: [View; 4] = [View::Iso, View::Front, View::Side, View::Top];
+
+    /// The view's name (also the `id` of its group in the SVG).
+    pub fn name(self) -> &'static str {
+        match self {
+            View::Front => "front",
+            View::Side => "side",
+            View::Top => "top",
+            View::Iso => "iso",
+        }
+    }
+
+    /// What the view shows, for its caption.
+    fn caption(self) -> &'static str {
+        match self {
+            View::Front => "front: from +x, y right, z up",
+            View::Side => "side: from −y, x right, z up",
+            View::Top => "top: from +z, x right, y up",
+            View::Iso => "isometric: from (1, 1, 1), z up",
+        }
+    }
+
+    /// The screen axes (right, up) in the base frame. Towards the viewer is w; right is ẑ × w
+    /// normalised (x for the top view) and up is w × right.
+    fn axes(self) -> (Vector3<f64>, Vector3<f64>) {
+        let w = match self {
+            View::Front => Vector3::x(),
+            View::Side => -Vector3::y(),
+            View::Top => return (Vector3::x(), Vector3::y()),
+            View::Iso => Vector3::repeat(1.0).normalize(),
+        };
+        let right = Vector3::z().cross(&w).normalize();
+        (right, w.cross(&right))
+    }
+}
+
+impl std::str::FromStr for View {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "front" => Ok(View::Front),
+            "side" => Ok(View::Side),
+            "top" => Ok(View::Top),
+            "iso" => Ok(View::Iso),
+            other => Err(format!(
+                "unknown view \"{other}\" (expected iso, front, side, top or all)"
+            )),
+        }
+    }
+}
+
+const PANEL_W: f64 = 560.0;
+const PANEL_H: f64 = 440.0;
+const MARGIN: f64 = 36.0;
+const LEGEND_ROW: f64 = 24.0;
+const LINK: &str = "#3a3a3a";
+const AXIS: &str = "#7b3294";
+const SLIDE: &str = "#008837";
+const XYZ: [&str; 3] = ["#d7191c", "#1a9641", "#2b83ba"];
+
+/// A number in px with two decimals (no "-0.00").
+fn px(x: f64) -> String {
+    let s = format!("{x:.2}");
+    if s == "-0.00" {
+        "0.00".into()
+    } else {
+        s
+    }
+}
+
+/// A number of the model (m, rad) as shown in titles.
+fn num(x: f64) -> String {
+    let s = format!("{x:.6}");
+    if s == "-0.000000" {
+        "0.000000".into()
+    } else {
+        s
+    }
+}
+
+fn vec3(v: &Vector3<f64>) -> String {
+    format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
+}
+
+/// Escapes text for XML content and attribute values.
+pub(crate) fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A name made safe for an `id` (letters, digits, `-`, `_`, `.`; anything else `_`).
+fn id_part(s: &str) -> String {
+    s.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+fn kind_name(kind: JointKind) -> &'static str {
+    match kind {
+        JointKind::Revolute => "revolute",
+        JointKind::Continuous => "continuous",
+        JointKind::Prismatic => "prismatic",
+        _ => "fixed",
+    }
+}
+
+/// The title of a joint: name, kind, screw at q, pitch.
+fn joint_title(scene: &Scene, j: usize) -> String {
+    let m = &scene.joints[j];
+    let mut t = format!(
+        "joint {} {} ({}): S(q) = (ω | v) = {} | {}",
+        m.index,
+        m.name,
+        kind_name(m.kind),
+        vec3(&m.screw.w),
+        vec3(&m.screw.v)
+    );
+    match m.pitch {
+        Some(h) if h.abs() > 1e-12 => {
+            let _ = write!(t, ", pitch {} m/rad", num(h));
+        }
+        _ => {}
+    }
+    t
+}
+
+/// One panel: the projection of the scene fitted into a `PANEL_W` × `PANEL_H` box at (x0, y0).
+struct Panel {
+    right: Vector3<f64>,
+    up: Vector3<f64>,
+    scale: f64,
+    centre: Vector2<f64>,
+    x0: f64,
+    y0: f64,
+}
+
+impl Panel {
+    fn new(scene: &Scene, view: View, x0: f64, y0: f64) -> Self {
+        let (right, up) = view.axes();
+        let flat = |p: &Vector3<f64>| Vector2::new(right.dot(p), up.dot(p));
+        let mut pts: Vec<Vector2<f64>> = Vec::new();
+        let triad = 0.12 * scene.size;
+        for l in &scene.links {
+            pts.push(flat(l.pose.translation()));
+        }
+        for j in &scene.joints {
+            pts.extend(j.line.iter().map(flat));
+        }
+        for f in [&screwkit_lie::Se3::identity(), &scene.tip_pose()] {
+            for k in 0..3 {
+                pts.push(flat(&(f.translation() + f.rotation().column(k) * triad)));
+            }
+        }
+        let (lo, hi) = pts.iter().fold(
+            (
+                Vector2::repeat(f64::INFINITY),
+                Vector2::repeat(f64::NEG_INFINITY),
+            ),
+            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+        );
+        let extent = (hi - lo).sup(&Vector2::repeat(1e-3 * scene.size));
+        let scale =
+            ((PANEL_W - 2.0 * MARGIN) / extent.x).min((PANEL_H - 2.0 * MARGIN - 18.0) / extent.y);
+        Self {
+            right,
+            up,
+            scale,
+            centre: (lo + hi) / 2.0,
+            x0,
+            y0,
+        }
+    }
+
+    /// Page coordinates of a point of the base frame.
+    fn at(&self, p: &Vector3<f64>) -> (f64, f64) {
+        let u = self.right.dot(p) - self.centre.x;
+        let v = self.up.dot(p) - self.centre.y;
+        (
+            self.x0 + PANEL_W / 2.0 + u * self.scale,
+            self.y0 + 9.0 + PANEL_H / 2.0 - v * self.scale,
+        )
+    }
+}
+
+fn line(out: &mut String, a: (f64, f64), b: (f64, f64), stroke: &str, width: f64, extra: &str) {
+    let _ = writeln!(
+        out,
+        "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{stroke}\" stroke-width=\"{width}\" stroke-linecap=\"round\"{extra}/>",
+        px(a.0),
+        px(a.1),
+        px(b.0),
+        px(b.1)
+    );
+}
+
+/// A joint's mark: revolute a circle, continuous a double circle, prismatic a square.
+fn joint_mark(out: &mut String, kind: JointKind, c: (f64, f64)) {
+    let (x, y) = (px(c.0), px(c.1));
+    match kind {
+        JointKind::Prismatic => {
+            let _ = writeln!(
+                out,
+                "<rect x=\"{}\" y=\"{}\" width=\"12\" height=\"12\" fill=\"#ffffff\" stroke=\"{LINK}\" stroke-width=\"2\"/>",
+                px(c.0 - 6.0),
+                px(c.1 - 6.0)
+            );
+        }
+        JointKind::Continuous => {
+            let _ = writeln!(out, "<circle cx=\"{x}\" cy=\"{y}\" r=\"7\" fill=\"#ffffff\" stroke=\"{LINK}\" stroke-width=\"2\"/>");
+            let _ = writeln!(out, "<circle cx=\"{x}\" cy=\"{y}\" r=\"3\" fill=\"none\" stroke=\"{LINK}\" stroke-width=\"1.5\"/>");
+        }
+        _ => {
+            let _ = writeln!(out, "<circle cx=\"{x}\" cy=\"{y}\" r=\"6\" fill=\"#ffffff\" stroke=\"{LINK}\" stroke-width=\"2\"/>");
+        }
+    }
+}
+
+/// A "nice" length (1, 2 or 5 × 10^k m) near a fifth of `size`, and its label.
+fn scale_bar(size: f64) -> (f64, String) {
+    let target = size / 5.0;
+    let k = target.log10().floor();
+    let base = 10f64.powf(k);
+    let m = [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .min_by(|a, b| {
+            ((a * base) - target)
+                .abs()
+                .total_cmp(&((b * base) - target).abs())
+        })
+        .unwrap_or(1.0);
+    let len = m * base;
+    // 1, 2 or 5 × 10^k printed without float noise: 0.5 mm, 200 mm, 2 m.
+    let label = if len >= 1.0 {
+        format!("{} m", (len * 1e6).round() / 1e6)
+    } else {
+        format!("{} mm", (len * 1e9).round() / 1e6)
+    };
+    (len, label)
+}
+
+fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
+    let p = Panel::new(scene, view, x0, y0);
+    let v = view.name();
+    let _ = writeln!(out, "<g id=\"{v}\" class=\"view\">");
+    let _ = writeln!(
+        out,
+        "<rect x=\"{}\" y=\"{}\" width=\"{PANEL_W}\" height=\"{PANEL_H}\" fill=\"#fbfbf8\" stroke=\"#d0d0d0\"/>",
+        px(x0),
+        px(y0)
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"{}\" y=\"{}\" font-size=\"13\" fill=\"#555555\">{}</text>",
+        px(x0 + 10.0),
+        px(y0 + 20.0),
+        escape(view.caption())
+    );
+    // Scale bar, bottom left.
+    let (len, label) = scale_bar(scene.size);
+    let (bx, by) = (x0 + 14.0, y0 + PANEL_H - 14.0);
+    let _ = writeln!(
+        out,
+        "<g id=\"{v}-scale\" class=\"scale\"><title>scale bar: {}</title>",
+        escape(&label)
+    );
+    line(out, (bx, by), (bx + len * p.scale, by), "#555555", 2.0, "");
+    line(out, (bx, by - 4.0), (bx, by + 0.0), "#555555", 2.0, "");
+    line(
+        out,
+        (bx + len * p.scale, by - 4.0),
+        (bx + len * p.scale, by),
+        "#555555",
+        2.0,
+        "",
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"{}\" y=\"{}\" font-size=\"12\" fill=\"#555555\">{}</text></g>",
+        px(bx + len * p.scale + 6.0),
+        px(by + 4.0),
+        escape(&label)
+    );
+    // Screw axes, under the arm.
+    for (j, m) in scene.joints.iter().enumerate() {
+        let kind = kind_name(m.kind);
+        let _ = writeln!(
+            out,
+            "<g id=\"{v}-axis-{}\" class=\"axis {kind}\" data-joint=\"{}\"><title>{}</title>",
+            m.index,
+            escape(&m.name),
+            escape(&joint_title(scene, j))
+        );
+        let (a, b) = (p.at(&m.line[0]), p.at(&m.line[1]));
+        let end_on = (b.0 - a.0).hypot(b.1 - a.1) < 12.0;
+        let label = match (end_on, m.kind) {
+            (true, JointKind::Prismatic) => (b.0 - 22.0, b.1 - 11.0),
+            (true, _) => (b.0 + 11.0, b.1 - 11.0),
+            _ => (b.0 + 4.0, b.1 - 4.0),
+        };
+        if m.kind == JointKind::Prismatic && end_on {
+            // Sliding towards or away from the viewer: a solid ring.
+            let _ = writeln!(
+                out,
+                "<circle cx=\"{}\" cy=\"{}\" r=\"9\" fill=\"none\" stroke=\"{SLIDE}\" stroke-width=\"2\"/>",
+                px(a.0),
+                px(a.1)
+            );
+        } else if m.kind == JointKind::Prismatic {
+            line(out, a, b, SLIDE, 2.5, "");
+            // Arrow head.
+            let d = (b.0 - a.0, b.1 - a.1);
+            let n = (d.0 * d.0 + d.1 * d.1).sqrt().max(1e-9);
+            let (ux, uy) = (d.0 / n, d.1 / n);
+            let h1 = (b.0 - 9.0 * ux - 5.0 * uy, b.1 - 9.0 * uy + 5.0 * ux);
+            let h2 = (b.0 - 9.0 * ux + 5.0 * uy, b.1 - 9.0 * uy - 5.0 * ux);
+            let _ = writeln!(
+                out,
+                "<polygon points=\"{},{} {},{} {},{}\" fill=\"{SLIDE}\"/>",
+                px(b.0),
+                px(b.1),
+                px(h1.0),
+                px(h1.1),
+                px(h2.0),
+                px(h2.1)
+            );
+        } else if end_on {
+            // Seen end-on: a ring around the axis.
+            axis_toward_viewer(out, ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0));
+        } else {
+            let dash = if m.pitch.is_some_and(|h| h.abs() > 1e-12) {
+                " stroke-dasharray=\"2 3\""
+            } else {
+                " stroke-dasharray=\"8 4\""
+            };
+            line(out, a, b, AXIS, 1.8, dash);
+        }
+        let _ = writeln!(
+            out,
+            "<text x=\"{}\" y=\"{}\" font-size=\"12\" fill=\"{}\">{}</text></g>",
+            px(label.0),
+            px(label.1),
+            if m.kind == JointKind::Prismatic {
+                SLIDE
+            } else {
+                AXIS
+            },
+            m.index
+        );
+    }
+    // Links: a segment from each link's origin to the next.
+    for w in scene.links.windows(2) {
+        let (a, b) = (p.at(w[0].pose.translation()), p.at(w[1].pose.translation()));
+        let _ = writeln!(
+            out,
+            "<g id=\"{v}-link-{}\" class=\"link\"><title>link {}: origin {}</title>",
+            id_part(&w[1].name),
+            escape(&w[1].name),
+            vec3(w[1].pose.translation())
+        );
+        line(out, a, b, LINK, 5.0, "");
+        let _ = writeln!(out, "</g>");
+    }
+    // Frames: base and tip triads.
+    let triad = 0.12 * scene.size;
+    for (name, which, pose) in [
+        ("base", &scene.base, screwkit_lie::Se3::identity()),
+        ("tip", &scene.tip, scene.tip_pose()),
+    ] {
+        let _ = writeln!(
+            out,
+            "<g id=\"{v}-{name}-frame\" class=\"frame\"><title>{name} frame: link {} at {}</title>",
+            escape(which),
+            vec3(pose.translation())
+        );
+        let o = p.at(pose.translation());
+        for (k, colour) in XYZ.iter().enumerate() {
+            let end = p.at(&(pose.translation() + pose.rotation().column(k) * triad));
+            line(out, o, end, colour, 2.5, "");
+        }
+        let _ = writeln!(out, "</g>");
+    }
+    // Joints on top.
+    for (j, m) in scene.joints.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "<g id=\"{v}-joint-{}\" class=\"joint {}\" data-joint=\"{}\"><title>{}</title>",
+            m.index,
+            kind_name(m.kind),
+            escape(&m.name),
+            escape(&joint_title(scene, j))
+        );
+        joint_mark(out, m.kind, p.at(&m.origin));
+        let _ = writeln!(out, "</g>");
+    }
+    let _ = writeln!(out, "</g>");
+}
+
+/// The legend's entries: (width in px, what to draw at (x, y)).
+type Entry = (f64, fn(&mut String, f64, f64));
+
+const LEGEND: [Entry; 7] = [
+    (78.0, |o, x, y| {
+        line(o, (x, y), (x + 26.0, y), LINK, 5.0, "");
+        legend_text(o, x + 32.0, y, "link");
+    }),
+    (92.0, |o, x, y| {
+        joint_mark(o, JointKind::Revolute, (x + 6.0, y));
+        legend_text(o, x + 18.0, y, "revolute");
+    }),
+    (104.0, |o, x, y| {
+        joint_mark(o, JointKind::Continuous, (x + 6.0, y));
+        legend_text(o, x + 18.0, y, "continuous");
+    }),
+    (92.0, |o, x, y| {
+        joint_mark(o, JointKind::Prismatic, (x + 6.0, y));
+        legend_text(o, x + 18.0, y, "prismatic");
+    }),
+    (292.0, |o, x, y| {
+        line(
+            o,
+            (x, y),
+            (x + 30.0, y),
+            AXIS,
+            1.8,
+            " stroke-dasharray=\"8 4\"",
+        );
+        axis_toward_viewer(o, (x + 44.0, y));
+        legend_text(o, x + 60.0, y, "screw axis S_i(q) (ring: towards you)");
+    }),
+    (100.0, |o, x, y| {
+        line(o, (x, y), (x + 26.0, y), SLIDE, 2.5, "");
+        legend_text(o, x + 32.0, y, "slide axis");
+    }),
+    (130.0, |o, x, y| {
+        for (k, c) in XYZ.iter().enumerate() {
+            let x = x + 14.0 * k as f64;
+            line(o, (x, y + 6.0), (x + 10.0, y - 6.0), c, 2.5, "");
+        }
+        legend_text(o, x + 46.0, y, "frames x y z");
+    }),
+];
+
+fn legend_text(out: &mut String, x: f64, y: f64, s: &str) {
+    let _ = writeln!(
+        out,
+        "<text x=\"{}\" y=\"{}\" font-size=\"12\" fill=\"#333333\">{s}</text>",
+        px(x),
+        px(y + 4.0)
+    );
+}
+
+/// A screw axis seen end-on (pointing at the viewer): a dashed ring around it.
+fn axis_toward_viewer(out: &mut String, c: (f64, f64)) {
+    let _ = writeln!(
+        out,
+        "<circle cx=\"{}\" cy=\"{}\" r=\"11\" fill=\"none\" stroke=\"{AXIS}\" stroke-width=\"1.8\" stroke-dasharray=\"3 3\"/>",
+        px(c.0),
+        px(c.1)
+    );
+}
+
+/// The legend from (14, y), wrapped to lines of `width`; returns the rows used.
+fn legend(out: &mut String, y: f64, width: f64) {
+    let _ = writeln!(out, "<g id=\"legend\" class=\"legend\">");
+    let (mut x, mut y) = (14.0, y);
+    for (w, draw) in LEGEND {
+        if x + w > width - 10.0 && x > 14.0 {
+            x = 14.0;
+            y += LEGEND_ROW;
+        }
+        draw(out, x, y);
+        x += w;
+    }
+    let _ = writeln!(out, "</g>");
+}
+
+/// How many legend rows a sheet of `width` needs.
+fn legend_rows(width: f64) -> usize {
+    let (mut x, mut rows) = (14.0, 1);
+    for (w, _) in LEGEND {
+        if x + w > width - 10.0 && x > 14.0 {
+            x = 14.0;
+            rows += 1;
+        }
+        x += w;
+    }
+    rows
+}
+
+/// The SVG document of `scene` in `views` (one panel, or the four of `View::ALL` in a 2 × 2
+/// sheet), with a legend and a caption naming the robot, the chain and q.
+pub fn render(scene: &Scene, views: &[View]) -> String {
+    let cols = if views.len() > 1 { 2 } else { 1 };
+    let rows = views.len().div_ceil(cols);
+    let width = cols as f64 * PANEL_W + (cols as f64 + 1.0) * 10.0;
+    let legend_h = legend_rows(width) as f64 * LEGEND_ROW + 16.0;
+    let height = rows as f64 * PANEL_H + (rows as f64 + 1.0) * 10.0 + 28.0 + legend_h;
+    let q: Vec<String> = scene.q.iter().map(|x| num(*x)).collect();
+    let caption = format!(
+        "{}: chain {} → {}, q = [{}]",
+        scene.robot,
+        scene.base,
+        scene.tip,
+        q.join(", ")
+    );
+    let mut out = String::new();
+    let _ = writeln!(out, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
+    let _ = writeln!(
+        out,
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" font-family=\"Helvetica, Arial, sans-serif\">",
+        w = px(width),
+        h = px(height)
+    );
+    let _ = writeln!(out, "<title>{}</title>", escape(&caption));
+    let _ = writeln!(
+        out,
+        "<desc>Drawn by screwkit: the skeleton through the link origins, each joint's screw axis S_i(q) (the columns of the space Jacobian at q), the base and tip frames (x red, y green, z blue). Metres, radians.</desc>"
+    );
+    let _ = writeln!(
+        out,
+        "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>"
+    );
+    let _ = writeln!(
+        out,
+        "<text x=\"10\" y=\"22\" font-size=\"15\" fill=\"#222222\">{}</text>",
+        escape(&caption)
+    );
+    for (i, view) in views.iter().enumerate() {
+        let (c, r) = (i % cols, i / cols);
+        let x0 = 10.0 + c as f64 * (PANEL_W + 10.0);
+        let y0 = 38.0 + r as f64 * (PANEL_H + 10.0);
+        panel(&mut out, scene, *view, x0, y0);
+    }
+    legend(&mut out, height - legend_h + LEGEND_ROW / 2.0 + 4.0, width);
+    let _ = writeln!(out, "</svg>");
+    out
+}

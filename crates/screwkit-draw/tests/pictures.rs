@@ -1,0 +1,274 @@
+//! The SVG drawing and the HTML page: valid XML, deterministic, every joint, axis, link and
+//! frame findable with its title, and the geometry where an independent closed form says it
+//! must be.
+
+use std::collections::HashSet;
+
+use screwkit_draw::{html, svg, Scene, View};
+use screwkit_model::{load_chain, Chain};
+use screwkit_solve::Kinematics;
+use screwkit_testkit::{bundled, Sampler};
+
+const CHAINS: &[(&str, Option<&str>, Option<&str>)] = &[
+    ("planar_3r.urdf", None, None),
+    ("ur5.urdf", None, None),
+    ("panda.urdf", None, None),
+    ("iiwa14.urdf", None, None),
+    ("scara.urdf", None, None),
+    ("tricky.urdf", Some("base_link"), None),
+    ("torso_two_arms.urdf", None, Some("left_hand")),
+    ("gripper_arm.urdf", None, Some("right_finger")),
+];
+
+fn load(file: &str, base: Option<&str>, tip: Option<&str>) -> (Chain, Kinematics) {
+    let chain = load_chain(bundled(file), base, tip).unwrap();
+    let kin = Kinematics::new(&chain);
+    (chain, kin)
+}
+
+/// The `<g>` with this id, or a panic naming it.
+fn group<'a>(doc: &'a roxmltree::Document, id: &str) -> roxmltree::Node<'a, 'a> {
+    doc.descendants()
+        .find(|n| n.attribute("id") == Some(id))
+        .unwrap_or_else(|| panic!("no element with id {id}"))
+}
+
+fn title(node: roxmltree::Node) -> String {
+    node.children()
+        .find(|c| c.has_tag_name("title"))
+        .and_then(|t| t.text())
+        .unwrap_or_default()
+        .to_string()
+}
+
+#[test]
+fn every_chain_every_view_is_valid_findable_and_deterministic() {
+    let mut rng = Sampler::new(3);
+    for &(file, base, tip) in CHAINS {
+        let (chain, kin) = load(file, base, tip);
+        let q = rng.config(&kin);
+        let scene = Scene::new(&chain, &kin, Some(&q)).unwrap();
+        let text = svg::render(&scene, &View::ALL);
+        assert_eq!(
+            text,
+            svg::render(&Scene::new(&chain, &kin, Some(&q)).unwrap(), &View::ALL)
+        );
+        let doc = roxmltree::Document::parse(&text).unwrap_or_else(|e| panic!("{file}: {e}"));
+        let root = doc.root_element();
+        assert_eq!(root.tag_name().name(), "svg");
+        assert_eq!(
+            root.tag_name().namespace(),
+            Some("http://www.w3.org/2000/svg")
+        );
+        assert_eq!(root.attribute("version"), Some("1.1"));
+        // Only SVG 1.1 elements, and unique ids.
+        let allowed = [
+            "svg", "title", "desc", "g", "rect", "line", "circle", "text", "polygon",
+        ];
+        let mut ids = HashSet::new();
+        for n in doc.descendants().filter(|n| n.is_element()) {
+            assert!(
+                allowed.contains(&n.tag_name().name()),
+                "{file}: <{}>",
+                n.tag_name().name()
+            );
+            if let Some(id) = n.attribute("id") {
+                assert!(ids.insert(id.to_string()), "{file}: duplicate id {id}");
+            }
+        }
+        for view in View::ALL {
+            let v = view.name();
+            for (j, joint) in chain.joints.iter().enumerate() {
+                for what in ["joint", "axis"] {
+                    let g = group(&doc, &format!("{v}-{what}-{}", j + 1));
+                    assert_eq!(g.attribute("data-joint"), Some(joint.name.as_str()));
+                    let t = title(g);
+                    assert!(
+                        t.contains(&joint.name) && t.contains("S(q) = (ω | v)"),
+                        "{t}"
+                    );
+                }
+            }
+            for link in chain.links.iter().skip(1) {
+                let id = format!("{v}-link-{}", link.name);
+                assert!(title(group(&doc, &id)).contains(&link.name));
+            }
+            for f in ["base", "tip"] {
+                assert!(title(group(&doc, &format!("{v}-{f}-frame"))).contains(f));
+            }
+        }
+        assert!(doc
+            .descendants()
+            .any(|n| n.attribute("id") == Some("legend")));
+        // The caption names the chain and q.
+        assert!(title(root).contains(&format!("{} → {}", chain.base, chain.tip)));
+    }
+}
+
+/// The screw axes in the titles are the columns of the space Jacobian at q (one per joint
+/// without mimic joints), printed to 6 decimals.
+#[test]
+fn titles_carry_the_space_jacobian_columns() {
+    let (chain, kin) = load("ur5.urdf", None, None);
+    let q = [0.3, -1.0, 1.4, -0.8, -1.2, 0.4];
+    let js = screwkit_solve::jacobian::jacobian(
+        &kin,
+        &mut screwkit_solve::Workspace::new(&kin),
+        &q,
+        screwkit_solve::Frame::Space,
+    )
+    .unwrap()
+    .clone();
+    let text = svg::render(&Scene::new(&chain, &kin, Some(&q)).unwrap(), &[View::Iso]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    for k in 0..6 {
+        let t = title(group(&doc, &format!("iso-axis-{}", k + 1)));
+        let c = js.column(k);
+        let f = |x: f64| format!("{:.6}", if x.abs() < 5e-7 { 0.0 } else { x });
+        let want = format!(
+            "({}, {}, {}) | ({}, {}, {})",
+            f(c[0]),
+            f(c[1]),
+            f(c[2]),
+            f(c[3]),
+            f(c[4]),
+            f(c[5])
+        );
+        assert!(t.contains(&want), "{t} vs {want}");
+    }
+}
+
+/// The planar 3R arm from above: the joint marks sit where the closed form puts the joints,
+/// (0, 0), L1 (cos q1, sin q1), + L2 (cos(q1 + q2), sin(q1 + q2)), under one scale and offset;
+/// the three axes point at the viewer (rings).
+#[test]
+fn planar_arm_from_above_matches_the_closed_form() {
+    let (chain, kin) = load("planar_3r.urdf", None, None);
+    let q = [0.4, 0.6, -0.9];
+    let text = svg::render(&Scene::new(&chain, &kin, Some(&q)).unwrap(), &[View::Top]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let centre = |i: usize| {
+        let c = group(&doc, &format!("top-joint-{i}"))
+            .children()
+            .find(|n| n.has_tag_name("circle"))
+            .unwrap();
+        let num = |a| c.attribute(a).unwrap().parse::<f64>().unwrap();
+        (num("cx"), num("cy"))
+    };
+    let (l1, l2) = (1.0, 0.8);
+    let world = [
+        (0.0, 0.0),
+        (l1 * q[0].cos(), l1 * q[0].sin()),
+        (
+            l1 * q[0].cos() + l2 * (q[0] + q[1]).cos(),
+            l1 * q[0].sin() + l2 * (q[0] + q[1]).sin(),
+        ),
+    ];
+    let (p0, p1) = (centre(1), centre(2));
+    let scale = (p1.0 - p0.0) / world[1].0;
+    for (i, w) in world.iter().enumerate() {
+        let p = centre(i + 1);
+        assert!(
+            (p.0 - (p0.0 + scale * w.0)).abs() < 0.02,
+            "joint {}: x",
+            i + 1
+        );
+        assert!(
+            (p.1 - (p0.1 - scale * w.1)).abs() < 0.02,
+            "joint {}: y",
+            i + 1
+        );
+    }
+    for i in 1..=3 {
+        let axis = group(&doc, &format!("top-axis-{i}"));
+        assert!(
+            axis.children().any(|n| n.has_tag_name("circle")),
+            "axis {i} end-on"
+        );
+    }
+}
+
+#[test]
+fn the_page_embeds_the_chain_and_runs_offline() {
+    for &(file, base, tip) in CHAINS {
+        let (chain, kin) = load(file, base, tip);
+        let page = html::page(&chain, &kin, None).unwrap();
+        assert!(page.starts_with("<!DOCTYPE html>"));
+        assert!(
+            !page.contains("http://") && !page.contains("https://"),
+            "{file}: a URL"
+        );
+        let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
+        let end = start + page[start..].find("</script>").unwrap();
+        let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
+        assert_eq!(
+            model["joints"].as_array().unwrap().len(),
+            chain.joints.len()
+        );
+        assert_eq!(model["variables"].as_array().unwrap().len(), kin.dof());
+        assert_eq!(model["links"].as_array().unwrap().len(), chain.links.len());
+        for (j, joint) in chain.joints.iter().enumerate() {
+            let s: Vec<f64> = serde_json::from_value(model["joints"][j]["S"].clone()).unwrap();
+            assert_eq!(s.as_slice(), joint.s_space.twist().to_vector().as_slice());
+        }
+    }
+    let (chain, kin) = load("ur5.urdf", None, None);
+    assert!(html::page(&chain, &kin, Some(&[0.0; 5])).is_err());
+}
+
+/// A 2 mm gripper-scale arm and a 6 m arm both fill their panel: every mark inside it, and the
+/// drawing spans most of it.
+#[test]
+fn any_size_is_fitted_to_the_page() {
+    for scale in [1e-3, 3.0] {
+        let urdf = format!(
+            r#"<robot name="r"><link name="a"/><link name="b"/><link name="c"/>
+            <joint name="j1" type="revolute"><parent link="a"/><child link="b"/>
+              <origin xyz="0 0 {s}"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+            <joint name="j2" type="revolute"><parent link="b"/><child link="c"/>
+              <origin xyz="{s} 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+            </robot>"#,
+            s = 2.0 * scale
+        );
+        let tree = screwkit_model::urdf::load_str(&urdf, "sized.urdf").unwrap();
+        let chain = Chain::from_tree(&tree, None, None).unwrap();
+        let kin = Kinematics::new(&chain);
+        let text = svg::render(
+            &Scene::new(&chain, &kin, Some(&[0.3, 0.5])).unwrap(),
+            &[View::Side],
+        );
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        let panel = group(&doc, "side")
+            .children()
+            .find(|n| n.has_tag_name("rect"))
+            .unwrap();
+        let num = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+        let (x0, y0) = (num(panel, "x"), num(panel, "y"));
+        let (x1, y1) = (x0 + num(panel, "width"), y0 + num(panel, "height"));
+        let mut xs = Vec::new();
+        for n in doc.descendants().filter(|n| n.has_tag_name("line")) {
+            if n.ancestors().any(|a| a.attribute("id") == Some("legend")) {
+                continue;
+            }
+            for (ax, ay) in [("x1", "y1"), ("x2", "y2")] {
+                let (x, y) = (num(n, ax), num(n, ay));
+                assert!(
+                    x0 <= x && x <= x1 && y0 <= y && y <= y1,
+                    "scale {scale}: ({x}, {y})"
+                );
+                xs.push(x);
+            }
+        }
+        let span = xs.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+            - xs.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(
+            span > 0.5 * (x1 - x0),
+            "scale {scale}: the drawing spans {span} px"
+        );
+        assert!(text.contains(if scale < 1.0 {
+            " mm</text>"
+        } else {
+            " m</text>"
+        }));
+    }
+}
