@@ -187,9 +187,9 @@ fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
         "-o",
         svg.to_str().unwrap(),
     ]);
-    // The page: its canvas, left of the 430 px side panel (whose text is dark too). The
+    // The page: its canvas, left of the 500 px side panel (whose text is dark too). The
     // drawing: below its caption line.
-    for (file, size, max_x, min_y) in [(&page, "1200,800", 760, 0), (&svg, "1160,1000", 1160, 40)] {
+    for (file, size, max_x, min_y) in [(&page, "1200,800", 690, 0), (&svg, "1160,1000", 1160, 40)] {
         let shot = dir.join("shot.png");
         let _ = std::fs::remove_file(&shot);
         chromium(
