@@ -172,5 +172,6 @@ def test_chain_without_joints() -> None:
     assert robot.jacobian(np.zeros((2, 0))).shape == (2, 6, 0)
     r = robot.ik(t)
     assert isinstance(r, screwkit.IkResult) and r.q.shape == (0,) and r.converged
+    assert robot.analyze([]).verdict == "no joints: the tip cannot move"
     far = robot.ik(np.eye(4), max_restarts=2)
     assert isinstance(far, screwkit.IkResult) and not far.converged and far.error_pos == 1.0

@@ -155,13 +155,15 @@ fn describe(u: &Vector6<f64>) -> String {
 }
 
 impl Analysis {
-    /// The verdict in plain words: singular (with the lost motions), near singular (condition
+    /// The verdict in plain words: no joints, singular (with the lost motions), near singular (condition
     /// number above [`NEAR_SINGULAR_CONDITION`], with the weakest motion), a chain too short to
     /// make every twist, or well-conditioned.
     pub fn verdict(&self) -> String {
         let n = self.columns;
         let k = n.min(6);
-        if self.rank < k {
+        if n == 0 {
+            "no joints: the tip cannot move".into()
+        } else if self.rank < k {
             let dirs: Vec<String> = self
                 .lost_directions
                 .iter()

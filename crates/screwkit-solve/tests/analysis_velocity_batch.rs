@@ -362,3 +362,12 @@ fn warm_started_path() {
     );
     assert!(res.iter().all(|r| r.status.restarts == 0));
 }
+
+/// A chain without joints has an empty Jacobian: its verdict says it cannot move.
+#[test]
+fn a_chain_without_joints_cannot_move() {
+    let j = nalgebra::Matrix6xX::<f64>::zeros(0);
+    let a = screwkit_solve::analysis::analyze_jacobian(&j).unwrap();
+    assert_eq!(a.rank, 0);
+    assert_eq!(a.verdict(), "no joints: the tip cannot move");
+}
