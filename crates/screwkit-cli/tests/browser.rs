@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 
 use screwkit_model::load_chain;
 use screwkit_solve::Kinematics;
-use screwkit_testkit::{bundled, Sampler};
+use screwkit_testkit::{bundled, Sampler, BUNDLED_CHAINS, SHARED_CHAINS};
 
 const BIN: &str = env!("CARGO_BIN_EXE_screwkit");
 
@@ -52,29 +52,13 @@ fn scratch(name: &str) -> PathBuf {
 
 /// Every chain the page is tested on: the bundled ones and ../shared/urdf's.
 fn chains() -> Vec<(String, Option<&'static str>, Option<&'static str>)> {
-    let mut v: Vec<(String, Option<&str>, Option<&str>)> = [
-        ("planar_3r.urdf", None, None),
-        ("ur5.urdf", None, None),
-        ("panda.urdf", None, None),
-        ("iiwa14.urdf", None, None),
-        ("scara.urdf", None, None),
-        ("tricky.urdf", Some("base_link"), None),
-        ("torso_two_arms.urdf", None, Some("left_hand")),
-        ("gripper_arm.urdf", None, Some("right_finger")),
-    ]
-    .into_iter()
-    .map(|(f, b, t)| (bundled(f), b, t))
-    .collect();
+    let mut v: Vec<(String, Option<&str>, Option<&str>)> = BUNDLED_CHAINS
+        .iter()
+        .map(|&(f, b, t)| (bundled(f), b, t))
+        .collect();
     let shared = std::env::var("SCREWKIT_SHARED_URDF")
         .expect("SCREWKIT_SHARED_URDF must name ../shared/urdf for the browser tests");
-    for (f, b, t) in [
-        ("ur5_robot.urdf", "base_link", "tool0"),
-        ("panda.urdf", "panda_link0", "panda_hand_tcp"),
-        ("panda.urdf", "panda_link0", "panda_leftfinger"),
-        ("xarm7.urdf", "link_base", "link_eef"),
-        ("z1.urdf", "link00", "gripperMover"),
-        ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
-    ] {
+    for &(f, b, t) in SHARED_CHAINS {
         v.push((format!("{shared}/{f}"), Some(b), Some(t)));
     }
     v

@@ -7,18 +7,7 @@ use std::collections::HashSet;
 use screwkit_draw::{html, svg, Scene, View};
 use screwkit_model::{load_chain, Chain};
 use screwkit_solve::Kinematics;
-use screwkit_testkit::{bundled, Sampler};
-
-const CHAINS: &[(&str, Option<&str>, Option<&str>)] = &[
-    ("planar_3r.urdf", None, None),
-    ("ur5.urdf", None, None),
-    ("panda.urdf", None, None),
-    ("iiwa14.urdf", None, None),
-    ("scara.urdf", None, None),
-    ("tricky.urdf", Some("base_link"), None),
-    ("torso_two_arms.urdf", None, Some("left_hand")),
-    ("gripper_arm.urdf", None, Some("right_finger")),
-];
+use screwkit_testkit::{bundled, Sampler, BUNDLED_CHAINS as CHAINS};
 
 fn load(file: &str, base: Option<&str>, tip: Option<&str>) -> (Chain, Kinematics) {
     let chain = load_chain(bundled(file), base, tip).unwrap();

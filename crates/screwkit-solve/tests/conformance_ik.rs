@@ -11,14 +11,7 @@ use common::{fk1, Sampler};
 use screwkit_solve::ik::{solve, IkOptions};
 use screwkit_solve::{Kinematics, Workspace};
 
-const CHAINS: &[(&str, &str, &str)] = &[
-    ("ur5_robot.urdf", "base_link", "tool0"),
-    ("panda.urdf", "panda_link0", "panda_hand_tcp"),
-    ("panda.urdf", "panda_link0", "panda_leftfinger"),
-    ("xarm7.urdf", "link_base", "link_eef"),
-    ("z1.urdf", "link00", "gripperMover"),
-    ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
-];
+use screwkit_testkit::SHARED_CHAINS as CHAINS;
 
 #[test]
 #[ignore = "needs the real-world URDFs of ../shared/urdf: set SCREWKIT_SHARED_URDF=<that folder> and run with --ignored (.ci/run does)"]

@@ -7,6 +7,7 @@
 //!   the independent oracle every product-of-exponentials result is checked against.
 //! - [`protocol`]: the IK benchmark protocol behind `screwkit bench`, the criterion benches
 //!   and BENCHMARKS.md.
+//! - [`BUNDLED_CHAINS`] and [`SHARED_CHAINS`]: the chains every suite runs on.
 //! - [`bundled`]: the path of a robot file in `assets/urdf/`, and [`Sampler`]: random
 //!   configurations within a chain's limits (the library's sampler,
 //!   [`screwkit_solve::sample`], for tests that hold a [`Chain`]).
@@ -17,6 +18,30 @@ pub mod reference;
 use screwkit_model::Chain;
 use screwkit_solve::sample::{configuration_into, SplitMix64};
 use screwkit_solve::Kinematics;
+
+/// (file, base, tip) of every bundled chain the tests run on: every robot of `assets/urdf/`,
+/// with a base or tip where the file needs one.
+pub const BUNDLED_CHAINS: &[(&str, Option<&str>, Option<&str>)] = &[
+    ("planar_3r.urdf", None, None),
+    ("ur5.urdf", None, None),
+    ("panda.urdf", None, None),
+    ("iiwa14.urdf", None, None),
+    ("scara.urdf", None, None),
+    ("tricky.urdf", Some("base_link"), None),
+    ("torso_two_arms.urdf", None, Some("left_hand")),
+    ("gripper_arm.urdf", None, Some("right_finger")),
+];
+
+/// (file, base, tip) of the real-world chains `../shared/urdf/README.md` lists to test; the
+/// folder is named by the `SCREWKIT_SHARED_URDF` environment variable (`.ci/run` sets it).
+pub const SHARED_CHAINS: &[(&str, &str, &str)] = &[
+    ("ur5_robot.urdf", "base_link", "tool0"),
+    ("panda.urdf", "panda_link0", "panda_hand_tcp"),
+    ("panda.urdf", "panda_link0", "panda_leftfinger"),
+    ("xarm7.urdf", "link_base", "link_eef"),
+    ("z1.urdf", "link00", "gripperMover"),
+    ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
+];
 
 /// The path of a bundled robot file, `assets/urdf/<file>`.
 pub fn bundled(file: &str) -> String {

@@ -8,16 +8,8 @@ use screwkit_solve::{Kinematics, SolveError, Workspace};
 pub use screwkit_testkit::Sampler;
 
 /// (file, base, tip) of every bundled chain the solver is tested on.
-pub const CHAINS: &[(&str, Option<&str>, Option<&str>)] = &[
-    ("planar_3r.urdf", None, None),
-    ("ur5.urdf", None, None),
-    ("panda.urdf", None, None),
-    ("iiwa14.urdf", None, None),
-    ("scara.urdf", None, None),
-    ("tricky.urdf", Some("base_link"), None),
-    ("torso_two_arms.urdf", None, Some("left_hand")),
-    ("gripper_arm.urdf", None, Some("right_finger")),
-];
+#[allow(unused_imports)]
+pub use screwkit_testkit::BUNDLED_CHAINS as CHAINS;
 
 /// Loads a bundled chain with its tree.
 pub fn load(file: &str, base: Option<&str>, tip: Option<&str>) -> (Tree, Chain, Kinematics) {
