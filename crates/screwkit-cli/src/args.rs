@@ -53,13 +53,44 @@ pub enum Command {
     Draw(DrawArgs),
     /// A self-contained interactive HTML page: the chain in 3D with a slider per joint.
     View(ViewArgs),
+    /// Expand a xacro file and print the URDF.
+    Xacro(XacroFileArgs),
+}
+
+/// How to expand a xacro file: package folders and `xacro:arg` values.
+#[derive(Debug, Args, Clone, Default)]
+pub struct XacroArgs {
+    /// A folder to find ROS packages in for `$(find pkg)` (repeatable; searched before
+    /// ROS_PACKAGE_PATH and AMENT_PREFIX_PATH).
+    #[arg(long = "package-path", value_name = "DIR")]
+    pub package_path: Vec<PathBuf>,
+    /// A xacro argument, name:=value (repeatable).
+    #[arg(long = "xacro-arg", value_name = "NAME:=VALUE", value_parser = parse_xacro_arg)]
+    pub xacro_arg: Vec<(String, String)>,
+}
+
+impl XacroArgs {
+    /// The library's options.
+    pub fn options(&self) -> screwkit_model::XacroOptions {
+        screwkit_model::XacroOptions {
+            package_paths: self.package_path.clone(),
+            args: self.xacro_arg.clone(),
+        }
+    }
+}
+
+fn parse_xacro_arg(s: &str) -> Result<(String, String), String> {
+    screwkit_model::XacroOptions::parse_arg(s)
 }
 
 /// A URDF file and the chain in it.
 #[derive(Debug, Args)]
 pub struct ChainArgs {
-    /// The URDF file.
+    /// The URDF or xacro file.
     pub urdf: PathBuf,
+    /// xacro expansion.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
     /// Base link of the chain (default: the root link).
     #[arg(long)]
     pub base: Option<String>,
@@ -95,8 +126,11 @@ pub fn parse_list(s: &str) -> Result<List, String> {
 /// `info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// The URDF file.
+    /// The URDF or xacro file.
     pub urdf: PathBuf,
+    /// xacro expansion.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
 }
 
 /// Parses `space` or `body` (the one [`Frame`] of the library).
@@ -292,4 +326,14 @@ pub struct ViewArgs {
     /// The HTML file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,
+}
+
+/// `xacro`.
+#[derive(Debug, Args)]
+pub struct XacroFileArgs {
+    /// The xacro file.
+    pub file: PathBuf,
+    /// xacro expansion.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
 }

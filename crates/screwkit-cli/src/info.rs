@@ -43,7 +43,7 @@ fn draw(tree: &Tree, link: usize, prefix: &str, out: &mut String) {
 
 /// Runs `info`.
 pub fn run(args: &InfoArgs, format: Format) -> CliResult {
-    let tree = urdf::load_file(&args.urdf)?;
+    let tree = urdf::load_file_with(&args.urdf, &args.xacro.options())?;
     let leaves = tree.leaves_below(tree.root);
     let default = Chain::from_tree(&tree, None, None);
     let movable = tree.joints.iter().filter(|j| j.kind.is_movable()).count();

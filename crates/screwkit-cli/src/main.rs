@@ -19,7 +19,7 @@ mod table;
 use std::process::ExitCode;
 
 use clap::Parser;
-use screwkit_model::{load_chain, Chain};
+use screwkit_model::{load_chain_with, Chain};
 use screwkit_solve::Kinematics;
 
 use args::{ChainArgs, Cli, Command, Format};
@@ -27,15 +27,26 @@ use output::{CliResult, Failure};
 
 /// Loads the chain named by the arguments and prepares it for solving.
 pub(crate) fn load(c: &ChainArgs) -> CliResult<(Chain, Kinematics)> {
-    let chain = load_chain(&c.urdf, c.base.as_deref(), c.tip.as_deref())?;
+    let chain = load_chain_with(
+        &c.urdf,
+        c.base.as_deref(),
+        c.tip.as_deref(),
+        &c.xacro.options(),
+    )?;
     let kin = Kinematics::new(&chain);
     Ok((chain, kin))
 }
 
 fn run(cli: &Cli) -> CliResult {
-    if cli.format != Format::Text && matches!(cli.command, Command::Draw(_) | Command::View(_)) {
+    if cli.format != Format::Text
+        && matches!(
+            cli.command,
+            Command::Draw(_) | Command::View(_) | Command::Xacro(_)
+        )
+    {
         return Err(Failure(
-            "--format does not apply to `draw` and `view` (they write SVG or HTML)".into(),
+            "--format does not apply to `draw`, `view` and `xacro` (they write SVG, HTML or URDF)"
+                .into(),
         ));
     }
     if cli.format == Format::Csv && !matches!(cli.command, Command::Table(_)) {
@@ -52,6 +63,13 @@ fn run(cli: &Cli) -> CliResult {
         Command::Bench(a) => bench::run(a, cli.format),
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
+        Command::Xacro(a) => {
+            print!(
+                "{}",
+                screwkit_model::xacro::expand_file(&a.file, &a.xacro.options())?
+            );
+            Ok(())
+        }
     }
 }
 

@@ -27,9 +27,9 @@ pub enum ErrorKind {
     /// Not well-formed XML.
     #[error("malformed XML: {0}")]
     Xml(String),
-    /// A xacro file (macros or `${…}` expressions), not a plain URDF.
-    #[error("this is a xacro file ({0}), not a plain URDF: run `xacro FILE.urdf.xacro > FILE.urdf` first")]
-    Xacro(String),
+    /// A xacro construct that could not be expanded (the error's `file` is `FILE:LINE`).
+    #[error("{0}")]
+    XacroExpand(String),
     /// The root element is not `<robot>`.
     #[error("the root element is <{0}>, expected <robot>")]
     NotARobot(String),

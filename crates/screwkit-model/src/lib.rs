@@ -25,17 +25,29 @@ pub mod error;
 pub mod table;
 pub mod tree;
 pub mod urdf;
+pub mod xacro;
 
 pub use chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 pub use error::{ErrorKind, ModelError};
 pub use tree::{JointKind, Limit, Mimic, Tree, TreeJoint};
+pub use xacro::XacroOptions;
 
-/// Loads a URDF file and builds the chain from `base` (default: the root link) to `tip`
-/// (default: the only leaf below the base).
+/// Loads a URDF (or xacro) file and builds the chain from `base` (default: the root link) to
+/// `tip` (default: the only leaf below the base).
 pub fn load_chain(
     path: impl AsRef<std::path::Path>,
     base: Option<&str>,
     tip: Option<&str>,
 ) -> Result<Chain, ModelError> {
     Chain::from_tree(&urdf::load_file(path)?, base, tip)
+}
+
+/// [`load_chain`] with xacro options (package paths, `xacro:arg` values).
+pub fn load_chain_with(
+    path: impl AsRef<std::path::Path>,
+    base: Option<&str>,
+    tip: Option<&str>,
+    opts: &XacroOptions,
+) -> Result<Chain, ModelError> {
+    Chain::from_tree(&urdf::load_file_with(path, opts)?, base, tip)
 }

@@ -26,40 +26,60 @@ use std::path::Path;
 
 use crate::error::{ErrorKind, ModelError};
 use crate::tree::{JointKind, Limit, Mimic, Tree, TreeJointSpec};
+use crate::xacro::{self, XacroOptions};
 
-const XACRO_NS: &str = "http://www.ros.org/wiki/xacro";
-
-/// Loads a URDF file into a [`Tree`].
+/// Loads a URDF or xacro file into a [`Tree`] (xacro expanded with the default
+/// [`XacroOptions`]: packages from `ROS_PACKAGE_PATH` / `AMENT_PREFIX_PATH`, no arguments).
 pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
+    load_file_with(path, &XacroOptions::default())
+}
+
+/// Loads a URDF or xacro file into a [`Tree`], expanding xacro with `opts`.
+pub fn load_file_with(path: impl AsRef<Path>, opts: &XacroOptions) -> Result<Tree, ModelError> {
     let path = path.as_ref();
     let label = path.display().to_string();
     let text = std::fs::read_to_string(path)
         .map_err(|e| ModelError::new(label.clone(), ErrorKind::Io(e.to_string())))?;
-    load_str(&text, &label)
+    load_str_with(&text, &label, path.parent().unwrap_or(Path::new(".")), opts)
 }
 
-/// Loads URDF text into a [`Tree`]; `source` names it in error messages.
+/// Loads URDF (or xacro) text into a [`Tree`]; `source` names it in error messages.
+/// Relative xacro includes are resolved from the current directory.
 pub fn load_str(text: &str, source: &str) -> Result<Tree, ModelError> {
-    let err = |kind| ModelError::new(source, kind);
+    load_str_with(text, source, Path::new("."), &XacroOptions::default())
+}
+
+/// Loads URDF or xacro text into a [`Tree`]: xacro (see [`xacro::is_xacro`]) is expanded first
+/// with `opts`, relative includes resolved from `dir`.
+pub fn load_str_with(
+    text: &str,
+    source: &str,
+    dir: &Path,
+    opts: &XacroOptions,
+) -> Result<Tree, ModelError> {
     if text.trim().is_empty() {
-        return Err(err(ErrorKind::Empty));
+        return Err(ModelError::new(source, ErrorKind::Empty));
     }
+    if xacro::is_xacro(text) {
+        let urdf = xacro::expand_str(text, source, dir, opts)?;
+        return parse_urdf(&urdf, source);
+    }
+    parse_urdf(text, source)
+}
+
+/// Plain URDF text into a [`Tree`].
+fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
+    let err = |kind| ModelError::new(source, kind);
     let opts = roxmltree::ParsingOptions {
         allow_dtd: true,
         ..Default::default()
     };
-    let doc = roxmltree::Document::parse_with_options(text, opts).map_err(|e| {
-        if text.contains("<xacro:") {
-            err(ErrorKind::Xacro("it uses <xacro:…> elements".into()))
-        } else {
-            err(ErrorKind::Xml(e.to_string()))
-        }
-    })?;
+    let doc = roxmltree::Document::parse_with_options(text, opts)
+        .map_err(|e| err(ErrorKind::Xml(e.to_string())))?;
     let robot = doc.root_element();
     if robot.tag_name().name() != "robot" {
         return Err(err(ErrorKind::NotARobot(robot.tag_name().name().into())));
     }
-    detect_xacro(&doc).map_err(err)?;
     let (clean, facts) = pre_pass(text, &robot).map_err(err)?;
     let parsed =
         urdf_rs::read_from_string(&clean).map_err(|e| err(ErrorKind::Urdf(e.to_string())))?;
@@ -101,29 +121,6 @@ pub fn load_str(text: &str, source: &str) -> Result<Tree, ModelError> {
         })
         .collect();
     Tree::new(parsed.name, source.to_string(), links, joints)
-}
-
-/// xacro markers: elements in the xacro namespace or `${…}` / `$(…)` in attribute values.
-fn detect_xacro(doc: &roxmltree::Document) -> Result<(), ErrorKind> {
-    for node in doc.descendants().filter(|n| n.is_element()) {
-        let line = doc.text_pos_at(node.range().start).row;
-        if node.tag_name().namespace() == Some(XACRO_NS) {
-            return Err(ErrorKind::Xacro(format!(
-                "<xacro:{}> at line {line}",
-                node.tag_name().name()
-            )));
-        }
-        for a in node.attributes() {
-            if a.value().contains("${") || a.value().contains("$(") {
-                return Err(ErrorKind::Xacro(format!(
-                    "{}=\"{}\" at line {line}",
-                    a.name(),
-                    a.value()
-                )));
-            }
-        }
-    }
-    Ok(())
 }
 
 /// What the pre-pass learned about a joint's `<limit>`.

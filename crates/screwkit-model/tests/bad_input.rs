@@ -274,20 +274,32 @@ fn urdf_rs_pitfalls() {
     assert_eq!(c.variables[0].velocity, Some(1.0));
 }
 
+/// xacro is expanded, not refused: a property becomes its value; `${…}` naming nothing is an
+/// expansion error naming the file, line and name.
 #[test]
-fn xacro_is_detected() {
+fn xacro_is_expanded() {
     let x = r#"<robot name="r" xmlns:xacro="http://www.ros.org/wiki/xacro">
-        <xacro:property name="l" value="0.3"/><link name="a"/></robot>"#;
-    expect_err(
-        x,
-        |k| matches!(k, ErrorKind::Xacro(_)),
-        &["xacro", "<xacro:property> at line 2", "run `xacro"],
-    );
+        <xacro:property name="l" value="0.5"/>"#;
+    let with_l = ARM
+        .replace("<robot name=\"arm\">", x)
+        .replace(r#"<origin xyz="0.5 0 0"/>"#, r#"<origin xyz="${l} 0 0"/>"#);
+    let plain = chain_of(ARM).unwrap();
+    assert_eq!(chain_of(&with_l).unwrap().home, plain.home);
+    // ${l} with no property l (and no namespace: still xacro, it is in an <origin>).
     let expr = ARM.replace(r#"<origin xyz="0.5 0 0"/>"#, r#"<origin xyz="${l} 0 0"/>"#);
-    expect_err(&expr, |k| matches!(k, ErrorKind::Xacro(_)), &["${l} 0 0"]);
-    // Undeclared prefix: not even well-formed XML, but clearly xacro.
-    let undeclared = r#"<robot name="r"><xacro:macro name="m"/></robot>"#;
-    expect_err(undeclared, |k| matches!(k, ErrorKind::Xacro(_)), &["xacro"]);
+    let err = chain_of(&expr).unwrap_err();
+    assert!(matches!(err.kind, ErrorKind::XacroExpand(_)), "{err}");
+    let msg = err.to_string();
+    assert!(
+        msg.starts_with("test.urdf:") && msg.contains("unknown property or name \"l\""),
+        "{msg}"
+    );
+    // Undeclared prefix: read as xacro (an empty macro definition, then no links at all).
+    let undeclared = r#"<robot name="r"><xacro:macro name="m"/><link name="a"/></robot>"#;
+    assert_eq!(
+        urdf::load_str(undeclared, "test.urdf").unwrap().links,
+        ["a"]
+    );
     // The namespace declaration alone (left by xacro in its output) and ${...} in comments
     // are fine.
     let ok = ARM.replace(

@@ -79,6 +79,23 @@ fn row_seed(seed: u64, k: usize) -> u64 {
     screwkit_solve::batch::row_seed(seed, k)
 }
 
+/// Expands a xacro file into URDF text natively (no ROS): `package_paths` for `$(find pkg)`
+/// (searched before ROS_PACKAGE_PATH and AMENT_PREFIX_PATH), `args` for `xacro:arg`.
+#[pyfunction]
+#[pyo3(signature = (path, package_paths = None, args = None))]
+fn xacro(
+    path: std::path::PathBuf,
+    package_paths: Option<Vec<std::path::PathBuf>>,
+    args: Option<std::collections::BTreeMap<String, String>>,
+) -> PyResult<String> {
+    let opts = robot::xacro_options(package_paths, args);
+    let label = path.display().to_string();
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| errors::io_error(&format!("{label}: cannot read the file"), &e))?;
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    screwkit_model::xacro::expand_str(&text, &label, dir, &opts).map_err(errors::model_error)
+}
+
 /// The native module.
 #[pymodule]
 fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -91,6 +108,7 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(log, m)?)?;
     m.add_function(wrap_pyfunction!(adjoint, m)?)?;
     m.add_function(wrap_pyfunction!(row_seed, m)?)?;
+    m.add_function(wrap_pyfunction!(xacro, m)?)?;
     m.add_function(wrap_pyfunction!(pool::set_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(pool::num_threads, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -212,6 +212,17 @@ fn run_batch<'py>(
     Ok(out.into_any())
 }
 
+/// The library's xacro options from Python's arguments.
+pub fn xacro_options(
+    package_paths: Option<Vec<PathBuf>>,
+    args: Option<std::collections::BTreeMap<String, String>>,
+) -> screwkit_model::XacroOptions {
+    screwkit_model::XacroOptions {
+        package_paths: package_paths.unwrap_or_default(),
+        args: args.unwrap_or_default().into_iter().collect(),
+    }
+}
+
 /// Writes `text` to `path` when one is given.
 fn write_text(path: Option<PathBuf>, text: &str) -> PyResult<()> {
     match path {
@@ -243,19 +254,30 @@ fn batch_result(
 
 #[pymethods]
 impl Robot {
-    /// Loads the chain `base` → `tip` of a URDF file (default base: the root link; default
-    /// tip: the only leaf below the base).
+    /// Loads the chain `base` → `tip` of a URDF or xacro file (default base: the root link;
+    /// default tip: the only leaf below the base). xacro is expanded natively: `package_paths`
+    /// are searched for `$(find pkg)` (before ROS_PACKAGE_PATH and AMENT_PREFIX_PATH),
+    /// `xacro_args` give `xacro:arg` values.
     #[classmethod]
-    #[pyo3(signature = (path, base = None, tip = None))]
+    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None))]
     fn from_urdf(
         _cls: &Bound<'_, PyType>,
         path: PathBuf,
         base: Option<&str>,
         tip: Option<&str>,
+        package_paths: Option<Vec<PathBuf>>,
+        xacro_args: Option<std::collections::BTreeMap<String, String>>,
     ) -> PyResult<Self> {
         let label = path.display().to_string();
         let text = std::fs::read_to_string(&path)
             .map_err(|e| io_error(&format!("{label}: cannot read the file"), &e))?;
+        let text = if screwkit_model::xacro::is_xacro(&text) {
+            let opts = xacro_options(package_paths, xacro_args);
+            let dir = path.parent().unwrap_or(std::path::Path::new("."));
+            screwkit_model::xacro::expand_str(&text, &label, dir, &opts).map_err(model_error)?
+        } else {
+            text
+        };
         Self::build(text, &label, base, tip)
     }
 

@@ -24,6 +24,7 @@ from ._screwkit import (
     num_threads,
     row_seed,
     set_num_threads,
+    xacro,
 )
 
 __all__ = [
@@ -39,4 +40,5 @@ __all__ = [
     "num_threads",
     "row_seed",
     "set_num_threads",
+    "xacro",
 ]

@@ -1,7 +1,7 @@
 """Type stubs of screwkit's native module (pyo3). Arrays are float64 unless said otherwise."""
 
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, Literal, final
 
 import numpy as np
@@ -21,6 +21,7 @@ __all__ = [
     "row_seed",
     "set_num_threads",
     "num_threads",
+    "xacro",
     "__version__",
 ]
 
@@ -128,6 +129,9 @@ class Robot:
         path: str | os.PathLike[str],
         base: str | None = None,
         tip: str | None = None,
+        *,
+        package_paths: Sequence[str | os.PathLike[str]] | None = None,
+        xacro_args: Mapping[str, str] | None = None,
     ) -> Robot: ...
     @classmethod
     def from_string(
@@ -207,3 +211,8 @@ def adjoint(t: _ArrayLike) -> _F64: ...
 def row_seed(seed: int, k: int) -> int: ...
 def set_num_threads(threads: int | None = None) -> None: ...
 def num_threads() -> int: ...
+def xacro(
+    path: str | os.PathLike[str],
+    package_paths: Sequence[str | os.PathLike[str]] | None = None,
+    args: Mapping[str, str] | None = None,
+) -> str: ...
