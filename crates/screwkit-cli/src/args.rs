@@ -86,7 +86,7 @@ fn parse_xacro_arg(s: &str) -> Result<(String, String), String> {
 /// A URDF file and the chain in it.
 #[derive(Debug, Args)]
 pub struct ChainArgs {
-    /// The URDF or xacro file.
+    /// The URDF or xacro file (- reads it from standard input).
     pub urdf: PathBuf,
     /// xacro expansion.
     #[command(flatten)]
@@ -126,7 +126,7 @@ pub fn parse_list(s: &str) -> Result<List, String> {
 /// `info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// The URDF or xacro file.
+    /// The URDF or xacro file (- reads it from standard input).
     pub urdf: PathBuf,
     /// xacro expansion.
     #[command(flatten)]
@@ -245,8 +245,9 @@ pub struct IkArgs {
     /// Random restarts allowed.
     #[arg(long, default_value_t = 200)]
     pub restarts: usize,
-    /// Wall-time budget per target in ms (0: none).
-    #[arg(long, default_value_t = 5.0)]
+    /// Wall-time budget per target in ms (0, the default: none, so answers do not depend on
+    /// the machine's load; the budget is --max-iter and --restarts).
+    #[arg(long, default_value_t = 0.0)]
     pub timeout_ms: f64,
     /// Solve for the position only.
     #[arg(long)]
@@ -331,7 +332,7 @@ pub struct ViewArgs {
 /// `xacro`.
 #[derive(Debug, Args)]
 pub struct XacroFileArgs {
-    /// The xacro file.
+    /// The xacro file (- reads it from standard input).
     pub file: PathBuf,
     /// xacro expansion.
     #[command(flatten)]

@@ -17,6 +17,7 @@ pub fn run(args: &BenchArgs, format: Format) -> CliResult {
     };
     let opts = IkOptions {
         method,
+        timeout: Some(screwkit_testkit::protocol::TIME_CAP),
         ..IkOptions::default()
     };
     let r = protocol::run(&kin, args.n, args.seed, &opts);

@@ -1,6 +1,6 @@
 //! `screwkit info`: what is in a URDF.
 
-use screwkit_model::{urdf, Chain, Tree};
+use screwkit_model::{Chain, Tree};
 use serde_json::{json, Value};
 
 use crate::args::{Format, InfoArgs};
@@ -43,7 +43,7 @@ fn draw(tree: &Tree, link: usize, prefix: &str, out: &mut String) {
 
 /// Runs `info`.
 pub fn run(args: &InfoArgs, format: Format) -> CliResult {
-    let tree = urdf::load_file_with(&args.urdf, &args.xacro.options())?;
+    let tree = crate::read_tree(&args.urdf, &args.xacro)?;
     let leaves = tree.leaves_below(tree.root);
     let default = Chain::from_tree(&tree, None, None);
     let movable = tree.joints.iter().filter(|j| j.kind.is_movable()).count();

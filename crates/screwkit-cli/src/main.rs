@@ -19,20 +19,43 @@ mod table;
 use std::process::ExitCode;
 
 use clap::Parser;
-use screwkit_model::{load_chain_with, Chain};
+use screwkit_model::{urdf, Chain, ModelError, Tree};
 use screwkit_solve::Kinematics;
 
 use args::{ChainArgs, Cli, Command, Format};
 use output::{CliResult, Failure};
 
-/// Loads the chain named by the arguments and prepares it for solving.
-pub(crate) fn load(c: &ChainArgs) -> CliResult<(Chain, Kinematics)> {
-    let chain = load_chain_with(
-        &c.urdf,
+/// Reads a robot file (URDF or xacro; `-`: standard input) into its tree.
+pub(crate) fn read_tree(path: &std::path::Path, xacro: &args::XacroArgs) -> CliResult<Tree> {
+    if path.as_os_str() == "-" {
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes)
+            .map_err(|e| Failure(format!("cannot read the robot from standard input: {e}")))?;
+        let text = urdf::decode(&bytes).map_err(|k| ModelError::new("<stdin>", k))?;
+        let cwd = std::path::Path::new(".");
+        return Ok(urdf::load_str_with(
+            &text,
+            "<stdin>",
+            cwd,
+            &xacro.options(),
+        )?);
+    }
+    Ok(urdf::load_file_with(path, &xacro.options())?)
+}
+
+/// Loads the chain named by the arguments.
+pub(crate) fn load_chain(c: &ChainArgs) -> CliResult<Chain> {
+    let tree = read_tree(&c.urdf, &c.xacro)?;
+    Ok(Chain::from_tree(
+        &tree,
         c.base.as_deref(),
         c.tip.as_deref(),
-        &c.xacro.options(),
-    )?;
+    )?)
+}
+
+/// Loads the chain named by the arguments and prepares it for solving.
+pub(crate) fn load(c: &ChainArgs) -> CliResult<(Chain, Kinematics)> {
+    let chain = load_chain(c)?;
     let kin = Kinematics::new(&chain);
     Ok((chain, kin))
 }
@@ -49,6 +72,19 @@ fn run(cli: &Cli) -> CliResult {
                 .into(),
         ));
     }
+    let batch_from_stdin = match &cli.command {
+        Command::Fk(a) => Some((&a.chain, &a.input)),
+        Command::Jacobian(a) => Some((&a.chain, &a.input)),
+        Command::Ik(a) => Some((&a.chain, &a.input)),
+        _ => None,
+    };
+    if let Some((c, Some(input))) = batch_from_stdin {
+        if input == "-" && c.urdf.as_os_str() == "-" {
+            return Err(Failure(
+                "the robot and the batch cannot both come from standard input (-)".into(),
+            ));
+        }
+    }
     if cli.format == Format::Csv && !matches!(cli.command, Command::Table(_)) {
         return Err(Failure("--format csv is only available for `table`".into()));
     }
@@ -64,10 +100,17 @@ fn run(cli: &Cli) -> CliResult {
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {
-            print!(
-                "{}",
+            let text = if a.file.as_os_str() == "-" {
+                let mut bytes = Vec::new();
+                std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes)
+                    .map_err(|e| Failure(format!("cannot read standard input: {e}")))?;
+                let text = urdf::decode(&bytes).map_err(|k| ModelError::new("<stdin>", k))?;
+                let cwd = std::path::Path::new(".");
+                screwkit_model::xacro::expand_str(&text, "<stdin>", cwd, &a.xacro.options())?
+            } else {
                 screwkit_model::xacro::expand_file(&a.file, &a.xacro.options())?
-            );
+            };
+            print!("{text}");
             Ok(())
         }
     }

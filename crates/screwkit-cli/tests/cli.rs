@@ -703,3 +703,60 @@ fn draw_and_view_outputs_and_errors() {
         assert!(o.stderr.contains(message), "{args:?}: {}", o.stderr);
     }
 }
+
+/// `-` reads the robot from standard input; a xacro file is read directly, with package paths
+/// and arguments; `screwkit xacro` prints the expansion.
+#[test]
+fn stdin_and_xacro_inputs() {
+    let planar = asset("planar_3r.urdf");
+    let text = std::fs::read_to_string(&planar).unwrap();
+    let from_file = ok(&["fk", &planar, "--q", "0.1,0.2,0.3", "--format", "json"]);
+    let o = run(
+        &["fk", "-", "--q", "0.1,0.2,0.3", "--format", "json"],
+        Some(&text),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert_eq!(o.stdout, from_file);
+    let both = run(&["fk", "-", "--input", "-"], Some(&text));
+    assert_eq!(both.code, 1);
+    assert!(both.stderr.contains("cannot both come from standard input"));
+
+    let cases = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../screwkit-model/tests/xacro_cases"
+    );
+    let includes = format!("{cases}/includes.xacro");
+    let pkgs = format!("{cases}/pkgs");
+    let urdf = ok(&["xacro", &includes, "--package-path", &pkgs]);
+    assert!(
+        urdf.contains("<joint name=\"wrist_joint\" type=\"continuous\">"),
+        "{urdf}"
+    );
+    let t = json(&[
+        "table",
+        &includes,
+        "--package-path",
+        &pkgs,
+        "--format",
+        "json",
+    ]);
+    assert_eq!(t["joints"].as_array().unwrap().len(), 2);
+    let missing = run(&["table", &includes], None);
+    assert_eq!(missing.code, 1);
+    assert!(
+        missing.stderr.contains("$(find my_pkg): package not found"),
+        "{}",
+        missing.stderr
+    );
+    let expr = format!("{cases}/expressions.xacro");
+    let with_tool = json(&["info", &expr, "--format", "json"]);
+    let without = json(&[
+        "info",
+        &expr,
+        "--xacro-arg",
+        "with_tool:=false",
+        "--format",
+        "json",
+    ]);
+    assert_ne!(with_tool, without);
+}

@@ -130,8 +130,8 @@ pub enum ErrorKind {
         /// Its type.
         kind: String,
     },
-    /// A movable joint with a zero axis.
-    #[error("joint \"{0}\" has a zero axis")]
+    /// A movable joint whose axis is zero or shorter than 1e-9.
+    #[error("joint \"{0}\" has a zero axis (norm below 1e-9)")]
     ZeroAxis(String),
     /// A revolute or prismatic joint without `<limit>`.
     #[error("joint \"{0}\" is revolute/prismatic but has no <limit> element (URDF requires lower/upper; use type=\"continuous\" for an unbounded revolute joint)")]

@@ -114,8 +114,10 @@ impl TreeJoint {
                 what: "<axis>".into(),
             });
         }
+        // Below 1e-9 the direction is noise (a typo, or rounding of a zero axis): refuse it as
+        // a zero axis rather than blow it up to unit length.
         let n = a.norm();
-        if n < 1e-12 {
+        if n < 1e-9 {
             return Err(ErrorKind::ZeroAxis(self.name.clone()));
         }
         Ok(a / n)

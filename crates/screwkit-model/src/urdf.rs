@@ -38,9 +38,48 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
 pub fn load_file_with(path: impl AsRef<Path>, opts: &XacroOptions) -> Result<Tree, ModelError> {
     let path = path.as_ref();
     let label = path.display().to_string();
-    let text = std::fs::read_to_string(path)
+    let bytes = std::fs::read(path)
         .map_err(|e| ModelError::new(label.clone(), ErrorKind::Io(e.to_string())))?;
+    let text = decode(&bytes).map_err(|kind| ModelError::new(label.clone(), kind))?;
     load_str_with(&text, &label, path.parent().unwrap_or(Path::new(".")), opts)
+}
+
+/// A robot file's bytes as text: UTF-8 (a byte-order mark dropped), or Latin-1 when the XML
+/// declaration says so (ISO-8859-1, latin1, …), as urdfdom reads them.
+pub fn decode(bytes: &[u8]) -> Result<String, ErrorKind> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        Ok(s) => Ok(s.to_string()),
+        Err(e) => {
+            let head = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).to_ascii_lowercase();
+            let latin1 = ["iso-8859-1", "iso8859-1", "latin-1", "latin1"];
+            if head.trim_start().starts_with("<?xml") && latin1.iter().any(|l| head.contains(l)) {
+                Ok(bytes.iter().map(|&b| b as char).collect())
+            } else {
+                Err(ErrorKind::Io(format!(
+                    "not UTF-8 text (byte {} is invalid; declare encoding=\"ISO-8859-1\" for Latin-1)",
+                    e.valid_up_to()
+                )))
+            }
+        }
+    }
+}
+
+/// What urdfdom tolerates and a strict XML parser does not: whitespace before the XML
+/// declaration, NUL bytes at the end (C strings written whole), and an encoding named in the
+/// declaration (the text is already decoded: [`decode`]).
+pub(crate) fn tolerate(text: &str) -> std::borrow::Cow<'_, str> {
+    let t = text
+        .trim_start()
+        .trim_end_matches(['\0', ' ', '\n', '\r', '\t']);
+    if let Some(rest) = t.strip_prefix("<?xml") {
+        if let Some(end) = rest.find("?>") {
+            if rest[..end].contains("encoding") {
+                return format!("<?xml version=\"1.0\"?>{}", &rest[end + 2..]).into();
+            }
+        }
+    }
+    t.into()
 }
 
 /// Loads URDF (or xacro) text into a [`Tree`]; `source` names it in error messages.
@@ -57,6 +96,7 @@ pub fn load_str_with(
     dir: &Path,
     opts: &XacroOptions,
 ) -> Result<Tree, ModelError> {
+    let text = &*tolerate(text);
     if text.trim().is_empty() {
         return Err(ModelError::new(source, ErrorKind::Empty));
     }

@@ -89,8 +89,9 @@ fn parse_options<'a>() -> roxmltree::ParsingOptions<'a> {
 pub fn expand_file(path: impl AsRef<Path>, opts: &XacroOptions) -> Result<String, ModelError> {
     let path = path.as_ref();
     let label = path.display().to_string();
-    let text = std::fs::read_to_string(path)
+    let bytes = std::fs::read(path)
         .map_err(|e| ModelError::new(label.clone(), ErrorKind::Io(e.to_string())))?;
+    let text = crate::urdf::decode(&bytes).map_err(|k| ModelError::new(label.clone(), k))?;
     expand_str(&text, &label, path.parent().unwrap_or(Path::new(".")), opts)
 }
 
@@ -107,7 +108,7 @@ pub fn expand_str(
         args: opts.args.iter().cloned().collect(),
         depth: 0,
     };
-    let root = x.parse(text, source, dir)?;
+    let root = x.parse(&crate::urdf::tolerate(text), source, dir)?;
     let scope = Scope::new(None);
     let mut out = OutElem {
         name: root.name.clone(),

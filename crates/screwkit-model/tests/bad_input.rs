@@ -321,3 +321,69 @@ fn urdf_defaults() {
     assert_eq!(s2.as_slice(), &[1.0, 0.0, 0.0, 0.0, 0.1, 0.0]);
     assert_eq!(*c.home.translation(), nalgebra::Vector3::new(0.0, 0.0, 0.1));
 }
+
+/// What urdfdom accepts is accepted: blank lines before the XML declaration, NUL bytes at the
+/// end, a byte-order mark, a declared Latin-1 encoding (with a Latin-1 byte in a name).
+#[test]
+fn tolerated_like_urdfdom() {
+    let decl = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    let plain = chain_of(ARM).unwrap();
+    for text in [
+        format!("\n\n  \n{decl}{ARM}"),
+        format!("{decl}{ARM}\0\0"),
+        format!("\u{feff}{decl}{ARM}"),
+    ] {
+        let dir = std::env::temp_dir().join(format!("screwkit-tolerate-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("t.urdf");
+        std::fs::write(&f, text.as_bytes()).unwrap();
+        let tree = urdf::load_file(&f).unwrap_or_else(|e| panic!("{text:?}: {e}"));
+        assert_eq!(
+            Chain::from_tree(&tree, None, None).unwrap().home,
+            plain.home
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    // Latin-1: "é" as the single byte 0xE9 in a link name.
+    let latin = ARM
+        .replace("name=\"b\"", "name=\"b\u{e9}\"")
+        .replace("link=\"b\"", "link=\"b\u{e9}\"");
+    let mut bytes = b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n".to_vec();
+    bytes.extend(latin.chars().map(|c| c as u32 as u8));
+    let dir = std::env::temp_dir().join(format!("screwkit-latin1-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("latin1.urdf");
+    std::fs::write(&f, &bytes).unwrap();
+    let tree = urdf::load_file(&f).unwrap();
+    assert!(
+        tree.links.iter().any(|l| l == "b\u{e9}"),
+        "{:?}",
+        tree.links
+    );
+    // The same bytes without the declaration: not UTF-8, said so.
+    std::fs::write(
+        &f,
+        &bytes[bytes.iter().position(|&b| b == b'\n').unwrap() + 1..],
+    )
+    .unwrap();
+    let e = urdf::load_file(&f).unwrap_err();
+    assert!(
+        e.to_string().contains("not UTF-8") && e.to_string().contains("ISO-8859-1"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// An axis shorter than 1e-9 is refused like a zero one.
+#[test]
+fn near_zero_axis_is_refused() {
+    let tiny = ARM.replacen("<axis xyz=\"0 0 1\"/>", "<axis xyz=\"0 0 1e-10\"/>", 1);
+    assert_ne!(tiny, ARM);
+    expect_err(
+        &tiny,
+        |k| matches!(k, ErrorKind::ZeroAxis(_)),
+        &["zero axis", "1e-9"],
+    );
+    let small = ARM.replacen("<axis xyz=\"0 0 1\"/>", "<axis xyz=\"0 0 1e-6\"/>", 1);
+    assert!(chain_of(&small).is_ok());
+}

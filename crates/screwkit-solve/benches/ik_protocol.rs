@@ -26,6 +26,7 @@ fn main() {
         ] {
             let opts = IkOptions {
                 method,
+                timeout: Some(screwkit_testkit::protocol::TIME_CAP),
                 ..IkOptions::default()
             };
             let r = protocol::run(&kin, n, 42, &opts);

@@ -18,8 +18,9 @@
 //! (continuous joints wrapped to (−π, π]), so solutions are always within limits. When an
 //! attempt stalls (its error norm ‖e‖ does not halve within 5 iterations) or reaches 60
 //! iterations, it restarts from a random configuration drawn from a seeded generator —
-//! reproducible — until the iteration budget, the restart budget or the wall-time budget
-//! (default 5 ms, like TRAC-IK) runs out. Not converging is an explicit result
+//! reproducible — until the iteration budget or the restart budget runs out (or a wall-time
+//! budget, when one is set: none by default, so the same targets give the same answers on an
+//! idle and a busy machine). Not converging is an explicit result
 //! ([`IkStatus::converged`] = false, with the best q found and why it stopped), never silent
 //! garbage.
 
@@ -90,7 +91,8 @@ impl StopReason {
     }
 }
 
-/// IK settings. `Default` gives LM, 1e-9 rad / 1e-9 m, 5 ms, seed 0.
+/// IK settings. `Default` gives LM, 1e-9 rad / 1e-9 m, 2000 iterations, 200 restarts, no
+/// wall-time budget (reproducible), seed 0.
 #[derive(Debug, Clone, PartialEq)]
 pub struct IkOptions {
     /// The update rule.
@@ -123,7 +125,7 @@ impl Default for IkOptions {
             tol_pos: 1e-9,
             max_iterations: 2000,
             max_restarts: 200,
-            timeout: Some(Duration::from_millis(5)),
+            timeout: None,
             seed: 0,
             position_only: false,
             weights: [1.0; 6],

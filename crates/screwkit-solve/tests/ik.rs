@@ -319,3 +319,43 @@ fn bad_options_are_input_errors() {
         assert!(e.is_invalid_input() && e.to_string().contains(name), "{e}");
     }
 }
+
+/// The default budget is iterations and restarts, not wall time: the same targets give the same
+/// answers on an idle machine and on one whose cores are all busy.
+#[test]
+fn default_budget_is_reproducible_under_load() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    assert_eq!(IkOptions::default().timeout, None);
+    let (_, _, kin) = load("iiwa14.urdf", None, None);
+    let mut rng = Sampler::new(77);
+    let targets: Vec<_> = (0..200)
+        .map(|_| fk1(&kin, &rng.config(&kin)).unwrap())
+        .collect();
+    let solve_all = || -> Vec<Vec<f64>> {
+        let mut ws = Workspace::new(&kin);
+        targets
+            .iter()
+            .map(|t| {
+                solve(&kin, &mut ws, t, &kin.midpoint(), &IkOptions::default())
+                    .unwrap()
+                    .q
+            })
+            .collect()
+    };
+    let idle = solve_all();
+    let stop = AtomicBool::new(false);
+    let busy = std::thread::scope(|s| {
+        for _ in 0..4 {
+            s.spawn(|| {
+                let mut x = 0u64;
+                while !stop.load(Ordering::Relaxed) {
+                    x = std::hint::black_box(x.wrapping_mul(6364136223846793005).wrapping_add(1));
+                }
+            });
+        }
+        let r = solve_all();
+        stop.store(true, Ordering::Relaxed);
+        r
+    });
+    assert_eq!(idle, busy);
+}

@@ -51,6 +51,10 @@ impl ProtocolReport {
     }
 }
 
+/// The protocol's wall-time cap per query (TRAC-IK's default): what `screwkit bench` and the
+/// benches give IK, so their figures compare with the peers'.
+pub const TIME_CAP: std::time::Duration = std::time::Duration::from_millis(5);
+
 /// Runs the protocol with `queries` targets drawn from `seed`, solving with `opts`.
 pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> ProtocolReport {
     let n = kin.dof();
