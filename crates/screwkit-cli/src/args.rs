@@ -123,6 +123,35 @@ pub fn parse_list(s: &str) -> Result<List, String> {
     v.map(List)
 }
 
+/// The Jacobians `screwkit jacobian` gives.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum JacobianFrame {
+    /// J_s or J_b.
+    Screw(Frame),
+    /// The tip-point Jacobian in base axes.
+    WorldAligned,
+}
+
+impl JacobianFrame {
+    /// Its name, as parsed.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            JacobianFrame::Screw(f) => f.as_str(),
+            JacobianFrame::WorldAligned => "world-aligned",
+        }
+    }
+}
+
+/// Parses `space`, `body` or `world-aligned`.
+pub fn parse_jacobian_frame(s: &str) -> Result<JacobianFrame, String> {
+    match s {
+        "world-aligned" => Ok(JacobianFrame::WorldAligned),
+        other => parse_frame(other)
+            .map(JacobianFrame::Screw)
+            .map_err(|e| format!("{e} (or world-aligned)")),
+    }
+}
+
 /// `info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
@@ -190,9 +219,11 @@ pub struct JacobianArgs {
     /// Joint values q1,q2,...
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
     pub q: Option<List>,
-    /// Frame of the Jacobian: space (J_s) or body (J_b).
-    #[arg(long, value_parser = parse_frame, default_value = "space", value_name = "space|body")]
-    pub frame: Frame,
+    /// Which Jacobian: space (J_s: twist of the body at the base origin, base axes), body (J_b:
+    /// at the tip, tip axes) or world-aligned (J_wa: angular velocity and tip-point velocity,
+    /// base axes; Pinocchio's LOCAL_WORLD_ALIGNED, Robotics Toolbox's jacob0).
+    #[arg(long, value_parser = parse_jacobian_frame, default_value = "space", value_name = "space|body|world-aligned")]
+    pub frame: JacobianFrame,
     /// Add singular values, rank, manipulability, condition number and a verdict.
     #[arg(long)]
     pub analyze: bool,

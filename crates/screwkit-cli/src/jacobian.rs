@@ -5,12 +5,12 @@ use std::time::Instant;
 use nalgebra::Matrix6xX;
 use screwkit_lie::display::fixed;
 use screwkit_solve::analysis::{analyze_jacobian, Analysis};
-use screwkit_solve::batch::jacobian_batch;
-use screwkit_solve::jacobian::jacobian;
-use screwkit_solve::{Frame, Kinematics, Workspace};
+use screwkit_solve::batch::{jacobian_batch, jacobian_world_aligned_batch};
+use screwkit_solve::jacobian::{jacobian, jacobian_world_aligned};
+use screwkit_solve::{Frame, Kinematics, SolveError, Workspace};
 use serde_json::{json, Value};
 
-use crate::args::{Format, JacobianArgs};
+use crate::args::{Format, JacobianArgs, JacobianFrame};
 use crate::batch;
 use crate::output::{num, nums, print_json, tuple, CliResult, Failure, PREC};
 
@@ -31,7 +31,7 @@ fn analysis_json(a: &Analysis) -> Value {
 fn value(
     q: &[f64],
     j: &Matrix6xX<f64>,
-    frame: Frame,
+    frame: JacobianFrame,
     with_analysis: bool,
 ) -> Result<Value, String> {
     let rows: Vec<Value> = (0..6)
@@ -47,7 +47,12 @@ fn value(
 
 /// Batch mode: every row through the library's Jacobian batch (the analysis, an SVD per row,
 /// runs while the lines are formatted).
-fn run_batch(kin: &Kinematics, input: &str, frame: Frame, with_analysis: bool) -> CliResult {
+fn run_batch(
+    kin: &Kinematics,
+    input: &str,
+    frame: JacobianFrame,
+    with_analysis: bool,
+) -> CliResult {
     let started = Instant::now();
     let lines = batch::read_lines(input)?;
     let n = kin.dof();
@@ -55,7 +60,12 @@ fn run_batch(kin: &Kinematics, input: &str, frame: Frame, with_analysis: bool) -
     let rows = lines.len();
     let mut jac = vec![0.0; rows * 6 * n];
     let mut poses = vec![0.0; rows * 16];
-    let result = jacobian_batch(kin, &qs, frame, &mut jac, Some(&mut poses));
+    let result = match frame {
+        JacobianFrame::Screw(f) => jacobian_batch(kin, &qs, f, &mut jac, Some(&mut poses)),
+        JacobianFrame::WorldAligned => {
+            jacobian_world_aligned_batch(kin, &qs, &mut jac, Some(&mut poses))
+        }
+    };
     batch::merge_row_errors(result, &mut errors)?;
     batch::emit(&lines, &errors, started, |k| {
         let j = Matrix6xX::from_row_slice(&jac[k * 6 * n..(k + 1) * 6 * n]);
@@ -64,6 +74,19 @@ fn run_batch(kin: &Kinematics, input: &str, frame: Frame, with_analysis: bool) -
             Err(e) => (json!({"error": e, "line": lines[k].number}), false),
         }
     })
+}
+
+/// One Jacobian of the requested kind.
+fn one(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &[f64],
+    frame: JacobianFrame,
+) -> Result<Matrix6xX<f64>, SolveError> {
+    match frame {
+        JacobianFrame::Screw(f) => jacobian(kin, ws, q, f).cloned(),
+        JacobianFrame::WorldAligned => jacobian_world_aligned(kin, ws, q).cloned(),
+    }
 }
 
 /// Runs `jacobian`.
@@ -78,7 +101,7 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         .expect("clap requires --q without --input")
         .0;
     let mut ws = Workspace::new(&kin);
-    let j = jacobian(&kin, &mut ws, q, args.frame)?.clone();
+    let j = one(&kin, &mut ws, q, args.frame)?;
     let analysis = if args.analyze {
         Some(analyze_jacobian(&j)?)
     } else {
@@ -93,8 +116,9 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         return Ok(());
     }
     let (name, sym) = match args.frame {
-        Frame::Space => ("Space", "J_s"),
-        Frame::Body => ("Body", "J_b"),
+        JacobianFrame::Screw(Frame::Space) => ("Space", "J_s"),
+        JacobianFrame::Screw(Frame::Body) => ("Body", "J_b"),
+        JacobianFrame::WorldAligned => ("World-aligned (tip point, base axes)", "J_wa"),
     };
     let mut s = format!(
         "{name} Jacobian {sym} (6 × {}) of `{}` → `{}` at q = {}; rows ω then v:\n\n|    | {} |\n|---|{}\n",

@@ -466,8 +466,9 @@ impl Robot {
         }
     }
 
-    /// The Jacobian in `frame` ("space": J_s, "body": J_b), rows (ω, v): q (dof,) → (6, dof);
-    /// q (N, dof) → (N, 6, dof).
+    /// The Jacobian in `frame` — "space" (J_s), "body" (J_b) or "world-aligned" (J_wa: the
+    /// angular velocity and the tip point's velocity in base axes; Pinocchio's
+    /// LOCAL_WORLD_ALIGNED) — rows (ω, v): q (dof,) → (6, dof); q (N, dof) → (N, 6, dof).
     #[pyo3(signature = (q, frame = "space"))]
     fn jacobian<'py>(
         &self,
@@ -475,7 +476,15 @@ impl Robot {
         q: &Bound<'py, PyAny>,
         frame: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let frame = parse_frame(frame)?;
+        let frame = if frame == "world-aligned" {
+            None
+        } else {
+            Some(parse_frame(frame).map_err(|_| {
+                PyValueError::new_err(format!(
+                    "frame: unknown frame {frame:?} (expected \"space\", \"body\" or \"world-aligned\")"
+                ))
+            })?)
+        };
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
         let q = q.readonly();
@@ -484,14 +493,19 @@ impl Robot {
         match rows {
             Rows::One => {
                 let mut ws = self.workspace();
-                let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
+                let j = match frame {
+                    Some(f) => jacobian::jacobian(&self.kin, &mut ws, qs, f),
+                    None => jacobian::jacobian_world_aligned(&self.kin, &mut ws, qs),
+                }
+                .map_err(solve_error)?;
                 Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
             }
             // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
             // empty rows).
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0]).into_any()),
-            Rows::Many(rows) => run_batch(py, &[rows, 6, n], |o| {
-                batch::jacobian_batch(&self.kin, qs, frame, o, None)
+            Rows::Many(rows) => run_batch(py, &[rows, 6, n], |o| match frame {
+                Some(f) => batch::jacobian_batch(&self.kin, qs, f, o, None),
+                None => batch::jacobian_world_aligned_batch(&self.kin, qs, o, None),
             }),
         }
     }

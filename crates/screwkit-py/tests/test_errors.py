@@ -116,7 +116,9 @@ def test_nan(ur5: screwkit.Robot) -> None:
 
 def test_bad_options(ur5: screwkit.Robot) -> None:
     t = ur5.home
-    with pytest.raises(ValueError, match=r'frame: .*"sky".*expected "space" or "body"'):
+    with pytest.raises(
+        ValueError, match=r'frame: .*"sky".*expected "space", "body" or "world-aligned"'
+    ):
         ur5.jacobian(np.zeros(6), frame="sky")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match=r'method: unknown IK method "bfgs"'):
         ur5.ik(t, method="bfgs")  # type: ignore[arg-type]

@@ -69,6 +69,22 @@ def test_jacobians_equal_finite_differences(spec: ChainSpec) -> None:
 
 
 @pytest.mark.parametrize("spec", all_chains())
+def test_world_aligned_jacobian_is_the_tip_point_velocity(spec: ChainSpec) -> None:
+    robot = spec.robot()
+    qs = configurations(robot, 4, seed=4)
+    batch = robot.jacobian(qs, "world-aligned")
+    h = 1e-6
+    for q, jwa in zip(qs, batch):
+        np.testing.assert_array_equal(jwa, robot.jacobian(q, "world-aligned"))
+        np.testing.assert_array_equal(jwa[:3], robot.jacobian(q, "space")[:3])
+        for k in range(robot.dof):
+            dq = np.zeros(robot.dof)
+            dq[k] = h
+            dp = (robot.fk(q + dq)[:3, 3] - robot.fk(q - dq)[:3, 3]) / (2 * h)
+            np.testing.assert_allclose(jwa[3:, k], dp, atol=1e-8)
+
+
+@pytest.mark.parametrize("spec", all_chains())
 def test_screw_axes_at_home_are_jacobian_columns_at_zero(spec: ChainSpec) -> None:
     """S_i and B_i are the Jacobian columns at q = 0 (one per joint when no joint mimics)."""
     robot = spec.robot()

@@ -247,6 +247,46 @@ pub fn jacobian_batch(
     ))
 }
 
+/// Tip-point Jacobians in base axes (see [`crate::jacobian::jacobian_world_aligned`]) of N
+/// configurations, row-major 6 × n each, with the tip poses when asked: the space batch,
+/// then each column moved to the tip point.
+pub fn jacobian_world_aligned_batch(
+    kin: &Kinematics,
+    qs: &[f64],
+    jacobians: &mut [f64],
+    poses: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
+    let n = kin.dof();
+    let mut own = Vec::new();
+    let poses = match poses {
+        Some(p) => p,
+        None => {
+            own.resize(jacobians.len() / (6 * n).max(1) * 16, 0.0);
+            &mut own[..]
+        }
+    };
+    let result = jacobian_batch(kin, qs, Frame::Space, jacobians, Some(&mut *poses));
+    if n > 0 {
+        jacobians
+            .par_chunks_mut(6 * n)
+            .zip(poses.par_chunks(16))
+            .for_each(|(j, t)| {
+                let p = nalgebra::Vector3::new(t[3], t[7], t[11]);
+                for c in 0..n {
+                    let mut col = [0.0; 6];
+                    for (r, x) in col.iter_mut().enumerate() {
+                        *x = j[r * n + c];
+                    }
+                    crate::jacobian::space_to_world_aligned(&mut col, &p);
+                    for (r, x) in col.iter().enumerate() {
+                        j[r * n + c] = *x;
+                    }
+                }
+            });
+    }
+    result
+}
+
 /// Writes a 6 × n Jacobian row-major into 6n values: the layout of [`jacobian_batch`]'s rows.
 #[inline]
 pub fn write_jacobian(j: &Matrix6xX<f64>, out: &mut [f64]) {

@@ -39,6 +39,42 @@ pub fn jacobian<'w>(
     Ok(fk_jacobian(kin, ws, q, frame)?.jacobian)
 }
 
+/// The tip-point Jacobian in base axes ("world-aligned": Pinocchio's `LOCAL_WORLD_ALIGNED`,
+/// Robotics Toolbox's `jacob0`), in the workspace: rows (ω, ṗ) — the angular velocity and the
+/// velocity of the tip point, both in base-frame axes — so (ω, ṗ) = J_wa q̇. From the space
+/// Jacobian and the tip position p ([`space_to_world_aligned`]). Checks q.
+pub fn jacobian_world_aligned<'w>(
+    kin: &Kinematics,
+    ws: &'w mut Workspace,
+    q: &[f64],
+) -> Result<&'w Matrix6xX<f64>, SolveError> {
+    kin.check_q(q)?;
+    ws.fit(kin);
+    let pose = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Space);
+    let n = ws.jacobian.ncols();
+    for c in 0..n {
+        let mut col = [0.0; 6];
+        for (r, x) in col.iter_mut().enumerate() {
+            *x = ws.jacobian[(r, c)];
+        }
+        space_to_world_aligned(&mut col, pose.translation());
+        for (r, x) in col.iter().enumerate() {
+            ws.jacobian[(r, c)] = *x;
+        }
+    }
+    Ok(&ws.jacobian)
+}
+
+/// One column of J_s, (ω, v) with v the velocity of the body point at the base origin, made a
+/// column of J_wa: (ω, v + ω × p), the velocity of the point at p (the tip) instead.
+#[inline]
+pub fn space_to_world_aligned(column: &mut [f64; 6], p: &nalgebra::Vector3<f64>) {
+    let (w0, w1, w2) = (column[0], column[1], column[2]);
+    column[3] += w1 * p[2] - w2 * p[1];
+    column[4] += w2 * p[0] - w0 * p[2];
+    column[5] += w0 * p[1] - w1 * p[0];
+}
+
 /// Every chain joint's screw axis at q in the space frame, one per joint of the chain in chain
 /// order (mimic joints included: `kin.links()` and the model's `Chain::joints` order):
 /// S_j(q) = \[Ad_{e^\[S₁\]θ₁ ⋯ e^\[S_{j−1}\]θ_{j−1}}\] S_j, the axis the joint turns about (or

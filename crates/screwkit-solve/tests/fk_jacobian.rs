@@ -225,3 +225,51 @@ fn joint_screws_recombine_into_the_space_jacobian() {
         );
     }
 }
+
+/// The world-aligned Jacobian: its linear rows are the derivative of the tip position (central
+/// differences), its angular rows those of J_s; the batch equals the single call bit for bit.
+#[test]
+fn world_aligned_jacobian_is_the_tip_point_velocity() {
+    use screwkit_solve::batch::jacobian_world_aligned_batch;
+    use screwkit_solve::jacobian::jacobian_world_aligned;
+    let mut rng = Sampler::new(21);
+    for &(file, base, tip) in CHAINS {
+        let (_, _, kin) = load(file, base, tip);
+        let n = kin.dof();
+        let mut ws = Workspace::new(&kin);
+        let mut qs = Vec::new();
+        for _ in 0..4 {
+            let q = rng.config(&kin);
+            let jwa = jacobian_world_aligned(&kin, &mut ws, &q).unwrap().clone();
+            let js = jacobian(&kin, &mut ws, &q, Frame::Space).unwrap().clone();
+            let h = 1e-6;
+            for k in 0..n {
+                let (mut qp, mut qm) = (q.clone(), q.clone());
+                qp[k] += h;
+                qm[k] -= h;
+                let dp = (fk1(&kin, &qp).unwrap().translation()
+                    - fk1(&kin, &qm).unwrap().translation())
+                    / (2.0 * h);
+                for r in 0..3 {
+                    assert_eq!(jwa[(r, k)], js[(r, k)], "{file}: ω row {r}");
+                    assert!(
+                        (jwa[(3 + r, k)] - dp[r]).abs() < 1e-8,
+                        "{file}: col {k} row {r}"
+                    );
+                }
+            }
+            qs.extend_from_slice(&q);
+        }
+        let rows = qs.len() / n.max(1);
+        let mut batch = vec![0.0; rows * 6 * n];
+        jacobian_world_aligned_batch(&kin, &qs, &mut batch, None).unwrap();
+        for k in 0..rows {
+            let j = jacobian_world_aligned(&kin, &mut ws, &qs[k * n..(k + 1) * n]).unwrap();
+            for r in 0..6 {
+                for c in 0..n {
+                    assert_eq!(batch[k * 6 * n + r * n + c], j[(r, c)], "{file}: row {k}");
+                }
+            }
+        }
+    }
+}
