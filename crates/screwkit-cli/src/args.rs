@@ -160,6 +160,10 @@ pub struct InfoArgs {
     /// xacro expansion.
     #[command(flatten)]
     pub xacro: XacroArgs,
+    /// List every chain from the root to a leaf with its DoF (end effectors first,
+    /// sensor-like leaves last) instead of the full description.
+    #[arg(long)]
+    pub chains: bool,
 }
 
 /// Parses `space` or `body` (the one [`Frame`] of the library).
@@ -283,6 +287,9 @@ pub struct IkArgs {
     /// Solve for the position only.
     #[arg(long)]
     pub position_only: bool,
+    /// Weights of the six twist-error components ω1,ω2,ω3,v1,v2,v3 (0 masks one out).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub weights: Option<List>,
     /// Seed of the random restarts.
     #[arg(long, default_value_t = 0)]
     pub random_seed: u64,

@@ -15,8 +15,17 @@ use crate::output::{matrix_text, num, nums, print_json, tuple, CliResult, Failur
 /// Tolerance on max |RᵀR − I| for typed target matrices (then re-orthonormalised).
 const TYPED_ROTATION_TOLERANCE: f64 = 1e-3;
 
-fn options(args: &IkArgs) -> IkOptions {
-    IkOptions {
+fn options(args: &IkArgs) -> CliResult<IkOptions> {
+    let weights = match &args.weights {
+        None => [1.0; 6],
+        Some(w) => w.0.as_slice().try_into().map_err(|_| {
+            Failure(format!(
+                "--weights needs 6 numbers (ω1, ω2, ω3, v1, v2, v3; 0 masks one out), got {}",
+                w.0.len()
+            ))
+        })?,
+    };
+    Ok(IkOptions {
         method: match args.method {
             Method::Nr => IkMethod::NewtonRaphson,
             Method::Dls => IkMethod::DLS,
@@ -29,8 +38,9 @@ fn options(args: &IkArgs) -> IkOptions {
         timeout: (args.timeout_ms > 0.0).then(|| Duration::from_secs_f64(args.timeout_ms / 1e3)),
         seed: args.random_seed,
         position_only: args.position_only,
+        weights,
         ..IkOptions::default()
-    }
+    })
 }
 
 fn target(args: &IkArgs) -> CliResult<Se3> {
@@ -172,7 +182,7 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions) -> CliResult {
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
-    let opts = options(args);
+    let opts = options(args)?;
     if let Some(input) = &args.input {
         return run_batch(&kin, input, &opts);
     }
@@ -212,8 +222,17 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
     if st.converged {
         Ok(())
     } else {
+        // A chain with fewer than 6 joints reaches a full pose only by luck: say what to do.
+        let hint = if kin.dof() < 6 && !args.position_only && args.weights.is_none() {
+            format!(
+                "; a {}-joint chain cannot reach most full poses: try --position-only, or --weights to mask what it cannot do",
+                kin.dof()
+            )
+        } else {
+            String::new()
+        };
         Err(Failure(format!(
-            "IK did not converge ({}): best rotation error {:.3e} rad, position error {:.3e} m",
+            "IK did not converge ({}): best rotation error {:.3e} rad, position error {:.3e} m{hint}",
             st.stop.as_str(),
             st.error_rot,
             st.error_pos

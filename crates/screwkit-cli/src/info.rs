@@ -41,9 +41,78 @@ fn draw(tree: &Tree, link: usize, prefix: &str, out: &mut String) {
     }
 }
 
+/// Whether a leaf link looks like a sensor or a mounting frame rather than an end effector.
+fn sensor_like(name: &str) -> bool {
+    let n = name.to_ascii_lowercase();
+    [
+        "camera",
+        "sensor",
+        "imu",
+        "laser",
+        "lidar",
+        "optical",
+        "depth",
+        "rgb",
+        "sonar",
+        "gps",
+        "ft_",
+        "force",
+        "_frame",
+        "scan",
+        "kinect",
+        "realsense",
+    ]
+    .iter()
+    .any(|w| n.contains(w))
+}
+
+/// Every chain root → leaf: (leaf, DoF or the reason it is not a chain), end effectors first,
+/// sensor-like leaves last, each group in file order.
+fn chains(tree: &Tree) -> Vec<(String, Result<usize, String>)> {
+    let mut leaves = tree.leaves_below(tree.root);
+    leaves.sort_by_key(|&l| sensor_like(&tree.links[l]));
+    leaves
+        .into_iter()
+        .map(|l| {
+            let name = tree.links[l].clone();
+            let dof = Chain::from_tree(tree, None, Some(&name))
+                .map(|c| c.dof())
+                .map_err(|e| e.kind.to_string());
+            (name, dof)
+        })
+        .collect()
+}
+
 /// Runs `info`.
 pub fn run(args: &InfoArgs, format: Format) -> CliResult {
     let tree = crate::read_tree(&args.urdf, &args.xacro)?;
+    if args.chains {
+        let list = chains(&tree);
+        if format == Format::Json {
+            let v: Vec<Value> = list
+                .iter()
+                .map(|(leaf, dof)| match dof {
+                    Ok(d) => json!({"base": tree.links[tree.root], "tip": leaf, "dof": d, "sensor_like": sensor_like(leaf)}),
+                    Err(e) => json!({"base": tree.links[tree.root], "tip": leaf, "error": e, "sensor_like": sensor_like(leaf)}),
+                })
+                .collect();
+            print_json(&Value::Array(v));
+        } else {
+            let mut s = format!(
+                "Chains of `{}` from the root `{}` to each leaf (end effectors first, sensor-like leaves last):\n\n| tip | DoF |\n|---|---|\n",
+                tree.name, tree.links[tree.root]
+            );
+            for (leaf, dof) in &list {
+                let d = match dof {
+                    Ok(d) => d.to_string(),
+                    Err(e) => format!("not a chain: {e}"),
+                };
+                s.push_str(&format!("| {leaf} | {d} |\n"));
+            }
+            print!("{s}");
+        }
+        return Ok(());
+    }
     let leaves = tree.leaves_below(tree.root);
     let default = Chain::from_tree(&tree, None, None);
     let movable = tree.joints.iter().filter(|j| j.kind.is_movable()).count();

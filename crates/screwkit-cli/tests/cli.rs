@@ -760,3 +760,76 @@ fn stdin_and_xacro_inputs() {
     ]);
     assert_ne!(with_tool, without);
 }
+
+/// `info --chains` lists every root → leaf chain with its DoF, sensor-like leaves last; `ik`
+/// takes `--weights`, and a short chain given a full pose is told what to do.
+#[test]
+fn chains_weights_and_the_short_chain_hint() {
+    let urdf = r#"<robot name="r"><link name="base"/><link name="cam_optical_frame"/><link name="a"/><link name="tool"/>
+      <joint name="cam" type="fixed"><parent link="base"/><child link="cam_optical_frame"/></joint>
+      <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+        <limit lower="-3" upper="3" effort="1" velocity="1"/></joint>
+      <joint name="j2" type="revolute"><parent link="a"/><child link="tool"/><origin xyz="1 0 0"/>
+        <axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint></robot>"#;
+    let o = run(&["info", "-", "--chains", "--format", "json"], Some(urdf));
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: Value = serde_json::from_str(&o.stdout).unwrap();
+    let tips: Vec<&str> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["tip"].as_str().unwrap())
+        .collect();
+    assert_eq!(tips, ["tool", "cam_optical_frame"]);
+    assert_eq!(v[0]["dof"], 2);
+    assert_eq!(v[1]["sensor_like"], true);
+
+    let planar = asset("planar_3r.urdf");
+    let full = run(
+        &[
+            "ik",
+            &planar,
+            "--target-xyz-rpy",
+            "1,1,0,0.3,0.2,0.1",
+            "--restarts",
+            "2",
+        ],
+        None,
+    );
+    assert_eq!(full.code, 1);
+    assert!(
+        full.stderr.contains("try --position-only"),
+        "{}",
+        full.stderr
+    );
+    let masked = run(
+        &[
+            "ik",
+            &planar,
+            "--target-xyz-rpy",
+            "1,1,0,0,0,0.3",
+            "--weights",
+            "0,0,1,1,1,0",
+            "--format",
+            "json",
+        ],
+        None,
+    );
+    assert_eq!(masked.code, 0, "{}", masked.stderr);
+    let bad = run(
+        &[
+            "ik",
+            &planar,
+            "--target-xyz-rpy",
+            "1,1,0,0,0,0",
+            "--weights",
+            "1,1",
+        ],
+        None,
+    );
+    assert!(
+        bad.stderr.contains("--weights needs 6 numbers"),
+        "{}",
+        bad.stderr
+    );
+}
