@@ -296,6 +296,11 @@ pub struct IkArgs {
     /// Batch mode: JSON lines {"target": [[4x4]], "seed": [...]} from FILE or - (stdin).
     #[arg(long)]
     pub input: Option<String>,
+    /// Trajectory mode for --input: one line after the other, each seeded with the previous
+    /// line's answer (when it converged and the line gives no seed), so a smooth path is
+    /// followed without branch flips. One thread.
+    #[arg(long, requires = "input")]
+    pub sequential: bool,
 }
 
 /// `exp`.

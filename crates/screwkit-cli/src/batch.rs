@@ -16,34 +16,148 @@ use serde_json::{json, Value};
 
 use crate::output::{CliResult, Failure};
 
-/// A non-blank input line: its 1-based number in the file and its text.
+/// A non-blank input line: its 1-based number in the file and its text (or why it has none).
 pub struct Line {
     /// 1-based line number in the file.
     pub number: usize,
     /// The text.
     pub text: String,
+    /// Set when the line is not text (invalid UTF-8): its error.
+    pub bad: Option<String>,
 }
 
-/// The non-blank lines of FILE or stdin (`-`).
-pub fn read_lines(input: &str) -> CliResult<Vec<Line>> {
-    let reader: Box<dyn BufRead> = if input == "-" {
-        Box::new(std::io::stdin().lock())
+/// Lines per chunk: enough to keep every core busy, few enough that memory stays small.
+pub const CHUNK: usize = 4096;
+
+/// Reads FILE or stdin (`-`) on a thread and hands out its non-blank lines through a bounded
+/// channel (at most 2 × [`CHUNK`] lines in flight).
+fn spawn_reader(input: &str) -> CliResult<std::sync::mpsc::Receiver<Result<Line, String>>> {
+    let reader: Box<dyn BufRead + Send> = if input == "-" {
+        Box::new(std::io::BufReader::new(std::io::stdin()))
     } else {
         let f = std::fs::File::open(input)
             .map_err(|e| Failure(format!("{input}: cannot read the file: {e}")))?;
         Box::new(std::io::BufReader::new(f))
     };
-    let mut out = Vec::new();
-    for (i, line) in reader.lines().enumerate() {
-        let text = line.map_err(|e| Failure(format!("{input}: line {}: {e}", i + 1)))?;
-        if !text.trim().is_empty() {
-            out.push(Line {
-                number: i + 1,
-                text,
-            });
+    let (tx, rx) = std::sync::mpsc::sync_channel(2 * CHUNK);
+    let name = input.to_string();
+    std::thread::spawn(move || {
+        let mut reader = reader;
+        let mut buf = Vec::new();
+        let mut number = 0;
+        loop {
+            buf.clear();
+            match reader.read_until(b'\n', &mut buf) {
+                Ok(0) => return,
+                Ok(_) => {}
+                Err(e) => {
+                    let _ = tx.send(Err(format!("{name}: line {}: {e}", number + 1)));
+                    return;
+                }
+            }
+            number += 1;
+            while matches!(buf.last(), Some(b'\n' | b'\r')) {
+                buf.pop();
+            }
+            let line = match std::str::from_utf8(&buf) {
+                Ok(t) if t.trim().is_empty() => continue,
+                Ok(t) => Line {
+                    number,
+                    text: t.to_string(),
+                    bad: None,
+                },
+                Err(_) => Line {
+                    number,
+                    text: String::new(),
+                    bad: Some("the line is not valid UTF-8 text".into()),
+                },
+            };
+            if tx.send(Ok(line)).is_err() {
+                return;
+            }
+        }
+    });
+    Ok(rx)
+}
+
+/// Streams FILE or stdin (`-`) through `process` one chunk of lines at a time — `process(lines,
+/// first_row)` gives each line's JSON output and whether it succeeded — writing the answers in
+/// input order and flushing after every chunk. A chunk is up to [`CHUNK`] lines, or whatever
+/// has arrived when the input pauses (so a program that writes one line and waits gets its
+/// answer at once: the co-process use). Memory stays bounded by two chunks of lines and one
+/// of answers, whatever the input's size. Rows are numbered from 0 over the whole input. A
+/// summary goes to stderr; the run fails (exit code 1) when any line failed.
+pub fn stream(
+    input: &str,
+    mut process: impl FnMut(&[Line], usize) -> CliResult<Vec<(String, bool)>>,
+) -> CliResult {
+    use std::sync::mpsc::RecvTimeoutError;
+    let started = Instant::now();
+    let rx = spawn_reader(input)?;
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = ProgressBar::new_spinner();
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {pos} lines, {per_sec}") {
+            b.set_style(style);
+        }
+        b
+    });
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    let write_err = |e: std::io::Error| Failure(format!("cannot write the output: {e}"));
+    let (mut total, mut failures) = (0usize, 0usize);
+    while let Ok(first) = rx.recv() {
+        let mut chunk = vec![first.map_err(Failure)?];
+        while chunk.len() < CHUNK {
+            match rx.recv_timeout(std::time::Duration::from_micros(300)) {
+                Ok(line) => chunk.push(line.map_err(Failure)?),
+                Err(RecvTimeoutError::Timeout | RecvTimeoutError::Disconnected) => break,
+            }
+        }
+        for (text, ok) in process(&chunk, total)? {
+            failures += usize::from(!ok);
+            writeln!(out, "{text}").map_err(write_err)?;
+        }
+        out.flush().map_err(write_err)?;
+        total += chunk.len();
+        if let Some(b) = &bar {
+            b.set_position(total as u64);
         }
     }
-    Ok(out)
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let secs = started.elapsed().as_secs_f64();
+    eprintln!(
+        "screwkit: {total} lines, {failures} failed, {:.0} lines/s",
+        if secs > 0.0 { total as f64 / secs } else { 0.0 }
+    );
+    if failures == 0 {
+        Ok(())
+    } else {
+        Err(Failure(format!("{failures} line(s) failed")))
+    }
+}
+
+/// Each line's output in order — `output(k)` = (value, ok), or `{"error", "line"}` for a line
+/// in `errors` — formatted in parallel.
+pub fn outputs(
+    lines: &[Line],
+    errors: &[Option<String>],
+    output: impl Fn(usize) -> (Value, bool) + Sync,
+) -> Vec<(String, bool)> {
+    (0..lines.len())
+        .into_par_iter()
+        .map(|k| match &errors[k] {
+            Some(e) => (
+                json!({"error": e, "line": lines[k].number}).to_string(),
+                false,
+            ),
+            None => {
+                let (v, ok) = output(k);
+                (v.to_string(), ok)
+            }
+        })
+        .collect()
 }
 
 /// Parses one line as a JSON object.
@@ -63,10 +177,10 @@ pub fn numbers(obj: &serde_json::Map<String, Value>, key: &str) -> Result<Vec<f6
         .ok_or_else(|| format!("missing \"{key}\" (an array of numbers)"))?;
     arr.iter()
         .enumerate()
-        .map(|(i, v)| {
-            v.as_f64()
-                .filter(|x| x.is_finite())
-                .ok_or_else(|| format!("\"{key}\"[{i}] is not a finite number"))
+        .map(|(i, v)| match v.as_f64() {
+            Some(x) if x.is_finite() => Ok(x),
+            Some(_) => Err(format!("\"{key}\"[{i}] is not a finite number")),
+            None => Err(format!("\"{key}\"[{i}] is not a number: {v}")),
         })
         .collect()
 }
@@ -76,7 +190,13 @@ pub fn parse_rows<T: Send>(
     lines: &[Line],
     parse: impl Fn(&str) -> Result<T, String> + Sync,
 ) -> Vec<Result<T, String>> {
-    lines.par_iter().map(|l| parse(&l.text)).collect()
+    lines
+        .par_iter()
+        .map(|l| match &l.bad {
+            Some(e) => Err(e.clone()),
+            None => parse(&l.text),
+        })
+        .collect()
 }
 
 /// The `{"q": [...]}` lines as a flat N × dof buffer (NaN rows where a line is bad) and the
@@ -125,67 +245,5 @@ pub fn merge_row_errors(
             Ok(())
         }
         Err(e) => Err(Failure(e.to_string())),
-    }
-}
-
-/// Prints one JSON line per row — `output(k)` = (value, ok), or `{"error", "line"}` for a row
-/// in `errors` — in input order, a progress bar on a terminal for large inputs, and the summary
-/// on stderr. Fails (exit code 1) when any row failed or was not ok.
-pub fn emit(
-    lines: &[Line],
-    errors: &[Option<String>],
-    started: Instant,
-    output: impl Fn(usize) -> (Value, bool) + Sync,
-) -> CliResult {
-    let total = lines.len();
-    let bar = (std::io::stderr().is_terminal() && total >= 10_000).then(|| {
-        let b = ProgressBar::new(total as u64);
-        if let Ok(style) =
-            ProgressStyle::with_template("{bar:40} {pos}/{len} lines, {per_sec}, eta {eta}")
-        {
-            b.set_style(style);
-        }
-        b
-    });
-    let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    let mut failures = 0usize;
-    let write_err = |e: std::io::Error| Failure(format!("cannot write the output: {e}"));
-    for start in (0..total).step_by(4096) {
-        let end = (start + 4096).min(total);
-        let texts: Vec<(String, bool)> = (start..end)
-            .into_par_iter()
-            .map(|k| match &errors[k] {
-                Some(e) => (
-                    json!({"error": e, "line": lines[k].number}).to_string(),
-                    false,
-                ),
-                None => {
-                    let (v, ok) = output(k);
-                    (v.to_string(), ok)
-                }
-            })
-            .collect();
-        for (text, ok) in texts {
-            failures += usize::from(!ok);
-            writeln!(out, "{text}").map_err(write_err)?;
-        }
-        if let Some(b) = &bar {
-            b.inc((end - start) as u64);
-        }
-    }
-    out.flush().map_err(write_err)?;
-    if let Some(b) = bar {
-        b.finish_and_clear();
-    }
-    let secs = started.elapsed().as_secs_f64();
-    eprintln!(
-        "screwkit: {total} lines, {failures} failed, {:.0} lines/s",
-        if secs > 0.0 { total as f64 / secs } else { 0.0 }
-    );
-    if failures == 0 {
-        Ok(())
-    } else {
-        Err(Failure(format!("{failures} line(s) failed")))
     }
 }

@@ -1,7 +1,5 @@
 //! `screwkit fk`: tip pose or every link's pose.
 
-use std::time::Instant;
-
 use screwkit_lie::Se3;
 use screwkit_solve::batch::{fk_all_links_batch, fk_batch};
 use screwkit_solve::fk::{fk, fk_all_links};
@@ -29,32 +27,32 @@ fn fk_json(kin: &Kinematics, q: &[f64], pose: Value, links: Option<Vec<Value>>) 
     v
 }
 
-/// Batch mode: every row through the library's FK batch.
+/// Batch mode: streamed chunk by chunk, every chunk through the library's FK batch.
 fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
-    let started = Instant::now();
-    let lines = batch::read_lines(input)?;
     let n = kin.dof();
-    let (qs, mut errors) = batch::q_rows(kin, &lines);
-    let rows = lines.len();
-    let mut poses = vec![0.0; rows * 16];
-    batch::merge_row_errors(fk_batch(kin, &qs, &mut poses), &mut errors)?;
     let l = kin.links().len();
-    let mut links = vec![0.0; if all_links { rows * l * 16 } else { 0 }];
-    if all_links {
-        batch::merge_row_errors(fk_all_links_batch(kin, &qs, &mut links), &mut errors)?;
-    }
-    batch::emit(&lines, &errors, started, |k| {
-        let link_poses = all_links.then(|| {
-            links[k * l * 16..(k + 1) * l * 16]
-                .chunks(16)
-                .map(|m| rows_json(m, 4))
-                .collect()
-        });
-        let pose = rows_json(&poses[k * 16..(k + 1) * 16], 4);
-        (
-            fk_json(kin, &qs[k * n..(k + 1) * n], pose, link_poses),
-            true,
-        )
+    batch::stream(input, |lines, _| {
+        let (qs, mut errors) = batch::q_rows(kin, lines);
+        let rows = lines.len();
+        let mut poses = vec![0.0; rows * 16];
+        batch::merge_row_errors(fk_batch(kin, &qs, &mut poses), &mut errors)?;
+        let mut links = vec![0.0; if all_links { rows * l * 16 } else { 0 }];
+        if all_links {
+            batch::merge_row_errors(fk_all_links_batch(kin, &qs, &mut links), &mut errors)?;
+        }
+        Ok(batch::outputs(lines, &errors, |k| {
+            let link_poses = all_links.then(|| {
+                links[k * l * 16..(k + 1) * l * 16]
+                    .chunks(16)
+                    .map(|m| rows_json(m, 4))
+                    .collect()
+            });
+            let pose = rows_json(&poses[k * 16..(k + 1) * 16], 4);
+            (
+                fk_json(kin, &qs[k * n..(k + 1) * n], pose, link_poses),
+                true,
+            )
+        }))
     })
 }
 

@@ -3,7 +3,7 @@
 use std::time::{Duration, Instant};
 
 use screwkit_lie::Se3;
-use screwkit_solve::batch::ik_batch;
+use screwkit_solve::batch::{ik_batch_from, ik_path_from};
 use screwkit_solve::ik::{solve, IkMethod, IkOptions, IkStatus};
 use screwkit_solve::{Kinematics, Workspace};
 use serde_json::{json, Value};
@@ -136,45 +136,78 @@ fn parse_line(kin: &Kinematics, text: &str) -> Result<(Vec<f64>, Option<Vec<f64>
 }
 
 /// Batch mode: every row through the library's IK batch.
-fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions) -> CliResult {
-    let started = Instant::now();
-    let lines = batch::read_lines(input)?;
+fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) -> CliResult {
     let n = kin.dof();
     let mid = kin.midpoint();
-    let parsed = batch::parse_rows(&lines, |text| {
-        parse_line(kin, text).map(|(t, s)| {
-            let mut row = t;
-            row.extend(s.unwrap_or_else(|| mid.clone()));
-            row
-        })
-    });
-    let (rows, mut errors) = batch::flatten(parsed, 16 + n);
-    let count = lines.len();
-    let mut targets = Vec::with_capacity(count * 16);
-    let mut seeds = Vec::with_capacity(count * n);
-    for row in rows.chunks(16 + n) {
-        targets.extend_from_slice(&row[..16]);
-        seeds.extend_from_slice(&row[16..]);
-    }
-    let mut q = vec![0.0; count * n];
-    let mut status = vec![IkStatus::default(); count];
-    let mut times = vec![0.0; count];
-    let result = ik_batch(
-        kin,
-        &targets,
-        Some(&seeds),
-        opts,
-        &mut q,
-        &mut status,
-        Some(&mut times),
-    );
-    batch::merge_row_errors(result, &mut errors)?;
-    batch::emit(&lines, &errors, started, |k| {
-        let st = &status[k];
-        (
-            result_json(&q[k * n..(k + 1) * n], st, times[k]),
-            st.converged,
-        )
+    // Trajectory mode: the last converged answer seeds the next line, across chunks.
+    let mut warm: Option<Vec<f64>> = None;
+    let mut ws = Workspace::new(kin);
+    batch::stream(input, |lines, first_row| {
+        let parsed = batch::parse_rows(lines, |text| parse_line(kin, text));
+        let count = lines.len();
+        let mut errors: Vec<Option<String>> = vec![None; count];
+        let mut q = vec![f64::NAN; count * n];
+        let mut status = vec![IkStatus::default(); count];
+        let mut times = vec![0.0; count];
+        if sequential {
+            for (k, row) in parsed.into_iter().enumerate() {
+                let (target, seed) = match row {
+                    Ok(r) => r,
+                    Err(e) => {
+                        errors[k] = Some(e);
+                        continue;
+                    }
+                };
+                let t = Se3::from_row_major(&target, 1e-12).map_err(|e| Failure(e.to_string()))?;
+                let start = seed.or_else(|| warm.clone()).unwrap_or_else(|| mid.clone());
+                let t0 = Instant::now();
+                let r = ik_path_from(kin, &mut ws, first_row + k, &[t], &start, opts)?;
+                times[k] = t0.elapsed().as_secs_f64() * 1e6;
+                let r = &r[0];
+                if r.status.converged {
+                    warm = Some(r.q.clone());
+                }
+                q[k * n..(k + 1) * n].copy_from_slice(&r.q);
+                status[k] = r.status;
+            }
+        } else {
+            let parsed: Vec<Result<Vec<f64>, String>> = parsed
+                .into_iter()
+                .map(|r| {
+                    r.map(|(t, s)| {
+                        let mut row = t;
+                        row.extend(s.unwrap_or_else(|| mid.clone()));
+                        row
+                    })
+                })
+                .collect();
+            let (rows, parse_errors) = batch::flatten(parsed, 16 + n);
+            errors = parse_errors;
+            let mut targets = Vec::with_capacity(count * 16);
+            let mut seeds = Vec::with_capacity(count * n);
+            for row in rows.chunks(16 + n) {
+                targets.extend_from_slice(&row[..16]);
+                seeds.extend_from_slice(&row[16..]);
+            }
+            let result = ik_batch_from(
+                kin,
+                first_row,
+                &targets,
+                Some(&seeds),
+                opts,
+                &mut q,
+                &mut status,
+                Some(&mut times),
+            );
+            batch::merge_row_errors(result, &mut errors)?;
+        }
+        Ok(batch::outputs(lines, &errors, |k| {
+            let st = &status[k];
+            (
+                result_json(&q[k * n..(k + 1) * n], st, times[k]),
+                st.converged,
+            )
+        }))
     })
     .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
 }
@@ -184,7 +217,7 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     let opts = options(args)?;
     if let Some(input) = &args.input {
-        return run_batch(&kin, input, &opts);
+        return run_batch(&kin, input, &opts, args.sequential);
     }
     let t = target(args)?;
     let seed = match &args.seed {

@@ -1,7 +1,5 @@
 //! `screwkit jacobian`: J_s or J_b, optionally with a singularity analysis.
 
-use std::time::Instant;
-
 use nalgebra::Matrix6xX;
 use screwkit_lie::display::fixed;
 use screwkit_solve::analysis::{analyze_jacobian, Analysis};
@@ -45,34 +43,34 @@ fn value(
     Ok(v)
 }
 
-/// Batch mode: every row through the library's Jacobian batch (the analysis, an SVD per row,
-/// runs while the lines are formatted).
+/// Batch mode: streamed chunk by chunk, every chunk through the library's Jacobian batch (the
+/// analysis, an SVD per row, runs while the lines are formatted).
 fn run_batch(
     kin: &Kinematics,
     input: &str,
     frame: JacobianFrame,
     with_analysis: bool,
 ) -> CliResult {
-    let started = Instant::now();
-    let lines = batch::read_lines(input)?;
     let n = kin.dof();
-    let (qs, mut errors) = batch::q_rows(kin, &lines);
-    let rows = lines.len();
-    let mut jac = vec![0.0; rows * 6 * n];
-    let mut poses = vec![0.0; rows * 16];
-    let result = match frame {
-        JacobianFrame::Screw(f) => jacobian_batch(kin, &qs, f, &mut jac, Some(&mut poses)),
-        JacobianFrame::WorldAligned => {
-            jacobian_world_aligned_batch(kin, &qs, &mut jac, Some(&mut poses))
-        }
-    };
-    batch::merge_row_errors(result, &mut errors)?;
-    batch::emit(&lines, &errors, started, |k| {
-        let j = Matrix6xX::from_row_slice(&jac[k * 6 * n..(k + 1) * 6 * n]);
-        match value(&qs[k * n..(k + 1) * n], &j, frame, with_analysis) {
-            Ok(v) => (v, true),
-            Err(e) => (json!({"error": e, "line": lines[k].number}), false),
-        }
+    batch::stream(input, |lines, _| {
+        let (qs, mut errors) = batch::q_rows(kin, lines);
+        let rows = lines.len();
+        let mut jac = vec![0.0; rows * 6 * n];
+        let mut poses = vec![0.0; rows * 16];
+        let result = match frame {
+            JacobianFrame::Screw(f) => jacobian_batch(kin, &qs, f, &mut jac, Some(&mut poses)),
+            JacobianFrame::WorldAligned => {
+                jacobian_world_aligned_batch(kin, &qs, &mut jac, Some(&mut poses))
+            }
+        };
+        batch::merge_row_errors(result, &mut errors)?;
+        Ok(batch::outputs(lines, &errors, |k| {
+            let j = Matrix6xX::from_row_slice(&jac[k * 6 * n..(k + 1) * 6 * n]);
+            match value(&qs[k * n..(k + 1) * n], &j, frame, with_analysis) {
+                Ok(v) => (v, true),
+                Err(e) => (json!({"error": e, "line": lines[k].number}), false),
+            }
+        }))
     })
 }
 

@@ -833,3 +833,56 @@ fn chains_weights_and_the_short_chain_hint() {
         bad.stderr
     );
 }
+
+/// Every kind of bad line gets its own error object with the right words; the others run.
+#[test]
+fn every_kind_of_bad_line_is_reported_alone() {
+    let planar = asset("planar_3r.urdf");
+    let mut input: Vec<u8> = Vec::new();
+    input.extend_from_slice(b"{\"q\":[0.1,0.2,0.3]}\n");
+    input.extend_from_slice(b"{\"q\":[0.1,\"a\",0.3]}\n");
+    input.extend_from_slice(b"{\"q\":[0.1,null,0.3]}\n");
+    input.extend_from_slice(b"{\"q\":[0.1,0.2]}\n");
+    input.extend_from_slice(b"not json\n");
+    input.extend_from_slice(b"\xff\xfe{\"q\":[1,2,3]}\n\n");
+    input.extend_from_slice(b"{\"x\":1}\n");
+    input.extend_from_slice(b"{\"q\":[0.3,0.2,0.1]}\n");
+    let mut child = std::process::Command::new(BIN)
+        .args(["fk", &planar, "--input", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(&input).unwrap();
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    let lines: Vec<Value> = String::from_utf8(o.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let expected: [(Option<&str>, usize); 8] = [
+        (None, 1),
+        (Some("\"q\"[1] is not a number: \"a\""), 2),
+        (Some("\"q\"[1] is not a number: null"), 3),
+        (Some("expected 3 joint values"), 4),
+        (Some("invalid JSON"), 5),
+        (Some("not valid UTF-8"), 6),
+        (Some("missing \"q\""), 8),
+        (None, 9),
+    ];
+    assert_eq!(lines.len(), expected.len());
+    for (v, (err, line)) in lines.iter().zip(expected) {
+        match err {
+            None => assert!(v["pose"].is_array(), "{v}"),
+            Some(e) => {
+                assert!(v["error"].as_str().unwrap().contains(e), "{v} vs {e}");
+                assert_eq!(v["line"], line, "{v}");
+            }
+        }
+    }
+    assert!(String::from_utf8(o.stderr)
+        .unwrap()
+        .contains("8 lines, 6 failed"));
+}

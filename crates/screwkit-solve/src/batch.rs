@@ -322,6 +322,24 @@ pub fn ik_batch(
     status: &mut [IkStatus],
     times_us: Option<&mut [f64]>,
 ) -> Result<(), SolveError> {
+    ik_batch_from(kin, 0, targets, seeds, opts, q, status, times_us)
+}
+
+/// [`ik_batch`] for rows `first_row`, `first_row + 1`, … of a larger batch streamed in pieces:
+/// row k of this call restarts from [`row_seed`]`(opts.seed, first_row + k)`, so the pieces give
+/// what one call on the whole batch gives. Failed rows are reported by their index in this
+/// call.
+#[allow(clippy::too_many_arguments)]
+pub fn ik_batch_from(
+    kin: &Kinematics,
+    first_row: usize,
+    targets: &[f64],
+    seeds: Option<&[f64]>,
+    opts: &IkOptions,
+    q: &mut [f64],
+    status: &mut [IkStatus],
+    times_us: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
     let n = kin.dof();
     check_options(opts)?;
     let rows = rows_of(targets.len(), 16, "target values (N × 16)")?;
@@ -370,7 +388,7 @@ pub fn ik_batch(
                 match row {
                     Ok(target) => {
                         let o = IkOptions {
-                            seed: row_seed(opts.seed, k),
+                            seed: row_seed(opts.seed, first_row + k),
                             ..opts.clone()
                         };
                         if timed {
@@ -414,6 +432,20 @@ pub fn ik_path(
     seed: &[f64],
     opts: &IkOptions,
 ) -> Result<Vec<crate::ik::IkResult>, SolveError> {
+    ik_path_from(kin, ws, 0, targets, seed, opts)
+}
+
+/// [`ik_path`] for targets `first_row`, `first_row + 1`, … of a longer path streamed in pieces
+/// (restart seeds as in [`ik_batch_from`]; the caller carries the warm start across pieces by
+/// passing the last converged solution as `seed`).
+pub fn ik_path_from(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    first_row: usize,
+    targets: &[Se3],
+    seed: &[f64],
+    opts: &IkOptions,
+) -> Result<Vec<crate::ik::IkResult>, SolveError> {
     kin.check_q(seed)?;
     check_options(opts)?;
     for (k, t) in targets.iter().enumerate() {
@@ -424,7 +456,7 @@ pub fn ik_path(
     let mut out = Vec::with_capacity(targets.len());
     for (k, target) in targets.iter().enumerate() {
         let o = IkOptions {
-            seed: row_seed(opts.seed, k),
+            seed: row_seed(opts.seed, first_row + k),
             ..opts.clone()
         };
         let mut sol = vec![0.0; kin.dof()];
