@@ -209,7 +209,7 @@ struct ErrorState {
     pos: f64,
 }
 
-fn error_state(t: &Se3, target: &Se3, opts: &IkOptions) -> ErrorState {
+fn error_state(t: &Se3, target: &Se3, opts: &IkOptions, weights: &[f64; 6]) -> ErrorState {
     let t_bd = t.inverse_compose(target);
     let (mut e, rot) = if opts.position_only {
         let d = t_bd.translation();
@@ -221,11 +221,7 @@ fn error_state(t: &Se3, target: &Se3, opts: &IkOptions) -> ErrorState {
     };
     let (mut check_rot, mut check_lin) = (0.0, 0.0);
     for i in 0..6 {
-        let w = if opts.position_only && i < 3 {
-            0.0
-        } else {
-            opts.weights[i]
-        };
+        let w = weights[i];
         if w != 0.0 {
             if i < 3 {
                 check_rot += e[i] * e[i];
@@ -429,13 +425,19 @@ fn iterate(
     };
     let (mut iterations, mut restarts, mut attempt_iter) = (0usize, 0usize, 0usize);
     let mut window_start_err2 = f64::INFINITY;
+    // Scale-free: the linear rows and errors in units of the chain's length scale L, so the
+    // damping and the step see the same numbers for a 1 cm and a 10 m arm (the tolerances stay
+    // in metres and radians).
     let mut row_weights = opts.weights;
+    for w in &mut row_weights[3..] {
+        *w /= kin.length_scale;
+    }
     if opts.position_only {
         row_weights[..3].fill(0.0);
     }
     let stop = loop {
         let t = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Body);
-        let es = error_state(&t, target, opts);
+        let es = error_state(&t, target, opts, &row_weights);
         let err2 = es.e.norm_squared();
         let converged = es.check_rot <= opts.tol_rot && es.check_lin <= opts.tol_pos;
         if err2 < best.err2 || converged {

@@ -28,6 +28,10 @@ pub struct Kinematics {
     pub(crate) upper: Vec<f64>,
     pub(crate) continuous: Vec<bool>,
     pub(crate) names: Vec<String>,
+    /// L: the power of ten nearest the chain's reach at home (the farthest link origin from
+    /// the base; 1 when every link sits at the origin). IK measures position errors in units
+    /// of L (see [`Kinematics::length_scale`]).
+    pub(crate) length_scale: f64,
     /// True when joint j is driven by q\[j\] alone (no mimic joints): θ = q, one Jacobian
     /// column per joint.
     pub(crate) identity_map: bool,
@@ -68,8 +72,18 @@ impl Kinematics {
                 .map(|v| v.kind == JointKind::Continuous)
                 .collect(),
             names: chain.variables.iter().map(|v| v.name.clone()).collect(),
+            length_scale: length_scale(chain),
             identity_map: !chain.has_mimic(),
         }
+    }
+
+    /// L, the chain's length scale: the power of ten nearest its reach at home (the farthest
+    /// link origin from the base), 1 when every link sits at the origin. IK weighs position
+    /// errors by 1/L against rotation errors (rad), so its damping and steps behave the same
+    /// whatever the robot's size; a power of ten keeps metre-sized arms exactly as before and
+    /// makes a robot scaled by 10^k solve the very same normalised problem.
+    pub fn length_scale(&self) -> f64 {
+        self.length_scale
     }
 
     /// Number of independent variables (the length of q).
@@ -154,5 +168,19 @@ impl Kinematics {
                 value: q[i],
             }),
         }
+    }
+}
+
+/// See [`Kinematics::length_scale`].
+fn length_scale(chain: &Chain) -> f64 {
+    let reach = chain
+        .links
+        .iter()
+        .map(|l| l.home.translation().norm())
+        .fold(0.0, f64::max);
+    if reach > 1e-12 && reach.is_finite() {
+        10f64.powf(reach.log10().round())
+    } else {
+        1.0
     }
 }

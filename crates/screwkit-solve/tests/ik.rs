@@ -359,3 +359,73 @@ fn default_budget_is_reproducible_under_load() {
     });
     assert_eq!(idle, busy);
 }
+
+/// The bundled UR5 with every `<origin xyz>` multiplied by `s`.
+fn scaled_ur5(s: f64) -> screwkit_solve::Kinematics {
+    let text = std::fs::read_to_string(screwkit_testkit::bundled("ur5.urdf")).unwrap();
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let mut out = String::new();
+    let mut last = 0;
+    for n in doc.descendants().filter(|n| n.has_tag_name("origin")) {
+        if let Some(a) = n.attribute_node("xyz") {
+            let r = a.range_value();
+            out.push_str(&text[last..r.start]);
+            let v: Vec<String> = a
+                .value()
+                .split_whitespace()
+                .map(|x| format!("{:?}", x.parse::<f64>().unwrap() * s))
+                .collect();
+            out.push_str(&v.join(" "));
+            last = r.end;
+        }
+    }
+    out.push_str(&text[last..]);
+    let tree = screwkit_model::urdf::load_str(&out, "scaled-ur5.urdf").unwrap();
+    let chain = screwkit_model::Chain::from_tree(&tree, None, None).unwrap();
+    screwkit_solve::Kinematics::new(&chain)
+}
+
+/// Scale-free IK: the UR5 scaled by 1e-5 … 1e4 solves ≥ 99.9 % of the same (scaled) targets
+/// with default options, in about the same number of iterations (the time is in the
+/// benchmarks, not here).
+#[test]
+fn ik_is_scale_free() {
+    let targets_q: Vec<Vec<f64>> = {
+        let (_, _, kin) = load("ur5.urdf", None, None);
+        let mut rng = Sampler::new(99);
+        (0..1000).map(|_| rng.config(&kin)).collect()
+    };
+    let mut mean_iters = Vec::new();
+    for s in [1e-5, 1e-3, 1.0, 1e3, 1e4] {
+        let kin = scaled_ur5(s);
+        let mut ws = Workspace::new(&kin);
+        let (mut solved, mut iters) = (0, 0);
+        for q in &targets_q {
+            let target = fk1(&kin, q).unwrap();
+            let r = solve(
+                &kin,
+                &mut ws,
+                &target,
+                &kin.midpoint(),
+                &IkOptions::default(),
+            )
+            .unwrap();
+            iters += r.status.iterations;
+            if r.status.converged {
+                let reached = fk1(&kin, &r.q).unwrap();
+                assert!((reached.translation() - target.translation()).norm() <= 1e-9 * 1.001);
+                solved += 1;
+            }
+        }
+        assert!(solved >= 999, "scale {s}: solved {solved} of 1000");
+        mean_iters.push((s, iters as f64 / 1000.0));
+    }
+    let at_1 = mean_iters[2].1;
+    for (s, m) in &mean_iters {
+        assert!(
+            (m / at_1 - 1.0).abs() < 0.35,
+            "scale {s}: {m:.1} iterations vs {at_1:.1} at 1: {mean_iters:?}"
+        );
+    }
+    eprintln!("mean iterations by scale: {mean_iters:?}");
+}
