@@ -360,29 +360,9 @@ fn default_budget_is_reproducible_under_load() {
     assert_eq!(idle, busy);
 }
 
-/// The bundled UR5 with every `<origin xyz>` multiplied by `s`.
+/// The bundled UR5 s times its size.
 fn scaled_ur5(s: f64) -> screwkit_solve::Kinematics {
-    let text = std::fs::read_to_string(screwkit_testkit::bundled("ur5.urdf")).unwrap();
-    let doc = roxmltree::Document::parse(&text).unwrap();
-    let mut out = String::new();
-    let mut last = 0;
-    for n in doc.descendants().filter(|n| n.has_tag_name("origin")) {
-        if let Some(a) = n.attribute_node("xyz") {
-            let r = a.range_value();
-            out.push_str(&text[last..r.start]);
-            let v: Vec<String> = a
-                .value()
-                .split_whitespace()
-                .map(|x| format!("{:?}", x.parse::<f64>().unwrap() * s))
-                .collect();
-            out.push_str(&v.join(" "));
-            last = r.end;
-        }
-    }
-    out.push_str(&text[last..]);
-    let tree = screwkit_model::urdf::load_str(&out, "scaled-ur5.urdf").unwrap();
-    let chain = screwkit_model::Chain::from_tree(&tree, None, None).unwrap();
-    screwkit_solve::Kinematics::new(&chain)
+    screwkit_solve::Kinematics::new(&screwkit_testkit::scaled_chain("ur5.urdf", s))
 }
 
 /// Scale-free IK: the UR5 scaled by 1e-5 … 1e4 solves ≥ 99.9 % of the same (scaled) targets

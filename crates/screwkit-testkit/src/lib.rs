@@ -76,3 +76,28 @@ impl Sampler {
         self.config(&Kinematics::new(chain))
     }
 }
+
+/// A bundled robot with every `<origin xyz>` multiplied by `s` (a robot s times the size):
+/// for the scale-free IK test and benchmark.
+pub fn scaled_chain(file: &str, s: f64) -> Chain {
+    let text = std::fs::read_to_string(bundled(file)).expect("bundled file");
+    let doc = roxmltree::Document::parse(&text).expect("bundled files parse");
+    let mut out = String::new();
+    let mut last = 0;
+    for n in doc.descendants().filter(|n| n.has_tag_name("origin")) {
+        if let Some(a) = n.attribute_node("xyz") {
+            let r = a.range_value();
+            out.push_str(&text[last..r.start]);
+            let v: Vec<String> = a
+                .value()
+                .split_whitespace()
+                .map(|x| format!("{:?}", x.parse::<f64>().expect("a number") * s))
+                .collect();
+            out.push_str(&v.join(" "));
+            last = r.end;
+        }
+    }
+    out.push_str(&text[last..]);
+    let tree = screwkit_model::urdf::load_str(&out, file).expect("scaled file loads");
+    Chain::from_tree(&tree, None, None).expect("default chain")
+}
