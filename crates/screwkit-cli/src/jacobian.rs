@@ -2,7 +2,9 @@
 
 use nalgebra::Matrix6xX;
 use screwkit_lie::display::fixed;
-use screwkit_solve::analysis::{analyze_jacobian, Analysis};
+use screwkit_solve::analysis::{
+    analyze_jacobian, analyze_position_jacobian, Analysis, PositionAnalysis,
+};
 use screwkit_solve::batch::{jacobian_batch, jacobian_world_aligned_batch};
 use screwkit_solve::jacobian::{jacobian, jacobian_world_aligned};
 use screwkit_solve::{Frame, Kinematics, SolveError, Workspace};
@@ -25,12 +27,46 @@ fn analysis_json(a: &Analysis) -> Value {
     })
 }
 
-/// `{"q", "frame", "jacobian"}` (+ `"analysis"`) for one configuration.
+fn position_json(p: &PositionAnalysis) -> Value {
+    json!({
+        "singular_values": nums(&p.singular_values),
+        "rank": p.rank,
+        "manipulability": num(p.manipulability),
+        "condition_number": num(p.condition_number),
+    })
+}
+
+/// The 3 × n Jacobian of the tip point's velocity from a Jacobian of `frame` (J_b and J_wa
+/// have it as their linear rows; J_s's linear rows are the velocity at the base origin, moved
+/// to the tip position p).
+fn tip_point_rows(
+    j: &Matrix6xX<f64>,
+    frame: JacobianFrame,
+    p: &nalgebra::Vector3<f64>,
+) -> nalgebra::DMatrix<f64> {
+    let n = j.ncols();
+    nalgebra::DMatrix::from_fn(3, n, |r, c| {
+        if frame == JacobianFrame::Screw(Frame::Space) {
+            let mut col = [0.0; 6];
+            for (i, x) in col.iter_mut().enumerate() {
+                *x = j[(i, c)];
+            }
+            screwkit_solve::jacobian::space_to_world_aligned(&mut col, p);
+            col[3 + r]
+        } else {
+            j[(3 + r, c)]
+        }
+    })
+}
+
+/// `{"q", "frame", "jacobian"}` (+ `"analysis"` with its `"position"` part) for one
+/// configuration; `p` is the tip position.
 fn value(
     q: &[f64],
     j: &Matrix6xX<f64>,
     frame: JacobianFrame,
     with_analysis: bool,
+    p: &nalgebra::Vector3<f64>,
 ) -> Result<Value, String> {
     let rows: Vec<Value> = (0..6)
         .map(|r| nums(&j.row(r).iter().copied().collect::<Vec<_>>()))
@@ -39,8 +75,21 @@ fn value(
     if with_analysis {
         let a = analyze_jacobian(j).map_err(|e| e.to_string())?;
         v["analysis"] = analysis_json(&a);
+        v["analysis"]["position"] =
+            position_json(&analyze_position_jacobian(&tip_point_rows(j, frame, p)));
     }
     Ok(v)
+}
+
+/// A number for people: scientific notation when it is small (or huge), fixed otherwise.
+fn readable(x: f64) -> String {
+    if !x.is_finite() {
+        "∞".into()
+    } else if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+        format!("{x:.6e}")
+    } else {
+        fixed(x, PREC)
+    }
 }
 
 /// Batch mode: streamed chunk by chunk, every chunk through the library's Jacobian batch (the
@@ -66,7 +115,9 @@ fn run_batch(
         batch::merge_row_errors(result, &mut errors)?;
         Ok(batch::outputs(lines, &errors, |k| {
             let j = Matrix6xX::from_row_slice(&jac[k * 6 * n..(k + 1) * 6 * n]);
-            match value(&qs[k * n..(k + 1) * n], &j, frame, with_analysis) {
+            let t = &poses[k * 16..(k + 1) * 16];
+            let p = nalgebra::Vector3::new(t[3], t[7], t[11]);
+            match value(&qs[k * n..(k + 1) * n], &j, frame, with_analysis, &p) {
                 Ok(v) => (v, true),
                 Err(e) => (json!({"error": e, "line": lines[k].number}), false),
             }
@@ -100,19 +151,20 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         .0;
     let mut ws = Workspace::new(&kin);
     let j = one(&kin, &mut ws, q, args.frame)?;
-    let analysis = if args.analyze {
-        Some(analyze_jacobian(&j)?)
-    } else {
-        None
-    };
+    let p = *screwkit_solve::fk::fk(&kin, &mut ws, q)?.translation();
     if format == Format::Json {
-        let mut v = value(q, &j, args.frame, false).map_err(Failure)?;
-        if let Some(a) = &analysis {
-            v["analysis"] = analysis_json(a);
-        }
+        let v = value(q, &j, args.frame, args.analyze, &p).map_err(Failure)?;
         print_json(&v);
         return Ok(());
     }
+    let analysis = if args.analyze {
+        Some((
+            analyze_jacobian(&j)?,
+            analyze_position_jacobian(&tip_point_rows(&j, args.frame, &p)),
+        ))
+    } else {
+        None
+    };
     let (name, sym) = match args.frame {
         JacobianFrame::Screw(Frame::Space) => ("Space", "J_s"),
         JacobianFrame::Screw(Frame::Body) => ("Body", "J_b"),
@@ -131,24 +183,27 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         let cells: Vec<String> = j.row(r).iter().map(|&x| fixed(x, PREC)).collect();
         s.push_str(&format!("| {label} | {} |\n", cells.join(" | ")));
     }
-    if let Some(a) = analysis {
+    if let Some((a, pos)) = analysis {
         s.push_str(&format!(
             "\nsingular values       {}\nrank                  {} of {} (σ ≤ {:.2e} counts as 0)\nmanipulability        {} (√det(J Jᵀ))\ncondition number      {}\n",
             tuple(&a.singular_values),
             a.rank,
             j.ncols().min(6),
             a.rank_tolerance,
-            fixed(a.manipulability, PREC),
-            if !a.condition_number.is_finite() {
-                "∞".into()
-            } else if a.condition_number >= 1e6 {
-                format!("{:.6e}", a.condition_number)
-            } else {
-                format!("{:.6}", a.condition_number)
-            },
+            readable(a.manipulability),
+            readable(a.condition_number),
+        ));
+        s.push_str(&format!(
+            "position only (the tip point, 3 × {n}): singular values {}, rank {} of {}, manipulability {}, condition number {}\n",
+            tuple(&pos.singular_values),
+            pos.rank,
+            j.ncols().min(3),
+            readable(pos.manipulability),
+            readable(pos.condition_number),
+            n = j.ncols(),
         ));
         if let Some(d) = a.determinant {
-            s.push_str(&format!("det J                 {}\n", fixed(d, PREC)));
+            s.push_str(&format!("det J                 {}\n", readable(d)));
         }
         s.push_str(&format!("verdict               {}\n", a.verdict()));
     }

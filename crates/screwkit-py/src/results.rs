@@ -107,6 +107,15 @@ pub struct Analysis {
     /// The verdict in words: singular (and what motion is lost), near singular, or
     /// well-conditioned.
     pub verdict: String,
+    /// Position only (the tip point's 3 × dof velocity Jacobian, in m per joint unit): its
+    /// singular values, largest first.
+    pub position_singular_values: Py<PyArray1<f64>>,
+    /// Its numerical rank (3 when the tip point can move every way).
+    pub position_rank: usize,
+    /// √det(J_v J_vᵀ) (0 for fewer than 3 joints).
+    pub position_manipulability: f64,
+    /// σ_max / σ_min of J_v (inf when its rank is below 3).
+    pub position_condition_number: f64,
 }
 
 #[pymethods]

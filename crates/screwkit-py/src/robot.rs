@@ -532,6 +532,8 @@ impl Robot {
         let n = self.kin.dof();
         let jac = new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?
             .cast_into::<PyArray2<f64>>()?;
+        // After the last use of `j` (it lives in the workspace).
+        let pos = analysis::analyze_position(&self.kin, &mut ws, qs).map_err(solve_error)?;
         let rows3 = |axes: &[nalgebra::Vector3<f64>; 3]| {
             PyArray2::from_vec2(
                 py,
@@ -567,6 +569,10 @@ impl Robot {
             angular_lengths: a.angular.lengths.to_pyarray(py).unbind(),
             linear_axes: rows3(&a.linear.axes)?.unbind(),
             linear_lengths: a.linear.lengths.to_pyarray(py).unbind(),
+            position_singular_values: pos.singular_values.to_pyarray(py).unbind(),
+            position_rank: pos.rank,
+            position_manipulability: pos.manipulability,
+            position_condition_number: pos.condition_number,
         })
     }
 

@@ -153,6 +153,11 @@ def test_analyze_ur5(ur5: screwkit.Robot) -> None:
     assert a.condition_number == pytest.approx(sv[0] / sv[-1], rel=1e-12)
     assert a.determinant == pytest.approx(np.linalg.det(j), rel=1e-10)
     assert a.verdict.startswith("well-conditioned")
+    # Position only: the tip point's velocity Jacobian (linear rows of J_b).
+    jv = ur5.jacobian(q, "body")[3:]
+    np.testing.assert_allclose(a.position_singular_values, np.linalg.svd(jv, compute_uv=False))
+    assert a.position_rank == 3
+    assert a.position_manipulability == pytest.approx(np.sqrt(np.linalg.det(jv @ jv.T)))
     # The home pose of the UR5 is singular (wrist axes 4 and 6 parallel): rank 5.
     s = ur5.analyze(np.zeros(6), frame="body")
     assert s.rank == 5

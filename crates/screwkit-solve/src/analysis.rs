@@ -87,6 +87,59 @@ pub fn analyze(
     analyze_jacobian(crate::jacobian::jacobian(kin, ws, q, frame)?)
 }
 
+/// The position-only analysis: how the tip point can move, from the 3 × n Jacobian of its
+/// velocity (J_v of the body Jacobian; its singular values are the same in any axes). It has
+/// the units the 6 × n analysis mixes kept apart (m per rad or m per m), and it is the one that
+/// means something for a chain with fewer than 6 joints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PositionAnalysis {
+    /// Singular values of J_v, largest first (min(3, n) of them).
+    pub singular_values: Vec<f64>,
+    /// Numerical rank (singular values above max(3, n) · ε · σ₁).
+    pub rank: usize,
+    /// √det(J_v J_vᵀ) = σ₁σ₂σ₃ (0 for fewer than 3 joints): the volume of the velocity ellipsoid.
+    pub manipulability: f64,
+    /// σ_max / σ_min over the 3 position directions (∞ when rank < 3).
+    pub condition_number: f64,
+}
+
+/// Analyses the tip point's velocity Jacobian of `kin` at q. Checks q.
+pub fn analyze_position(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &[f64],
+) -> Result<PositionAnalysis, SolveError> {
+    let j = crate::jacobian::jacobian(kin, ws, q, Frame::Body)?;
+    let jv = nalgebra::DMatrix::from_fn(3, j.ncols(), |r, c| j[(3 + r, c)]);
+    Ok(analyze_position_jacobian(&jv))
+}
+
+/// The position-only analysis of a 3 × n tip-point velocity Jacobian (the linear rows of J_b
+/// or of the world-aligned Jacobian).
+pub fn analyze_position_jacobian(jv: &nalgebra::DMatrix<f64>) -> PositionAnalysis {
+    let n = jv.ncols();
+    let mut sv: Vec<f64> = if n == 0 {
+        Vec::new()
+    } else {
+        jv.singular_values().iter().copied().collect()
+    };
+    sv.sort_by(|a, b| b.total_cmp(a));
+    sv.truncate(n.min(3));
+    let s1 = sv.first().copied().unwrap_or(0.0);
+    let tol = 3.max(n) as f64 * f64::EPSILON * s1;
+    let rank = sv.iter().filter(|&&x| x > tol).count();
+    PositionAnalysis {
+        manipulability: if sv.len() == 3 {
+            sv.iter().product()
+        } else {
+            0.0
+        },
+        condition_number: if rank == 3 { s1 / sv[2] } else { f64::INFINITY },
+        singular_values: sv,
+        rank,
+    }
+}
+
 /// Analyses any 6 × n Jacobian (space or body; the directions are in its frame).
 pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
     let n = j.ncols();

@@ -371,3 +371,45 @@ fn a_chain_without_joints_cannot_move() {
     assert_eq!(a.rank, 0);
     assert_eq!(a.verdict(), "no joints: the tip cannot move");
 }
+
+/// The position-only analysis is the SVD of the tip point's velocity Jacobian, checked against
+/// central differences of the tip position: manipulability = √det(J_v J_vᵀ); a planar arm
+/// has position rank 2 (it cannot leave its plane); a wrist singularity keeps rank 3.
+#[test]
+fn position_analysis_from_finite_differences() {
+    use screwkit_solve::analysis::analyze_position;
+    let (_, _, kin) = load("ur5.urdf", None, None);
+    let mut ws = Workspace::new(&kin);
+    let q = [0.3, -1.0, 1.4, -0.8, -1.2, 0.4];
+    let h = 1e-6;
+    let mut jv = nalgebra::Matrix3xX::<f64>::zeros(6);
+    for k in 0..6 {
+        let (mut a, mut b) = (q, q);
+        a[k] += h;
+        b[k] -= h;
+        let d = (fk1(&kin, &a).unwrap().translation() - fk1(&kin, &b).unwrap().translation())
+            / (2.0 * h);
+        jv.set_column(k, &d);
+    }
+    let want = (&jv * jv.transpose()).determinant().sqrt();
+    let p = analyze_position(&kin, &mut ws, &q).unwrap();
+    assert_eq!(p.rank, 3);
+    assert!(
+        (p.manipulability - want).abs() < 1e-7 * want.max(1.0),
+        "{} vs {want}",
+        p.manipulability
+    );
+    assert!(p.condition_number >= 1.0 && p.condition_number.is_finite());
+    // The wrist singularity of the CLI snapshot (q5 = 0: axes 4 and 6 parallel).
+    let wrist = analyze_position(
+        &kin,
+        &mut ws,
+        &[0.0, -1.5707963267948966, 1.5707963267948966, 0.0, 0.0, 0.0],
+    )
+    .unwrap();
+    assert_eq!(wrist.rank, 3);
+    let (_, _, planar) = load("planar_3r.urdf", None, None);
+    let pl = analyze_position(&planar, &mut Workspace::new(&planar), &[0.3, 0.6, -0.4]).unwrap();
+    assert_eq!((pl.rank, pl.manipulability), (2, 0.0));
+    assert!(pl.condition_number.is_infinite());
+}
