@@ -404,7 +404,14 @@ fn position_analysis_from_finite_differences() {
     let wrist = analyze_position(
         &kin,
         &mut ws,
-        &[0.0, -1.5707963267948966, 1.5707963267948966, 0.0, 0.0, 0.0],
+        &[
+            0.0,
+            -std::f64::consts::FRAC_PI_2,
+            std::f64::consts::FRAC_PI_2,
+            0.0,
+            0.0,
+            0.0,
+        ],
     )
     .unwrap();
     assert_eq!(wrist.rank, 3);
