@@ -97,6 +97,10 @@ pub struct ChainArgs {
     /// Tip link of the chain (default: the only leaf below the base).
     #[arg(long)]
     pub tip: Option<String>,
+    /// A tool frame (TCP) fixed to the tip link: x,y,z,roll,pitch,yaw (m, rad; URDF rpy).
+    /// FK, Jacobians, IK and tables are then of the tool frame.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub tool: Option<List>,
 }
 
 /// A comma-separated list of numbers.
@@ -293,6 +297,10 @@ pub struct IkArgs {
     /// Seed of the random restarts.
     #[arg(long, default_value_t = 0)]
     pub random_seed: u64,
+    /// The frame the target is given in: any link rigidly attached to the base (e.g. `world`;
+    /// default: the base).
+    #[arg(long, value_name = "LINK")]
+    pub target_frame: Option<String>,
     /// Batch mode: JSON lines {"target": [[4x4]], "seed": [...]} from FILE or - (stdin).
     #[arg(long)]
     pub input: Option<String>,

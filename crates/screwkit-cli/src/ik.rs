@@ -214,12 +214,28 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
 
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
-    let (chain, kin) = crate::load(&args.chain)?;
+    let (tree, chain) = crate::load_tree_chain(&args.chain)?;
+    let kin = Kinematics::new(&chain);
     let opts = options(args)?;
+    // A target given in another frame of the tree: T_base,target = T_base,frame T_frame,target.
+    let frame = match &args.target_frame {
+        Some(link) => Some(tree.fixed_transform(&chain.base, link)?),
+        None => None,
+    };
     if let Some(input) = &args.input {
+        if frame.is_some() {
+            return Err(Failure(
+                "--target-frame applies to a single target (give batch targets in the base frame)"
+                    .into(),
+            ));
+        }
         return run_batch(&kin, input, &opts, args.sequential);
     }
     let t = target(args)?;
+    let t = match &frame {
+        Some(f) => f.compose(&t),
+        None => t,
+    };
     let seed = match &args.seed {
         Some(s) => s.0.clone(),
         None => kin.midpoint(),

@@ -43,14 +43,30 @@ pub(crate) fn read_tree(path: &std::path::Path, xacro: &args::XacroArgs) -> CliR
     Ok(urdf::load_file_with(path, &xacro.options())?)
 }
 
+/// Loads the tree and the chain named by the arguments (with its tool frame, if given).
+pub(crate) fn load_tree_chain(c: &ChainArgs) -> CliResult<(Tree, Chain)> {
+    let tree = read_tree(&c.urdf, &c.xacro)?;
+    let chain = Chain::from_tree(&tree, c.base.as_deref(), c.tip.as_deref())?;
+    let chain = match &c.tool {
+        None => chain,
+        Some(t) => {
+            let [x, y, z, r, p, w] = t.0.as_slice() else {
+                return Err(Failure(format!(
+                    "--tool needs 6 numbers x,y,z,roll,pitch,yaw, got {}",
+                    t.0.len()
+                )));
+            };
+            let tool = screwkit_lie::Se3::from_xyz_rpy([*x, *y, *z], [*r, *p, *w])
+                .map_err(|e| Failure(format!("--tool: {e}")))?;
+            chain.with_tool(&tool)
+        }
+    };
+    Ok((tree, chain))
+}
+
 /// Loads the chain named by the arguments.
 pub(crate) fn load_chain(c: &ChainArgs) -> CliResult<Chain> {
-    let tree = read_tree(&c.urdf, &c.xacro)?;
-    Ok(Chain::from_tree(
-        &tree,
-        c.base.as_deref(),
-        c.tip.as_deref(),
-    )?)
+    Ok(load_tree_chain(c)?.1)
 }
 
 /// Loads the chain named by the arguments and prepares it for solving.

@@ -886,3 +886,115 @@ fn every_kind_of_bad_line_is_reported_alone() {
         .unwrap()
         .contains("8 lines, 6 failed"));
 }
+
+/// `--tool` moves the tip frame (fk, table, ik); `ik --target-frame` takes the target in
+/// another frame of the tree rigidly attached to the base, and names a joint that moves.
+#[test]
+fn tool_and_target_frame() {
+    let ur5 = asset("ur5.urdf");
+    let q = "0.1,-0.5,1.0,0.2,0.3,-0.4";
+    let plain = json(&["fk", &ur5, "--q", q, "--format", "json"]);
+    let tool = json(&[
+        "fk",
+        &ur5,
+        "--q",
+        q,
+        "--tool",
+        "0,0,0.1,0,0,0",
+        "--format",
+        "json",
+    ]);
+    // The tool is 0.1 m along the tip's z axis: p_tool = p + 0.1 R e_z.
+    for r in 0..3 {
+        let p = plain["pose"][r][3].as_f64().unwrap();
+        let z = plain["pose"][r][2].as_f64().unwrap();
+        let pt = tool["pose"][r][3].as_f64().unwrap();
+        assert!((pt - (p + 0.1 * z)).abs() < 1e-14);
+    }
+    let table = json(&["table", &ur5, "--tool", "0,0,0.1,0,0,0", "--format", "json"]);
+    assert_eq!(table["tip"], "tool0+tool");
+    // IK of the tool frame reaches the tool pose.
+    let m: Vec<String> = (0..4)
+        .flat_map(|r| (0..4).map(move |c| (r, c)))
+        .map(|(r, c)| format!("{:?}", tool["pose"][r][c].as_f64().unwrap()))
+        .collect();
+    let ik = json(&[
+        "ik",
+        &ur5,
+        "--tool",
+        "0,0,0.1,0,0,0",
+        "--target-matrix",
+        &m.join(","),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(ik["converged"], true);
+    // --target-frame: a target in a frame fixed 0.5 m above the base (a URDF made here).
+    let urdf = std::fs::read_to_string(&ur5).unwrap().replacen(
+        "</robot>",
+        r#"<link name="table"/><joint name="table_mount" type="fixed"><parent link="base_link"/><child link="table"/><origin xyz="0 0 0.5"/></joint></robot>"#,
+        1,
+    );
+    let o = run(
+        &[
+            "ik",
+            "-",
+            "--tip",
+            "tool0",
+            "--target-frame",
+            "table",
+            "--target-xyz-rpy",
+            "0.4,0.1,-0.2,3.1,0,0",
+            "--format",
+            "json",
+        ],
+        Some(&urdf),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: Value = serde_json::from_str(&o.stdout).unwrap();
+    assert_eq!(v["converged"], true);
+    let qs: Vec<String> = v["q"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| format!("{:?}", x.as_f64().unwrap()))
+        .collect();
+    let reached = run(
+        &[
+            "fk",
+            "-",
+            "--tip",
+            "tool0",
+            "--q",
+            &qs.join(","),
+            "--format",
+            "json",
+        ],
+        Some(&urdf),
+    );
+    let r: Value = serde_json::from_str(&reached.stdout).unwrap();
+    // In the base frame the target is 0.5 m higher than given in the table frame.
+    assert!(
+        (r["pose"][2][3].as_f64().unwrap() - 0.3).abs() < 1e-8,
+        "{r}"
+    );
+    let moving = run(
+        &[
+            "ik",
+            &asset("torso_two_arms.urdf"),
+            "--tip",
+            "left_hand",
+            "--target-frame",
+            "right_hand",
+            "--target-xyz-rpy",
+            "0,0,0,0,0,0",
+        ],
+        None,
+    );
+    assert_eq!(moving.code, 1);
+    assert!(
+        moving.stderr.contains("not rigidly attached"),
+        "{}",
+        moving.stderr
+    );
+}

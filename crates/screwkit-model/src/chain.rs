@@ -121,6 +121,26 @@ pub struct Chain {
 }
 
 impl Chain {
+    /// The same chain with a tool frame T_tool fixed to the tip link (a TCP offset): M' = M
+    /// T_tool, B'_i = \[Ad_{M'⁻¹}\] S_i, and a last link `TIP+tool` at M'. The space screws
+    /// and the variables do not change.
+    pub fn with_tool(&self, tool: &Se3) -> Chain {
+        let mut c = self.clone();
+        c.home = self.home.compose(tool);
+        for j in &mut c.joints {
+            j.b_body = ScrewAxis::from_unit_twist_unchecked(
+                c.home.adjoint_inverse_apply(j.s_space.twist()),
+            );
+        }
+        c.tip = format!("{}+tool", self.tip);
+        c.links.push(ChainLink {
+            name: c.tip.clone(),
+            home: c.home,
+            joints_before: c.joints.len(),
+        });
+        c
+    }
+
     /// Builds the chain from `base` (default: the root) to `tip` (default: the single leaf
     /// below the base).
     pub fn from_tree(

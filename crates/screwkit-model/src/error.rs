@@ -30,6 +30,18 @@ pub enum ErrorKind {
     /// A xacro construct that could not be expanded (the error's `file` is `FILE:LINE`).
     #[error("{0}")]
     XacroExpand(String),
+    /// Two links that are not rigidly attached (a frame given for a target, …).
+    #[error(
+        "link \"{to}\" is not rigidly attached to \"{from}\": joint \"{joint}\" between them moves"
+    )]
+    NotRigid {
+        /// The reference link.
+        from: String,
+        /// The other link.
+        to: String,
+        /// A movable joint between them.
+        joint: String,
+    },
     /// The root element is not `<robot>`.
     #[error("the root element is <{0}>, expected <robot>")]
     NotARobot(String),

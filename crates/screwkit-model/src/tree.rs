@@ -325,6 +325,42 @@ impl Tree {
         Ok(path)
     }
 
+    /// The pose of link `to` in the frame of link `from` when they are rigidly attached: every
+    /// joint between them (below their common ancestor) is fixed. Otherwise an error naming
+    /// the joint that moves.
+    pub fn fixed_transform(&self, from: &str, to: &str) -> Result<Se3, ModelError> {
+        let (a, b) = (self.link(from)?, self.link(to)?);
+        let up = |mut l: usize| {
+            let mut joints = Vec::new();
+            while let Some(j) = self.parent_joint[l] {
+                joints.push(j);
+                l = self.joints[j].parent;
+            }
+            joints.reverse();
+            joints
+        };
+        let (pa, pb) = (up(a), up(b));
+        let common = pa.iter().zip(&pb).take_while(|(x, y)| x == y).count();
+        let compose = |joints: &[usize]| -> Result<Se3, ModelError> {
+            let mut t = Se3::identity();
+            for &j in joints {
+                let joint = &self.joints[j];
+                if joint.kind != JointKind::Fixed {
+                    return Err(self.error(ErrorKind::NotRigid {
+                        from: from.to_string(),
+                        to: to.to_string(),
+                        joint: joint.name.clone(),
+                    }));
+                }
+                t = t.compose(&joint.origin().map_err(|k| self.error(k))?);
+            }
+            Ok(t)
+        };
+        Ok(compose(&pa[common..])?
+            .inverse()
+            .compose(&compose(&pb[common..])?))
+    }
+
     /// The default chain ends: base = the given link or the root; tip = the given link or
     /// the single leaf below the base (an error listing the leaves if there are several).
     pub fn default_ends(

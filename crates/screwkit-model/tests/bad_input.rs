@@ -387,3 +387,28 @@ fn near_zero_axis_is_refused() {
     let small = ARM.replacen("<axis xyz=\"0 0 1\"/>", "<axis xyz=\"0 0 1e-6\"/>", 1);
     assert!(chain_of(&small).is_ok());
 }
+
+/// The pose of one link in another through fixed joints, both ways; a movable joint between
+/// them is named.
+#[test]
+fn fixed_transforms_between_links() {
+    let text = r#"<robot name="r"><link name="world"/><link name="base"/><link name="a"/><link name="cam"/>
+      <joint name="mount" type="fixed"><parent link="world"/><child link="base"/><origin xyz="1 2 3" rpy="0 0 1.5707963267948966"/></joint>
+      <joint name="j1" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="c" type="fixed"><parent link="base"/><child link="cam"/><origin xyz="0 0 0.5"/></joint></robot>"#;
+    let tree = urdf::load_str(text, "t.urdf").unwrap();
+    let t = tree.fixed_transform("base", "world").unwrap();
+    let w = tree.fixed_transform("world", "base").unwrap();
+    assert!(t.compose(&w).max_abs_diff(&screwkit_lie::Se3::identity()) < 1e-15);
+    assert!((w.translation() - nalgebra::Vector3::new(1.0, 2.0, 3.0)).norm() < 1e-15);
+    // world origin seen from base: R_z(90°)ᵀ (−(1, 2, 3)) = (−2, 1, −3).
+    assert!((t.translation() - nalgebra::Vector3::new(-2.0, 1.0, -3.0)).norm() < 1e-14);
+    let cam = tree.fixed_transform("world", "cam").unwrap();
+    assert!((cam.translation() - nalgebra::Vector3::new(1.0, 2.0, 3.5)).norm() < 1e-15);
+    let e = tree.fixed_transform("cam", "a").unwrap_err();
+    assert!(
+        e.to_string().contains("joint \"j1\" between them moves"),
+        "{e}"
+    );
+}

@@ -273,3 +273,30 @@ fn world_aligned_jacobian_is_the_tip_point_velocity() {
         }
     }
 }
+
+/// A tool frame: FK of the tool chain = FK · T_tool; its body Jacobian = Ad_{T_tool⁻¹} J_b; the
+/// space Jacobian is unchanged.
+#[test]
+fn tool_frame_is_composed_at_the_tip() {
+    let tool = Se3::from_xyz_rpy([0.01, -0.02, 0.15], [0.3, -0.2, 0.1]).unwrap();
+    let mut rng = Sampler::new(31);
+    for &(file, base, tip) in CHAINS {
+        let (_, chain, kin) = load(file, base, tip);
+        let with = chain.with_tool(&tool);
+        let kt = screwkit_solve::Kinematics::new(&with);
+        assert_eq!(with.tip, format!("{}+tool", chain.tip));
+        let mut ws = Workspace::new(&kin);
+        let mut wt = Workspace::new(&kt);
+        let q = rng.config(&kin);
+        let want = fk1(&kin, &q).unwrap().compose(&tool);
+        assert!(fk1(&kt, &q).unwrap().max_abs_diff(&want) < 1e-14, "{file}");
+        let js = jacobian(&kin, &mut ws, &q, Frame::Space).unwrap().clone();
+        assert!((jacobian(&kt, &mut wt, &q, Frame::Space).unwrap() - &js).amax() < 1e-14);
+        let jb = jacobian(&kin, &mut ws, &q, Frame::Body).unwrap().clone();
+        let jbt = jacobian(&kt, &mut wt, &q, Frame::Body).unwrap().clone();
+        let ad = tool.inverse().adjoint();
+        assert!((ad * jb - jbt).amax() < 1e-13, "{file}");
+        let links = fk_all_links(&kt, &mut wt, &q).unwrap();
+        assert!(links.last().unwrap().max_abs_diff(&want) < 1e-14);
+    }
+}
