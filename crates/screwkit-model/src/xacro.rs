@@ -373,7 +373,13 @@ impl Expander<'_> {
                     parts.push(Value::Str(std::mem::take(&mut lit)));
                 }
                 if close == '}' {
-                    parts.push(self.expr(inner, scope, at)?);
+                    // As xacro: substitutions inside an expression first (`${'$(arg p)' + 'x'}`).
+                    let inner = if inner.contains("$(") {
+                        self.text(inner, scope, at)?
+                    } else {
+                        inner.to_string()
+                    };
+                    parts.push(self.expr(&inner, scope, at)?);
                 } else {
                     parts.push(Value::Str(self.extension(inner, scope, at)?));
                 }

@@ -129,7 +129,7 @@ fn built_cases_match_ros_xacro() {
         package_paths: vec![cases().join("pkgs")],
         args: Vec::new(),
     };
-    for case in ["macros", "expressions", "includes"] {
+    for case in ["macros", "expressions", "includes", "substitutions"] {
         let ours = load_file_with(cases().join(format!("{case}.xacro")), &opts)
             .unwrap_or_else(|e| panic!("{case}: {e}"));
         let reference = load_file(cases().join(format!("{case}.expected.urdf"))).unwrap();

@@ -128,6 +128,8 @@ def test_real_files_expand_as_ros_xacro_does(path: Path, packages: Path) -> None
         ("expressions", {}),
         ("expressions", {"with_tool": "false", "scale": "1.5"}),
         ("includes", {}),
+        ("substitutions", {}),
+        ("substitutions", {"prefix": "right_", "len": "0.25"}),
     ],
 )
 def test_built_cases_expand_as_ros_xacro_does(case: str, args: dict[str, str]) -> None:
