@@ -409,3 +409,44 @@ fn ik_is_scale_free() {
     }
     eprintln!("mean iterations by scale: {mean_iters:?}");
 }
+
+/// "Converged" means what the reported errors say: every converged default solve on every
+/// bundled chain (a finger on a prismatic joint included) reports a rotation angle and a
+/// Cartesian distance within the tolerances.
+#[test]
+fn converged_means_the_reported_errors_are_within_tolerance() {
+    let opts = IkOptions::default();
+    for &(file, base, tip) in CHAINS {
+        let (_, _, kin) = load(file, base, tip);
+        let mut ws = Workspace::new(&kin);
+        let mut rng = Sampler::new(123);
+        let position_only = kin.dof() < 6;
+        let o = IkOptions {
+            position_only,
+            ..opts.clone()
+        };
+        for _ in 0..100 {
+            let target = fk1(&kin, &rng.config(&kin)).unwrap();
+            let r = solve(&kin, &mut ws, &target, &kin.midpoint(), &o).unwrap();
+            if r.status.converged {
+                assert!(
+                    r.status.error_pos <= o.tol_pos * (1.0 + 1e-6),
+                    "{file}: {:?}",
+                    r.status
+                );
+                if !position_only {
+                    assert!(
+                        r.status.error_rot <= o.tol_rot * (1.0 + 1e-6),
+                        "{file}: {:?}",
+                        r.status
+                    );
+                }
+                let reached = fk1(&kin, &r.q).unwrap();
+                assert!(
+                    (reached.translation() - target.translation()).norm()
+                        <= o.tol_pos * (1.0 + 1e-6)
+                );
+            }
+        }
+    }
+}
