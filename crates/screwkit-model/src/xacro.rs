@@ -1144,30 +1144,23 @@ impl Parser<'_, '_> {
         for op in ["==", "!=", "<=", ">=", "<", ">"] {
             if self.eat_op(op) {
                 let r = self.add()?;
-                let b = match (l.num(), r.num()) {
+                // Numbers compare as numbers, anything with a string as text (NaN: unordered).
+                let ord = match (l.num(), r.num()) {
                     (Some(a), Some(b))
                         if !matches!((&l, &r), (Value::Str(_), _) | (_, Value::Str(_))) =>
                     {
-                        match op {
-                            "==" => a == b,
-                            "!=" => a != b,
-                            "<=" => a <= b,
-                            ">=" => a >= b,
-                            "<" => a < b,
-                            _ => a > b,
-                        }
+                        a.partial_cmp(&b)
                     }
-                    _ => {
-                        let (a, b) = (l.to_text(), r.to_text());
-                        match op {
-                            "==" => a == b,
-                            "!=" => a != b,
-                            "<=" => a <= b,
-                            ">=" => a >= b,
-                            "<" => a < b,
-                            _ => a > b,
-                        }
-                    }
+                    _ => Some(l.to_text().cmp(&r.to_text())),
+                };
+                use std::cmp::Ordering::{Equal, Greater, Less};
+                let b = match (op, ord) {
+                    ("==", o) => o == Some(Equal),
+                    ("!=", o) => o != Some(Equal),
+                    ("<=", o) => matches!(o, Some(Less | Equal)),
+                    (">=", o) => matches!(o, Some(Greater | Equal)),
+                    ("<", o) => o == Some(Less),
+                    (_, o) => o == Some(Greater),
                 };
                 return Ok(Value::Bool(b));
             }
