@@ -216,6 +216,10 @@ pub struct FkArgs {
     /// Batch mode: JSON lines {"q": [...]} from FILE or - (stdin).
     #[arg(long, conflicts_with = "q")]
     pub input: Option<String>,
+    /// With --input FILE.npy (N × dof float64): write the results to this .npy file instead
+    /// of JSON lines (binary, streamed, for large batches).
+    #[arg(long, requires = "input")]
+    pub output: Option<String>,
 }
 
 /// `jacobian`.
@@ -238,6 +242,10 @@ pub struct JacobianArgs {
     /// Batch mode: JSON lines {"q": [...]} from FILE or - (stdin).
     #[arg(long, conflicts_with = "q")]
     pub input: Option<String>,
+    /// With --input FILE.npy (N × dof float64): write the results to this .npy file instead
+    /// of JSON lines (binary, streamed, for large batches).
+    #[arg(long, requires = "input")]
+    pub output: Option<String>,
 }
 
 /// IK method.
@@ -301,9 +309,15 @@ pub struct IkArgs {
     /// default: the base).
     #[arg(long, value_name = "LINK")]
     pub target_frame: Option<String>,
-    /// Batch mode: JSON lines {"target": [[4x4]], "seed": [...]} from FILE or - (stdin).
+    /// Batch mode: JSON lines {"target": [[4x4]], "seed": [...]} from FILE or - (stdin), or a
+    /// .npy of N × 4 × 4 float64 targets (with --output).
     #[arg(long)]
     pub input: Option<String>,
+    /// With --input FILE.npy: write the solutions (N × dof) to this .npy file and the status
+    /// (N × 4: converged 0/1, iterations, rotation error, position error) beside it as
+    /// NAME.status.npy.
+    #[arg(long, requires = "input")]
+    pub output: Option<String>,
     /// Trajectory mode for --input: one line after the other, each seeded with the previous
     /// line's answer (when it converged and the line gives no seed), so a smooth path is
     /// followed without branch flips. One thread.

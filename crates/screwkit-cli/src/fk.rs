@@ -60,6 +60,18 @@ fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
 pub fn run(args: &FkArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     if let Some(input) = &args.input {
+        if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
+            let (n, l) = (kin.dof(), kin.links().len());
+            return if args.all_links {
+                crate::npy::run(input, output, n, "dof", &[l, 4, 4], |qs, _, out| {
+                    fk_all_links_batch(&kin, qs, out)
+                })
+            } else {
+                crate::npy::run(input, output, n, "dof", &[4, 4], |qs, _, out| {
+                    fk_batch(&kin, qs, out)
+                })
+            };
+        }
         return run_batch(&kin, input, args.all_links);
     }
     let q = &args

@@ -212,6 +212,55 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
     .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
 }
 
+/// Binary batch: N × 4 × 4 targets from a .npy, solutions (N × dof) and status (N × 4:
+/// converged, iterations, rotation error, position error) to two .npy files, streamed.
+fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> CliResult {
+    let started = Instant::now();
+    let mut r = crate::npy::NpyReader::open(input)?;
+    if r.row_len != 16 || r.shape.len() < 2 {
+        return Err(Failure(format!(
+            "{input}: shape {:?}: expected (N, 4, 4) targets",
+            r.shape
+        )));
+    }
+    let (rows_total, n) = (r.shape[0], kin.dof());
+    let status_path = match output.strip_suffix(".npy") {
+        Some(stem) => format!("{stem}.status.npy"),
+        None => format!("{output}.status.npy"),
+    };
+    let mut wq = crate::npy::NpyWriter::create(output, &[rows_total, n], "<f8")?;
+    let mut ws = crate::npy::NpyWriter::create(&status_path, &[rows_total, 4], "<f8")?;
+    let (mut buf, mut first, mut failed) = (Vec::new(), 0usize, 0usize);
+    while r.remaining > 0 {
+        let rows = r.read_rows(crate::npy::NPY_CHUNK / 8, &mut buf)?;
+        let mut q = vec![0.0; rows * n];
+        let mut status = vec![IkStatus::default(); rows];
+        match ik_batch_from(kin, first, &buf, None, opts, &mut q, &mut status, None) {
+            Ok(()) | Err(screwkit_solve::SolveError::Rows(_)) => {}
+            Err(e) => return Err(Failure(e.to_string())),
+        }
+        failed += status.iter().filter(|s| !s.converged).count();
+        let st: Vec<f64> = status
+            .iter()
+            .flat_map(|s| {
+                [
+                    f64::from(u8::from(s.converged)),
+                    s.iterations as f64,
+                    s.error_rot,
+                    s.error_pos,
+                ]
+            })
+            .collect();
+        wq.write_f64(&q)?;
+        ws.write_f64(&st)?;
+        first += rows;
+    }
+    wq.finish()?;
+    ws.finish()?;
+    crate::npy::summary(rows_total, failed, started)
+        .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
+}
+
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let (tree, chain) = crate::load_tree_chain(&args.chain)?;
@@ -228,6 +277,12 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
                 "--target-frame applies to a single target (give batch targets in the base frame)"
                     .into(),
             ));
+        }
+        if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
+            if args.sequential {
+                return Err(Failure("--sequential is for JSON lines input".into()));
+            }
+            return run_npy(&kin, input, output, &opts);
         }
         return run_batch(&kin, input, &opts, args.sequential);
     }

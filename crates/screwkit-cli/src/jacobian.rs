@@ -142,6 +142,19 @@ fn one(
 pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
     let (chain, kin) = crate::load(&args.chain)?;
     if let Some(input) = &args.input {
+        if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
+            if args.analyze {
+                return Err(Failure(
+                    "--analyze is for JSON output (not with --output .npy)".into(),
+                ));
+            }
+            let n = kin.dof();
+            let frame = args.frame;
+            return crate::npy::run(input, output, n, "dof", &[6, n], |qs, _, out| match frame {
+                JacobianFrame::Screw(f) => jacobian_batch(&kin, qs, f, out, None),
+                JacobianFrame::WorldAligned => jacobian_world_aligned_batch(&kin, qs, out, None),
+            });
+        }
         return run_batch(&kin, input, args.frame, args.analyze);
     }
     let q = &args

@@ -13,6 +13,7 @@ mod fk;
 mod ik;
 mod info;
 mod jacobian;
+mod npy;
 mod output;
 mod table;
 

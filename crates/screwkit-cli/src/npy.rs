@@ -1,0 +1,268 @@
+//! Binary batches: numpy's `.npy` format (version 1.0, little-endian float64, C order), read
+//! and written a chunk of rows at a time so memory stays bounded whatever N is.
+//!
+//! Written here rather than with an npy crate: the format is a magic string, a Python-dict
+//! header and raw little-endian numbers; the reader needs only `<f8` C-order arrays and the
+//! writer only knows N up front, which these 120 lines do without a dependency.
+
+use std::io::{BufReader, BufWriter, Read, Write};
+
+use crate::output::{CliResult, Failure};
+
+const MAGIC: &[u8] = b"\x93NUMPY";
+
+/// A `.npy` file of float64 rows being read.
+pub struct NpyReader {
+    file: BufReader<std::fs::File>,
+    path: String,
+    /// The array's shape.
+    pub shape: Vec<usize>,
+    /// Values per row (the product of all but the first dimension).
+    pub row_len: usize,
+    /// Rows not read yet.
+    pub remaining: usize,
+}
+
+/// The value of `key` in the header dict, as written by numpy (`'key': value,`).
+fn header_field<'a>(header: &'a str, key: &str) -> Option<&'a str> {
+    let start = header.find(&format!("'{key}':"))? + key.len() + 3;
+    let rest = header[start..].trim_start();
+    let end = if rest.starts_with('(') {
+        rest.find(')')? + 1
+    } else {
+        rest.find(',').or_else(|| rest.find('}'))?
+    };
+    Some(rest[..end].trim())
+}
+
+impl NpyReader {
+    /// Opens a `.npy` file of float64 (`<f8`, C order).
+    pub fn open(path: &str) -> CliResult<Self> {
+        let err = |m: String| Failure(format!("{path}: {m}"));
+        let mut file = BufReader::new(
+            std::fs::File::open(path).map_err(|e| err(format!("cannot read the file: {e}")))?,
+        );
+        let mut head = [0u8; 10];
+        file.read_exact(&mut head)
+            .map_err(|_| err("not a .npy file (too short)".into()))?;
+        if &head[..6] != MAGIC {
+            return Err(err("not a .npy file (no \\x93NUMPY magic)".into()));
+        }
+        let (major, len) = (head[6], u16::from_le_bytes([head[8], head[9]]) as usize);
+        let len = match major {
+            1 => len,
+            2 | 3 => {
+                let mut more = [0u8; 2];
+                file.read_exact(&mut more)
+                    .map_err(|_| err("truncated header".into()))?;
+                u32::from_le_bytes([head[8], head[9], more[0], more[1]]) as usize
+            }
+            v => return Err(err(format!(".npy version {v} is not supported"))),
+        };
+        let mut header = vec![0u8; len];
+        file.read_exact(&mut header)
+            .map_err(|_| err("truncated header".into()))?;
+        let header = String::from_utf8_lossy(&header).to_string();
+        let descr = header_field(&header, "descr").unwrap_or("?");
+        if !matches!(descr, "'<f8'" | "'=f8'") {
+            return Err(err(format!(
+                "dtype {descr}: expected float64 ('<f8'); convert with a.astype(np.float64)"
+            )));
+        }
+        if header_field(&header, "fortran_order") != Some("False") {
+            return Err(err(
+                "Fortran-ordered array: save np.ascontiguousarray(a)".into()
+            ));
+        }
+        let shape_text = header_field(&header, "shape").ok_or_else(|| err("no shape".into()))?;
+        let shape: Vec<usize> = shape_text
+            .trim_matches(|c| c == '(' || c == ')')
+            .split(',')
+            .filter(|s| !s.trim().is_empty())
+            .map(|s| s.trim().parse::<usize>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| err(format!("bad shape {shape_text}")))?;
+        if shape.is_empty() {
+            return Err(err("a scalar, not an array of rows".into()));
+        }
+        let row_len = shape[1..].iter().product();
+        Ok(Self {
+            file,
+            path: path.to_string(),
+            remaining: shape[0],
+            shape,
+            row_len,
+        })
+    }
+
+    /// Reads up to `max` rows into `out` (cleared first); returns how many.
+    pub fn read_rows(&mut self, max: usize, out: &mut Vec<f64>) -> CliResult<usize> {
+        let rows = max.min(self.remaining);
+        let mut bytes = vec![0u8; rows * self.row_len * 8];
+        self.file
+            .read_exact(&mut bytes)
+            .map_err(|e| Failure(format!("{}: the data ends early: {e}", self.path)))?;
+        out.clear();
+        out.extend(
+            bytes
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes"))),
+        );
+        self.remaining -= rows;
+        Ok(rows)
+    }
+}
+
+/// A `.npy` file being written (the shape is known up front).
+pub struct NpyWriter {
+    file: BufWriter<std::fs::File>,
+    path: String,
+    left: usize,
+}
+
+impl NpyWriter {
+    /// Creates `path` for an array of `shape` with `descr` (`<f8` or `|b1`).
+    pub fn create(path: &str, shape: &[usize], descr: &str) -> CliResult<Self> {
+        let err = |e: std::io::Error| Failure(format!("{path}: cannot write: {e}"));
+        let mut file = BufWriter::new(std::fs::File::create(path).map_err(err)?);
+        let dims = match shape {
+            [one] => format!("({one},)"),
+            _ => format!(
+                "({})",
+                shape
+                    .iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
+        let mut header =
+            format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {dims}, }}");
+        // Magic (6) + version (2) + length (2) + header + '\n' is a multiple of 64.
+        while (10 + header.len() + 1) % 64 != 0 {
+            header.push(' ');
+        }
+        header.push('\n');
+        file.write_all(MAGIC).map_err(err)?;
+        file.write_all(&[1, 0]).map_err(err)?;
+        file.write_all(&(header.len() as u16).to_le_bytes())
+            .map_err(err)?;
+        file.write_all(header.as_bytes()).map_err(err)?;
+        let item = if descr == "|b1" { 1 } else { 8 };
+        Ok(Self {
+            file,
+            path: path.to_string(),
+            left: shape.iter().product::<usize>() * item,
+        })
+    }
+
+    /// Appends float64 values.
+    pub fn write_f64(&mut self, values: &[f64]) -> CliResult {
+        let mut bytes = Vec::with_capacity(values.len() * 8);
+        for v in values {
+            bytes.extend_from_slice(&v.to_le_bytes());
+        }
+        self.write_bytes(&bytes)
+    }
+
+    /// Appends raw bytes (booleans as 0/1).
+    pub fn write_bytes(&mut self, bytes: &[u8]) -> CliResult {
+        self.left = self
+            .left
+            .checked_sub(bytes.len())
+            .ok_or_else(|| Failure(format!("{}: more data than the header says", self.path)))?;
+        self.file
+            .write_all(bytes)
+            .map_err(|e| Failure(format!("{}: cannot write: {e}", self.path)))
+    }
+
+    /// Flushes; an error if fewer values were written than the shape says.
+    pub fn finish(mut self) -> CliResult {
+        if self.left != 0 {
+            return Err(Failure(format!(
+                "{}: {} bytes missing",
+                self.path, self.left
+            )));
+        }
+        self.file
+            .flush()
+            .map_err(|e| Failure(format!("{}: cannot write: {e}", self.path)))
+    }
+}
+
+/// The output file of a binary batch: `Some` when the input is a `.npy` (which needs
+/// `--output FILE.npy`), `None` for JSON lines (where `--output` is refused).
+pub fn binary<'a>(input: &str, output: Option<&'a str>) -> CliResult<Option<&'a str>> {
+    match (input.ends_with(".npy"), output) {
+        (true, Some(o)) => Ok(Some(o)),
+        (true, None) => Err(Failure(format!(
+            "{input}: a .npy input needs --output FILE.npy"
+        ))),
+        (false, Some(_)) => Err(Failure(
+            "--output is for .npy batches (--input FILE.npy); JSON lines go to stdout".into(),
+        )),
+        (false, None) => Ok(None),
+    }
+}
+
+/// Rows per chunk of a binary batch (a few MB of input and output at a time).
+pub const NPY_CHUNK: usize = 1 << 16;
+
+/// A binary batch: rows of `row_len` float64 from `input` (shape (N, …) whose row has
+/// `row_len` values) through `solve(rows, first_row, out)` into `output` of shape (N, tail…),
+/// chunk by chunk. Rows the library reports as failed are NaN in the output and counted; the
+/// summary goes to stderr and the run fails when any row failed.
+pub fn run(
+    input: &str,
+    output: &str,
+    row_len: usize,
+    what: &str,
+    tail: &[usize],
+    mut solve: impl FnMut(&[f64], usize, &mut [f64]) -> Result<(), screwkit_solve::SolveError>,
+) -> CliResult {
+    let started = std::time::Instant::now();
+    let mut r = NpyReader::open(input)?;
+    if r.row_len != row_len || r.shape.len() < 2 {
+        return Err(Failure(format!(
+            "{input}: shape {:?}: expected (N, {what})",
+            r.shape
+        )));
+    }
+    let n = r.shape[0];
+    let width: usize = tail.iter().product();
+    let mut shape = vec![n];
+    shape.extend_from_slice(tail);
+    let mut w = NpyWriter::create(output, &shape, "<f8")?;
+    let (mut buf, mut out) = (Vec::new(), Vec::new());
+    let (mut first, mut failed) = (0usize, 0usize);
+    while r.remaining > 0 {
+        let rows = r.read_rows(NPY_CHUNK, &mut buf)?;
+        out.clear();
+        out.resize(rows * width, 0.0);
+        match solve(&buf, first, &mut out) {
+            Ok(()) => {}
+            Err(screwkit_solve::SolveError::Rows(bad)) => failed += bad.len(),
+            Err(e) => return Err(Failure(e.to_string())),
+        }
+        w.write_f64(&out)?;
+        first += rows;
+    }
+    w.finish()?;
+    summary(n, failed, started)
+}
+
+/// The stderr summary of a binary batch, and its outcome.
+pub fn summary(rows: usize, failed: usize, started: std::time::Instant) -> CliResult {
+    let secs = started.elapsed().as_secs_f64();
+    eprintln!(
+        "screwkit: {rows} rows, {failed} failed, {:.0} rows/s",
+        if secs > 0.0 { rows as f64 / secs } else { 0.0 }
+    );
+    if failed == 0 {
+        Ok(())
+    } else {
+        Err(Failure(format!(
+            "{failed} row(s) failed (NaN in the output)"
+        )))
+    }
+}
