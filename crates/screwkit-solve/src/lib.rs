@@ -56,6 +56,7 @@ pub mod jacobian;
 mod kinematics;
 mod poe;
 pub mod sample;
+pub mod subproblem;
 pub mod velocity;
 mod workspace;
 
