@@ -135,7 +135,10 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
             "links": tree.links,
             "joints": joints,
             "leaves": leaves.iter().map(|&l| tree.links[l].clone()).collect::<Vec<_>>(),
-            "default_chain": default.as_ref().ok().map(|c| json!({"base": c.base, "tip": c.tip, "dof": c.dof()})),
+            "default_chain": default.as_ref().ok().map(|c| json!({
+                "base": c.base, "tip": c.tip, "dof": c.dof(),
+                "ik_family": format!("{:?}", screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c)).family),
+            })),
         }));
         return Ok(());
     }
@@ -184,11 +187,14 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
     ));
     match &default {
         Ok(c) => s.push_str(&format!(
-            "Default chain: {} → {} ({} DoF: {})\n",
+            "Default chain: {} → {} ({} DoF: {})\nIK family: {}\n",
             c.base,
             c.tip,
             c.dof(),
-            c.variable_names().join(", ")
+            c.variable_names().join(", "),
+            screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c))
+                .family
+                .describe()
         )),
         Err(e) => s.push_str(&format!("Default chain: none — {}\n", e.kind)),
     }

@@ -46,10 +46,12 @@
 //! ```
 
 pub mod analysis;
+pub mod analytic;
 pub mod batch;
 mod columns;
 mod dls;
 pub mod error;
+pub mod family;
 pub mod fk;
 pub mod ik;
 pub mod jacobian;

@@ -1,0 +1,23 @@
+//! Prints the analytic-IK family of robot files:
+//! `cargo run -p screwkit-solve --example families -- FILE[:BASE:TIP] …`
+//! (xacro packages are looked up in ../shared/xacro).
+fn main() {
+    for spec in std::env::args().skip(1) {
+        let mut it = spec.split(':');
+        let file = it.next().unwrap_or_default();
+        let base = it.next().filter(|s| !s.is_empty());
+        let tip = it.next().filter(|s| !s.is_empty());
+        let opts = screwkit_model::XacroOptions {
+            package_paths: vec!["../shared/xacro".into()],
+            args: Vec::new(),
+        };
+        match screwkit_model::load_chain_with(file, base, tip, &opts) {
+            Ok(chain) => {
+                let kin = screwkit_solve::Kinematics::new(&chain);
+                let c = screwkit_solve::family::classify(&kin);
+                println!("{file}: {:?}: {}", c.family, c.family.describe());
+            }
+            Err(e) => println!("{file}: {e}"),
+        }
+    }
+}

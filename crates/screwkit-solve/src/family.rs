@@ -1,0 +1,183 @@
+//! Which analytic-IK family a chain belongs to, read from its screw axes at home (never from
+//! names): which consecutive revolute axes are parallel, which intersect and where, whether the
+//! last three meet in one point (a spherical wrist). The families are those of subproblem
+//! decomposition (Elias & Wen, IK-Geo, 2025; Ostermeier et al., EAIK, 2025).
+//!
+//! Tolerances: two axes are parallel when ‖ω_i × ω_j‖ ≤ 1e-9; two non-parallel axes intersect
+//! when the distance between their lines is ≤ 1e-9 · L (L = [`Kinematics::length_scale`]);
+//! three axes meet in a point when each pair intersects and the intersection points agree to
+//! 1e-9 · L. Files that write π/2 rounded (1.57079632679) stay within these.
+
+use nalgebra::Vector3;
+
+use crate::kinematics::Kinematics;
+
+/// An axis line: a unit direction and the point of the line closest to the base origin.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisLine {
+    /// Unit direction ω.
+    pub direction: Vector3<f64>,
+    /// The point of the line nearest the base origin, ω × v.
+    pub point: Vector3<f64>,
+}
+
+/// The analytic-IK family of a chain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// 6R, spherical wrist (axes 4, 5, 6 meet), axes 1 and 2 intersect, 2 ∥ 3 (KUKA, ABB,
+    /// PUMA-type): closed form, up to 8 solutions.
+    SphericalWristTwoIntersecting,
+    /// 6R, spherical wrist, 2 ∥ 3: closed form, up to 8 solutions.
+    SphericalWristTwoParallel,
+    /// 6R, spherical wrist only: closed form through a quartic (subproblem 5), up to 8.
+    SphericalWrist,
+    /// 6R, three consecutive parallel axes and two other intersecting ones (UR-type): closed
+    /// form, up to 8 solutions.
+    ThreeParallelTwoIntersecting,
+    /// 6R, three consecutive parallel axes: closed form, up to 8 solutions.
+    ThreeParallel,
+    /// 6R, two consecutive intersecting axes: a 1D search (then polished), up to 16.
+    TwoIntersecting,
+    /// 6R, two consecutive parallel axes: a 1D search, up to 16.
+    TwoParallel,
+    /// 6R with none of the above: numerical IK only.
+    General6R,
+    /// A 7R chain: lock one joint (the caller's value, or swept) to make it a 6R one.
+    Redundant7R,
+    /// Anything else (fewer or more joints, prismatic or mimic joints): numerical IK only.
+    NotAnalytic,
+}
+
+impl Family {
+    /// The family in words, with what it means for IK.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Family::SphericalWristTwoIntersecting => {
+                "spherical wrist, axes 1-2 intersecting, 2 ∥ 3: closed form, up to 8 solutions"
+            }
+            Family::SphericalWristTwoParallel => {
+                "spherical wrist, axes 2 ∥ 3: closed form, up to 8 solutions"
+            }
+            Family::SphericalWrist => "spherical wrist: closed form (quartic), up to 8 solutions",
+            Family::ThreeParallelTwoIntersecting => {
+                "three parallel axes and two intersecting: closed form, up to 8 solutions"
+            }
+            Family::ThreeParallel => "three parallel axes: closed form, up to 8 solutions",
+            Family::TwoIntersecting => "two intersecting axes: 1D search, up to 16 solutions",
+            Family::TwoParallel => "two parallel axes: 1D search, up to 16 solutions",
+            Family::General6R => "general 6R: no analytic solver, numerical IK only",
+            Family::Redundant7R => "7R (redundant): analytic with one joint locked",
+            Family::NotAnalytic => "no analytic solver: numerical IK only",
+        }
+    }
+}
+
+/// What the classification found: the family and the relations between consecutive axes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Classification {
+    /// The family.
+    pub family: Family,
+    /// The axis lines at home (space frame), one per joint.
+    pub axes: Vec<AxisLine>,
+    /// Pairs (i, i + 1) (0-based) of parallel consecutive axes.
+    pub parallel: Vec<usize>,
+    /// Pairs (i, i + 1) of intersecting consecutive axes, with the intersection point.
+    pub intersecting: Vec<(usize, Vector3<f64>)>,
+    /// The point where the last three axes meet, if they do.
+    pub wrist_center: Option<Vector3<f64>>,
+}
+
+const PARALLEL: f64 = 1e-9;
+const MEET: f64 = 1e-9;
+
+/// The point where two non-parallel lines meet (the midpoint of their common perpendicular)
+/// and the distance between them.
+pub fn closest_points(a: &AxisLine, b: &AxisLine) -> (Vector3<f64>, f64) {
+    let n = a.direction.cross(&b.direction);
+    let n2 = n.norm_squared();
+    let d = b.point - a.point;
+    let s = d.cross(&b.direction).dot(&n) / n2;
+    let t = d.cross(&a.direction).dot(&n) / n2;
+    let pa = a.point + a.direction * s;
+    let pb = b.point + b.direction * t;
+    ((pa + pb) / 2.0, (pa - pb).norm())
+}
+
+/// Classifies a chain from its space screw axes at home.
+pub fn classify(kin: &Kinematics) -> Classification {
+    let axes: Vec<AxisLine> = kin
+        .space
+        .iter()
+        .map(|j| {
+            let s = j.twist();
+            let w = s.w.normalize();
+            AxisLine {
+                direction: w,
+                point: s.w.cross(&s.v) / s.w.norm_squared(),
+            }
+        })
+        .collect();
+    let all_revolute = kin.space.iter().all(|j| !j.prismatic) && kin.identity_map;
+    let l = kin.length_scale;
+    let parallel_pair =
+        |i: usize, j: usize| axes[i].direction.cross(&axes[j].direction).norm() <= PARALLEL;
+    let meet = |i: usize, j: usize| -> Option<Vector3<f64>> {
+        if parallel_pair(i, j) {
+            return None;
+        }
+        let (p, d) = closest_points(&axes[i], &axes[j]);
+        (d <= MEET * l).then_some(p)
+    };
+    let n = axes.len();
+    let parallel: Vec<usize> = if all_revolute {
+        (0..n.saturating_sub(1))
+            .filter(|&i| parallel_pair(i, i + 1))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let intersecting: Vec<(usize, Vector3<f64>)> = if all_revolute {
+        (0..n.saturating_sub(1))
+            .filter_map(|i| meet(i, i + 1).map(|p| (i, p)))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let wrist_center = if all_revolute && n >= 3 {
+        // Axes 4 and 5 meet at p, 5 and 6 at q, and p = q (axes 4 and 6 may be collinear at
+        // home, as in most wrists).
+        let (a, b, c) = (n - 3, n - 2, n - 1);
+        match (meet(a, b), meet(b, c)) {
+            (Some(p), Some(q)) if (p - q).norm() <= MEET * l => Some((p + q) / 2.0),
+            _ => None,
+        }
+    } else {
+        None
+    };
+    let is_par = |i: usize| parallel.contains(&i);
+    let is_int = |i: usize| intersecting.iter().any(|&(j, _)| j == i);
+    let three_parallel = (0..n.saturating_sub(2)).any(|i| is_par(i) && is_par(i + 1));
+    let family = match (all_revolute, n) {
+        (true, 6) if wrist_center.is_some() && is_int(0) && is_par(1) => {
+            Family::SphericalWristTwoIntersecting
+        }
+        (true, 6) if wrist_center.is_some() && is_par(1) => Family::SphericalWristTwoParallel,
+        (true, 6) if wrist_center.is_some() => Family::SphericalWrist,
+        (true, 6) if three_parallel && !intersecting.is_empty() => {
+            Family::ThreeParallelTwoIntersecting
+        }
+        (true, 6) if three_parallel => Family::ThreeParallel,
+        (true, 6) if !intersecting.is_empty() => Family::TwoIntersecting,
+        (true, 6) if !parallel.is_empty() => Family::TwoParallel,
+        (true, 6) => Family::General6R,
+        (true, 7) => Family::Redundant7R,
+        _ => Family::NotAnalytic,
+    };
+    Classification {
+        family,
+        axes,
+        parallel,
+        intersecting,
+        wrist_center,
+    }
+}
