@@ -32,10 +32,15 @@ fn check(kin: &Kinematics, name: &str, trials: usize) {
             "{name}: q* = {q_star:?} not among {} solutions",
             sols.q.len()
         );
-        counts.push(sols.q.len());
+        assert!(
+            sols.branches >= 1 && sols.branches <= 8,
+            "{name}: {} branches",
+            sols.branches
+        );
+        counts.push(sols.branches);
     }
     eprintln!(
-        "{name}: solutions per pose min {} max {}",
+        "{name}: distinct solutions (mod 2π) per pose: min {} max {}",
         counts.iter().min().unwrap(),
         counts.iter().max().unwrap()
     );
@@ -60,10 +65,17 @@ fn puma_type_arm_all_solutions() {
 }
 
 #[test]
-fn other_families_are_refused_by_name() {
+fn ur5_all_solutions() {
     let (_, _, kin) = common::load("ur5.urdf", None, None);
+    assert_eq!(classify(&kin).family, Family::ThreeParallelTwoIntersecting);
+    check(&kin, "ur5", 500);
+}
+
+#[test]
+fn other_families_are_refused_by_name() {
+    let (_, _, kin) = common::load("iiwa14.urdf", None, None);
     let e = solve_all(&kin, kin.home()).unwrap_err();
-    assert!(e.to_string().contains("three parallel axes"), "{e}");
+    assert!(e.to_string().contains("7R (redundant)"), "{e}");
 }
 
 #[test]
