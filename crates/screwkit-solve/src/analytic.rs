@@ -93,17 +93,26 @@ pub fn solve_all(kin: &Kinematics, target: &Se3) -> Result<Solutions, SolveError
 fn within_limits(kin: &Kinematics, raw: Vec<([f64; 6], bool)>, singular: bool) -> Solutions {
     let exact = raw.iter().any(|(_, ok)| *ok);
     let mut q: Vec<Vec<f64>> = Vec::new();
+    // One entry per posture (modulo 2π); its shifts are then distinct by construction.
     let mut distinct: Vec<[f64; 6]> = Vec::new();
     for (sol, ok) in raw {
         if ok != exact {
             continue;
         }
-        let before = q.len();
+        let wrapped = sol.map(crate::subproblem::wrap);
+        let same = |d: &[f64; 6]| {
+            d.iter()
+                .zip(&wrapped)
+                .all(|(a, b)| crate::subproblem::wrap(a - b).abs() < 1e-9)
+        };
+        if distinct.iter().any(same) {
+            continue;
+        }
         let mut options: Vec<Vec<f64>> = vec![Vec::new()];
-        for (i, &t) in sol.iter().enumerate() {
+        for (i, &t) in wrapped.iter().enumerate() {
             let (lo, hi) = (kin.lower[i], kin.upper[i]);
             let shifts: Vec<f64> = if kin.continuous[i] {
-                vec![crate::subproblem::wrap(t)]
+                vec![t]
             } else {
                 (-2..=2)
                     .map(|m| t + f64::from(m) * std::f64::consts::TAU)
@@ -122,23 +131,9 @@ fn within_limits(kin: &Kinematics, raw: Vec<([f64; 6], bool)>, singular: bool) -
                 })
                 .collect();
         }
-        for o in options {
-            if !q
-                .iter()
-                .any(|p| p.iter().zip(&o).all(|(a, b)| (a - b).abs() < 1e-9))
-            {
-                q.push(o);
-            }
-        }
-        let wrapped = sol.map(crate::subproblem::wrap);
-        if q.len() > before
-            && !distinct.iter().any(|d| {
-                d.iter()
-                    .zip(&wrapped)
-                    .all(|(a, b)| crate::subproblem::wrap(a - b).abs() < 1e-9)
-            })
-        {
+        if !options.is_empty() {
             distinct.push(wrapped);
+            q.extend(options);
         }
     }
     Solutions {
