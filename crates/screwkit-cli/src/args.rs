@@ -323,6 +323,10 @@ pub struct IkArgs {
     /// followed without branch flips. One thread.
     #[arg(long, requires = "input")]
     pub sequential: bool,
+    /// Every solution, from the analytic solver (6R arms of a closed-form family: spherical
+    /// wrist with axes 2 ∥ 3, or UR-type), nearest to --seed first.
+    #[arg(long, conflicts_with = "input")]
+    pub all: bool,
 }
 
 /// `exp`.

@@ -261,6 +261,42 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
         .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
 }
 
+/// `ik --all`: every analytic solution, nearest to `seed` first.
+fn all_solutions(kin: &Kinematics, t: &Se3, seed: &[f64], format: Format) -> CliResult {
+    kin.check_q(seed)?;
+    let family = screwkit_solve::family::classify(kin).family;
+    let mut sols = screwkit_solve::analytic::solve_all(kin, t)?;
+    let dist = |q: &[f64]| -> f64 { q.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum() };
+    sols.q.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+    if format == Format::Json {
+        print_json(&json!({
+            "family": format!("{family:?}"),
+            "exact": sols.exact,
+            "singular": sols.singular,
+            "postures": sols.branches,
+            "solutions": sols.q.iter().map(|q| nums(q)).collect::<Vec<_>>(),
+        }));
+    } else {
+        let mut s = format!(
+            "{family:?} ({}): {} solution(s) within the limits, {} posture(s){}{}, nearest to the seed first:\n",
+            family.describe(),
+            sols.q.len(),
+            sols.branches,
+            if sols.exact { "" } else { "; OUT OF REACH: least-squares configurations" },
+            if sols.singular { "; singular: a free angle was set to 0" } else { "" },
+        );
+        for q in &sols.q {
+            s.push_str(&format!("{}\n", tuple(q)));
+        }
+        print!("{s}");
+    }
+    if sols.exact && !sols.q.is_empty() {
+        Ok(())
+    } else {
+        Err(Failure("no exact solution within the joint limits".into()))
+    }
+}
+
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let (tree, chain) = crate::load_tree_chain(&args.chain)?;
@@ -295,6 +331,9 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         Some(s) => s.0.clone(),
         None => kin.midpoint(),
     };
+    if args.all {
+        return all_solutions(&kin, &t, &seed, format);
+    }
     let mut ws = Workspace::new(&kin);
     let t0 = Instant::now();
     let r = solve(&kin, &mut ws, &t, &seed, &opts)?;

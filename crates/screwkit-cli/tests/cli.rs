@@ -998,3 +998,63 @@ fn tool_and_target_frame() {
         moving.stderr
     );
 }
+
+/// `ik --all`: every analytic solution, nearest to the seed first; each reaches the target.
+#[test]
+fn ik_all_lists_every_solution() {
+    let ur5 = asset("ur5.urdf");
+    let q = "0.3,-1.0,1.4,-0.8,-1.2,0.4";
+    let t = json(&["fk", &ur5, "--q", q, "--format", "json"]);
+    let m: Vec<String> = (0..16)
+        .map(|i| format!("{:?}", t["pose"][i / 4][i % 4].as_f64().unwrap()))
+        .collect();
+    let v = json(&[
+        "ik",
+        &ur5,
+        "--target-matrix",
+        &m.join(","),
+        "--all",
+        "--seed",
+        q,
+        "--format",
+        "json",
+    ]);
+    assert_eq!(v["family"], "ThreeParallelTwoIntersecting");
+    assert_eq!(v["exact"], true);
+    let sols = v["solutions"].as_array().unwrap();
+    assert!(sols.len() >= 8, "{}", sols.len());
+    let first: Vec<f64> = serde_json::from_value(sols[0].clone()).unwrap();
+    let want: Vec<f64> = q.split(',').map(|x| x.parse().unwrap()).collect();
+    assert!(
+        first.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-8),
+        "{first:?}"
+    );
+    for s in sols.iter().take(16) {
+        let qs: Vec<String> = s
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| format!("{:?}", x.as_f64().unwrap()))
+            .collect();
+        let reached = json(&["fk", &ur5, "--q", &qs.join(","), "--format", "json"]);
+        for i in 0..16 {
+            let (a, b) = (
+                reached["pose"][i / 4][i % 4].as_f64().unwrap(),
+                t["pose"][i / 4][i % 4].as_f64().unwrap(),
+            );
+            assert!((a - b).abs() < 1e-10);
+        }
+    }
+    let panda = run(
+        &[
+            "ik",
+            &asset("panda.urdf"),
+            "--target-xyz-rpy",
+            "0.4,0.1,0.5,3.14,0,0",
+            "--all",
+        ],
+        None,
+    );
+    assert_eq!(panda.code, 1);
+    assert!(panda.stderr.contains("7R"), "{}", panda.stderr);
+}

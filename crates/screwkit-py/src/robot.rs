@@ -611,6 +611,53 @@ impl Robot {
         Ok(text)
     }
 
+    /// Every IK solution of one target (4, 4), from the analytic solver (6R arms of a
+    /// closed-form family: spherical wrist with axes 2 ∥ 3, or UR-type): an array (K, dof),
+    /// nearest to `seed` first (default: the midpoint of the limits). Raises `ValueError` for
+    /// other chains (naming their family) and for a target out of reach.
+    #[pyo3(signature = (target, seed = None))]
+    fn ik_all<'py>(
+        &self,
+        py: Python<'py>,
+        target: &Bound<'py, PyAny>,
+        seed: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (targets, count) = poses(target, "target")?;
+        if count.is_some() {
+            return Err(PyValueError::new_err(
+                "target: ik_all takes one target of shape (4, 4)",
+            ));
+        }
+        let tv = targets.readonly();
+        let t = Se3::from_row_major(tv.as_slice()?, DEFAULT_ROTATION_TOLERANCE)
+            .map_err(|e| PyValueError::new_err(format!("target: not a rigid transform: {e}")))?;
+        let seed = match seed {
+            Some(s) => {
+                let a = f64_array(s, "seed")?;
+                let r = a.readonly();
+                r.as_slice()?.to_vec()
+            }
+            None => self.kin.midpoint(),
+        };
+        self.kin.check_q(&seed).map_err(solve_error)?;
+        let mut sols = screwkit_solve::analytic::solve_all(&self.kin, &t).map_err(solve_error)?;
+        if !sols.exact {
+            return Err(PyValueError::new_err(
+                "target: out of reach (no exact solution)",
+            ));
+        }
+        let dist = |q: &[f64]| -> f64 { q.iter().zip(&seed).map(|(a, b)| (a - b) * (a - b)).sum() };
+        sols.q.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+        let n = self.kin.dof();
+        let k = sols.q.len();
+        Ok(new_array(py, &[k, n], |o| {
+            for (row, q) in o.chunks_mut(n.max(1)).zip(&sols.q) {
+                row.copy_from_slice(q);
+            }
+        })?
+        .into_any())
+    }
+
     /// Inverse kinematics: joint values q, within the limits, with T(q) = target.
     ///
     /// `target` (4, 4) → `IkResult`; (N, 4, 4) → `IkBatchResult` (all cores, GIL released;

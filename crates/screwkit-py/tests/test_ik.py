@@ -78,3 +78,22 @@ def test_one_seed_for_many_targets(ur5: screwkit.Robot) -> None:
     b = ur5.ik(targets, np.tile(seed, (6, 1)))
     assert isinstance(a, screwkit.IkBatchResult) and isinstance(b, screwkit.IkBatchResult)
     np.testing.assert_array_equal(a.q, b.q)
+
+
+def test_ik_all_gives_every_solution(ur5: screwkit.Robot) -> None:
+    """Analytic IK: every solution reaches the target (by the numpy URDF oracle), the source
+    configuration is among them, nearest-to-seed order; a 7R arm is refused by family."""
+    from conftest import ASSETS
+
+    oracle = UrdfChain(str(ASSETS / "ur5.urdf"), ur5.base, ur5.tip)
+    for q in configurations(ur5, 20, seed=71):
+        t = ur5.fk(q)
+        sols = ur5.ik_all(t, seed=q)
+        assert sols.ndim == 2 and sols.shape[1] == 6 and len(sols) >= 2
+        np.testing.assert_allclose(sols[0], q, atol=1e-8)  # the nearest to q is q itself
+        for s in sols:
+            np.testing.assert_allclose(oracle.fk(ur5.joint_names, s), t, atol=1e-10)
+            assert np.all(s >= ur5.lower) and np.all(s <= ur5.upper)
+    panda = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
+    with pytest.raises(ValueError, match="7R"):
+        panda.ik_all(panda.home)

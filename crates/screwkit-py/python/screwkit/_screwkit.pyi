@@ -198,6 +198,7 @@ class Robot:
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
     ) -> str: ...
+    def ik_all(self, target: _ArrayLike, seed: _ArrayLike | None = None) -> _F64: ...
     def ik(
         self,
         target: _ArrayLike,
