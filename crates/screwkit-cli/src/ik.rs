@@ -266,8 +266,7 @@ fn all_solutions(kin: &Kinematics, t: &Se3, seed: &[f64], format: Format) -> Cli
     kin.check_q(seed)?;
     let family = screwkit_solve::family::classify(kin).family;
     let mut sols = screwkit_solve::analytic::solve_all(kin, t)?;
-    let dist = |q: &[f64]| -> f64 { q.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum() };
-    sols.q.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+    sols.sort_nearest(seed);
     if format == Format::Json {
         print_json(&json!({
             "family": format!("{family:?}"),

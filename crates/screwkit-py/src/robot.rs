@@ -646,8 +646,7 @@ impl Robot {
                 "target: out of reach (no exact solution)",
             ));
         }
-        let dist = |q: &[f64]| -> f64 { q.iter().zip(&seed).map(|(a, b)| (a - b) * (a - b)).sum() };
-        sols.q.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+        sols.sort_nearest(&seed);
         let n = self.kin.dof();
         let k = sols.q.len();
         Ok(new_array(py, &[k, n], |o| {

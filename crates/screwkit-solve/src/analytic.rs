@@ -39,6 +39,15 @@ pub struct Solutions {
     pub branches: usize,
 }
 
+impl Solutions {
+    /// Orders the solutions nearest to `seed` first (Euclidean distance in joint space): the
+    /// first is the one that moves the arm least from where it is.
+    pub fn sort_nearest(&mut self, seed: &[f64]) {
+        let dist = |q: &[f64]| -> f64 { q.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum() };
+        self.q.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+    }
+}
+
 /// The angles of a subproblem, each with whether it is exact: the exact ones, or the
 /// least-squares one, or 0 for "any" (exact, and `singular` is set).
 fn angles(a: Angles, singular: &mut bool) -> Vec<(f64, bool)> {
