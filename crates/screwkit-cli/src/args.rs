@@ -42,7 +42,7 @@ pub enum Command {
     /// The 6 x n Jacobian (space or body) at joint values, optionally analysed.
     Jacobian(JacobianArgs),
     /// Inverse kinematics: joint values reaching a target pose.
-    Ik(IkArgs),
+    Ik(Box<IkArgs>),
     /// Matrix exponential of a twist: e^[S]θ.
     Exp(ExpArgs),
     /// Matrix logarithm of a transform: screw axis, θ, pitch, axis point.
@@ -323,10 +323,20 @@ pub struct IkArgs {
     /// followed without branch flips. One thread.
     #[arg(long, requires = "input")]
     pub sequential: bool,
-    /// Every solution, from the analytic solver (6R arms of a closed-form family: spherical
-    /// wrist with axes 2 ∥ 3, or UR-type), nearest to --seed first.
-    #[arg(long, conflicts_with = "input")]
+    /// Every solution, from the analytic solver (6R arms of a closed-form family — spherical
+    /// wrist with axes 2 ∥ 3 or two intersecting axes, UR-type — and 7R arms with one joint
+    /// locked), nearest to --seed first. With --input: one JSON line per target.
+    #[arg(long, conflicts_with_all = ["output", "sequential"])]
     pub all: bool,
+    /// With --all on a 7R arm: the joint to lock, by name or 1-based index, and its value
+    /// (JOINT=VALUE; default value: the seed's; default joint: the last one whose locking
+    /// leaves a family screwkit solves).
+    #[arg(long, requires = "all", value_name = "JOINT[=VALUE]")]
+    pub lock: Option<String>,
+    /// With --all on a 7R arm: solve with the locked joint at N values evenly spaced over its
+    /// limits and list the solutions of all of them.
+    #[arg(long, requires = "all", value_name = "N")]
+    pub sweep: Option<usize>,
 }
 
 /// `exp`.

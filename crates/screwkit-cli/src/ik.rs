@@ -3,6 +3,7 @@
 use std::time::{Duration, Instant};
 
 use screwkit_lie::Se3;
+use screwkit_solve::analytic::{AnalyticIk, Solutions};
 use screwkit_solve::batch::{ik_batch_from, ik_path_from};
 use screwkit_solve::ik::{solve, IkMethod, IkOptions, IkStatus};
 use screwkit_solve::{Kinematics, Workspace};
@@ -261,39 +262,180 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
         .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
 }
 
-/// `ik --all`: every analytic solution, nearest to `seed` first.
-fn all_solutions(kin: &Kinematics, t: &Se3, seed: &[f64], format: Format) -> CliResult {
-    kin.check_q(seed)?;
-    let family = screwkit_solve::family::classify(kin).family;
-    let mut sols = screwkit_solve::analytic::solve_all(kin, t)?;
-    sols.sort_nearest(seed);
-    if format == Format::Json {
-        print_json(&json!({
-            "family": format!("{family:?}"),
-            "exact": sols.exact,
+/// The analytic solver of `ik --all` with the lock options (--lock J=V, --sweep N; neither:
+/// the seed's value of the locked joint, per target).
+struct AllSolver {
+    solver: AnalyticIk,
+    family: String,
+    value: Option<f64>,
+    sweep: Option<usize>,
+}
+
+impl AllSolver {
+    fn new(kin: &Kinematics, args: &IkArgs) -> CliResult<Self> {
+        let (joint, value) = match &args.lock {
+            None => (None, None),
+            Some(spec) => {
+                let (name, value) = match spec.split_once('=') {
+                    Some((n, v)) => (
+                        n,
+                        Some(v.trim().parse::<f64>().map_err(|_| {
+                            Failure(format!("--lock {spec}: {v:?} is not a number"))
+                        })?),
+                    ),
+                    None => (spec.as_str(), None),
+                };
+                let names = kin.names();
+                let j = names
+                    .iter()
+                    .position(|n| n == name)
+                    .or_else(|| {
+                        name.parse::<usize>()
+                            .ok()
+                            .filter(|&i| i >= 1 && i <= names.len())
+                            .map(|i| i - 1)
+                    })
+                    .ok_or_else(|| {
+                        Failure(format!(
+                            "--lock {spec}: no joint {name:?} (the chain's: {})",
+                            names.join(", ")
+                        ))
+                    })?;
+                (Some(j), value)
+            }
+        };
+        let solver = match joint {
+            Some(j) => AnalyticIk::locked(kin, j)?,
+            None => AnalyticIk::auto(kin)?,
+        };
+        let mut family = format!("{:?}", solver.family());
+        if solver.reversed() {
+            family.push_str(" (reversed)");
+        }
+        // Checked once here (with the midpoint as a stand-in seed) so a bad --lock/--sweep
+        // fails before any target.
+        solver.lock_values(kin, &kin.midpoint(), value, args.sweep)?;
+        Ok(Self {
+            solver,
+            family,
+            value,
+            sweep: args.sweep,
+        })
+    }
+
+    /// Every solution of `t`, nearest to `seed` first, and the lock values used.
+    fn solve(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        t: &Se3,
+        seed: &[f64],
+    ) -> Result<(Solutions, Vec<f64>), screwkit_solve::SolveError> {
+        let values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
+        let mut sols = Solutions::default();
+        self.solver.solve_swept(kin, ws, t, &values, &mut sols)?;
+        sols.sort_nearest(seed, None);
+        Ok((sols, values))
+    }
+
+    /// The JSON of one target's solutions.
+    fn json(&self, kin: &Kinematics, sols: &Solutions, values: &[f64]) -> Value {
+        let locked = self
+            .solver
+            .locked_joint()
+            .map(|j| json!({"joint": kin.names()[j], "index": j + 1, "values": nums(values)}));
+        json!({
+            "family": self.family,
+            "locked": locked,
+            "exact": sols.is_exact(),
             "singular": sols.singular,
             "postures": sols.branches,
-            "solutions": sols.q.iter().map(|q| nums(q)).collect::<Vec<_>>(),
-        }));
+            "solutions": (0..sols.len()).map(|i| json!({
+                "q": nums(sols.q(i)),
+                "exact": sols.exact(i),
+                "residual": sols.residual(i),
+            })).collect::<Vec<_>>(),
+        })
+    }
+}
+
+/// `ik --all`: every analytic solution, nearest to `seed` first.
+fn all_solutions(
+    kin: &Kinematics,
+    args: &IkArgs,
+    t: &Se3,
+    seed: &[f64],
+    format: Format,
+) -> CliResult {
+    kin.check_q(seed)?;
+    let all = AllSolver::new(kin, args)?;
+    let mut ws = Workspace::new(kin);
+    let (sols, values) = all.solve(kin, &mut ws, t, seed)?;
+    if format == Format::Json {
+        print_json(&all.json(kin, &sols, &values));
     } else {
+        let family = all.solver.family();
         let mut s = format!(
-            "{family:?} ({}): {} solution(s) within the limits, {} posture(s){}{}, nearest to the seed first:\n",
+            "{} ({}): {} solution(s) within the limits, {} posture(s){}{}{}, nearest to the seed first:\n",
+            all.family,
             family.describe(),
-            sols.q.len(),
+            sols.len(),
             sols.branches,
-            if sols.exact { "" } else { "; OUT OF REACH: least-squares configurations" },
-            if sols.singular { "; singular: a free angle was set to 0" } else { "" },
+            match all.solver.locked_joint() {
+                Some(j) if values.len() == 1 => format!("; {} locked at {}", kin.names()[j], values[0]),
+                Some(j) => format!("; {} locked at {} values from {} to {}", kin.names()[j], values.len(),
+                    values.first().copied().unwrap_or(0.0), values.last().copied().unwrap_or(0.0)),
+                None => String::new(),
+            },
+            if sols.is_exact() || sols.is_empty() { "" } else { "; OUT OF REACH: least-squares configurations" },
+            if sols.singular { "; singular: a free angle was chosen" } else { "" },
         );
-        for q in &sols.q {
-            s.push_str(&format!("{}\n", tuple(q)));
+        for (i, q) in sols.iter().enumerate() {
+            s.push_str(&format!(
+                "{}  residual {:.1e}\n",
+                tuple(q),
+                sols.residual(i)
+            ));
         }
         print!("{s}");
     }
-    if sols.exact && !sols.q.is_empty() {
+    if sols.is_exact() {
         Ok(())
     } else {
         Err(Failure("no exact solution within the joint limits".into()))
     }
+}
+
+/// `ik --all --input FILE`: one JSON line of solutions per target line, in parallel through
+/// the library (each line's seed, or --seed, orders the solutions and gives the lock value).
+fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliResult {
+    use rayon::prelude::*;
+    kin.check_q(seed)?;
+    let all = AllSolver::new(kin, args)?;
+    batch::stream(input, |lines, _first_row| {
+        let parsed = batch::parse_rows(lines, |text| parse_line(kin, text));
+        let results: Vec<Result<(Value, bool), String>> = parsed
+            .into_par_iter()
+            .map_init(
+                || Workspace::new(kin),
+                |ws, row| {
+                    let (target, s) = row?;
+                    let t =
+                        Se3::from_row_major(&target, 1e-6).map_err(|e| format!("target: {e}"))?;
+                    let s = s.unwrap_or_else(|| seed.to_vec());
+                    let (sols, values) = all.solve(kin, ws, &t, &s).map_err(|e| e.to_string())?;
+                    Ok((all.json(kin, &sols, &values), sols.is_exact()))
+                },
+            )
+            .collect();
+        let errors: Vec<Option<String>> =
+            results.iter().map(|r| r.as_ref().err().cloned()).collect();
+        Ok(batch::outputs(lines, &errors, |k| match &results[k] {
+            Ok(v) => v.clone(),
+            Err(_) => (Value::Null, false),
+        }))
+    })
+    .map_err(|e| Failure(format!("{} (failed or no exact solution)", e.0)))
 }
 
 /// Runs `ik`.
@@ -313,6 +455,13 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
                     .into(),
             ));
         }
+        if args.all {
+            let seed = match &args.seed {
+                Some(s) => s.0.clone(),
+                None => kin.midpoint(),
+            };
+            return all_batch(&kin, args, input, &seed);
+        }
         if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
             if args.sequential {
                 return Err(Failure("--sequential is for JSON lines input".into()));
@@ -331,7 +480,7 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         None => kin.midpoint(),
     };
     if args.all {
-        return all_solutions(&kin, &t, &seed, format);
+        return all_solutions(&kin, args, &t, &seed, format);
     }
     let mut ws = Workspace::new(&kin);
     let t0 = Instant::now();

@@ -192,9 +192,7 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
             c.tip,
             c.dof(),
             c.variable_names().join(", "),
-            screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c))
-                .family
-                .describe()
+            screwkit_solve::analytic::describe(&screwkit_solve::Kinematics::new(c))
         )),
         Err(e) => s.push_str(&format!("Default chain: none — {}\n", e.kind)),
     }

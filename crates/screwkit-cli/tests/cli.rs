@@ -1023,14 +1023,16 @@ fn ik_all_lists_every_solution() {
     assert_eq!(v["exact"], true);
     let sols = v["solutions"].as_array().unwrap();
     assert!(sols.len() >= 8, "{}", sols.len());
-    let first: Vec<f64> = serde_json::from_value(sols[0].clone()).unwrap();
+    let first: Vec<f64> = serde_json::from_value(sols[0]["q"].clone()).unwrap();
+    assert!(sols.iter().all(|s| s["exact"] == true));
+    assert!(sols.iter().all(|s| s["residual"].as_f64().unwrap() < 1e-12));
     let want: Vec<f64> = q.split(',').map(|x| x.parse().unwrap()).collect();
     assert!(
         first.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-8),
         "{first:?}"
     );
     for s in sols.iter().take(16) {
-        let qs: Vec<String> = s
+        let qs: Vec<String> = s["q"]
             .as_array()
             .unwrap()
             .iter()
@@ -1045,16 +1047,73 @@ fn ik_all_lists_every_solution() {
             assert!((a - b).abs() < 1e-10);
         }
     }
-    let panda = run(
-        &[
-            "ik",
-            &asset("panda.urdf"),
-            "--target-xyz-rpy",
-            "0.4,0.1,0.5,3.14,0,0",
-            "--all",
-        ],
-        None,
-    );
-    assert_eq!(panda.code, 1);
-    assert!(panda.stderr.contains("7R"), "{}", panda.stderr);
+    // A 7R arm: joint 7 locked at the seed's value by default, or swept, or another joint.
+    let panda = asset("panda.urdf");
+    let seed = "0,-0.5,0,-2,0,1.6,0.8";
+    let target = ["--target-xyz-rpy", "0.4,0.1,0.5,3.14,0,0"];
+    let base = [
+        "ik", &panda, target[0], target[1], "--all", "--format", "json",
+    ];
+    let v = json(&[&base[..], &["--seed", seed]].concat());
+    assert_eq!(v["family"], "SphericalWristTwoIntersecting (reversed)");
+    assert_eq!(v["locked"]["joint"], "panda_joint7");
+    assert_eq!(v["locked"]["values"][0], 0.8);
+    let sols = v["solutions"].as_array().unwrap();
+    assert!(!sols.is_empty());
+    assert!(sols.iter().all(|s| s["q"][6] == 0.8 && s["exact"] == true));
+    let v = json(&[&base[..], &["--lock", "panda_joint7", "--sweep", "5"]].concat());
+    assert_eq!(v["locked"]["values"].as_array().unwrap().len(), 5);
+    let sevens: std::collections::BTreeSet<String> = v["solutions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["q"][6].to_string())
+        .collect();
+    assert!(sevens.len() >= 2, "{sevens:?}");
+    let v = json(&[&base[..], &["--lock", "6=1.5"]].concat());
+    assert_eq!(v["locked"]["joint"], "panda_joint6");
+    for (args, msg) in [
+        (&["--lock", "5"][..], "panda_joint5"),
+        (&["--lock", "wrist"][..], "no joint \"wrist\""),
+        (&["--lock", "7=9"][..], "outside its limits"),
+        (
+            &["--lock", "7=0.1", "--sweep", "3"][..],
+            "exclude each other",
+        ),
+    ] {
+        let o = run(&[&base[..], args].concat(), None);
+        assert_eq!(o.code, 1, "{args:?}");
+        assert!(o.stderr.contains(msg), "{args:?}: {}", o.stderr);
+    }
+}
+
+#[test]
+fn ik_all_batch_one_line_per_target() {
+    let ur5 = asset("ur5.urdf");
+    let qs = ["0.3,-1.0,1.4,-0.8,-1.2,0.4", "-1.1,-2.0,0.7,0.4,1.9,-2.5"];
+    let mut input = String::new();
+    for q in qs {
+        let t = json(&["fk", &ur5, "--q", q, "--format", "json"]);
+        input.push_str(&format!("{{\"target\": {}, \"seed\": [{q}]}}\n", t["pose"]));
+    }
+    input.push_str("{\"target\": [[1, 0]]}\n");
+    let o = run(&["ik", &ur5, "--all", "--input", "-"], Some(&input));
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    let lines: Vec<Value> = o
+        .stdout
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 3);
+    for (line, q) in lines.iter().zip(qs) {
+        let want: Vec<f64> = q.split(',').map(|x| x.parse().unwrap()).collect();
+        let first: Vec<f64> = serde_json::from_value(line["solutions"][0]["q"].clone()).unwrap();
+        assert!(
+            first.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-8),
+            "{first:?}"
+        );
+        assert_eq!(line["exact"], true);
+    }
+    assert_eq!(lines[2]["line"], 3);
+    assert!(lines[2]["error"].as_str().unwrap().contains("target"));
 }

@@ -611,26 +611,29 @@ impl Robot {
         Ok(text)
     }
 
-    /// Every IK solution of one target (4, 4), from the analytic solver (6R arms of a
-    /// closed-form family: spherical wrist with axes 2 ∥ 3, or UR-type): an array (K, dof),
-    /// nearest to `seed` first (default: the midpoint of the limits). Raises `ValueError` for
-    /// other chains (naming their family) and for a target out of reach.
-    #[pyo3(signature = (target, seed = None))]
+    /// Every IK solution from the analytic solver: 6R arms of a closed-form family (spherical
+    /// wrist with axes 2 ∥ 3 or two intersecting axes, UR-type) and 7R arms with one joint
+    /// locked. `target` (4, 4) → an array (K, dof), nearest to `seed` first (default: the
+    /// midpoint of the limits); raises `ValueError` for a chain without an analytic solver
+    /// (naming its family) and for a target out of reach. (N, 4, 4) → a list of N such arrays
+    /// (all cores, GIL released; a target out of reach gives an empty (0, dof) array; bad rows
+    /// raise `BatchError` whose `.result` is the list, empty arrays at the bad rows).
+    /// 7R arms: `lock` names the joint to lock (name or 0-based index; default: the last one
+    /// whose locking leaves a family screwkit solves), `lock_value` its value (default: the
+    /// seed's), or `sweep=n` solves at n values evenly spaced over its limits.
+    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None))]
+    #[allow(clippy::too_many_arguments)]
     fn ik_all<'py>(
         &self,
         py: Python<'py>,
         target: &Bound<'py, PyAny>,
         seed: Option<&Bound<'py, PyAny>>,
+        lock: Option<&Bound<'py, PyAny>>,
+        lock_value: Option<f64>,
+        sweep: Option<usize>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::analytic::{AnalyticIk, Solutions};
         let (targets, count) = poses(target, "target")?;
-        if count.is_some() {
-            return Err(PyValueError::new_err(
-                "target: ik_all takes one target of shape (4, 4)",
-            ));
-        }
-        let tv = targets.readonly();
-        let t = Se3::from_row_major(tv.as_slice()?, DEFAULT_ROTATION_TOLERANCE)
-            .map_err(|e| PyValueError::new_err(format!("target: not a rigid transform: {e}")))?;
         let seed = match seed {
             Some(s) => {
                 let a = f64_array(s, "seed")?;
@@ -640,21 +643,109 @@ impl Robot {
             None => self.kin.midpoint(),
         };
         self.kin.check_q(&seed).map_err(solve_error)?;
-        let mut sols = screwkit_solve::analytic::solve_all(&self.kin, &t).map_err(solve_error)?;
-        if !sols.exact {
-            return Err(PyValueError::new_err(
-                "target: out of reach (no exact solution)",
-            ));
-        }
-        sols.sort_nearest(&seed);
-        let n = self.kin.dof();
-        let k = sols.q.len();
-        Ok(new_array(py, &[k, n], |o| {
-            for (row, q) in o.chunks_mut(n.max(1)).zip(&sols.q) {
-                row.copy_from_slice(q);
+        let solver = match lock {
+            None => AnalyticIk::auto(&self.kin),
+            Some(j) => {
+                let index = if let Ok(name) = j.extract::<String>() {
+                    self.kin
+                        .names()
+                        .iter()
+                        .position(|n| *n == name)
+                        .ok_or_else(|| {
+                            PyValueError::new_err(format!(
+                                "lock: no joint {name:?} (the chain's: {})",
+                                self.kin.names().join(", ")
+                            ))
+                        })?
+                } else {
+                    let i: usize = j.extract().map_err(|_| {
+                        PyValueError::new_err("lock: a joint name or a 0-based index")
+                    })?;
+                    if i >= self.kin.dof() {
+                        return Err(PyValueError::new_err(format!(
+                            "lock: index {i} out of range (dof {})",
+                            self.kin.dof()
+                        )));
+                    }
+                    i
+                };
+                AnalyticIk::locked(&self.kin, index)
             }
-        })?
-        .into_any())
+        }
+        .map_err(solve_error)?;
+        let values = solver
+            .lock_values(&self.kin, &seed, lock_value, sweep)
+            .map_err(solve_error)?;
+        let n = self.kin.dof();
+        let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
+            Ok(new_array(py, &[sols.len(), n], |o| {
+                for (row, q) in o.chunks_mut(n.max(1)).zip(sols.iter()) {
+                    row.copy_from_slice(q);
+                }
+            })?
+            .into_any())
+        };
+        let tv = targets.readonly();
+        let flat = tv.as_slice()?;
+        if count.is_none() {
+            let t = Se3::from_row_major(flat, DEFAULT_ROTATION_TOLERANCE).map_err(|e| {
+                PyValueError::new_err(format!("target: not a rigid transform: {e}"))
+            })?;
+            let mut sols = Solutions::default();
+            let mut ws = Workspace::new(&self.kin);
+            solver
+                .solve_swept(&self.kin, &mut ws, &t, &values, &mut sols)
+                .map_err(solve_error)?;
+            if !sols.is_exact() {
+                return Err(PyValueError::new_err(
+                    "target: out of reach (no exact solution within the limits)",
+                ));
+            }
+            sols.sort_nearest(&seed, None);
+            return to_array(py, &sols);
+        }
+        let kin = &self.kin;
+        let results: Vec<Result<Solutions, screwkit_solve::SolveError>> = py.detach(|| {
+            pool::run(|| {
+                use rayon::prelude::*;
+                flat.par_chunks(16)
+                    .with_max_len(64)
+                    .map_init(
+                        || Workspace::new(kin),
+                        |ws, row| {
+                            let t = Se3::from_row_major(row, DEFAULT_ROTATION_TOLERANCE).map_err(
+                                |e| screwkit_solve::SolveError::BadTarget(e.to_string()),
+                            )?;
+                            let mut sols = Solutions::default();
+                            solver.solve_swept(kin, ws, &t, &values, &mut sols)?;
+                            sols.sort_nearest(&seed, None);
+                            Ok(sols)
+                        },
+                    )
+                    .collect()
+            })
+        });
+        let list = pyo3::types::PyList::empty(py);
+        let mut bad = Vec::new();
+        for (k, r) in results.into_iter().enumerate() {
+            match r {
+                Ok(sols) if sols.is_exact() => list.append(to_array(py, &sols)?)?,
+                Ok(_) => list.append(to_array(py, &Solutions::default())?)?,
+                Err(error) => {
+                    list.append(zeros(py, &[0, n]))?;
+                    bad.push(screwkit_solve::RowError { row: k, error });
+                }
+            }
+        }
+        if bad.is_empty() {
+            Ok(list.into_any())
+        } else {
+            Err(batch_error(
+                py,
+                screwkit_solve::SolveError::Rows(bad),
+                list.into_any(),
+            ))
+        }
     }
 
     /// Inverse kinematics: joint values q, within the limits, with T(q) = target.

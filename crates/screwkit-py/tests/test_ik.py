@@ -89,11 +89,71 @@ def test_ik_all_gives_every_solution(ur5: screwkit.Robot) -> None:
     for q in configurations(ur5, 20, seed=71):
         t = ur5.fk(q)
         sols = ur5.ik_all(t, seed=q)
+        assert isinstance(sols, np.ndarray)
         assert sols.ndim == 2 and sols.shape[1] == 6 and len(sols) >= 2
         np.testing.assert_allclose(sols[0], q, atol=1e-8)  # the nearest to q is q itself
         for s in sols:
             np.testing.assert_allclose(oracle.fk(ur5.joint_names, s), t, atol=1e-10)
             assert np.all(s >= ur5.lower) and np.all(s <= ur5.upper)
+    planar = screwkit.Robot.from_urdf(ASSETS / "planar_3r.urdf")
+    with pytest.raises(ValueError, match="no analytic solver"):
+        planar.ik_all(planar.home)
+
+
+def test_ik_all_seven_r_with_a_locked_joint() -> None:
+    """The Panda with joint 7 locked at the seed's value (default), at a given value, swept;
+    every solution checked by the numpy URDF oracle; bad locks raise ValueError."""
+    from conftest import ASSETS
+
     panda = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
-    with pytest.raises(ValueError, match="7R"):
-        panda.ik_all(panda.home)
+    oracle = UrdfChain(str(ASSETS / "panda.urdf"), panda.base, panda.tip)
+    for q in configurations(panda, 10, seed=5):
+        t = panda.fk(q)
+        sols = panda.ik_all(t, seed=q)
+        assert isinstance(sols, np.ndarray)
+        np.testing.assert_allclose(sols[0], q, atol=1e-7)
+        assert np.all(sols[:, 6] == q[6])
+        for s in sols:
+            np.testing.assert_allclose(oracle.fk(panda.joint_names, s), t, atol=1e-10)
+            assert np.all(s >= panda.lower) and np.all(s <= panda.upper)
+        by_name = panda.ik_all(t, seed=q, lock="panda_joint4", lock_value=float(q[3]))
+        assert isinstance(by_name, np.ndarray)
+        assert np.any(np.all(np.abs(by_name - q) < 1e-6, axis=1))
+    t = panda.fk(q)
+    swept = panda.ik_all(t, lock=6, sweep=7)
+    assert isinstance(swept, np.ndarray)
+    values = np.linspace(panda.lower[6], panda.upper[6], 7)
+    assert len(swept) > 0 and all(np.any(np.abs(values - v) < 1e-12) for v in swept[:, 6])
+    for s in swept:
+        np.testing.assert_allclose(oracle.fk(panda.joint_names, s), t, atol=1e-10)
+    with pytest.raises(ValueError, match="panda_joint5"):
+        panda.ik_all(t, lock=4)
+    with pytest.raises(ValueError, match="no joint"):
+        panda.ik_all(t, lock="elbow")
+    with pytest.raises(ValueError, match="exclude each other"):
+        panda.ik_all(t, lock_value=0.1, sweep=3)
+    with pytest.raises(ValueError, match="outside its limits"):
+        panda.ik_all(t, lock_value=9.0)
+
+
+def test_ik_all_batch(ur5: screwkit.Robot) -> None:
+    """(N, 4, 4) targets: a list of arrays equal to the single calls; out of reach: empty;
+    a bad row: BatchError carrying the other rows."""
+    qs = configurations(ur5, 30, seed=3)
+    targets = ur5.fk(qs)
+    got = ur5.ik_all(targets, seed=qs[0])
+    assert isinstance(got, list) and len(got) == 30
+    for t, sols in zip(targets, got):
+        np.testing.assert_array_equal(sols, ur5.ik_all(t, seed=qs[0]))
+    far = np.eye(4)
+    far[0, 3] = 5.0
+    out = ur5.ik_all(np.stack([targets[0], far]))
+    assert isinstance(out, list) and out[1].shape == (0, 6) and len(out[0]) > 0
+    bad = targets.copy()
+    bad[4, 0, 3] = np.nan
+    with pytest.raises(screwkit.BatchError) as e:
+        ur5.ik_all(bad, seed=qs[0])
+    assert e.value.rows == [4]
+    result = e.value.result
+    assert result[4].shape == (0, 6)
+    np.testing.assert_array_equal(result[5], got[5])

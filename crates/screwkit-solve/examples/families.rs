@@ -15,7 +15,25 @@ fn main() {
             Ok(chain) => {
                 let kin = screwkit_solve::Kinematics::new(&chain);
                 let c = screwkit_solve::family::classify(&kin);
-                println!("{file}: {:?}: {}", c.family, c.family.describe());
+                println!(
+                    "{file}: {:?}{}: {}",
+                    c.family,
+                    if c.reversed { " (reversed)" } else { "" },
+                    c.family.describe()
+                );
+                if kin.dof() == 7 {
+                    for j in 0..7 {
+                        match screwkit_solve::analytic::AnalyticIk::locked(&kin, j) {
+                            Ok(s) => println!(
+                                "  lock joint {}: {:?}{}",
+                                j + 1,
+                                s.family(),
+                                if s.reversed() { " (reversed)" } else { "" }
+                            ),
+                            Err(e) => println!("  lock joint {}: {e}", j + 1),
+                        }
+                    }
+                }
             }
             Err(e) => println!("{file}: {e}"),
         }

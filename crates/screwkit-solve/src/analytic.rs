@@ -1,289 +1,1144 @@
-//! Analytic IK by subproblem decomposition: every solution of a 6R pose, for the families that
-//! have a closed form. Implemented: a spherical wrist with axes 2 ∥ 3 (KUKA KR, ABB IRB,
-//! PUMA-type; axes 1 and 2 may or may not intersect), and axes 2 ∥ 3 ∥ 4 with axes 5 and 6
-//! meeting (UR-type) — the other families are classified ([`crate::family`]) but not solved
-//! here yet (issue 12).
+//! Analytic IK by subproblem decomposition: every solution of a 6R pose — or of a 7R pose with
+//! one joint locked — for the families that have a closed form ([`crate::family`]).
 //!
-//! With g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆ and p_w the wrist center (axes 4, 5, 6 pass
-//! through it, so they do not move it): y = g p_w = e₁ e₂ e₃ p_w. Rotations about axes 2 and 3
-//! (both along k₂) keep the k₂ component, so k₂ · e₁⁻¹ y = k₂ · p_w gives θ₁ (subproblem 4);
-//! with z = e₁⁻¹ y, distances to axis 2 are kept by e₂, so ‖z − r₂‖ = ‖e₃ p_w − r₂‖ gives θ₃
-//! (subproblem 3); e₂ (e₃ p_w) = z gives θ₂ (subproblem 1). The wrist's rotation
-//! R_w = R(k₄,θ₄) R(k₅,θ₅) R(k₆,θ₆) = rotation of (e₁e₂e₃)⁻¹ g gives θ₅ from
-//! k₄ᵀ R₅ k₆ = k₄ᵀ R_w k₆ (subproblem 4), θ₄ from R₄ (R₅ k₆) = R_w k₆ and θ₆ from the rest
-//! (subproblem 1). Up to 2 × 2 × 2 = 8 solutions, each then taken at every 2π shift inside the
-//! joint limits and checked by FK.
+//! Solved here (with g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on
+//! them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i)):
+//!
+//! * **Spherical wrist, 2 ∥ 3** (KUKA KR, ABB IRB, PUMA-type). p_w, where axes 4, 5, 6 meet,
+//!   is not moved by them: y = g p_w = e₁ e₂ e₃ p_w. Rotations 2 and 3 keep k₂ components, so
+//!   k₂ · e₁⁻¹ y = k₂ · p_w gives θ₁ (subproblem 4); z = e₁⁻¹ y keeps its distance to axis 2
+//!   under e₂: ‖e₃ p_w − r₂‖ = ‖z − r₂‖ gives θ₃ (subproblem 3); e₂ (e₃ p_w) = z gives θ₂
+//!   (subproblem 1). Then the wrist (below).
+//! * **Spherical wrist, two intersecting axes** (1–2 meeting at o, or 2–3). Axes 1–2: e₁ e₂
+//!   fix o, so ‖y − o‖ = ‖e₃ p_w − o‖ gives θ₃ (subproblem 3) and R(k₁, −θ₁)(y − o) =
+//!   R(k₂, θ₂)(e₃ p_w − o) gives θ₁, θ₂ (subproblem 2). Axes 2–3: ‖e₁⁻¹ y − o‖ = ‖p_w − o‖
+//!   gives θ₁ (subproblem 3), R(k₂, −θ₂)(e₁⁻¹ y − o) = R(k₃, θ₃)(p_w − o) gives θ₂, θ₃
+//!   (subproblem 2). Then the wrist.
+//! * **The wrist**: R_w = R₄ R₅ R₆ = (R₁ R₂ R₃)ᵀ R_g; k₄ᵀ R₅ k₆ = k₄ᵀ R_w k₆ gives θ₅
+//!   (subproblem 4), R₄ (R₅ k₆) = R_w k₆ gives θ₄ and R₆ k₅ = R₅ᵀ R₄ᵀ R_w k₅ gives θ₆
+//!   (subproblem 1).
+//! * **Three parallel axes 2 ∥ 3 ∥ 4, axes 5 and 6 meeting at p₅₆** (UR-type): k₂ · e₁⁻¹ g p₅₆
+//!   = k₂ · p₅₆ gives θ₁ (subproblem 4); k₂ᵀ R₁ᵀ R_g k₆ = k₂ᵀ R₅ k₆ gives θ₅ (subproblem 4);
+//!   R₆ (R_gᵀ R₁ k₂) = R(k₅, −θ₅) k₂ gives θ₆ (subproblem 1). Then h = e₁⁻¹ g e₆⁻¹ e₅⁻¹ =
+//!   e₂ e₃ e₄ is planar: with p₄ on axis 4, ‖e₃ p₄ − r₂‖ = ‖h p₄ − r₂‖ gives θ₃
+//!   (subproblem 3), e₂ (e₃ p₄) = h p₄ gives θ₂ (subproblem 1) and θ₄ is the rotation of h
+//!   about k₂ minus θ₂ + θ₃.
+//!
+//! Each has up to 2 × 2 × 2 = 8 postures (solutions modulo 2π). A chain whose *reversed*
+//! order is of one of these (a spherical shoulder is a spherical wrist seen from the tip) is
+//! solved as M T_d⁻¹ = e^\[−S₆\]θ₆ ⋯ e^\[−S₁\]θ₁: the lines in reverse order, directions
+//! negated. A 7R chain with joint j locked at v is the 6R chain of the other joints with the
+//! lines after j moved by E = e^\[S_j\]v and home E M.
+//!
+//! [`AnalyticIk`] is the solver prepared once per chain (Pinocchio's model side);
+//! [`AnalyticIk::postures`] is the allocation-free kernel; [`AnalyticIk::solve`] turns postures
+//! into [`Solutions`]: the exact postures (or, when none is exact, the least-squares ones),
+//! deduplicated modulo 2π, each at every 2π shift inside the joint limits, each with its
+//! residual checked by forward kinematics. [`ik_all`] and [`ik_nearest`] are the one-call
+//! forms.
 
 use nalgebra::{Matrix3, Vector3};
-use screwkit_lie::{Se3, Twist};
+use screwkit_lie::Se3;
 
 use crate::error::SolveError;
-use crate::family::{classify, Family};
+use crate::family::{classify, classify_axes, closest_points, relations, AxisLine, Family};
+use crate::fk::fk_unchecked;
 use crate::kinematics::Kinematics;
-use crate::subproblem::{sp1, sp3, sp4, Angles};
+use crate::subproblem::{rotate, sp1, sp2, sp3, sp4, sp4_unit, wrap, AnglePairs, Angles, Few};
+use crate::workspace::Workspace;
 
-/// All the solutions of one pose.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Solutions {
-    /// Every solution within the joint limits, each a q of length 6.
-    pub q: Vec<Vec<f64>>,
-    /// False when the pose is out of reach: then `q` holds the least-squares configurations
-    /// (closest in the subproblems' measures), which do not reach it.
+type V3 = Vector3<f64>;
+type M3 = Matrix3<f64>;
+
+/// The most variables an analytic solution has (a 7R chain with one joint locked).
+pub const MAX_DOF: usize = 7;
+/// The most postures (solutions modulo 2π) of one pose for the families solved here.
+pub const MAX_POSTURES: usize = 8;
+
+/// An exact posture whose FK residual exceeds this (× max(1, L)) is polished by Newton steps.
+const POLISH: f64 = 1e-13;
+
+/// Which decomposition (module documentation), for the lines in the order solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Method {
+    /// Spherical wrist, 2 ∥ 3.
+    WristParallel,
+    /// Spherical wrist, axes 1 and 2 meet.
+    WristIntersecting12,
+    /// Spherical wrist, axes 2 and 3 meet.
+    WristIntersecting23,
+    /// 2 ∥ 3 ∥ 4, axes 5 and 6 meet.
+    ThreeParallel,
+}
+
+/// The decomposition the relations of six lines (in the order given) allow, if any.
+fn method_of(lines: &[AxisLine], length: f64) -> Option<Method> {
+    let (family, parallel, intersecting, _) = relations(lines, true, length);
+    let int = |i: usize| intersecting.iter().any(|&(j, _)| j == i);
+    match family {
+        Family::SphericalWristTwoParallel => Some(Method::WristParallel),
+        Family::SphericalWristTwoIntersecting if int(0) => Some(Method::WristIntersecting12),
+        Family::SphericalWristTwoIntersecting => Some(Method::WristIntersecting23),
+        Family::ThreeParallelTwoIntersecting
+            if parallel.contains(&1) && parallel.contains(&2) && int(4) =>
+        {
+            Some(Method::ThreeParallel)
+        }
+        _ => None,
+    }
+}
+
+/// True when the first three lines and the last three each meet in a point: a 6R chain
+/// with a spherical shoulder and a spherical wrist, whose reachable poses come with a
+/// one-parameter self-motion (the iiwa with its elbow locked).
+fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
+    let mut back = lines.to_vec();
+    back.reverse();
+    relations(lines, true, length).3.is_some() && relations(&back, true, length).3.is_some()
+}
+
+/// The method for six lines in chain order: forward, else reversed (true).
+fn method_either(lines: &[AxisLine], length: f64) -> Option<(Method, bool)> {
+    if let Some(m) = method_of(lines, length) {
+        return Some((m, false));
+    }
+    let mut back = lines.to_vec();
+    back.reverse();
+    method_of(&back, length).map(|m| (m, true))
+}
+
+/// A 6R problem ready to solve: lines in the order solved, the home of the 6R chain (chain
+/// order), the method's points.
+#[derive(Debug, Clone, Copy)]
+struct Prepared {
+    k: [V3; 6],
+    r: [V3; 6],
+    home: Se3,
+    /// The wrist center or p₅₆.
+    center: V3,
+    /// Where the intersecting pair meets (wrist families with two intersecting axes).
+    meet: V3,
+    /// A unit vector ⊥ k₂ (three-parallel family).
+    perp: V3,
+}
+
+impl Prepared {
+    /// From six lines in chain order and their home; reversed: solve tip to base.
+    fn new(method: Method, lines: &[AxisLine; 6], home: Se3, reversed: bool) -> Self {
+        let mut k = [V3::zeros(); 6];
+        let mut r = [V3::zeros(); 6];
+        for i in 0..6 {
+            let l = if reversed { &lines[5 - i] } else { &lines[i] };
+            k[i] = if reversed { -l.direction } else { l.direction };
+            r[i] = l.point;
+        }
+        let line = |i: usize| AxisLine {
+            direction: k[i],
+            point: r[i],
+        };
+        let meet = |i: usize| closest_points(&line(i), &line(i + 1)).0;
+        let center = match method {
+            Method::ThreeParallel => meet(4),
+            _ => (meet(3) + meet(4)) / 2.0,
+        };
+        let pair = match method {
+            Method::WristIntersecting12 => meet(0),
+            Method::WristIntersecting23 => meet(1),
+            _ => V3::zeros(),
+        };
+        let a = if k[1].x.abs() < 0.9 { V3::x() } else { V3::y() };
+        Self {
+            k,
+            r,
+            home,
+            center,
+            meet: pair,
+            perp: (a - k[1] * k[1].dot(&a)).normalize(),
+        }
+    }
+}
+
+/// A locked joint of a 7R chain.
+#[derive(Debug, Clone, Copy)]
+struct Lock {
+    joint: usize,
+    line: AxisLine,
+}
+
+/// One posture: the chain's variables (the first `dof` of `q`) and whether every subproblem
+/// on the way was exact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Posture {
+    /// The joint values, angles in (−π, π] (a locked joint: its value).
+    pub q: [f64; MAX_DOF],
+    /// False for a least-squares posture (the pose is out of reach on this branch).
     pub exact: bool,
-    /// True when a wrist or shoulder singularity left an angle free (set to 0): there are
-    /// infinitely many solutions and `q` shows one of each family.
+}
+
+/// The raw output of [`AnalyticIk::postures`]: up to [`MAX_POSTURES`] postures, inline.
+#[derive(Debug, Clone)]
+pub struct Postures {
+    items: [Posture; MAX_POSTURES],
+    len: usize,
+    dof: usize,
+    /// A singular or near-singular configuration was met: an angle left free (set to 0) or
+    /// a double root (elbow stretched, wrist center on axis 1, axes 4 and 6 aligned).
     pub singular: bool,
-    /// How many of them are different modulo 2π (the arm's distinct postures: elbow up/down,
-    /// wrist flip, shoulder left/right — at most 8); `q` also lists every 2π shift of each that
+}
+
+impl Default for Postures {
+    fn default() -> Self {
+        Self {
+            items: [Posture {
+                q: [0.0; MAX_DOF],
+                exact: false,
+            }; MAX_POSTURES],
+            len: 0,
+            dof: 0,
+            singular: false,
+        }
+    }
+}
+
+impl Postures {
+    /// The postures found.
+    pub fn as_slice(&self) -> &[Posture] {
+        &self.items[..self.len]
+    }
+
+    /// The number of variables of each posture.
+    pub fn dof(&self) -> usize {
+        self.dof
+    }
+
+    fn push(&mut self, q: [f64; MAX_DOF], exact: bool) {
+        if self.len < MAX_POSTURES {
+            self.items[self.len] = Posture { q, exact };
+            self.len += 1;
+        }
+    }
+}
+
+/// Every solution of one pose, nearest-first after [`Solutions::sort_nearest`]. Storage is
+/// flat and reused: [`AnalyticIk::solve`] refills it without allocating once it has grown.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Solutions {
+    dof: usize,
+    q: Vec<f64>,
+    exact: Vec<bool>,
+    residual: Vec<f64>,
+    /// True when a singular or near-singular configuration was met ([`Postures::singular`]):
+    /// an angle may have been left free (set to 0), so other solutions exist too.
+    pub singular: bool,
+    /// How many distinct postures (modulo 2π) the solutions come from: elbow up/down, wrist
+    /// flip, shoulder left/right — at most 8. The solutions list every 2π shift of each that
     /// the limits allow (a UR5 with ±2π limits has up to 8 × 2⁶).
     pub branches: usize,
 }
 
 impl Solutions {
-    /// Orders the solutions nearest to `seed` first (Euclidean distance in joint space): the
-    /// first is the one that moves the arm least from where it is.
-    pub fn sort_nearest(&mut self, seed: &[f64]) {
-        let dist = |q: &[f64]| -> f64 { q.iter().zip(seed).map(|(a, b)| (a - b) * (a - b)).sum() };
-        self.q.sort_by(|a, b| dist(a).total_cmp(&dist(b)));
+    /// The number of solutions.
+    pub fn len(&self) -> usize {
+        self.exact.len()
+    }
+
+    /// True when there is none (every posture is outside the joint limits).
+    pub fn is_empty(&self) -> bool {
+        self.exact.is_empty()
+    }
+
+    /// Solution i's joint values.
+    pub fn q(&self, i: usize) -> &[f64] {
+        &self.q[i * self.dof..(i + 1) * self.dof]
+    }
+
+    /// The solutions' joint values, in order.
+    pub fn iter(&self) -> impl Iterator<Item = &[f64]> + '_ {
+        (0..self.len()).map(|i| self.q(i))
+    }
+
+    /// Whether solution i is exact (false: least squares, the pose is out of reach).
+    pub fn exact(&self, i: usize) -> bool {
+        self.exact[i]
+    }
+
+    /// Solution i's residual: the largest entry of |T(q) − T_d| (rotation entries and
+    /// translations in the file's length unit), by forward kinematics.
+    pub fn residual(&self, i: usize) -> f64 {
+        self.residual[i]
+    }
+
+    /// True when there are solutions and all are exact (they are either all exact or all
+    /// least squares: exact ones are preferred).
+    pub fn is_exact(&self) -> bool {
+        !self.exact.is_empty() && self.exact.iter().all(|&e| e)
+    }
+
+    /// The solutions as owned rows.
+    pub fn to_vecs(&self) -> Vec<Vec<f64>> {
+        self.iter().map(<[f64]>::to_vec).collect()
+    }
+
+    /// The weighted joint-space distance Σ w_j (q_j − seed_j)² from solution i to `seed`
+    /// (w = 1 when `weights` is None).
+    pub fn distance(&self, i: usize, seed: &[f64], weights: Option<&[f64]>) -> f64 {
+        self.q(i)
+            .iter()
+            .zip(seed)
+            .enumerate()
+            .map(|(j, (a, b))| weights.map_or(1.0, |w| w[j]) * (a - b) * (a - b))
+            .sum()
+    }
+
+    /// The index of the solution nearest to `seed` ([`Solutions::distance`]), if any.
+    pub fn nearest(&self, seed: &[f64], weights: Option<&[f64]>) -> Option<usize> {
+        (0..self.len()).min_by(|&a, &b| {
+            self.distance(a, seed, weights)
+                .total_cmp(&self.distance(b, seed, weights))
+        })
+    }
+
+    /// Orders the solutions nearest to `seed` first ([`Solutions::distance`]): the first is
+    /// the one that moves the arm least from where it is (branch-stable tracking). Ties keep
+    /// their order.
+    pub fn sort_nearest(&mut self, seed: &[f64], weights: Option<&[f64]>) {
+        let mut order: Vec<usize> = (0..self.len()).collect();
+        let d: Vec<f64> = order
+            .iter()
+            .map(|&i| self.distance(i, seed, weights))
+            .collect();
+        order.sort_by(|&a, &b| d[a].total_cmp(&d[b]));
+        let n = self.dof;
+        let q: Vec<f64> = order
+            .iter()
+            .flat_map(|&i| self.q[i * n..(i + 1) * n].iter().copied())
+            .collect();
+        self.q = q;
+        self.exact = order.iter().map(|&i| self.exact[i]).collect();
+        self.residual = order.iter().map(|&i| self.residual[i]).collect();
+    }
+
+    fn clear(&mut self, dof: usize) {
+        self.dof = dof;
+        self.q.clear();
+        self.exact.clear();
+        self.residual.clear();
+        self.singular = false;
+        self.branches = 0;
     }
 }
 
-/// The angles of a subproblem, each with whether it is exact: the exact ones, or the
-/// least-squares one, or 0 for "any" (exact, and `singular` is set).
-fn angles(a: Angles, singular: &mut bool) -> Vec<(f64, bool)> {
+/// An analytic solver prepared for one chain (or one 7R chain with a chosen joint locked):
+/// build once, solve many poses. `Send + Sync`, cheap to clone.
+#[derive(Debug, Clone)]
+pub struct AnalyticIk {
+    family: Family,
+    method: Method,
+    reversed: bool,
+    lock: Option<Lock>,
+    /// Chain variable index of each of the six free joints, in chain order.
+    free: [usize; 6],
+    dof: usize,
+    /// The chain's axis lines at home, one per joint.
+    lines: Vec<AxisLine>,
+    /// The chain's M.
+    home: Se3,
+    /// The prepared problem of an unlocked chain.
+    fixed: Option<Prepared>,
+}
+
+impl AnalyticIk {
+    /// The solver of a 6R chain of a family solved here; an error naming the family
+    /// otherwise (a 7R chain: lock a joint with [`AnalyticIk::locked`]).
+    pub fn new(kin: &Kinematics) -> Result<Self, SolveError> {
+        let c = classify(kin);
+        if c.family == Family::Redundant7R {
+            return Err(SolveError::InvalidInput(format!(
+                "{}: lock one joint to solve it analytically",
+                c.family.describe()
+            )));
+        }
+        let fail = || {
+            SolveError::InvalidInput(format!(
+                "no analytic solver for this chain: {}",
+                c.family.describe()
+            ))
+        };
+        if c.family == Family::NotAnalytic || kin.dof() != 6 {
+            return Err(fail());
+        }
+        if shoulder_and_wrist(&c.axes, kin.length_scale) {
+            return Err(SolveError::InvalidInput(
+                "axes 1-3 and axes 4-6 each meet in a point: the reachable poses have a \
+                 one-parameter self-motion, so there is no finite solution set"
+                    .into(),
+            ));
+        }
+        let (method, reversed) = method_either(&c.axes, kin.length_scale).ok_or_else(fail)?;
+        let lines: [AxisLine; 6] = c.axes.clone().try_into().map_err(|_| fail())?;
+        Ok(Self {
+            family: c.family,
+            method,
+            reversed,
+            lock: None,
+            free: [0, 1, 2, 3, 4, 5],
+            dof: 6,
+            fixed: Some(Prepared::new(method, &lines, kin.home, reversed)),
+            lines: c.axes,
+            home: kin.home,
+        })
+    }
+
+    /// The solver of a 7R chain with joint `joint` (0-based) locked: the other six must form
+    /// a family solved here whatever the locked value (checked at two generic values).
+    pub fn locked(kin: &Kinematics, joint: usize) -> Result<Self, SolveError> {
+        let c = classify(kin);
+        if c.family != Family::Redundant7R {
+            return Err(SolveError::InvalidInput(format!(
+                "locking a joint is for 7R chains; this one is: {}",
+                c.family.describe()
+            )));
+        }
+        if joint >= 7 {
+            return Err(SolveError::InvalidInput(format!(
+                "joint index {joint} out of range (the chain has 7 joints)"
+            )));
+        }
+        let mut solver = Self {
+            family: Family::Redundant7R,
+            method: Method::WristParallel,
+            reversed: false,
+            lock: Some(Lock {
+                joint,
+                line: c.axes[joint],
+            }),
+            free: [0; 6],
+            dof: 7,
+            lines: c.axes,
+            home: kin.home,
+            fixed: None,
+        };
+        for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
+            solver.free[slot] = j;
+        }
+        let l = kin.length_scale;
+        let (a, _) = solver.locked_lines(0.7);
+        let (b, _) = solver.locked_lines(2.1);
+        if shoulder_and_wrist(&a, l) {
+            return Err(SolveError::InvalidInput(format!(
+                "locking joint {} ({}) leaves a spherical shoulder and a spherical wrist: \
+                 the other six joints still have a self-motion (lock another joint)",
+                joint + 1,
+                kin.names[joint]
+            )));
+        }
+        match (method_either(&a, l), method_either(&b, l)) {
+            (Some(x), Some(y)) if x == y => {
+                solver.method = x.0;
+                solver.reversed = x.1;
+                solver.family = classify_axes(a.to_vec(), true, l).family;
+                Ok(solver)
+            }
+            _ => Err(SolveError::InvalidInput(format!(
+                "locking joint {} ({}) does not leave a 6R chain that screwkit solves \
+                 analytically ({})",
+                joint + 1,
+                kin.names[joint],
+                classify_axes(a.to_vec(), true, l).family.describe()
+            ))),
+        }
+    }
+
+    /// The solver of any chain screwkit solves analytically: a 6R chain as
+    /// [`AnalyticIk::new`], a 7R chain with the last joint whose locking leaves a solved
+    /// family (joint 7 first, then 6, …).
+    pub fn auto(kin: &Kinematics) -> Result<Self, SolveError> {
+        if kin.dof() != 7 {
+            return Self::new(kin);
+        }
+        let mut last = None;
+        for j in (0..7).rev() {
+            match Self::locked(kin, j) {
+                Ok(s) => return Ok(s),
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(last.unwrap_or_else(|| SolveError::InvalidInput("no joint to lock".into())))
+    }
+
+    /// The family of the 6R problem solved (for a locked 7R chain: of the other six joints).
+    pub fn family(&self) -> Family {
+        self.family
+    }
+
+    /// The locked joint (0-based), if any.
+    pub fn locked_joint(&self) -> Option<usize> {
+        self.lock.map(|l| l.joint)
+    }
+
+    /// True when the chain is solved from tip to base (its reversed order is the family's).
+    pub fn reversed(&self) -> bool {
+        self.reversed
+    }
+
+    /// The six free lines and the home of the 6R chain with the lock at `value`.
+    fn locked_lines(&self, value: f64) -> ([AxisLine; 6], Se3) {
+        let lock = self.lock.expect("a locked solver");
+        let (kj, rj) = (lock.line.direction, lock.line.point);
+        let e = rotation(&kj, value);
+        let mv = |p: &V3| rj + e * (p - rj);
+        let mut out = [lock.line; 6];
+        for (slot, &j) in self.free.iter().enumerate() {
+            let l = self.lines[j];
+            out[slot] = if j > lock.joint {
+                AxisLine {
+                    direction: e * l.direction,
+                    point: mv(&l.point),
+                }
+            } else {
+                l
+            };
+        }
+        let home = Se3::from_parts_unchecked(e * self.home.rotation(), mv(self.home.translation()));
+        (out, home)
+    }
+
+    /// Every posture reaching `target` (the allocation-free kernel): exact ones, and
+    /// least-squares ones on branches where the pose is out of reach. `lock_value` is the
+    /// locked joint's value (ignored without a lock). The target must be finite (checked by
+    /// [`AnalyticIk::solve`]).
+    pub fn postures(&self, target: &Se3, lock_value: f64, out: &mut Postures) {
+        let p = match &self.fixed {
+            Some(p) => *p,
+            None => {
+                let (lines, home) = self.locked_lines(lock_value);
+                Prepared::new(self.method, &lines, home, self.reversed)
+            }
+        };
+        let g = if self.reversed {
+            p.home.compose(&target.inverse())
+        } else {
+            target.compose(&p.home.inverse())
+        };
+        out.len = 0;
+        out.dof = self.dof;
+        out.singular = false;
+        let mut singular = false;
+        let mut emit = |t: [f64; 6], exact: bool| {
+            let mut q = [0.0; MAX_DOF];
+            for (slot, &j) in self.free.iter().enumerate() {
+                q[j] = wrap(if self.reversed { t[5 - slot] } else { t[slot] });
+            }
+            if let Some(l) = self.lock {
+                q[l.joint] = lock_value;
+            }
+            out.push(q, exact);
+        };
+        match self.method {
+            Method::WristParallel => wrist_parallel(&p, &g, &mut singular, &mut emit),
+            Method::WristIntersecting12 | Method::WristIntersecting23 => wrist_intersecting(
+                &p,
+                &g,
+                self.method == Method::WristIntersecting12,
+                &mut singular,
+                &mut emit,
+            ),
+            Method::ThreeParallel => three_parallel(&p, &g, &mut singular, &mut emit),
+        }
+        out.singular = singular;
+    }
+
+    /// Every solution of T(q) = `target` within the joint limits into `out` (see
+    /// [`Solutions`]): the exact postures, or the least-squares ones when none is exact,
+    /// deduplicated modulo 2π, each at every 2π shift inside the limits, each with its FK
+    /// residual (an exact posture whose residual exceeds 1e-13 L is polished by Newton steps).
+    /// `lock_value`: the locked joint's value (must be within its limits; ignored without a
+    /// lock).
+    pub fn solve(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        target: &Se3,
+        lock_value: f64,
+        out: &mut Solutions,
+    ) -> Result<(), SolveError> {
+        self.solve_swept(kin, ws, target, &[lock_value], out)
+    }
+
+    /// [`AnalyticIk::solve`] with the locked joint at each of `lock_values` in turn (a sweep
+    /// of the self-motion of a 7R arm, [`AnalyticIk::sweep`]), all solutions in one list: the
+    /// exact ones of every value, or the least-squares ones when no value gives an exact one.
+    pub fn solve_swept(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        target: &Se3,
+        lock_values: &[f64],
+        out: &mut Solutions,
+    ) -> Result<(), SolveError> {
+        if kin.dof() != self.dof {
+            return Err(SolveError::InvalidInput(format!(
+                "this analytic solver is for a {}-joint chain, not {}",
+                self.dof,
+                kin.dof()
+            )));
+        }
+        if !target.is_finite() {
+            return Err(SolveError::BadTarget(String::new()));
+        }
+        if let Some(l) = self.lock {
+            let (lo, hi) = (kin.lower[l.joint], kin.upper[l.joint]);
+            if let Some(v) = lock_values.iter().find(|&&v| !(v >= lo && v <= hi)) {
+                return Err(SolveError::InvalidInput(format!(
+                    "locked value {v} of joint {} outside its limits [{lo}, {hi}]",
+                    kin.names[l.joint]
+                )));
+            }
+        }
+        out.clear(self.dof);
+        let mut raw = Postures::default();
+        // Exact postures are preferred over least-squares ones across all the values.
+        let mut any_exact = false;
+        if lock_values.len() > 1 {
+            for &v in lock_values {
+                self.postures(target, v, &mut raw);
+                any_exact |= raw.as_slice().iter().any(|p| p.exact);
+            }
+        }
+        let n = self.dof;
+        for &v in lock_values {
+            self.postures(target, v, &mut raw);
+            out.singular |= raw.singular;
+            if lock_values.len() == 1 {
+                any_exact = raw.as_slice().iter().any(|p| p.exact);
+            }
+            // One entry per posture (modulo 2π); its shifts are then distinct by construction.
+            let mut distinct = [[0.0; MAX_DOF]; MAX_POSTURES];
+            let mut count = 0;
+            for p in raw.as_slice().iter().filter(|p| p.exact == any_exact) {
+                let same = |d: &[f64; MAX_DOF]| (0..n).all(|i| wrap(d[i] - p.q[i]).abs() < 1e-9);
+                if distinct[..count].iter().any(same) {
+                    continue;
+                }
+                let mut q = p.q;
+                let mut residual = fk_unchecked(kin, &q[..n]).max_abs_diff(target);
+                if p.exact && residual > POLISH * kin.length_scale.max(1.0) {
+                    residual = self.polish(kin, ws, &mut q[..n], target, residual);
+                }
+                if self.expand(kin, &q[..n], p.exact, residual, out) {
+                    distinct[count] = p.q;
+                    count += 1;
+                }
+            }
+            out.branches += count;
+        }
+        Ok(())
+    }
+
+    /// The values of the locked joint a caller means: `sweep` values evenly spaced over its
+    /// limits ([`AnalyticIk::sweep`]), or `value`, or else the seed's value of that joint; \[0\]
+    /// without a lock (where a value or a sweep is an error, as are both at once).
+    pub fn lock_values(
+        &self,
+        kin: &Kinematics,
+        seed: &[f64],
+        value: Option<f64>,
+        sweep: Option<usize>,
+    ) -> Result<Vec<f64>, SolveError> {
+        let Some(l) = self.lock else {
+            if value.is_some() || sweep.is_some() {
+                return Err(SolveError::InvalidInput(
+                    "a lock value or a sweep is for a 7R chain with a locked joint".into(),
+                ));
+            }
+            return Ok(vec![0.0]);
+        };
+        match (value, sweep) {
+            (Some(_), Some(_)) => Err(SolveError::InvalidInput(
+                "a lock value and a sweep exclude each other".into(),
+            )),
+            (None, Some(0)) => Err(SolveError::InvalidInput(
+                "a sweep needs at least one value".into(),
+            )),
+            (None, Some(n)) => Ok(self.sweep(kin, n)),
+            (Some(v), None) => Ok(vec![v]),
+            (None, None) => {
+                kin.check_q(seed)?;
+                Ok(vec![seed[l.joint]])
+            }
+        }
+    }
+
+    /// `count` values of the locked joint evenly spaced over its limits, ends included
+    /// ([−π, π) for a continuous joint); empty without a lock.
+    pub fn sweep(&self, kin: &Kinematics, count: usize) -> Vec<f64> {
+        let Some(l) = self.lock else {
+            return Vec::new();
+        };
+        let (mut lo, mut hi) = (kin.lower[l.joint], kin.upper[l.joint]);
+        let continuous = !(lo.is_finite() && hi.is_finite());
+        if continuous {
+            (lo, hi) = (-std::f64::consts::PI, std::f64::consts::PI);
+        }
+        match count {
+            0 => Vec::new(),
+            1 => vec![0.5 * (lo + hi)],
+            _ => {
+                // A continuous joint's ends are one angle: leave the upper one out.
+                let steps = if continuous { count } else { count - 1 };
+                (0..count)
+                    .map(|i| lo + (hi - lo) * i as f64 / steps as f64)
+                    .collect()
+            }
+        }
+    }
+
+    /// [`AnalyticIk::solve`] for every row of `targets` (N × 16, row-major 4 × 4), in parallel
+    /// on rayon's pool (one workspace per worker). `lock_values`: the locked joint's value per
+    /// row (None: 0, for an unlocked solver). Row k's result equals `solve` on row k whatever
+    /// the thread count; a bad row (not finite, not rigid, a lock value outside the limits) is
+    /// its own error and every other row is solved. An error only for buffers of the wrong
+    /// length.
+    pub fn solve_batch(
+        &self,
+        kin: &Kinematics,
+        targets: &[f64],
+        lock_values: Option<&[f64]>,
+    ) -> Result<Vec<Result<Solutions, SolveError>>, SolveError> {
+        use rayon::prelude::*;
+        if !targets.len().is_multiple_of(16) {
+            return Err(SolveError::WrongLength {
+                what: "target values (N × 16)",
+                expected: targets.len() / 16 * 16,
+                got: targets.len(),
+                names: "a multiple of 16".into(),
+            });
+        }
+        let rows = targets.len() / 16;
+        if let Some(v) = lock_values {
+            if v.len() != rows {
+                return Err(SolveError::WrongLength {
+                    what: "lock values (N)",
+                    expected: rows,
+                    got: v.len(),
+                    names: "one per target".into(),
+                });
+            }
+        }
+        Ok(targets
+            .par_chunks(16)
+            .enumerate()
+            .with_max_len(64)
+            .map_init(
+                || Workspace::new(kin),
+                |ws, (k, row)| {
+                    let t = crate::batch::target_row(row)?;
+                    let mut out = Solutions::default();
+                    self.solve(kin, ws, &t, lock_values.map_or(0.0, |v| v[k]), &mut out)?;
+                    Ok(out)
+                },
+            )
+            .collect())
+    }
+
+    /// Newton steps on the free joints, q ← q + J_b⁻¹ log(T(q)⁻¹ T_d) (body Jacobian, the
+    /// locked column left out), while the residual falls (at most 4): for the rare posture
+    /// whose subproblems were ill-conditioned (two intersecting axes nearly parallel at the
+    /// locked value, …). Returns the residual of `q`, which holds the best iterate.
+    fn polish(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        q: &mut [f64],
+        target: &Se3,
+        mut residual: f64,
+    ) -> f64 {
+        let mut trial = [0.0; MAX_DOF];
+        for _ in 0..4 {
+            let Ok(pj) = crate::jacobian::fk_jacobian(kin, ws, q, screwkit_lie::Frame::Body) else {
+                break;
+            };
+            let err = pj.pose.inverse_compose(target).log();
+            let mut j6 = nalgebra::Matrix6::zeros();
+            for (slot, &j) in self.free.iter().enumerate() {
+                j6.set_column(slot, &pj.jacobian.column(j));
+            }
+            let rhs = nalgebra::Vector6::new(err.w.x, err.w.y, err.w.z, err.v.x, err.v.y, err.v.z);
+            let Some(step) = j6.lu().solve(&rhs) else {
+                break;
+            };
+            trial[..q.len()].copy_from_slice(q);
+            for (slot, &j) in self.free.iter().enumerate() {
+                trial[j] = wrap(trial[j] + step[slot]);
+            }
+            let r = fk_unchecked(kin, &trial[..q.len()]).max_abs_diff(target);
+            if r.partial_cmp(&residual) != Some(std::cmp::Ordering::Less) {
+                break;
+            }
+            q.copy_from_slice(&trial[..q.len()]);
+            residual = r;
+        }
+        residual
+    }
+
+    /// Appends every 2π shift of posture `q` inside the limits (continuous joints: the
+    /// wrapped angle; the locked joint: its value); false when there is none.
+    fn expand(
+        &self,
+        kin: &Kinematics,
+        q: &[f64],
+        exact: bool,
+        residual: f64,
+        out: &mut Solutions,
+    ) -> bool {
+        use std::f64::consts::TAU;
+        let n = q.len();
+        // Per joint: the first representative and how many there are (at most 4).
+        let mut first = [0.0; MAX_DOF];
+        let mut count = [0usize; MAX_DOF];
+        for i in 0..n {
+            let (lo, hi) = (kin.lower[i], kin.upper[i]);
+            if kin.continuous[i] || self.lock.is_some_and(|l| l.joint == i) {
+                first[i] = q[i];
+                count[i] = 1;
+                continue;
+            }
+            let m0 = ((lo - 1e-12 - q[i]) / TAU).ceil();
+            let mut c = 0;
+            while c < 4 && q[i] + (m0 + c as f64) * TAU <= hi + 1e-12 {
+                c += 1;
+            }
+            if c == 0 {
+                return false;
+            }
+            first[i] = q[i] + m0 * TAU;
+            count[i] = c;
+        }
+        let mut digit = [0usize; MAX_DOF];
+        loop {
+            for i in 0..n {
+                let x = first[i] + digit[i] as f64 * TAU;
+                out.q.push(x.clamp(kin.lower[i], kin.upper[i]));
+            }
+            out.exact.push(exact);
+            out.residual.push(residual);
+            let mut i = n;
+            loop {
+                if i == 0 {
+                    return true;
+                }
+                i -= 1;
+                digit[i] += 1;
+                if digit[i] < count[i] {
+                    break;
+                }
+                digit[i] = 0;
+            }
+        }
+    }
+}
+
+/// What analytic IK screwkit offers for a chain, in words: the family and, for a 6R chain of
+/// a closed-form family in an arrangement not solved here, that it falls back to numerical IK;
+/// for a 7R chain, which joints can be locked (1-based).
+pub fn describe(kin: &Kinematics) -> String {
+    let c = classify(kin);
+    match c.family {
+        Family::Redundant7R => {
+            let joints: Vec<String> = (0..7)
+                .filter(|&j| AnalyticIk::locked(kin, j).is_ok())
+                .map(|j| (j + 1).to_string())
+                .collect();
+            if joints.is_empty() {
+                "7R (redundant): no joint whose locking leaves a family screwkit solves: \
+                 numerical IK only"
+                    .into()
+            } else {
+                format!(
+                    "7R (redundant): analytic with one joint locked (joint {})",
+                    joints.join(", ")
+                )
+            }
+        }
+        f => match AnalyticIk::new(kin) {
+            Ok(s) if s.reversed() => format!("{} (solved tip to base)", f.describe()),
+            Ok(_) => f.describe().into(),
+            Err(e) => match f {
+                Family::SphericalWristTwoParallel
+                | Family::SphericalWristTwoIntersecting
+                | Family::ThreeParallelTwoIntersecting => format!(
+                    "{}; this arrangement is not solved by screwkit yet ({e}): numerical IK only",
+                    f.describe()
+                ),
+                _ => f.describe().into(),
+            },
+        },
+    }
+}
+
+/// Every solution of T(q) = `target` for a 6R chain of a family solved here ([`Solutions`],
+/// in the order found). For many poses build an [`AnalyticIk`] once and call
+/// [`AnalyticIk::solve`].
+pub fn ik_all(kin: &Kinematics, ws: &mut Workspace, target: &Se3) -> Result<Solutions, SolveError> {
+    let solver = AnalyticIk::new(kin)?;
+    let mut out = Solutions::default();
+    solver.solve(kin, ws, target, 0.0, &mut out)?;
+    Ok(out)
+}
+
+/// The exact solution nearest to `seed` (Euclidean in joint space), None when the pose is out
+/// of reach or no solution is within the limits.
+pub fn ik_nearest(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    target: &Se3,
+    seed: &[f64],
+) -> Result<Option<Vec<f64>>, SolveError> {
+    kin.check_q(seed)?;
+    let sols = ik_all(kin, ws, target)?;
+    if !sols.is_exact() {
+        return Ok(None);
+    }
+    Ok(sols.nearest(seed, None).map(|i| sols.q(i).to_vec()))
+}
+
+/// R(k, θ) as a matrix (Rodrigues: I + sin θ [k] + (1 − cos θ) [k]²).
+fn rotation(k: &V3, theta: f64) -> M3 {
+    let (s, c) = theta.sin_cos();
+    let kx = k.cross_matrix();
+    M3::identity() + kx * s + kx * kx * (1.0 - c)
+}
+
+/// The angles of a subproblem with their exactness: an exact double root where two are
+/// expected (`two`), or a free angle (set to 0), marks the configuration singular.
+fn roots(a: Angles, two: bool, singular: &mut bool) -> Few<(f64, bool)> {
     match a {
-        Angles::Exact(v) => v.into_iter().map(|t| (t, true)).collect(),
-        Angles::LeastSquares(t) => vec![(t, false)],
+        Angles::Exact(v) => {
+            // A double root, or two roots closer than 2e-6 rad (a near-tangency: the roots
+            // move by √ε for an ε change in the data).
+            if two && (v.len() == 1 || wrap(v[0] - v[1]).abs() < 2e-6) {
+                *singular = true;
+            }
+            if v.len() == 2 {
+                Few::two((v[0], true), (v[1], true))
+            } else {
+                Few::one((v[0], true))
+            }
+        }
+        Angles::LeastSquares(t) => Few::one((t, false)),
         Angles::Any => {
             *singular = true;
-            vec![(0.0, true)]
+            Few::one((0.0, true))
         }
     }
 }
 
-/// e^\[S\]θ applied to a point.
-fn move_point(s: &Twist, theta: f64, p: &Vector3<f64>) -> Vector3<f64> {
-    Se3::exp(&Twist::new(s.w * theta, s.v * theta)).transform_point(p)
-}
-
-fn rot(k: &Vector3<f64>, theta: f64) -> Matrix3<f64> {
-    *Se3::exp(&Twist::new(k * theta, Vector3::zeros())).rotation()
-}
-
-/// Every solution of T(q) = `target` for a chain of a family solved here (see the module
-/// documentation); an error naming the family for any other chain.
-pub fn solve_all(kin: &Kinematics, target: &Se3) -> Result<Solutions, SolveError> {
-    let c = classify(kin);
-    if !target.is_finite() {
-        return Err(SolveError::BadTarget(String::new()));
-    }
-    let mut singular = false;
-    let raw = match c.family {
-        Family::SphericalWristTwoParallel | Family::SphericalWristTwoIntersecting => {
-            spherical_wrist(kin, &c, target, &mut singular)
-        }
-        Family::ThreeParallelTwoIntersecting
-            if c.parallel == [1, 2] && c.intersecting.iter().any(|&(i, _)| i == 4) =>
-        {
-            three_parallel(kin, &c, target, &mut singular)
-        }
-        f => {
-            return Err(SolveError::InvalidInput(format!(
-                "no analytic solver for this chain yet: {}",
-                f.describe()
-            )))
-        }
-    };
-    Ok(within_limits(kin, raw, singular))
-}
-
-/// The exact branches if there are any (a branch can be out of reach while another is not),
-/// otherwise the least-squares ones; each at every 2π shift inside the joint limits.
-fn within_limits(kin: &Kinematics, raw: Vec<([f64; 6], bool)>, singular: bool) -> Solutions {
-    let exact = raw.iter().any(|(_, ok)| *ok);
-    let mut q: Vec<Vec<f64>> = Vec::new();
-    // One entry per posture (modulo 2π); its shifts are then distinct by construction.
-    let mut distinct: Vec<[f64; 6]> = Vec::new();
-    for (sol, ok) in raw {
-        if ok != exact {
-            continue;
-        }
-        let wrapped = sol.map(crate::subproblem::wrap);
-        let same = |d: &[f64; 6]| {
-            d.iter()
-                .zip(&wrapped)
-                .all(|(a, b)| crate::subproblem::wrap(a - b).abs() < 1e-9)
-        };
-        if distinct.iter().any(same) {
-            continue;
-        }
-        let mut options: Vec<Vec<f64>> = vec![Vec::new()];
-        for (i, &t) in wrapped.iter().enumerate() {
-            let (lo, hi) = (kin.lower[i], kin.upper[i]);
-            let shifts: Vec<f64> = if kin.continuous[i] {
-                vec![t]
+/// The pairs of subproblem 2 with their exactness; a point on an axis (degenerate) sets the
+/// first angle to 0 and solves the second by subproblem 1, marking the configuration
+/// singular.
+fn pairs(a: AnglePairs, p1: &V3, p2: &V3, k2: &V3, singular: &mut bool) -> Few<(f64, f64, bool)> {
+    match a {
+        AnglePairs::Exact(v) => {
+            if v.len() == 1 {
+                *singular = true;
+            }
+            let f = |x: (f64, f64)| (x.0, x.1, true);
+            if v.len() == 2 {
+                Few::two(f(v[0]), f(v[1]))
             } else {
-                (-2..=2)
-                    .map(|m| t + f64::from(m) * std::f64::consts::TAU)
-                    .filter(|x| *x >= lo - 1e-12 && *x <= hi + 1e-12)
-                    .map(|x| x.clamp(lo, hi))
-                    .collect()
-            };
-            options = options
-                .into_iter()
-                .flat_map(|prefix| {
-                    shifts.iter().map(move |&x| {
-                        let mut p = prefix.clone();
-                        p.push(x);
-                        p
-                    })
-                })
-                .collect();
+                Few::one(f(v[0]))
+            }
         }
-        if !options.is_empty() {
-            distinct.push(wrapped);
-            q.extend(options);
+        AnglePairs::LeastSquares(a, b) => Few::one((a, b, false)),
+        AnglePairs::Degenerate => {
+            *singular = true;
+            // R(k2, θ2) p2 = p1 with θ1 = 0.
+            let (t, ok) = roots(sp1(p2, p1, k2), false, singular)[0];
+            Few::one((0.0, t, ok))
         }
-    }
-    Solutions {
-        q,
-        exact,
-        singular,
-        branches: distinct.len(),
     }
 }
 
-/// The spherical-wrist, 2 ∥ 3 family (module documentation).
-fn spherical_wrist(
-    kin: &Kinematics,
-    c: &crate::family::Classification,
-    target: &Se3,
+/// The spherical wrist: (θ₄, θ₅, θ₆) with R₄ R₅ R₆ = `rw`.
+fn wrist(p: &Prepared, rw: &M3, singular: &mut bool, mut emit: impl FnMut(f64, f64, f64, bool)) {
+    let (k4, k5, k6) = (&p.k[3], &p.k[4], &p.k[5]);
+    let rwk6 = rw * k6;
+    let five = sp4_unit(k4, k6, k5, &rwk6).unwrap_or_else(|| sp4(k4, k6, k5, k4.dot(&rwk6)));
+    for &(t5, e5) in roots(five, true, singular).iter() {
+        let r5 = rotation(k5, t5);
+        let r5k6 = r5 * k6;
+        let four = sp1(&r5k6, &rwk6, k4);
+        let rwk5 = rw * k5;
+        for &(t4, e4) in roots(four, false, singular).iter() {
+            let want = r5.transpose() * rotate(k4, -t4, &rwk5);
+            for &(t6, e6) in roots(sp1(k5, &want, k6), false, singular).iter() {
+                if four == Angles::Any {
+                    // Axes 4 and 6 aligned (R₅ k₆ = s k₄): only θ₄ + s θ₆ = φ matters; split
+                    // it evenly so that both stay within their limits.
+                    let s = k4.dot(&r5k6).signum();
+                    let phi = t4 + s * t6;
+                    emit(phi / 2.0, t5, s * phi / 2.0, e4 && e5 && e6);
+                } else {
+                    emit(t4, t5, t6, e4 && e5 && e6);
+                }
+            }
+        }
+    }
+}
+
+/// Spherical wrist, 2 ∥ 3 (module documentation).
+fn wrist_parallel(
+    p: &Prepared,
+    g: &Se3,
     singular: &mut bool,
-) -> Vec<([f64; 6], bool)> {
-    let pw = c.wrist_center.expect("the family has a wrist center");
-    let s: Vec<Twist> = kin.space.iter().map(|j| j.twist()).collect();
-    let k: Vec<Vector3<f64>> = c.axes.iter().map(|a| a.direction).collect();
-    let r: Vec<Vector3<f64>> = c.axes.iter().map(|a| a.point).collect();
-    let g = target.compose(&kin.home.inverse());
-    let y = g.transform_point(&pw);
-    let mut raw: Vec<([f64; 6], bool)> = Vec::new();
-    // θ1: k2 · e1⁻¹ y = k2 · p_w, i.e. k2ᵀ R(k1, −θ1)(y − r1) = k2 · (p_w − r1).
-    for (phi, e1) in angles(
-        sp4(&k[1], &(y - r[0]), &k[0], k[1].dot(&(pw - r[0]))),
-        singular,
-    ) {
+    emit: &mut impl FnMut([f64; 6], bool),
+) {
+    let (k, r, pw) = (&p.k, &p.r, &p.center);
+    let rg = g.rotation();
+    let y = g.transform_point(pw);
+    let d1 = k[1].dot(&(pw - r[0]));
+    // k₃ = s k₂ (parallel), so R₂ R₃ = R(k₂, θ₂ + s θ₃).
+    let s3 = k[1].dot(&k[2]).signum();
+    for &(phi, e1) in roots(sp4(&k[1], &(y - r[0]), &k[0], d1), true, singular).iter() {
         let t1 = -phi;
-        let z = move_point(&s[0], -t1, &y);
-        // θ3: ‖e3 p_w − r2‖ = ‖z − r2‖.
+        let r1t = rotation(&k[0], phi);
+        let rg1 = r1t * rg;
+        let z = r[0] + r1t * (y - r[0]);
         let d = (z - r[1]).norm();
-        for (t3, e3) in angles(sp3(&(pw - r[2]), &(r[1] - r[2]), &k[2], d), singular) {
-            let x = move_point(&s[2], t3, &pw);
-            // θ2: e2 x = z.
-            for (t2, e2) in angles(sp1(&(x - r[1]), &(z - r[1]), &k[1]), singular) {
-                let e123 = [(0, t1), (1, t2), (2, t3)]
-                    .iter()
-                    .fold(Se3::identity(), |acc, &(i, t)| {
-                        acc.compose(&Se3::exp(&Twist::new(s[i].w * t, s[i].v * t)))
-                    });
-                let rw = e123.inverse().compose(&g);
-                let rw = rw.rotation();
-                // θ5: k4ᵀ R(k5, θ5) k6 = k4ᵀ R_w k6.
-                let d5 = k[3].dot(&(rw * k[5]));
-                for (t5, e5) in angles(sp4(&k[3], &k[5], &k[4], d5), singular) {
-                    let r5k6 = rot(&k[4], t5) * k[5];
-                    for (t4, e4) in angles(sp1(&r5k6, &(rw * k[5]), &k[3]), singular) {
-                        // θ6: R(k6, θ6) x = (R4 R5)ᵀ R_w x for an x not along k6.
-                        let x6 = if k[4].cross(&k[5]).norm() > 1e-6 {
-                            k[4]
-                        } else {
-                            k[3]
-                        };
-                        let r45 = rot(&k[3], t4) * rot(&k[4], t5);
-                        let want = r45.transpose() * rw * x6;
-                        for (t6, e6) in angles(sp1(&x6, &want, &k[5]), singular) {
-                            let ok = e1 && e2 && e3 && e4 && e5 && e6;
-                            raw.push(([t1, t2, t3, t4, t5, t6], ok));
-                        }
-                    }
-                }
+        for &(t3, e3) in roots(sp3(&(pw - r[2]), &(r[1] - r[2]), &k[2], d), true, singular).iter() {
+            let x = r[2] + rotate(&k[2], t3, &(pw - r[2]));
+            for &(t2, e2) in roots(sp1(&(x - r[1]), &(z - r[1]), &k[1]), false, singular).iter() {
+                let rw = rotation(&k[1], -(t2 + s3 * t3)) * rg1;
+                wrist(p, &rw, singular, |t4, t5, t6, ok| {
+                    emit([t1, t2, t3, t4, t5, t6], ok && e1 && e2 && e3);
+                });
             }
         }
     }
-    raw
 }
 
-/// The UR-type family: axes 2, 3, 4 parallel (along k₂), axes 5 and 6 meeting at p₅₆.
-/// Rotations 2–4 keep k₂ components of points and vectors, so with g = T_d M⁻¹:
-/// k₂ · e₁⁻¹ g p₅₆ = k₂ · p₅₆ gives θ₁ (subproblem 4; p₅₆ is on axes 5 and 6); with
-/// R₁ known, k₂ᵀ R₁ᵀ R_g k₆ = k₂ᵀ R(k₅, θ₅) k₆ gives θ₅ (subproblem 4, k₆ is kept by R₆);
-/// R(k₆, θ₆) R_gᵀ R₁ k₂ = R(k₅, −θ₅) k₂ gives θ₆ (subproblem 1). Then h = e₁⁻¹ g e₆⁻¹ e₅⁻¹
-/// = e₂ e₃ e₄ is a planar 3R problem: p₄ (on axis 4) gives ‖e₃ p₄ − r₂‖ = ‖h p₄ − r₂‖ → θ₃
-/// (subproblem 3), e₂ (e₃ p₄) = h p₄ → θ₂ (subproblem 1), and θ₄ from the rotation of h about
-/// k₂ minus θ₂ + θ₃ (subproblem 1 on a vector ⊥ k₂). Up to 2 × 2 × 2 = 8 solutions.
-fn three_parallel(
-    kin: &Kinematics,
-    c: &crate::family::Classification,
-    target: &Se3,
+/// Spherical wrist, axes 1–2 (`first`) or 2–3 meeting (module documentation).
+fn wrist_intersecting(
+    p: &Prepared,
+    g: &Se3,
+    first: bool,
     singular: &mut bool,
-) -> Vec<([f64; 6], bool)> {
-    let s: Vec<Twist> = kin.space.iter().map(|j| j.twist()).collect();
-    let k: Vec<Vector3<f64>> = c.axes.iter().map(|a| a.direction).collect();
-    let r: Vec<Vector3<f64>> = c.axes.iter().map(|a| a.point).collect();
-    let p56 = c
-        .intersecting
-        .iter()
-        .find(|&&(i, _)| i == 4)
-        .map(|&(_, p)| p)
-        .expect("axes 5 and 6 meet");
-    let e = |i: usize, t: f64| Se3::exp(&Twist::new(s[i].w * t, s[i].v * t));
-    let g = target.compose(&kin.home.inverse());
-    let rg = *g.rotation();
-    let y = g.transform_point(&p56);
-    // A vector perpendicular to k2, for the planar rotation sum.
-    let perp = {
-        let a = if k[1].x.abs() < 0.9 {
-            Vector3::x()
-        } else {
-            Vector3::y()
-        };
-        (a - k[1] * k[1].dot(&a)).normalize()
+    emit: &mut impl FnMut([f64; 6], bool),
+) {
+    let (k, r, pw, o) = (&p.k, &p.r, &p.center, &p.meet);
+    let rg = g.rotation();
+    let y = g.transform_point(pw);
+    let mut finish = |t1: f64, t2: f64, t3: f64, ok: bool, singular: &mut bool| {
+        let r123 = rotation(&k[0], t1) * rotation(&k[1], t2) * rotation(&k[2], t3);
+        let rw = r123.transpose() * rg;
+        wrist(p, &rw, singular, |t4, t5, t6, e| {
+            emit([t1, t2, t3, t4, t5, t6], ok && e);
+        });
     };
-    let mut raw = Vec::new();
-    for (phi, e1) in angles(
-        sp4(&k[1], &(y - r[0]), &k[0], k[1].dot(&(p56 - r[0]))),
-        singular,
-    ) {
+    if first {
+        let d = (y - o).norm();
+        for &(t3, e3) in roots(sp3(&(pw - r[2]), &(o - r[2]), &k[2], d), true, singular).iter() {
+            let x = r[2] + rotate(&k[2], t3, &(pw - r[2]));
+            let (a, b) = (y - o, x - o);
+            for &(m1, t2, e12) in pairs(sp2(&a, &b, &k[0], &k[1]), &a, &b, &k[1], singular).iter() {
+                finish(-m1, t2, t3, e3 && e12, singular);
+            }
+        }
+    } else {
+        let d = (pw - o).norm();
+        for &(phi, e1) in roots(sp3(&(y - r[0]), &(o - r[0]), &k[0], d), true, singular).iter() {
+            let z = r[0] + rotate(&k[0], phi, &(y - r[0]));
+            let (a, b) = (z - o, pw - o);
+            for &(m2, t3, e23) in pairs(sp2(&a, &b, &k[1], &k[2]), &a, &b, &k[2], singular).iter() {
+                finish(-phi, -m2, t3, e1 && e23, singular);
+            }
+        }
+    }
+}
+
+/// 2 ∥ 3 ∥ 4 with axes 5 and 6 meeting (module documentation).
+fn three_parallel(
+    p: &Prepared,
+    g: &Se3,
+    singular: &mut bool,
+    emit: &mut impl FnMut([f64; 6], bool),
+) {
+    let (k, r, p56) = (&p.k, &p.r, &p.center);
+    let rg = g.rotation();
+    let y = g.transform_point(p56);
+    let d1 = k[1].dot(&(p56 - r[0]));
+    let p4 = r[3];
+    for &(phi, e1) in roots(sp4(&k[1], &(y - r[0]), &k[0], d1), true, singular).iter() {
         let t1 = -phi;
-        let r1 = rot(&k[0], t1);
-        let d5 = k[1].dot(&(r1.transpose() * rg * k[5]));
-        for (t5, e5) in angles(sp4(&k[1], &k[5], &k[4], d5), singular) {
-            let a = rg.transpose() * r1 * k[1];
-            let b = rot(&k[4], -t5) * k[1];
-            for (t6, e6) in angles(sp1(&a, &b, &k[5]), singular) {
-                let h = e(0, t1)
-                    .inverse()
-                    .compose(&g)
-                    .compose(&e(5, t6).inverse())
-                    .compose(&e(4, t5).inverse());
-                // The rotation of h about k2: θ2 + θ3 + θ4.
-                let sum = match sp1(&perp, &(h.rotation() * perp), &k[1]) {
-                    Angles::Exact(v) => (v[0], true),
-                    Angles::LeastSquares(t) => (t, false),
-                    Angles::Any => (0.0, true),
-                };
-                let p4 = r[3];
-                let hp4 = h.transform_point(&p4);
+        let r1t = rotation(&k[0], phi);
+        let rg1 = r1t * rg;
+        let v5 = rg1 * k[5];
+        let five = sp4_unit(&k[1], &k[5], &k[4], &v5)
+            .unwrap_or_else(|| sp4(&k[1], &k[5], &k[4], k[1].dot(&v5)));
+        for &(t5, e5) in roots(five, true, singular).iter() {
+            let r5t = rotation(&k[4], -t5);
+            let a = rg1.transpose() * k[1];
+            let b = r5t * k[1];
+            let x5 = r[4] + r5t * (p4 - r[4]);
+            let sixes = match sp1(&a, &b, &k[5]) {
+                Angles::Any => {
+                    // Axis 6 ∥ k₂ (θ₅ = 0 or π): θ₆ joins the planar problem (a planar 4R),
+                    // so pick it to put h p₄ at the middle of the 3R's reach:
+                    // ‖h p₄ − r₂‖ = ‖R(k₆, −θ₆)(x₅ − r₆) − w‖ with x₅ = e₅⁻¹ p₄ and
+                    // w = −R_gᵀ R₁ (r₁ − r₂ + R₁ᵀ (g r₆ − r₁)) (subproblem 3).
+                    *singular = true;
+                    let c0 = r[0] - r[1] + r1t * (g.transform_point(&r[5]) - r[0]);
+                    let w = -(rg1.transpose() * c0);
+                    let (v, u) = (p4 - r[2], r[1] - r[2]);
+                    let mid = (v.norm_squared() + u.norm_squared()
+                        - 2.0 * k[2].dot(&v) * k[2].dot(&u))
+                    .max(0.0)
+                    .sqrt();
+                    // θ₆ is a free choice here: its own exactness does not matter, the planar
+                    // subproblems below tell whether the pose is reached.
+                    let mut out = roots(sp3(&(x5 - r[5]), &w, &k[5], mid), false, singular);
+                    for x in out.iter_mut() {
+                        *x = (-x.0, true);
+                    }
+                    out
+                }
+                other => roots(other, false, singular),
+            };
+            for &(t6, e6) in sixes.iter() {
+                // h = e₁⁻¹ g e₆⁻¹ e₅⁻¹ applied to p₄, and its rotation applied to perp.
+                let r6t = rotation(&k[5], -t6);
+                let x = r[5] + r6t * (x5 - r[5]);
+                let x = g.transform_point(&x);
+                let hp4 = r[0] + r1t * (x - r[0]);
+                let hperp = rg1 * (r6t * (r5t * p.perp));
+                let (sum, es) = roots(sp1(&p.perp, &hperp, &k[1]), false, singular)[0];
                 let d = (hp4 - r[1]).norm();
-                for (t3, e3) in angles(sp3(&(p4 - r[2]), &(r[1] - r[2]), &k[2], d), singular) {
-                    let x = e(2, t3).transform_point(&p4);
-                    for (t2, e2) in angles(sp1(&(x - r[1]), &(hp4 - r[1]), &k[1]), singular) {
-                        let t4 = crate::subproblem::wrap(sum.0 - t2 - t3);
-                        let ok = e1 && e5 && e6 && sum.1 && e3 && e2;
-                        raw.push(([t1, t2, t3, t4, t5, t6], ok));
+                for &(t3, e3) in
+                    roots(sp3(&(p4 - r[2]), &(r[1] - r[2]), &k[2], d), true, singular).iter()
+                {
+                    let x = r[2] + rotate(&k[2], t3, &(p4 - r[2]));
+                    for &(t2, e2) in
+                        roots(sp1(&(x - r[1]), &(hp4 - r[1]), &k[1]), false, singular).iter()
+                    {
+                        let t4 = wrap(sum - t2 - t3);
+                        emit([t1, t2, t3, t4, t5, t6], e1 && e5 && e6 && es && e3 && e2);
                     }
                 }
             }
         }
     }
-    raw
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_matches_rotate() {
+        let k = V3::new(0.3, -0.4, 0.5).normalize();
+        let p = V3::new(1.0, 2.0, -0.5);
+        for t in [-3.0, -0.2, 0.0, 1.1, 3.1] {
+            assert!((rotation(&k, t) * p - rotate(&k, t, &p)).norm() < 1e-14);
+        }
+    }
 }

@@ -416,7 +416,7 @@ pub fn ik_batch_from(
 /// A target row as an [`Se3`]: finite, last row (0, 0, 0, 1), rotation orthonormal to 1e-6
 /// (a rotation orthonormal to 1e-14, as FK gives, is used exactly as given; a looser one is
 /// projected onto SO(3) first, [`Se3::from_row_major`]).
-fn target_row(v: &[f64]) -> Result<Se3, SolveError> {
+pub(crate) fn target_row(v: &[f64]) -> Result<Se3, SolveError> {
     let t = Se3::from_row_major(v, screwkit_lie::so3::DEFAULT_ROTATION_TOLERANCE)
         .map_err(|e| SolveError::BadTarget(format!(": {e}")))?;
     check_target(&t)?;

@@ -21,20 +21,24 @@ pub struct AxisLine {
     pub point: Vector3<f64>,
 }
 
-/// The analytic-IK family of a chain.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The analytic-IK family of a chain. Families are listed from the most to the least
+/// specialised; a chain whose *reversed* order (tip to base) is of an earlier family than the
+/// chain itself is classified by the reversed order ([`Classification::reversed`]): a
+/// spherical shoulder is a spherical wrist seen from the tip.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Family {
-    /// 6R, spherical wrist (axes 4, 5, 6 meet), axes 1 and 2 intersect, 2 ∥ 3 (KUKA, ABB,
-    /// PUMA-type): closed form, up to 8 solutions.
-    SphericalWristTwoIntersecting,
-    /// 6R, spherical wrist, 2 ∥ 3: closed form, up to 8 solutions.
+    /// 6R, spherical wrist (axes 4, 5, 6 meet), axes 2 ∥ 3 (KUKA KR, ABB IRB, PUMA-type):
+    /// closed form (subproblems 4, 3, 1 and the wrist), up to 8 solutions.
     SphericalWristTwoParallel,
-    /// 6R, spherical wrist only: closed form through a quartic (subproblem 5), up to 8.
-    SphericalWrist,
+    /// 6R, spherical wrist, axes 1–2 or 2–3 intersecting (a 7R arm with a spherical shoulder
+    /// and one joint locked): closed form (subproblems 3, 2 and the wrist), up to 8 solutions.
+    SphericalWristTwoIntersecting,
     /// 6R, three consecutive parallel axes and two other intersecting ones (UR-type): closed
     /// form, up to 8 solutions.
     ThreeParallelTwoIntersecting,
-    /// 6R, three consecutive parallel axes: closed form, up to 8 solutions.
+    /// 6R, spherical wrist only: closed form through a quartic (subproblem 5), up to 8.
+    SphericalWrist,
+    /// 6R, three consecutive parallel axes: closed form through a quartic, up to 8 solutions.
     ThreeParallel,
     /// 6R, two consecutive intersecting axes: a 1D search (then polished), up to 16.
     TwoIntersecting,
@@ -49,22 +53,35 @@ pub enum Family {
 }
 
 impl Family {
-    /// The family in words, with what it means for IK.
+    /// The family in words, with what it means for IK (and what screwkit does with it:
+    /// [`crate::analytic`] solves the first three; the others use numerical IK).
     pub fn describe(self) -> &'static str {
         match self {
-            Family::SphericalWristTwoIntersecting => {
-                "spherical wrist, axes 1-2 intersecting, 2 ∥ 3: closed form, up to 8 solutions"
-            }
             Family::SphericalWristTwoParallel => {
                 "spherical wrist, axes 2 ∥ 3: closed form, up to 8 solutions"
             }
-            Family::SphericalWrist => "spherical wrist: closed form (quartic), up to 8 solutions",
+            Family::SphericalWristTwoIntersecting => {
+                "spherical wrist, two intersecting axes: closed form, up to 8 solutions"
+            }
             Family::ThreeParallelTwoIntersecting => {
                 "three parallel axes and two intersecting: closed form, up to 8 solutions"
             }
-            Family::ThreeParallel => "three parallel axes: closed form, up to 8 solutions",
-            Family::TwoIntersecting => "two intersecting axes: 1D search, up to 16 solutions",
-            Family::TwoParallel => "two parallel axes: 1D search, up to 16 solutions",
+            Family::SphericalWrist => {
+                "spherical wrist only: closed form by a quartic (subproblem 5), not solved by \
+                 screwkit yet: numerical IK only"
+            }
+            Family::ThreeParallel => {
+                "three parallel axes: closed form by a quartic (subproblem 5), not solved by \
+                 screwkit yet: numerical IK only"
+            }
+            Family::TwoIntersecting => {
+                "two intersecting axes: 1D search, up to 16 solutions; not solved by screwkit \
+                 yet: numerical IK only"
+            }
+            Family::TwoParallel => {
+                "two parallel axes: 1D search, up to 16 solutions; not solved by screwkit yet: \
+                 numerical IK only"
+            }
             Family::General6R => "general 6R: no analytic solver, numerical IK only",
             Family::Redundant7R => "7R (redundant): analytic with one joint locked",
             Family::NotAnalytic => "no analytic solver: numerical IK only",
@@ -85,6 +102,9 @@ pub struct Classification {
     pub intersecting: Vec<(usize, Vector3<f64>)>,
     /// The point where the last three axes meet, if they do.
     pub wrist_center: Option<Vector3<f64>>,
+    /// True when the family is that of the chain read from tip to base (axis 6 first): the
+    /// analytic solver then solves T⁻¹ = e^[−Ad_M⁻¹ S₆]θ₆ ⋯ e^[−Ad_M⁻¹ S₁]θ₁ M⁻¹.
+    pub reversed: bool,
 }
 
 const PARALLEL: f64 = 1e-9;
@@ -103,22 +123,68 @@ pub fn closest_points(a: &AxisLine, b: &AxisLine) -> (Vector3<f64>, f64) {
     ((pa + pb) / 2.0, (pa - pb).norm())
 }
 
-/// Classifies a chain from its space screw axes at home.
-pub fn classify(kin: &Kinematics) -> Classification {
-    let axes: Vec<AxisLine> = kin
-        .space
+/// The axis lines of the space screws at home, one per joint.
+pub fn axis_lines(kin: &Kinematics) -> Vec<AxisLine> {
+    kin.space
         .iter()
         .map(|j| {
             let s = j.twist();
-            let w = s.w.normalize();
             AxisLine {
-                direction: w,
+                direction: s.w.normalize(),
                 point: s.w.cross(&s.v) / s.w.norm_squared(),
             }
         })
-        .collect();
+        .collect()
+}
+
+/// Classifies a chain from its space screw axes at home.
+pub fn classify(kin: &Kinematics) -> Classification {
     let all_revolute = kin.space.iter().all(|j| !j.prismatic) && kin.identity_map;
-    let l = kin.length_scale;
+    classify_axes(axis_lines(kin), all_revolute, kin.length_scale)
+}
+
+/// Classifies axis lines (in chain order) of a chain whose joints are all revolute or not
+/// (`all_revolute`), with length scale `length` for the tolerances: the family of the lines
+/// or, when that of the reversed order is more specialised, the reversed one's.
+pub fn classify_axes(axes: Vec<AxisLine>, all_revolute: bool, length: f64) -> Classification {
+    let forward = relations(&axes, all_revolute, length);
+    if forward.0 == Family::SphericalWristTwoParallel || axes.len() != 6 || !all_revolute {
+        return classification(axes, forward, false);
+    }
+    let mut back = axes.clone();
+    back.reverse();
+    let backward = relations(&back, all_revolute, length);
+    if backward.0 < forward.0 {
+        let family = backward.0;
+        let mut c = classification(axes, forward, true);
+        c.family = family;
+        c
+    } else {
+        classification(axes, forward, false)
+    }
+}
+
+pub(crate) type Relations = (
+    Family,
+    Vec<usize>,
+    Vec<(usize, Vector3<f64>)>,
+    Option<Vector3<f64>>,
+);
+
+fn classification(axes: Vec<AxisLine>, r: Relations, reversed: bool) -> Classification {
+    Classification {
+        family: r.0,
+        axes,
+        parallel: r.1,
+        intersecting: r.2,
+        wrist_center: r.3,
+        reversed,
+    }
+}
+
+/// The family of lines in the order given, with the parallel and intersecting consecutive
+/// pairs and the wrist center.
+pub(crate) fn relations(axes: &[AxisLine], all_revolute: bool, l: f64) -> Relations {
     let parallel_pair =
         |i: usize, j: usize| axes[i].direction.cross(&axes[j].direction).norm() <= PARALLEL;
     let meet = |i: usize, j: usize| -> Option<Vector3<f64>> {
@@ -157,15 +223,14 @@ pub fn classify(kin: &Kinematics) -> Classification {
     let is_par = |i: usize| parallel.contains(&i);
     let is_int = |i: usize| intersecting.iter().any(|&(j, _)| j == i);
     let three_parallel = (0..n.saturating_sub(2)).any(|i| is_par(i) && is_par(i + 1));
+    let wrist = wrist_center.is_some();
     let family = match (all_revolute, n) {
-        (true, 6) if wrist_center.is_some() && is_int(0) && is_par(1) => {
-            Family::SphericalWristTwoIntersecting
-        }
-        (true, 6) if wrist_center.is_some() && is_par(1) => Family::SphericalWristTwoParallel,
-        (true, 6) if wrist_center.is_some() => Family::SphericalWrist,
+        (true, 6) if wrist && is_par(1) => Family::SphericalWristTwoParallel,
+        (true, 6) if wrist && (is_int(0) || is_int(1)) => Family::SphericalWristTwoIntersecting,
         (true, 6) if three_parallel && !intersecting.is_empty() => {
             Family::ThreeParallelTwoIntersecting
         }
+        (true, 6) if wrist => Family::SphericalWrist,
         (true, 6) if three_parallel => Family::ThreeParallel,
         (true, 6) if !intersecting.is_empty() => Family::TwoIntersecting,
         (true, 6) if !parallel.is_empty() => Family::TwoParallel,
@@ -173,11 +238,5 @@ pub fn classify(kin: &Kinematics) -> Classification {
         (true, 7) => Family::Redundant7R,
         _ => Family::NotAnalytic,
     };
-    Classification {
-        family,
-        axes,
-        parallel,
-        intersecting,
-        wrist_center,
-    }
+    (family, parallel, intersecting, wrist_center)
 }

@@ -14,12 +14,63 @@
 
 use nalgebra::Vector3;
 
+/// At most two values, stored inline (subproblems run in the inner loops of analytic IK and
+/// must not allocate); reads as a slice.
+#[derive(Clone, Copy)]
+pub struct Few<T: Copy> {
+    items: [T; 2],
+    len: u8,
+}
+
+impl<T: Copy> Few<T> {
+    /// One value.
+    pub fn one(a: T) -> Self {
+        Self {
+            items: [a, a],
+            len: 1,
+        }
+    }
+
+    /// Two values.
+    pub fn two(a: T, b: T) -> Self {
+        Self {
+            items: [a, b],
+            len: 2,
+        }
+    }
+}
+
+impl<T: Copy> std::ops::Deref for Few<T> {
+    type Target = [T];
+    fn deref(&self) -> &[T] {
+        &self.items[..usize::from(self.len)]
+    }
+}
+
+impl<T: Copy> std::ops::DerefMut for Few<T> {
+    fn deref_mut(&mut self) -> &mut [T] {
+        &mut self.items[..usize::from(self.len)]
+    }
+}
+
+impl<T: Copy + std::fmt::Debug> std::fmt::Debug for Few<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+impl<T: Copy + PartialEq> PartialEq for Few<T> {
+    fn eq(&self, other: &Self) -> bool {
+        **self == **other
+    }
+}
+
 /// What a subproblem found.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Angles {
     /// The exact solutions (one or two angles in (−π, π]; two equal ones at a tangency are
     /// given once).
-    Exact(Vec<f64>),
+    Exact(Few<f64>),
     /// No exact solution: the angle that comes closest (in the subproblem's own measure).
     LeastSquares(f64),
     /// Every angle is a solution (the condition does not depend on θ: a point on the axis, …).
@@ -62,14 +113,30 @@ pub fn trig(a: f64, b: f64, c: f64, scale: f64) -> Angles {
     let d = r.clamp(-1.0, 1.0).acos();
     if d <= 1e-8 {
         // Tangent: one (double) solution.
-        return Angles::Exact(vec![wrap(phi)]);
+        return Angles::Exact(Few::one(wrap(phi)));
     }
-    Angles::Exact(vec![wrap(phi + d), wrap(phi - d)])
+    Angles::Exact(Few::two(wrap(phi + d), wrap(phi - d)))
 }
 
 /// An angle in (−π, π].
 pub fn wrap(x: f64) -> f64 {
     use std::f64::consts::PI;
+    // The common cases without a division: already in range, or one turn off.
+    if x > -PI && x <= PI {
+        return x;
+    }
+    if x > PI && x <= 3.0 * PI {
+        let y = x - 2.0 * PI;
+        if y > -PI && y <= PI {
+            return y;
+        }
+    }
+    if x <= -PI && x > -3.0 * PI {
+        let y = x + 2.0 * PI;
+        if y > -PI && y <= PI {
+            return y;
+        }
+    }
     let y = (x + PI).rem_euclid(2.0 * PI) - PI;
     if y <= -PI {
         y + 2.0 * PI
@@ -85,10 +152,13 @@ pub fn wrap(x: f64) -> f64 {
 /// axis: [`Angles::Any`].
 pub fn sp1(p1: &Vector3<f64>, p2: &Vector3<f64>, k: &Vector3<f64>) -> Angles {
     let kxp = k.cross(p1);
-    let perp = p1 - k * k.dot(p1);
-    let scale = p1.norm().max(p2.norm());
+    let (h1, h2) = (k.dot(p1), k.dot(p2));
+    let perp = p1 - k * h1;
+    let scale = p1.norm_squared().max(p2.norm_squared()).sqrt();
     let (x, y) = (p2.dot(&kxp), p2.dot(&perp));
-    if kxp.norm() <= EPS * scale.max(f64::MIN_POSITIVE) {
+    // ‖k × p1‖ = ‖p1⊥‖ for a unit k.
+    let r1 = kxp.norm();
+    if r1 <= EPS * scale.max(f64::MIN_POSITIVE) {
         return if (p1 - p2).norm() <= EPS * scale.max(1e-300) {
             Angles::Any
         } else {
@@ -96,11 +166,13 @@ pub fn sp1(p1: &Vector3<f64>, p2: &Vector3<f64>, k: &Vector3<f64>) -> Angles {
         };
     }
     let theta = x.atan2(y);
-    let p2_perp = p2 - k * k.dot(p2);
-    let same_circle = (k.dot(p1) - k.dot(p2)).abs() <= EPS * scale * 10.0
-        && (perp.norm() - p2_perp.norm()).abs() <= EPS * scale * 10.0;
+    // p2's distance to the axis from its perpendicular part (not √(‖p2‖² − h2²), which
+    // cancels when p2 is nearly on the axis).
+    let r2 = (p2 - k * h2).norm();
+    let same_circle =
+        (h1 - h2).abs() <= EPS * scale * 10.0 && (r1 - r2).abs() <= EPS * scale * 10.0;
     if same_circle {
-        Angles::Exact(vec![theta])
+        Angles::Exact(Few::one(theta))
     } else {
         Angles::LeastSquares(theta)
     }
@@ -128,11 +200,37 @@ pub fn sp4(h: &Vector3<f64>, p: &Vector3<f64>, k: &Vector3<f64>, d: f64) -> Angl
     trig(a, b, c, p.norm() * h.norm() + d.abs())
 }
 
+/// Subproblem 4 for unit vectors where it loses precision least: θ with hᵀ R(k, θ) p = h·v
+/// for unit h, p ⊥ k and a unit v (the data the pose gives). Then hᵀ R(k, θ) p = cos(θ − θ₀)
+/// with R(k, θ₀) p = h, and the angle between h and v is α = atan2(‖h × v‖, h·v), so
+/// θ = θ₀ ± α. Unlike `acos(h·v)` this keeps full precision near the tangency (α ≈ 0 or π: a
+/// wrist or UR-type θ₅ near 0, where `acos` loses half the digits). None when h or p is not
+/// ⊥ k (within 1e-12): use [`sp4`].
+pub fn sp4_unit(
+    h: &Vector3<f64>,
+    p: &Vector3<f64>,
+    k: &Vector3<f64>,
+    v: &Vector3<f64>,
+) -> Option<Angles> {
+    if h.dot(k).abs() > 1e-12 || p.dot(k).abs() > 1e-12 {
+        return None;
+    }
+    let theta0 = h.dot(&k.cross(p)).atan2(h.dot(p));
+    let alpha = h.cross(v).norm().atan2(h.dot(v));
+    if alpha <= 1e-15 || alpha >= std::f64::consts::PI - 1e-15 {
+        return Some(Angles::Exact(Few::one(wrap(theta0 + alpha))));
+    }
+    Some(Angles::Exact(Few::two(
+        wrap(theta0 + alpha),
+        wrap(theta0 - alpha),
+    )))
+}
+
 /// The outcome of subproblem 2.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AnglePairs {
     /// Exact (θ1, θ2) pairs (one at a tangency, two otherwise).
-    Exact(Vec<(f64, f64)>),
+    Exact(Few<(f64, f64)>),
     /// No exact solution: the pair that comes closest.
     LeastSquares(f64, f64),
     /// The axes are parallel: the subproblem is not defined (a different decomposition is
@@ -189,19 +287,12 @@ pub fn sp2(
         };
     }
     let g = g2.max(0.0).sqrt();
-    let mut out = Vec::new();
-    for c in [base + k12 * g, base - k12 * g] {
-        match pair(&c) {
-            Some(p) => {
-                if !out
-                    .iter()
-                    .any(|q: &(f64, f64)| (q.0 - p.0).abs() < 1e-9 && (q.1 - p.1).abs() < 1e-9)
-                {
-                    out.push(p);
-                }
-            }
-            None => return AnglePairs::Degenerate,
-        }
+    let (Some(a), Some(b)) = (pair(&(base + k12 * g)), pair(&(base - k12 * g))) else {
+        return AnglePairs::Degenerate;
+    };
+    if (a.0 - b.0).abs() < 1e-9 && (a.1 - b.1).abs() < 1e-9 {
+        AnglePairs::Exact(Few::one(a))
+    } else {
+        AnglePairs::Exact(Few::two(a, b))
     }
-    AnglePairs::Exact(out)
 }

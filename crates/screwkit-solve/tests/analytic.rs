@@ -1,41 +1,67 @@
-//! Analytic IK (spherical wrist, 2 ∥ 3): every returned solution reaches the target (FK, an
-//! independent call) and lies within the limits, and the configuration the target came from is
-//! among them; on the nine industrial arms of ../shared/xacro/expanded (ignored without it;
-//! `.ci/run` runs it) and on a PUMA-type arm built here.
+//! Analytic IK: every returned solution reaches the target (FK, an independent call) and lies
+//! within the limits, and the configuration the target came from is among them — on the
+//! bundled UR5, a PUMA-type arm built here, the bundled 7R arms with a joint locked, and (ignored
+//! without ../shared; `.ci/run` runs them) the nine industrial arms of ../shared/xacro/expanded
+//! and the real arms of ../shared/urdf. Near-singular poses give finite, flagged answers.
 
 mod common;
 
 use common::{fk1, Sampler};
 use screwkit_model::Chain;
-use screwkit_solve::analytic::solve_all;
+use screwkit_solve::analytic::{ik_all, ik_nearest, AnalyticIk, Solutions};
 use screwkit_solve::family::{classify, Family};
-use screwkit_solve::Kinematics;
+use screwkit_solve::{Kinematics, Workspace};
+
+/// True when `q` equals `want` joint by joint (the solutions list every 2π shift, so the
+/// sampled configuration appears as it is).
+fn same(q: &[f64], want: &[f64], tol: f64) -> bool {
+    q.iter().zip(want).all(|(a, b)| (a - b).abs() < tol)
+}
+
+/// Every solution reaches `target` within the limits with a residual that matches FK.
+fn verify(kin: &Kinematics, name: &str, sols: &Solutions, target: &screwkit_lie::Se3) {
+    assert!(sols.is_exact(), "{name}: not exact");
+    assert!(!sols.is_empty(), "{name}: no solution");
+    for (i, q) in sols.iter().enumerate() {
+        assert!(kin.within_limits(q, 0.0), "{name}: {q:?}");
+        let d = fk1(kin, q).unwrap().max_abs_diff(target);
+        assert!(
+            d < 1e-10,
+            "{name}: {q:?} misses by {d:e} (singular: {})",
+            sols.singular
+        );
+        assert!((sols.residual(i) - d).abs() <= 1e-12, "{name}: residual");
+        assert!(sols.exact(i));
+    }
+}
 
 fn check(kin: &Kinematics, name: &str, trials: usize) {
+    let solver = AnalyticIk::new(kin).unwrap();
+    let mut ws = Workspace::new(kin);
     let mut rng = Sampler::new(11);
     let mut counts = Vec::new();
+    let mut sols = Solutions::default();
     for _ in 0..trials {
         let q_star = rng.config(kin);
         let target = fk1(kin, &q_star).unwrap();
-        let sols = solve_all(kin, &target).unwrap();
-        assert!(sols.exact, "{name}: {q_star:?}");
-        assert!(!sols.q.is_empty());
-        for q in &sols.q {
-            assert!(kin.within_limits(q, 0.0), "{name}: {q:?}");
-            let d = fk1(kin, q).unwrap().max_abs_diff(&target);
-            assert!(d < 1e-10, "{name}: a solution misses by {d:e}");
-        }
+        solver.solve(kin, &mut ws, &target, 0.0, &mut sols).unwrap();
+        verify(kin, name, &sols, &target);
         assert!(
-            sols.q
-                .iter()
-                .any(|q| q.iter().zip(&q_star).all(|(a, b)| (a - b).abs() < 1e-7)),
+            sols.iter().any(|q| same(q, &q_star, 1e-7)),
             "{name}: q* = {q_star:?} not among {} solutions",
-            sols.q.len()
+            sols.len()
         );
         assert!(
             sols.branches >= 1 && sols.branches <= 8,
             "{name}: {} branches",
             sols.branches
+        );
+        // The one-call form agrees, and the nearest solution to q* is q* itself.
+        assert_eq!(ik_all(kin, &mut ws, &target).unwrap(), sols);
+        let near = ik_nearest(kin, &mut ws, &target, &q_star).unwrap().unwrap();
+        assert!(
+            same(&near, &q_star, 1e-7),
+            "{name}: nearest {near:?} vs {q_star:?}"
         );
         counts.push(sols.branches);
     }
@@ -46,7 +72,44 @@ fn check(kin: &Kinematics, name: &str, trials: usize) {
     );
 }
 
-/// A PUMA-type arm: axis 1 vertical, 2 ∥ 3 horizontal with an offset, a spherical wrist.
+/// The smallest singular value of the space Jacobian without the locked joint's column.
+fn free_sigma_min(kin: &Kinematics, q: &[f64], joint: usize) -> f64 {
+    let mut ws = Workspace::new(kin);
+    let j = screwkit_solve::jacobian::jacobian(kin, &mut ws, q, screwkit_solve::Frame::Space)
+        .unwrap()
+        .clone()
+        .remove_column(joint);
+    j.singular_values().min()
+}
+
+/// A 7R chain with `joint` locked at the sampled value: q* among the solutions.
+fn check_locked(kin: &Kinematics, name: &str, joint: usize, trials: usize) {
+    let solver = AnalyticIk::locked(kin, joint).unwrap();
+    assert_eq!(solver.locked_joint(), Some(joint));
+    let mut ws = Workspace::new(kin);
+    let mut rng = Sampler::new(5);
+    let mut sols = Solutions::default();
+    for _ in 0..trials {
+        let q_star = rng.config(kin);
+        let target = fk1(kin, &q_star).unwrap();
+        solver
+            .solve(kin, &mut ws, &target, q_star[joint], &mut sols)
+            .unwrap();
+        verify(kin, name, &sols, &target);
+        assert!(sols.iter().all(|q| q[joint] == q_star[joint]));
+        // Near a singularity of the six free joints (the Panda's axes 3 and 5 collinear at
+        // q4 = 0), configurations 1e-7 apart reach the same pose to 1e-10: q* is then matched
+        // to √ε of its σ_min.
+        let sigma = free_sigma_min(kin, &q_star, joint);
+        let tol = if sigma < 1e-2 { 1e-4 } else { 1e-7 };
+        assert!(
+            sols.iter().any(|q| same(q, &q_star, tol)),
+            "{name} (joint {joint} locked): q* = {q_star:?} not among {:?}",
+            sols.to_vecs()
+        );
+    }
+}
+
 const PUMA: &str = r#"<robot name="puma"><link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/><link name="l5"/><link name="l6"/>
   <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/><origin xyz="0 0 0.6"/><axis xyz="0 0 1"/><limit lower="-2.8" upper="2.8" effort="1" velocity="1"/></joint>
   <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/><origin xyz="0.05 0.15 0"/><axis xyz="0 1 0"/><limit lower="-2.0" upper="2.0" effort="1" velocity="1"/></joint>
@@ -74,8 +137,104 @@ fn ur5_all_solutions() {
 #[test]
 fn other_families_are_refused_by_name() {
     let (_, _, kin) = common::load("iiwa14.urdf", None, None);
-    let e = solve_all(&kin, kin.home()).unwrap_err();
-    assert!(e.to_string().contains("7R (redundant)"), "{e}");
+    let e = ik_all(&kin, &mut Workspace::new(&kin), kin.home()).unwrap_err();
+    assert!(e.to_string().contains("lock one joint"), "{e}");
+    let (_, _, kin) = common::load("planar_3r.urdf", None, None);
+    let e = AnalyticIk::new(&kin).unwrap_err();
+    assert!(e.to_string().contains("no analytic solver"), "{e}");
+    // Panda: joint 5 locked leaves a spherical wrist alone (a quartic, not solved yet).
+    let (_, _, kin) = common::load("panda.urdf", None, None);
+    let e = AnalyticIk::locked(&kin, 4).unwrap_err();
+    assert!(e.to_string().contains("panda_joint5"), "{e}");
+    assert!(e.to_string().contains("spherical wrist only"), "{e}");
+    assert_eq!(
+        screwkit_solve::analytic::describe(&kin),
+        "7R (redundant): analytic with one joint locked (joint 4, 6, 7)"
+    );
+    // A locked value outside the joint's limits.
+    let s = AnalyticIk::locked(&kin, 6).unwrap();
+    let mut out = Solutions::default();
+    let e = s
+        .solve(&kin, &mut Workspace::new(&kin), kin.home(), 9.0, &mut out)
+        .unwrap_err();
+    assert!(e.to_string().contains("outside its limits"), "{e}");
+}
+
+#[test]
+fn seven_r_arms_with_a_joint_locked() {
+    let (_, _, panda) = common::load("panda.urdf", None, None);
+    for j in [3, 5, 6] {
+        check_locked(&panda, "panda", j, 200);
+    }
+    assert_eq!(AnalyticIk::auto(&panda).unwrap().locked_joint(), Some(6));
+    let (_, _, iiwa) = common::load("iiwa14.urdf", None, None);
+    for j in [0, 1, 2, 4, 5, 6] {
+        check_locked(&iiwa, "iiwa14", j, 100);
+    }
+    // The elbow locked leaves a spherical shoulder and wrist: a self-motion, refused.
+    let e = AnalyticIk::locked(&iiwa, 3).unwrap_err();
+    assert!(e.to_string().contains("self-motion"), "{e}");
+}
+
+#[test]
+fn near_singular_poses_are_finite_and_flagged() {
+    let (_, _, ur5) = common::load("ur5.urdf", None, None);
+    let puma = {
+        let tree = screwkit_model::urdf::load_str(PUMA, "puma.urdf").unwrap();
+        Kinematics::new(&Chain::from_tree(&tree, None, None).unwrap())
+    };
+    let mut rng = Sampler::new(3);
+    for (kin, name, cases) in [
+        // (joint, value, flagged): wrist singular (θ5 = 0: axes 4 and 6 aligned), elbow
+        // stretched (the UR5's θ3 = 0; the PUMA's θ3 = 0 is an ordinary pose), nearly wrist
+        // singular.
+        (
+            &ur5,
+            "ur5",
+            [(4, 0.0, true), (2, 0.0, true), (4, 1e-9, true)],
+        ),
+        (
+            &puma,
+            "puma",
+            [(4, 0.0, true), (2, 0.0, false), (4, -1e-9, true)],
+        ),
+    ] {
+        let solver = AnalyticIk::new(kin).unwrap();
+        let mut ws = Workspace::new(kin);
+        let mut sols = Solutions::default();
+        for (joint, value, flagged) in cases {
+            for _ in 0..50 {
+                let mut q = rng.config(kin);
+                q[joint] = value;
+                let target = fk1(kin, &q).unwrap();
+                solver.solve(kin, &mut ws, &target, 0.0, &mut sols).unwrap();
+                assert!(!sols.is_empty(), "{name}: {q:?}");
+                for (i, s) in sols.iter().enumerate() {
+                    assert!(s.iter().all(|x| x.is_finite()), "{name}: {s:?}");
+                    assert!(
+                        sols.residual(i) < 1e-6,
+                        "{name}: q = {q:?}, residual {}",
+                        sols.residual(i)
+                    );
+                }
+                assert_eq!(
+                    sols.singular, flagged,
+                    "{name}: q[{joint}] = {value}: {q:?}"
+                );
+            }
+        }
+    }
+    // The home pose of the UR5 (shoulder and wrist singular at once) and an unreachable pose.
+    let mut ws = Workspace::new(&ur5);
+    let s = ik_all(&ur5, &mut ws, ur5.home()).unwrap();
+    assert!(s.singular && s.is_exact());
+    let far = screwkit_lie::Se3::from_translation(nalgebra::Vector3::new(3.0, 0.0, 0.0));
+    let s = ik_all(&ur5, &mut ws, &far).unwrap();
+    assert!(!s.is_exact() && !s.is_empty());
+    assert!(s.iter().flatten().all(|x| x.is_finite()));
+    assert!(ik_nearest(&ur5, &mut ws, &far, &[0.0; 6])
+        .unwrap()
+        .is_none());
 }
 
 #[test]
@@ -108,4 +267,82 @@ fn industrial_arms_all_solutions() {
         );
         check(&kin, f, 200);
     }
+}
+
+#[test]
+#[ignore = "needs ../shared/urdf (SCREWKIT_SHARED_URDF); .ci/run runs it with --ignored"]
+fn real_arms_of_shared_urdf() {
+    let dir = std::env::var("SCREWKIT_SHARED_URDF")
+        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/urdf").into());
+    let load = |f: &str, base: &str, tip: &str| {
+        Kinematics::new(
+            &screwkit_model::load_chain(format!("{dir}/{f}"), Some(base), Some(tip)).unwrap(),
+        )
+    };
+    // 6R: the UR5 of ROS-Industrial, the Unitree Z1 arm without its gripper.
+    check(
+        &load("ur5_robot.urdf", "base_link", "tool0"),
+        "ur5_robot",
+        300,
+    );
+    let z1 = load("z1.urdf", "link00", "link06");
+    assert_eq!(classify(&z1).family, Family::ThreeParallelTwoIntersecting);
+    check(&z1, "z1", 300);
+    // 7R with a joint locked: the Pandas (pi/2 rounded in pybullet's), the Z1 with its gripper.
+    for (f, base, tip) in [
+        ("panda.urdf", "panda_link0", "panda_hand_tcp"),
+        ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
+    ] {
+        let kin = load(f, base, tip);
+        for j in [3, 5, 6] {
+            check_locked(&kin, f, j, 100);
+        }
+    }
+    let z1g = load("z1.urdf", "link00", "gripperMover");
+    check_locked(&z1g, "z1+gripper", 6, 100);
+    // xArm7: no joint leaves a family solved here; it says so.
+    let xarm = load("xarm7.urdf", "link_base", "link_eef");
+    let e = AnalyticIk::auto(&xarm).unwrap_err();
+    assert!(e.to_string().contains("1D search"), "{e}");
+}
+
+#[test]
+fn batch_equals_single_calls_on_any_thread_count() {
+    let (_, _, kin) = common::load("ur5.urdf", None, None);
+    let solver = AnalyticIk::new(&kin).unwrap();
+    let mut rng = Sampler::new(8);
+    let mut targets = Vec::new();
+    let mut singles = Vec::new();
+    let mut ws = Workspace::new(&kin);
+    for k in 0..300 {
+        let t = fk1(&kin, &rng.config(&kin)).unwrap();
+        let mut row = [0.0; 16];
+        t.write_row_major(&mut row);
+        if k == 17 {
+            row[3] = f64::NAN;
+        }
+        targets.extend_from_slice(&row);
+        let mut out = Solutions::default();
+        singles.push(screwkit_lie::Se3::from_row_major(&row, 1e-6).ok().map(|t| {
+            solver.solve(&kin, &mut ws, &t, 0.0, &mut out).unwrap();
+            out
+        }));
+    }
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| solver.solve_batch(&kin, &targets, None).unwrap())
+    };
+    let (one, two) = (run(1), run(2));
+    for (k, single) in singles.iter().enumerate() {
+        match (single, &one[k], &two[k]) {
+            (Some(s), Ok(a), Ok(b)) => assert!(s == a && a == b, "row {k}"),
+            (None, Err(e), Err(_)) => assert!(e.to_string().contains("target"), "{e}"),
+            _ => panic!("row {k}: batch and single calls disagree"),
+        }
+    }
+    assert!(one[17].is_err());
+    assert!(solver.solve_batch(&kin, &targets[..20], None).is_err());
 }

@@ -44,7 +44,7 @@ fn close(a: f64, b: f64) -> bool {
 
 fn exact(a: Angles) -> Vec<f64> {
     match a {
-        Angles::Exact(v) => v,
+        Angles::Exact(v) => v.to_vec(),
         other => panic!("expected exact solutions, got {other:?}"),
     }
 }
@@ -136,7 +136,7 @@ fn sp2_recovers_angle_pairs() {
             pairs.iter().any(|&(a, b)| close(a, t1) && close(b, t2)),
             "{pairs:?} lacks ({t1}, {t2})"
         );
-        for &(a, b) in &pairs {
+        for &(a, b) in pairs.iter() {
             assert!((rot(&k1, a, &p1) - rot(&k2, b, &p2)).norm() < 1e-8);
         }
     }
@@ -152,4 +152,44 @@ fn sp2_recovers_angle_pairs() {
         &Vector3::x(),
     );
     assert!(matches!(r2, AnglePairs::LeastSquares(..)), "{r2:?}");
+}
+
+#[test]
+fn sp4_unit_agrees_with_sp4_and_keeps_precision_near_tangency() {
+    use screwkit_solve::subproblem::sp4_unit;
+    let mut r = Sampler::new(9);
+    for i in 0..5000 {
+        let k = unit(&mut r);
+        // h, p ⊥ k, unit.
+        let h = k.cross(&unit(&mut r)).normalize();
+        let p = k.cross(&unit(&mut r)).normalize();
+        // Near the tangency for a fifth of the cases: t within 1e-9 of the root of h = R p.
+        let t0 = p.cross(&h).dot(&k).atan2(p.dot(&h));
+        let t = if i % 5 == 0 {
+            t0 + (r.uniform() - 0.5) * 2e-9
+        } else {
+            angle(&mut r)
+        };
+        let v = rot(&k, t, &p);
+        let got = exact(sp4_unit(&h, &p, &k, &v).unwrap());
+        assert!(
+            got.iter().any(|&g| close(g, t)),
+            "{got:?} lacks {t} (tangency at {t0})"
+        );
+        for &g in &got {
+            assert!((h.dot(&rot(&k, g, &p)) - h.dot(&v)).abs() < 1e-12);
+        }
+        if i % 5 != 0 {
+            let mut want = exact(sp4(&h, &p, &k, h.dot(&v)));
+            let mut got = got.clone();
+            want.sort_by(f64::total_cmp);
+            got.sort_by(f64::total_cmp);
+            assert!(
+                want.iter().zip(&got).all(|(a, b)| close(*a, *b)),
+                "{want:?} {got:?}"
+            );
+        }
+    }
+    // Not perpendicular to the axis: not this subproblem's case.
+    assert!(sp4_unit(&Vector3::z(), &Vector3::x(), &Vector3::z(), &Vector3::z()).is_none());
 }

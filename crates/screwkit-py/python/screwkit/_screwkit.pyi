@@ -198,7 +198,15 @@ class Robot:
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
     ) -> str: ...
-    def ik_all(self, target: _ArrayLike, seed: _ArrayLike | None = None) -> _F64: ...
+    def ik_all(
+        self,
+        target: _ArrayLike,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+    ) -> _F64 | list[_F64]: ...
     def ik(
         self,
         target: _ArrayLike,
