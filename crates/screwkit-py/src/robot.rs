@@ -32,6 +32,10 @@ pub struct Robot {
     ws: Mutex<Workspace>,
     /// The URDF text, for pickling.
     text: String,
+    /// The default analytic solver (`AnalyticIk::auto`), built on first use.
+    analytic: std::sync::OnceLock<
+        Result<screwkit_solve::analytic::AnalyticIk, screwkit_solve::SolveError>,
+    >,
 }
 
 /// A frame name ("space" or "body").
@@ -58,6 +62,7 @@ impl Robot {
             kin,
             ws,
             text,
+            analytic: std::sync::OnceLock::new(),
         })
     }
 
@@ -643,8 +648,13 @@ impl Robot {
             None => self.kin.midpoint(),
         };
         self.kin.check_q(&seed).map_err(solve_error)?;
-        let solver = match lock {
-            None => AnalyticIk::auto(&self.kin),
+        let owned;
+        let solver: &AnalyticIk = match lock {
+            None => self
+                .analytic
+                .get_or_init(|| AnalyticIk::auto(&self.kin))
+                .as_ref()
+                .map_err(|e| solve_error(e.clone()))?,
             Some(j) => {
                 let index = if let Ok(name) = j.extract::<String>() {
                     self.kin
@@ -669,10 +679,16 @@ impl Robot {
                     }
                     i
                 };
-                AnalyticIk::locked(&self.kin, index)
+                match self.analytic.get_or_init(|| AnalyticIk::auto(&self.kin)) {
+                    // The default solver already locks this joint.
+                    Ok(auto) if auto.locked_joint() == Some(index) => auto,
+                    _ => {
+                        owned = AnalyticIk::locked(&self.kin, index).map_err(solve_error)?;
+                        &owned
+                    }
+                }
             }
-        }
-        .map_err(solve_error)?;
+        };
         let values = solver
             .lock_values(&self.kin, &seed, lock_value, sweep)
             .map_err(solve_error)?;

@@ -508,11 +508,13 @@ impl AnalyticIk {
     /// locked joint's value (ignored without a lock). The target must be finite (checked by
     /// [`AnalyticIk::solve`]).
     pub fn postures(&self, target: &Se3, lock_value: f64, out: &mut Postures) {
+        let prepared;
         let p = match &self.fixed {
-            Some(p) => *p,
+            Some(p) => p,
             None => {
                 let (lines, home) = self.locked_lines(lock_value);
-                Prepared::new(self.method, &lines, home, self.reversed)
+                prepared = Prepared::new(self.method, &lines, home, self.reversed);
+                &prepared
             }
         };
         let g = if self.reversed {
@@ -535,15 +537,15 @@ impl AnalyticIk {
             out.push(q, exact);
         };
         match self.method {
-            Method::WristParallel => wrist_parallel(&p, &g, &mut singular, &mut emit),
+            Method::WristParallel => wrist_parallel(p, &g, &mut singular, &mut emit),
             Method::WristIntersecting12 | Method::WristIntersecting23 => wrist_intersecting(
-                &p,
+                p,
                 &g,
                 self.method == Method::WristIntersecting12,
                 &mut singular,
                 &mut emit,
             ),
-            Method::ThreeParallel => three_parallel(&p, &g, &mut singular, &mut emit),
+            Method::ThreeParallel => three_parallel(p, &g, &mut singular, &mut emit),
         }
         out.singular = singular;
     }
@@ -902,11 +904,11 @@ pub fn ik_nearest(
     Ok(sols.nearest(seed, None).map(|i| sols.q(i).to_vec()))
 }
 
-/// R(k, θ) as a matrix (Rodrigues: I + sin θ [k] + (1 − cos θ) [k]²).
+/// R(k, θ) as a matrix for a unit k: the library's Rodrigues form
+/// ([`screwkit_lie::so3::rotation_from_coefficients`] with φ = k, A = sin θ, B = 1 − cos θ).
 fn rotation(k: &V3, theta: f64) -> M3 {
     let (s, c) = theta.sin_cos();
-    let kx = k.cross_matrix();
-    M3::identity() + kx * s + kx * kx * (1.0 - c)
+    screwkit_lie::so3::rotation_from_coefficients(k, 1.0, s, 1.0 - c)
 }
 
 /// The angles of a subproblem with their exactness: an exact double root where two are
@@ -963,24 +965,28 @@ fn pairs(a: AnglePairs, p1: &V3, p2: &V3, k2: &V3, singular: &mut bool) -> Few<(
 fn wrist(p: &Prepared, rw: &M3, singular: &mut bool, mut emit: impl FnMut(f64, f64, f64, bool)) {
     let (k4, k5, k6) = (&p.k[3], &p.k[4], &p.k[5]);
     let rwk6 = rw * k6;
+    let rwtk4 = rw.transpose() * k4;
     let five = sp4_unit(k4, k6, k5, &rwk6).unwrap_or_else(|| sp4(k4, k6, k5, k4.dot(&rwk6)));
     for &(t5, e5) in roots(five, true, singular).iter() {
         let r5 = rotation(k5, t5);
         let r5k6 = r5 * k6;
         let four = sp1(&r5k6, &rwk6, k4);
-        let rwk5 = rw * k5;
-        for &(t4, e4) in roots(four, false, singular).iter() {
-            let want = r5.transpose() * rotate(k4, -t4, &rwk5);
+        if four == Angles::Any {
+            // Axes 4 and 6 aligned (R₅ k₆ = s k₄): only θ₄ + s θ₆ = φ matters; with θ₄ = 0,
+            // R₆ k₅ = R₅ᵀ R_w k₅ gives φ; split it evenly so both stay within their limits.
+            *singular = true;
+            let want = r5.transpose() * (rw * k5);
             for &(t6, e6) in roots(sp1(k5, &want, k6), false, singular).iter() {
-                if four == Angles::Any {
-                    // Axes 4 and 6 aligned (R₅ k₆ = s k₄): only θ₄ + s θ₆ = φ matters; split
-                    // it evenly so that both stay within their limits.
-                    let s = k4.dot(&r5k6).signum();
-                    let phi = t4 + s * t6;
-                    emit(phi / 2.0, t5, s * phi / 2.0, e4 && e5 && e6);
-                } else {
-                    emit(t4, t5, t6, e4 && e5 && e6);
-                }
+                let s = k4.dot(&r5k6).signum();
+                emit(t6 * s / 2.0, t5, t6 / 2.0, e5 && e6);
+            }
+            continue;
+        }
+        // R₆ (R_wᵀ k₄) = R₅ᵀ k₄ (R₄ keeps k₄): θ₆ without R₄.
+        let six = sp1(&rwtk4, &(r5.transpose() * k4), k6);
+        for &(t4, e4) in roots(four, false, singular).iter() {
+            for &(t6, e6) in roots(six, false, singular).iter() {
+                emit(t4, t5, t6, e4 && e5 && e6);
             }
         }
     }
