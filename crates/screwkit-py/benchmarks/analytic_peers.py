@@ -120,7 +120,9 @@ def compare(
     agree = {"eaik": 0, "ik-geo": 0}
     counts: list[int] = []
     for k in range(poses):
-        kw: dict[str, Any] = {"lock": lock, "lock_value": float(qs[k, lock])} if lock else {}
+        kw: dict[str, Any] = (
+            {"lock": lock, "lock_value": float(qs[k, lock])} if lock is not None else {}
+        )
         ours = free.ik_all(ts[k], seed=qs[k], **kw)
         assert isinstance(ours, np.ndarray)
         distinct: list[F64] = []
@@ -145,7 +147,9 @@ def compare(
         f"{agree['eaik']}/{poses} poses"
         + (f", as ik-geo on {agree['ik-geo']}/{poses}" if g is not None else "")
     )
-    kw0: dict[str, Any] = {"lock": lock, "lock_value": float(qs[0, lock])} if lock else {}
+    kw0: dict[str, Any] = (
+        {"lock": lock, "lock_value": float(qs[0, lock])} if lock is not None else {}
+    )
     screwkit.set_num_threads(1)
     # Timed on the copy without limits: every posture once, as the peers return them (with
     # the limits, screwkit also lists each 2 pi shift inside them: the UR5's +-2 pi limits
@@ -193,7 +197,10 @@ def main() -> None:
             a.poses,
             a.rounds,
         )
-    compare("panda, joint 7 locked", assets / "panda.urdf", None, None, "", 6, a.poses, a.rounds)
+    panda = assets / "panda.urdf"
+    compare("panda, joint 7 locked", panda, None, None, "", 6, a.poses, a.rounds)
+    # Joint 5 locked: a spherical wrist only (subproblem 5), read from the tip.
+    compare("panda, joint 5 locked", panda, None, None, "", 4, a.poses, a.rounds)
 
 
 if __name__ == "__main__":

@@ -74,6 +74,12 @@ fn main() {
         &panda,
         &AnalyticIk::locked(&panda, 6).unwrap(),
     );
+    // Joint 5 locked: a spherical wrist only, by subproblem 5 (a quartic).
+    bench(
+        "panda, j5 lock",
+        &panda,
+        &AnalyticIk::locked(&panda, 4).unwrap(),
+    );
     let kr16 = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/xacro/expanded/kr16_2.urdf"

@@ -1,5 +1,7 @@
 //! Analytic IK by subproblem decomposition: every solution of a 6R pose — or of a 7R pose with
-//! one joint locked — for the families that have a closed form ([`crate::family`]).
+//! one joint locked — for the families that have a closed form ([`crate::family`]). The
+//! families solved by a 1D search (two intersecting or two parallel axes only) and the
+//! general 6R are not solved here: they get numerical IK.
 //!
 //! Solved here (with g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on
 //! them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i)):
@@ -24,7 +26,14 @@
 //!   (subproblem 3), e₂ (e₃ p₄) = h p₄ gives θ₂ (subproblem 1) and θ₄ is the rotation of h
 //!   about k₂ minus θ₂ + θ₃.
 //!
-//! Each has up to 2 × 2 × 2 = 8 postures (solutions modulo 2π). A chain whose *reversed*
+//! * **Spherical wrist only**: R(k₁, −θ₁)(y − r₁) + r₁ − r₂ = R₂ ((r₃ − r₂) + R₃ (p_w − r₃))
+//!   is subproblem 5 (up to 4 triples), then the wrist.
+//! * **Three parallel axes 2 ∥ 3 ∥ 4 only**: the k₂ components of e₁⁻¹ g r₆ = e₂ e₃ e₄ e₅ r₆ and
+//!   of R₁ᵀ R_g k₆ = R₂₃₄ R₅ k₆ give k₂ᵀ R(k₁, −θ₁)(g r₆ − r₁) − k₂ᵀ R₅ (r₆ − r₅) = k₂·(r₅ − r₁)
+//!   and k₂ᵀ R(k₁, −θ₁) R_g k₆ − k₂ᵀ R₅ k₆ = 0: subproblem 6 in (θ₁, θ₅) (up to 4 pairs); then
+//!   θ₆ and the planar problem as for the UR type.
+//!
+//! Each has up to 8 postures (solutions modulo 2π). A chain whose *reversed*
 //! order is of one of these (a spherical shoulder is a spherical wrist seen from the tip) is
 //! solved as M T_d⁻¹ = e^\[−S₆\]θ₆ ⋯ e^\[−S₁\]θ₁: the lines in reverse order, directions
 //! negated. A 7R chain with joint j locked at v is the 6R chain of the other joints with the
@@ -44,7 +53,9 @@ use crate::error::SolveError;
 use crate::family::{classify, classify_axes, closest_points, relations, AxisLine, Family};
 use crate::fk::fk_unchecked;
 use crate::kinematics::Kinematics;
-use crate::subproblem::{rotate, sp1, sp2, sp3, sp4, sp4_unit, wrap, AnglePairs, Angles, Few};
+use crate::subproblem::{
+    rotate, sp1, sp2, sp3, sp4, sp4_unit, sp5, sp6, wrap, AnglePairs, Angles, Few,
+};
 use crate::workspace::Workspace;
 
 type V3 = Vector3<f64>;
@@ -69,6 +80,10 @@ enum Method {
     WristIntersecting23,
     /// 2 ∥ 3 ∥ 4, axes 5 and 6 meet.
     ThreeParallel,
+    /// Spherical wrist only (subproblem 5).
+    Wrist,
+    /// 2 ∥ 3 ∥ 4 only (subproblem 6).
+    ThreeParallelGeneral,
 }
 
 /// The decomposition the relations of six lines (in the order given) allow, if any.
@@ -84,6 +99,12 @@ fn method_of(lines: &[AxisLine], length: f64) -> Option<Method> {
         {
             Some(Method::ThreeParallel)
         }
+        Family::ThreeParallelTwoIntersecting | Family::ThreeParallel
+            if parallel.contains(&1) && parallel.contains(&2) =>
+        {
+            Some(Method::ThreeParallelGeneral)
+        }
+        Family::SphericalWrist => Some(Method::Wrist),
         _ => None,
     }
 }
@@ -139,6 +160,7 @@ impl Prepared {
         let meet = |i: usize| closest_points(&line(i), &line(i + 1)).0;
         let center = match method {
             Method::ThreeParallel => meet(4),
+            Method::ThreeParallelGeneral => V3::zeros(),
             _ => (meet(3) + meet(4)) / 2.0,
         };
         let pair = match method {
@@ -545,7 +567,9 @@ impl AnalyticIk {
                 &mut singular,
                 &mut emit,
             ),
-            Method::ThreeParallel => three_parallel(p, &g, &mut singular, &mut emit),
+            Method::ThreeParallel => three_parallel(p, &g, false, &mut singular, &mut emit),
+            Method::ThreeParallelGeneral => three_parallel(p, &g, true, &mut singular, &mut emit),
+            Method::Wrist => wrist_only(p, &g, &mut singular, &mut emit),
         }
         out.singular = singular;
     }
@@ -868,7 +892,9 @@ pub fn describe(kin: &Kinematics) -> String {
             Err(e) => match f {
                 Family::SphericalWristTwoParallel
                 | Family::SphericalWristTwoIntersecting
-                | Family::ThreeParallelTwoIntersecting => format!(
+                | Family::ThreeParallelTwoIntersecting
+                | Family::SphericalWrist
+                | Family::ThreeParallel => format!(
                     "{}; this arrangement is not solved by screwkit yet ({e}): numerical IK only",
                     f.describe()
                 ),
@@ -1062,26 +1088,78 @@ fn wrist_intersecting(
     }
 }
 
-/// 2 ∥ 3 ∥ 4 with axes 5 and 6 meeting (module documentation).
+/// Spherical wrist only (module documentation): subproblem 5 for θ₁, θ₂, θ₃, then the wrist.
+fn wrist_only(p: &Prepared, g: &Se3, singular: &mut bool, emit: &mut impl FnMut([f64; 6], bool)) {
+    let (k, r, pw) = (&p.k, &p.r, &p.center);
+    let rg = g.rotation();
+    let y = g.transform_point(pw);
+    // R(k₁, −θ₁)(y − r₁) + r₁ − r₂ = R₂ ((r₃ − r₂) + R₃ (p_w − r₃)).
+    let sols = sp5(
+        &(r[0] - r[1]),
+        &(y - r[0]),
+        &(r[2] - r[1]),
+        &(pw - r[2]),
+        &k[0],
+        &k[1],
+        &k[2],
+    );
+    for &(phi, t2, t3) in sols.iter() {
+        let t1 = -phi;
+        let r123 = rotation(&k[0], t1) * rotation(&k[1], t2) * rotation(&k[2], t3);
+        let rw = r123.transpose() * rg;
+        wrist(p, &rw, singular, |t4, t5, t6, ok| {
+            emit([t1, t2, t3, t4, t5, t6], ok);
+        });
+    }
+}
+
+/// 2 ∥ 3 ∥ 4 with axes 5 and 6 meeting, or (`general`) without (module documentation).
 fn three_parallel(
     p: &Prepared,
     g: &Se3,
+    general: bool,
     singular: &mut bool,
     emit: &mut impl FnMut([f64; 6], bool),
 ) {
-    let (k, r, p56) = (&p.k, &p.r, &p.center);
+    let (k, r) = (&p.k, &p.r);
     let rg = g.rotation();
-    let y = g.transform_point(p56);
-    let d1 = k[1].dot(&(p56 - r[0]));
     let p4 = r[3];
-    for &(phi, e1) in roots(sp4(&k[1], &(y - r[0]), &k[0], d1), true, singular).iter() {
-        let t1 = -phi;
+    // (θ₁, θ₅) with their exactness: axes 5, 6 meeting at p₅₆, subproblems 4 then 4; in
+    // general subproblem 6 on the k₂ components (module documentation).
+    let mut pairs15: Few<(f64, bool, f64, bool), 4> = Few::default();
+    if general {
+        let gr6 = g.transform_point(&r[5]) - r[0];
+        let rgk6 = rg * k[5];
+        let (p6, mk6) = (r[4] - r[5], -k[5]);
+        for &(phi, t5) in sp6(
+            [&k[1], &k[1], &k[1], &k[1]],
+            [&k[0], &k[4], &k[0], &k[4]],
+            [&gr6, &p6, &rgk6, &mk6],
+            k[1].dot(&(r[4] - r[0])),
+            0.0,
+        )
+        .iter()
+        {
+            pairs15.push((-phi, true, t5, true));
+        }
+    } else {
+        let p56 = &p.center;
+        let y = g.transform_point(p56);
+        let d1 = k[1].dot(&(p56 - r[0]));
+        for &(phi, e1) in roots(sp4(&k[1], &(y - r[0]), &k[0], d1), true, singular).iter() {
+            let v5 = rotation(&k[0], phi) * rg * k[5];
+            let five = sp4_unit(&k[1], &k[5], &k[4], &v5)
+                .unwrap_or_else(|| sp4(&k[1], &k[5], &k[4], k[1].dot(&v5)));
+            for &(t5, e5) in roots(five, true, singular).iter() {
+                pairs15.push((-phi, e1, t5, e5));
+            }
+        }
+    }
+    for &(t1, e1, t5, e5) in pairs15.iter() {
+        let phi = -t1;
         let r1t = rotation(&k[0], phi);
         let rg1 = r1t * rg;
-        let v5 = rg1 * k[5];
-        let five = sp4_unit(&k[1], &k[5], &k[4], &v5)
-            .unwrap_or_else(|| sp4(&k[1], &k[5], &k[4], k[1].dot(&v5)));
-        for &(t5, e5) in roots(five, true, singular).iter() {
+        {
             let r5t = rotation(&k[4], -t5);
             let a = rg1.transpose() * k[1];
             let b = r5t * k[1];

@@ -38,7 +38,8 @@ pub enum Family {
     ThreeParallelTwoIntersecting,
     /// 6R, spherical wrist only: closed form through a quartic (subproblem 5), up to 8.
     SphericalWrist,
-    /// 6R, three consecutive parallel axes: closed form through a quartic, up to 8 solutions.
+    /// 6R, three consecutive parallel axes: closed form through a quartic (subproblem 6), up
+    /// to 8 solutions.
     ThreeParallel,
     /// 6R, two consecutive intersecting axes: a 1D search (then polished), up to 16.
     TwoIntersecting,
@@ -54,7 +55,7 @@ pub enum Family {
 
 impl Family {
     /// The family in words, with what it means for IK (and what screwkit does with it:
-    /// [`crate::analytic`] solves the first three; the others use numerical IK).
+    /// [`crate::analytic`] solves the first five; the others use numerical IK).
     pub fn describe(self) -> &'static str {
         match self {
             Family::SphericalWristTwoParallel => {
@@ -67,12 +68,11 @@ impl Family {
                 "three parallel axes and two intersecting: closed form, up to 8 solutions"
             }
             Family::SphericalWrist => {
-                "spherical wrist only: closed form by a quartic (subproblem 5), not solved by \
-                 screwkit yet: numerical IK only"
+                "spherical wrist only: closed form by a quartic (subproblem 5), up to 8 \
+                 solutions"
             }
             Family::ThreeParallel => {
-                "three parallel axes: closed form by a quartic (subproblem 5), not solved by \
-                 screwkit yet: numerical IK only"
+                "three parallel axes: closed form by a quartic (subproblem 6), up to 8 solutions"
             }
             Family::TwoIntersecting => {
                 "two intersecting axes: 1D search, up to 16 solutions; not solved by screwkit \

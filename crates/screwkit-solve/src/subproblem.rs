@@ -9,28 +9,47 @@
 //! So `hᵀ R(k, θ) p = (h·k)(k·p) + cos θ (h·p⊥) + sin θ (h·(k × p))`, and every subproblem
 //! but the second reduces to `a sin θ + b cos θ = c` ([`trig`]).
 //!
-//! Subproblems 1–4 are here; 5 and 6 (three and four cones, via a quartic) are not yet
-//! (issue 12).
+//! Subproblems 5 and 6 (three cones; four cones in two angles) reduce to a quartic
+//! ([`real_roots`]); they return the exact solutions only (none when there is no exact one).
 
 use nalgebra::Vector3;
 
-/// At most two values, stored inline (subproblems run in the inner loops of analytic IK and
-/// must not allocate); reads as a slice.
+/// At most `N` values (two by default), stored inline (subproblems run in the inner loops of
+/// analytic IK and must not allocate); reads as a slice.
 #[derive(Clone, Copy)]
-pub struct Few<T: Copy> {
-    items: [T; 2],
+pub struct Few<T: Copy, const N: usize = 2> {
+    items: [T; N],
     len: u8,
 }
 
-impl<T: Copy> Few<T> {
+impl<T: Copy + Default, const N: usize> Default for Few<T, N> {
+    fn default() -> Self {
+        Self {
+            items: [T::default(); N],
+            len: 0,
+        }
+    }
+}
+
+impl<T: Copy, const N: usize> Few<T, N> {
     /// One value.
     pub fn one(a: T) -> Self {
         Self {
-            items: [a, a],
+            items: [a; N],
             len: 1,
         }
     }
 
+    /// Appends a value (ignored when full).
+    pub fn push(&mut self, a: T) {
+        if usize::from(self.len) < N {
+            self.items[usize::from(self.len)] = a;
+            self.len += 1;
+        }
+    }
+}
+
+impl<T: Copy> Few<T, 2> {
     /// Two values.
     pub fn two(a: T, b: T) -> Self {
         Self {
@@ -40,26 +59,26 @@ impl<T: Copy> Few<T> {
     }
 }
 
-impl<T: Copy> std::ops::Deref for Few<T> {
+impl<T: Copy, const N: usize> std::ops::Deref for Few<T, N> {
     type Target = [T];
     fn deref(&self) -> &[T] {
         &self.items[..usize::from(self.len)]
     }
 }
 
-impl<T: Copy> std::ops::DerefMut for Few<T> {
+impl<T: Copy, const N: usize> std::ops::DerefMut for Few<T, N> {
     fn deref_mut(&mut self) -> &mut [T] {
         &mut self.items[..usize::from(self.len)]
     }
 }
 
-impl<T: Copy + std::fmt::Debug> std::fmt::Debug for Few<T> {
+impl<T: Copy + std::fmt::Debug, const N: usize> std::fmt::Debug for Few<T, N> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_list().entries(self.iter()).finish()
     }
 }
 
-impl<T: Copy + PartialEq> PartialEq for Few<T> {
+impl<T: Copy + PartialEq, const N: usize> PartialEq for Few<T, N> {
     fn eq(&self, other: &Self) -> bool {
         **self == **other
     }
@@ -295,4 +314,459 @@ pub fn sp2(
     } else {
         AnglePairs::Exact(Few::two(a, b))
     }
+}
+
+/// The real roots of the polynomial c\[0\] + c\[1\] x + … + c\[n\] xⁿ (n ≤ 4), each polished by
+/// Newton steps, in no particular order: the eigenvalues of the companion matrix (real Schur
+/// form) whose imaginary part is below 1e-8 of the root's size (a double root splits into a
+/// complex pair of that order), then 3 Newton steps on the polynomial. Leading coefficients
+/// below 1e-13 of the largest are dropped (the degree falls).
+pub fn real_roots(c: &[f64]) -> Few<f64, 4> {
+    let big = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let mut out = Few::default();
+    if big == 0.0 || !big.is_finite() {
+        return out;
+    }
+    let mut n = c.len().min(5) - 1;
+    while n > 0 && c[n].abs() <= 1e-13 * big {
+        n -= 1;
+    }
+    if n == 0 {
+        return out;
+    }
+    let eval = |x: f64| -> (f64, f64) {
+        // Horner: value and derivative.
+        let (mut v, mut d) = (c[n], 0.0);
+        for i in (0..n).rev() {
+            d = d * x + v;
+            v = v * x + c[i];
+        }
+        (v, d)
+    };
+    let polish = |mut x: f64| {
+        for _ in 0..3 {
+            let (v, d) = eval(x);
+            if d == 0.0 || !v.is_finite() {
+                break;
+            }
+            let nx = x - v / d;
+            if (eval(nx).0).abs() > v.abs() {
+                break;
+            }
+            x = nx;
+        }
+        x
+    };
+    let roots: Vec<nalgebra::Complex<f64>> = {
+        let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for i in 1..n {
+            m[(i, i - 1)] = 1.0;
+        }
+        for i in 0..n {
+            m[(i, n - 1)] = -c[i] / c[n];
+        }
+        m.complex_eigenvalues().iter().copied().collect()
+    };
+    for z in roots {
+        if z.im.abs() <= 1e-8 * (1.0 + z.re.abs()) {
+            let x = polish(z.re);
+            if x.is_finite()
+                && !out
+                    .iter()
+                    .any(|&y| (y - x).abs() <= 1e-12 * (1.0 + x.abs()))
+            {
+                out.push(x);
+            }
+        }
+    }
+    out
+}
+
+/// A circle of points c + u cos θ + w sin θ (u ⊥ w, ‖u‖ = ‖w‖): R(k, θ) p moved by `offset`.
+struct Circle {
+    c: Vector3<f64>,
+    u: Vector3<f64>,
+    w: Vector3<f64>,
+}
+
+impl Circle {
+    fn new(offset: &Vector3<f64>, k: &Vector3<f64>, p: &Vector3<f64>) -> Self {
+        let along = k * k.dot(p);
+        Self {
+            c: offset + along,
+            u: p - along,
+            w: k.cross(p),
+        }
+    }
+
+    fn at(&self, x: (f64, f64)) -> Vector3<f64> {
+        self.c + self.u * x.0 + self.w * x.1
+    }
+}
+
+/// Polynomial product (ascending coefficients; `a.len() + b.len() - 1 ≤ 5`).
+fn poly_mul(a: &[f64], b: &[f64]) -> [f64; 5] {
+    let mut out = [0.0; 5];
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in b.iter().enumerate() {
+            out[i + j] += x * y;
+        }
+    }
+    out
+}
+
+/// Subproblem 5, three cones: (θ1, θ2, θ3) with p0 + R(k1, θ1) p1 = R(k2, θ2)(p2 + R(k3, θ3) p3).
+///
+/// v1(θ1) = p0 + R1 p1 and v3(θ3) = p2 + R3 p3 run on circles c + u cos θ + w sin θ; R2 maps v3
+/// onto v1 exactly when both have the same height h = k2·v and the same norm. On circle i the
+/// height is δᵢ + gᵢ·x (x = (cos θ, sin θ), gᵢ = (k2·uᵢ, k2·wᵢ), Gᵢ = ‖gᵢ‖), so for a height h,
+/// x = gᵢ (h − δᵢ)/Gᵢ² ± gᵢ⊥ √Rᵢ / Gᵢ² with Rᵢ = Gᵢ² − (h − δᵢ)², and the squared norm
+/// ‖c‖² + ‖u‖² + mᵢ·x (mᵢ = 2(c·u, c·w)) is Pᵢ(h) ± Bᵢ √Rᵢ with Pᵢ linear. Equal norms,
+/// P1 − P3 = ∓B1 √R1 ± B3 √R3, squared twice: (D² − B1² R1 − B3² R3)² = 4 B1² B3² R1 R3 with
+/// D = P1 − P3 — a quartic in h. Each real root, with the sign pair whose norms agree, gives
+/// θ1 and θ3; θ2 is subproblem 1 (v3 → v1 about k2). Up to 4 solutions; none when there is no
+/// exact one. A circle whose height does not change (Gᵢ ≈ 0: its axis ∥ k2) fixes h, and the
+/// other angle follows by [`trig`].
+pub fn sp5(
+    p0: &Vector3<f64>,
+    p1: &Vector3<f64>,
+    p2: &Vector3<f64>,
+    p3: &Vector3<f64>,
+    k1: &Vector3<f64>,
+    k2: &Vector3<f64>,
+    k3: &Vector3<f64>,
+) -> Few<(f64, f64, f64), 4> {
+    let one = Circle::new(p0, k1, p1);
+    let three = Circle::new(p2, k3, p3);
+    let scale = [p0, p1, p2, p3]
+        .iter()
+        .map(|v| v.norm())
+        .sum::<f64>()
+        .max(1e-300);
+    let mut out: Few<(f64, f64, f64), 4> = Few::default();
+    let height = |s: &Circle| (k2.dot(&s.c), (k2.dot(&s.u), k2.dot(&s.w)));
+    let norm_coeffs = |s: &Circle| {
+        (
+            s.c.norm_squared() + s.u.norm_squared(),
+            (2.0 * s.c.dot(&s.u), 2.0 * s.c.dot(&s.w)),
+        )
+    };
+    let (d1, g1) = height(&one);
+    let (d3, g3) = height(&three);
+    let (n1, m1) = norm_coeffs(&one);
+    let (n3, m3) = norm_coeffs(&three);
+    let gg1 = g1.0 * g1.0 + g1.1 * g1.1;
+    let gg3 = g3.0 * g3.0 + g3.1 * g3.1;
+    let tol = 1e-12 * scale * scale;
+    let mut accept = |x1: (f64, f64), x3: (f64, f64)| {
+        let (v1, v3) = (one.at(x1), three.at(x3));
+        if (v1.norm_squared() - v3.norm_squared()).abs() > 1e-7 * scale * scale
+            || (k2.dot(&v1) - k2.dot(&v3)).abs() > 1e-7 * scale
+        {
+            return;
+        }
+        let t2 = match sp1(&v3, &v1, k2) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(t) => t,
+            Angles::Any => 0.0,
+        };
+        let t = polish5(
+            p0,
+            p1,
+            p2,
+            p3,
+            k1,
+            k2,
+            k3,
+            (x1.1.atan2(x1.0), t2, x3.1.atan2(x3.0)),
+        );
+        let near = |a: &(f64, f64, f64)| {
+            wrap(a.0 - t.0).abs() < 1e-9
+                && wrap(a.1 - t.1).abs() < 1e-9
+                && wrap(a.2 - t.2).abs() < 1e-9
+        };
+        if !out.iter().any(near) {
+            out.push(t);
+        }
+    };
+    // x on a circle at height h: the two points (or one at the tangency).
+    let points = |h: f64, d: f64, g: (f64, f64), gg: f64| -> Few<(f64, f64)> {
+        let r = gg - (h - d) * (h - d);
+        if r < -1e-9 * gg {
+            return Few::default();
+        }
+        let root = r.max(0.0).sqrt();
+        let base = (g.0 * (h - d) / gg, g.1 * (h - d) / gg);
+        let perp = (-g.1 * root / gg, g.0 * root / gg);
+        let a = (base.0 + perp.0, base.1 + perp.1);
+        let b = (base.0 - perp.0, base.1 - perp.1);
+        if root == 0.0 {
+            Few::one(a)
+        } else {
+            Few::two(a, b)
+        }
+    };
+    // x on a circle with squared norm `target` (n + m·x = target): trig.
+    let by_norm = |n: f64, m: (f64, f64), target: f64| -> Few<(f64, f64)> {
+        match trig(m.1, m.0, target - n, m.0.abs() + m.1.abs() + n.abs()) {
+            Angles::Exact(v) => {
+                let mut f = Few::default();
+                for &t in v.iter() {
+                    f.push((t.cos(), t.sin()));
+                }
+                f
+            }
+            _ => Few::default(),
+        }
+    };
+    match (gg1 > tol, gg3 > tol) {
+        (true, true) => {}
+        (false, true) => {
+            for &x3 in points(d1, d3, g3, gg3).iter() {
+                let target = n3 + m3.0 * x3.0 + m3.1 * x3.1;
+                for &x1 in by_norm(n1, m1, target).iter() {
+                    accept(x1, x3);
+                }
+            }
+            return out;
+        }
+        (true, false) => {
+            for &x1 in points(d3, d1, g1, gg1).iter() {
+                let target = n1 + m1.0 * x1.0 + m1.1 * x1.1;
+                for &x3 in by_norm(n3, m3, target).iter() {
+                    accept(x1, x3);
+                }
+            }
+            return out;
+        }
+        (false, false) => return out,
+    }
+    // Pᵢ(h) = pᵢ0 + pᵢ1 h, Bᵢ, Rᵢ(h) = (Gᵢ² − δᵢ²) + 2δᵢ h − h².
+    let lin = |n: f64, m: (f64, f64), d: f64, g: (f64, f64), gg: f64| {
+        let mg = (m.0 * g.0 + m.1 * g.1) / gg;
+        ([n - mg * d, mg], (m.1 * g.0 - m.0 * g.1) / gg)
+    };
+    let (p1c, b1) = lin(n1, m1, d1, g1, gg1);
+    let (p3c, b3) = lin(n3, m3, d3, g3, gg3);
+    let r1 = [gg1 - d1 * d1, 2.0 * d1, -1.0];
+    let r3 = [gg3 - d3 * d3, 2.0 * d3, -1.0];
+    let d = [p1c[0] - p3c[0], p1c[1] - p3c[1]];
+    let dd = poly_mul(&d, &d);
+    let mut lhs = [0.0; 3];
+    for i in 0..3 {
+        lhs[i] = dd[i] - b1 * b1 * r1[i] - b3 * b3 * r3[i];
+    }
+    let left = poly_mul(&lhs, &lhs);
+    let right = poly_mul(&r1, &r3);
+    let quartic: Vec<f64> = (0..5)
+        .map(|i| left[i] - 4.0 * b1 * b1 * b3 * b3 * right[i])
+        .collect();
+    for &h in real_roots(&quartic).iter() {
+        for &x1 in points(h, d1, g1, gg1).iter() {
+            for &x3 in points(h, d3, g3, gg3).iter() {
+                accept(x1, x3);
+            }
+        }
+    }
+    out
+}
+
+/// Newton steps on subproblem 5's equation f = p0 + R1 p1 − R2 (p2 + R3 p3) (3 equations, 3
+/// angles; ∂f/∂θ1 = k1 × R1 p1, ∂f/∂θ2 = −k2 × R2 v3, ∂f/∂θ3 = −R2 (k3 × R3 p3)) while ‖f‖
+/// falls: the quartic's roots carry its rounding (√ε near a double root) into the angles.
+#[allow(clippy::too_many_arguments)]
+fn polish5(
+    p0: &Vector3<f64>,
+    p1: &Vector3<f64>,
+    p2: &Vector3<f64>,
+    p3: &Vector3<f64>,
+    k1: &Vector3<f64>,
+    k2: &Vector3<f64>,
+    k3: &Vector3<f64>,
+    mut t: (f64, f64, f64),
+) -> (f64, f64, f64) {
+    let f = |t: (f64, f64, f64)| {
+        let v3 = p2 + rotate(k3, t.2, p3);
+        p0 + rotate(k1, t.0, p1) - rotate(k2, t.1, &v3)
+    };
+    let mut err = f(t);
+    for _ in 0..4 {
+        let r3p3 = rotate(k3, t.2, p3);
+        let v3 = p2 + r3p3;
+        let j = nalgebra::Matrix3::from_columns(&[
+            k1.cross(&rotate(k1, t.0, p1)),
+            -k2.cross(&rotate(k2, t.1, &v3)),
+            -rotate(k2, t.1, &k3.cross(&r3p3)),
+        ]);
+        let Some(step) = j.lu().solve(&(-err)) else {
+            break;
+        };
+        let next = (t.0 + step[0], t.1 + step[1], t.2 + step[2]);
+        let e = f(next);
+        if e.norm() >= err.norm() {
+            break;
+        }
+        t = next;
+        err = e;
+    }
+    (wrap(t.0), wrap(t.1), wrap(t.2))
+}
+
+/// Subproblem 6, four cones in two angles: (θ1, θ2) with
+/// h1ᵀ R(k1, θ1) p1 + h2ᵀ R(k2, θ2) p2 = d1 and h3ᵀ R(k3, θ1) p3 + h4ᵀ R(k4, θ2) p4 = d2.
+///
+/// Each term is affine in x1 = (cos θ1, sin θ1) or x2 (the identity in the module
+/// documentation), so A \[x1; x2\] = b with A 2 × 4: x = x₀ + N ξ (x₀ the least-norm solution,
+/// N a basis of A's null space, by SVD). With x1 = a + M1 ξ and x2 = b + M2 ξ, and M1
+/// invertible (else the roles swap), x1 = η on the unit circle gives x2 = e + F η
+/// (F = M2 M1⁻¹, e = b − F a), and ‖e + F η‖² = 1 with η = (cos φ, sin φ) is a quartic in
+/// t = tan(φ/2) (φ = π checked apart). Up to 4 solutions; none when there is no exact one or
+/// A has rank < 2 (a degenerate instance).
+pub fn sp6(
+    h: [&Vector3<f64>; 4],
+    k: [&Vector3<f64>; 4],
+    p: [&Vector3<f64>; 4],
+    d1: f64,
+    d2: f64,
+) -> Few<(f64, f64), 4> {
+    use nalgebra::{Matrix2, Matrix2x4, Vector2, Vector4};
+    let row = |i: usize| {
+        let perp = p[i] - k[i] * k[i].dot(p[i]);
+        (
+            h[i].dot(&perp),
+            h[i].dot(&k[i].cross(p[i])),
+            h[i].dot(k[i]) * k[i].dot(p[i]),
+        )
+    };
+    let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+    let a = Matrix2x4::new(r0.0, r0.1, r1.0, r1.1, r2.0, r2.1, r3.0, r3.1);
+    let rhs = Vector2::new(d1 - r0.2 - r1.2, d2 - r2.2 - r3.2);
+    let mut out: Few<(f64, f64), 4> = Few::default();
+    let svd = a.transpose().svd(true, true);
+    let Some(u) = svd.u else {
+        return out;
+    };
+    let sv = svd.singular_values;
+    if sv.min() <= 1e-12 * sv.max().max(1e-300) {
+        return out;
+    }
+    // Aᵀ = U Σ Vᵀ (U 4 × 2): the least-norm solution is U Σ⁻¹ Vᵀ b; the null space is the
+    // orthogonal complement of U's columns.
+    let Some(v_t) = svd.v_t else {
+        return out;
+    };
+    let y = v_t * rhs;
+    let x0: Vector4<f64> = u * Vector2::new(y[0] / sv[0], y[1] / sv[1]);
+    let proj = nalgebra::Matrix4::identity() - u * u.transpose();
+    // Two columns of the projector spanning the complement, orthonormalised.
+    let mut basis: Vec<Vector4<f64>> = Vec::new();
+    for j in 0..4 {
+        let mut v: Vector4<f64> = proj.column(j).into();
+        for b in &basis {
+            v -= b * b.dot(&v);
+        }
+        if v.norm() > 1e-6 && basis.len() < 2 {
+            basis.push(v.normalize());
+        }
+    }
+    if basis.len() < 2 {
+        return out;
+    }
+    let nm = nalgebra::Matrix4x2::from_columns(&[basis[0], basis[1]]);
+    let (xa, xb) = (Vector2::new(x0[0], x0[1]), Vector2::new(x0[2], x0[3]));
+    let ma: Matrix2<f64> = nm.fixed_rows::<2>(0).into();
+    let mb: Matrix2<f64> = nm.fixed_rows::<2>(2).into();
+    let swap = ma.determinant().abs() < mb.determinant().abs();
+    let (a0, m_a, b0, m_b) = if swap {
+        (xb, mb, xa, ma)
+    } else {
+        (xa, ma, xb, mb)
+    };
+    let Some(inv) = m_a.try_inverse() else {
+        return out;
+    };
+    let f = m_b * inv;
+    let e = b0 - f * a0;
+    let s = f.transpose() * f;
+    let fe = f.transpose() * e;
+    let c0 = e.norm_squared() - 1.0;
+    // S00 c² + 2 S01 c s + S11 s² + 2 fe·(c, s) + c0 = 0, c = (1 − t²)/(1 + t²), s = 2t/(1 + t²).
+    let one_m = [1.0, 0.0, -1.0];
+    let two_t = [0.0, 2.0, 0.0];
+    let one_p = [1.0, 0.0, 1.0];
+    let mut quartic = [0.0; 5];
+    let terms = [
+        (s[(0, 0)], poly_mul(&one_m, &one_m)),
+        (2.0 * s[(0, 1)], poly_mul(&one_m, &two_t)),
+        (s[(1, 1)], poly_mul(&two_t, &two_t)),
+        (2.0 * fe[0], poly_mul(&one_m, &one_p)),
+        (2.0 * fe[1], poly_mul(&two_t, &one_p)),
+        (c0, poly_mul(&one_p, &one_p)),
+    ];
+    for (w, poly) in terms {
+        for i in 0..5 {
+            quartic[i] += w * poly[i];
+        }
+    }
+    let mut etas: Few<(f64, f64), 5> = Few::default();
+    for &t in real_roots(&quartic).iter() {
+        let q = 1.0 + t * t;
+        etas.push(((1.0 - t * t) / q, 2.0 * t / q));
+    }
+    // φ = π (t = ∞) is a root when the quartic's leading coefficient vanishes.
+    let at_pi = Vector2::new(-1.0, 0.0);
+    if ((e + f * at_pi).norm_squared() - 1.0).abs() <= 1e-10 {
+        etas.push((-1.0, 0.0));
+    }
+    for &(c, sn) in etas.iter() {
+        let eta = Vector2::new(c, sn);
+        let other = e + f * eta;
+        if (other.norm_squared() - 1.0).abs() > 1e-7 {
+            continue;
+        }
+        let (x1, x2) = if swap { (other, eta) } else { (eta, other) };
+        let t = polish6(h, k, p, d1, d2, (x1[1].atan2(x1[0]), x2[1].atan2(x2[0])));
+        if !out
+            .iter()
+            .any(|o| wrap(o.0 - t.0).abs() < 1e-9 && wrap(o.1 - t.1).abs() < 1e-9)
+        {
+            out.push(t);
+        }
+    }
+    out
+}
+
+/// Newton steps on subproblem 6's two equations (∂/∂θ hᵀ R(k, θ) p = hᵀ (k × R(k, θ) p)) while
+/// the residual falls: the quartic's rounding, carried into the angles, taken out.
+fn polish6(
+    h: [&Vector3<f64>; 4],
+    k: [&Vector3<f64>; 4],
+    p: [&Vector3<f64>; 4],
+    d1: f64,
+    d2: f64,
+    mut t: (f64, f64),
+) -> (f64, f64) {
+    let term = |i: usize, th: f64| h[i].dot(&rotate(k[i], th, p[i]));
+    let slope = |i: usize, th: f64| h[i].dot(&k[i].cross(&rotate(k[i], th, p[i])));
+    let f = |t: (f64, f64)| {
+        nalgebra::Vector2::new(
+            term(0, t.0) + term(1, t.1) - d1,
+            term(2, t.0) + term(3, t.1) - d2,
+        )
+    };
+    let mut err = f(t);
+    for _ in 0..4 {
+        let j = nalgebra::Matrix2::new(slope(0, t.0), slope(1, t.1), slope(2, t.0), slope(3, t.1));
+        let Some(step) = j.lu().solve(&(-err)) else {
+            break;
+        };
+        let next = (t.0 + step[0], t.1 + step[1]);
+        let e = f(next);
+        if e.norm() >= err.norm() {
+            break;
+        }
+        t = next;
+        err = e;
+    }
+    (wrap(t.0), wrap(t.1))
 }

@@ -45,6 +45,10 @@ fn check(kin: &Kinematics, name: &str, trials: usize) {
         let q_star = rng.config(kin);
         let target = fk1(kin, &q_star).unwrap();
         solver.solve(kin, &mut ws, &target, 0.0, &mut sols).unwrap();
+        assert!(
+            sols.is_exact(),
+            "{name}: no exact solution for q* = {q_star:?}"
+        );
         verify(kin, name, &sols, &target);
         assert!(
             sols.iter().any(|q| same(q, &q_star, 1e-7)),
@@ -142,14 +146,14 @@ fn other_families_are_refused_by_name() {
     let (_, _, kin) = common::load("planar_3r.urdf", None, None);
     let e = AnalyticIk::new(&kin).unwrap_err();
     assert!(e.to_string().contains("no analytic solver"), "{e}");
-    // Panda: joint 5 locked leaves a spherical wrist alone (a quartic, not solved yet).
+    // Panda: joint 1 locked leaves two intersecting axes only (a 1D search, not solved here).
     let (_, _, kin) = common::load("panda.urdf", None, None);
-    let e = AnalyticIk::locked(&kin, 4).unwrap_err();
-    assert!(e.to_string().contains("panda_joint5"), "{e}");
-    assert!(e.to_string().contains("spherical wrist only"), "{e}");
+    let e = AnalyticIk::locked(&kin, 0).unwrap_err();
+    assert!(e.to_string().contains("panda_joint1"), "{e}");
+    assert!(e.to_string().contains("1D search"), "{e}");
     assert_eq!(
         screwkit_solve::analytic::describe(&kin),
-        "7R (redundant): analytic with one joint locked (joint 4, 6, 7)"
+        "7R (redundant): analytic with one joint locked (joint 4, 5, 6, 7)"
     );
     // A locked value outside the joint's limits.
     let s = AnalyticIk::locked(&kin, 6).unwrap();
@@ -163,7 +167,8 @@ fn other_families_are_refused_by_name() {
 #[test]
 fn seven_r_arms_with_a_joint_locked() {
     let (_, _, panda) = common::load("panda.urdf", None, None);
-    for j in [3, 5, 6] {
+    // Joint 5 locked leaves a spherical wrist only (subproblem 5), read from the tip.
+    for j in [3, 4, 5, 6] {
         check_locked(&panda, "panda", j, 200);
     }
     assert_eq!(AnalyticIk::auto(&panda).unwrap().locked_joint(), Some(6));
@@ -294,7 +299,7 @@ fn real_arms_of_shared_urdf() {
         ("panda_pybullet.urdf", "panda_link0", "panda_hand"),
     ] {
         let kin = load(f, base, tip);
-        for j in [3, 5, 6] {
+        for j in [3, 4, 5, 6] {
             check_locked(&kin, f, j, 100);
         }
     }
@@ -345,4 +350,58 @@ fn batch_equals_single_calls_on_any_thread_count() {
     }
     assert!(one[17].is_err());
     assert!(solver.solve_batch(&kin, &targets[..20], None).is_err());
+}
+
+/// A 6R URDF from per-joint (origin xyz, origin rpy, axis), limits ±3.
+fn arm(joints: &[([f64; 3], [f64; 3], [f64; 3])]) -> Kinematics {
+    let mut s = String::from(r#"<robot name="random"><link name="l0"/>"#);
+    for (i, (xyz, rpy, axis)) in joints.iter().enumerate() {
+        s.push_str(&format!(
+            r#"<link name="l{n}"/><joint name="j{n}" type="revolute"><parent link="l{i}"/><child link="l{n}"/><origin xyz="{} {} {}" rpy="{} {} {}"/><axis xyz="{} {} {}"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>"#,
+            xyz[0], xyz[1], xyz[2], rpy[0], rpy[1], rpy[2], axis[0], axis[1], axis[2],
+            n = i + 1
+        ));
+    }
+    s.push_str(r#"<link name="tool"/><joint name="t" type="fixed"><parent link="l6"/><child link="tool"/><origin xyz="0.05 0.02 0.1" rpy="0.3 0.2 0.1"/></joint></robot>"#);
+    let tree = screwkit_model::urdf::load_str(&s, "random.urdf").unwrap();
+    Kinematics::new(&Chain::from_tree(&tree, None, Some("tool")).unwrap())
+}
+
+#[test]
+fn random_arms_of_the_quartic_families() {
+    let mut r = Sampler::new(77);
+    let mut v = |scale: f64| {
+        [
+            (r.uniform() * 2.0 - 1.0) * scale,
+            (r.uniform() * 2.0 - 1.0) * scale,
+            (r.uniform() * 2.0 - 1.0) * scale,
+        ]
+    };
+    for trial in 0..24 {
+        let wrist = trial % 2 == 0;
+        let mut joints: Vec<([f64; 3], [f64; 3], [f64; 3])> = Vec::new();
+        for j in 0..6 {
+            let (xyz, rpy) = (v(0.4), v(1.5));
+            let axis = v(1.0);
+            joints.push(if wrist && j >= 4 {
+                // Axes 4, 5, 6 through one point: no offset after joint 4.
+                ([0.0; 3], rpy, axis)
+            } else if !wrist && (j == 2 || j == 3) {
+                // Axes 2, 3, 4 parallel: same axis, frames not turned.
+                (xyz, [0.0; 3], joints[1].2)
+            } else {
+                (xyz, rpy, axis)
+            });
+        }
+        let kin = arm(&joints);
+        let c = classify(&kin);
+        let want = if wrist {
+            Family::SphericalWrist
+        } else {
+            Family::ThreeParallel
+        };
+        assert_eq!(c.family, want, "arm {trial}: {joints:?}");
+        let name = format!("{want:?} arm {trial}");
+        check(&kin, &name, 40);
+    }
 }

@@ -193,3 +193,133 @@ fn sp4_unit_agrees_with_sp4_and_keeps_precision_near_tangency() {
     // Not perpendicular to the axis: not this subproblem's case.
     assert!(sp4_unit(&Vector3::z(), &Vector3::x(), &Vector3::z(), &Vector3::z()).is_none());
 }
+
+#[test]
+fn real_roots_of_quartics() {
+    use screwkit_solve::subproblem::real_roots;
+    let mut r = Sampler::new(21);
+    for _ in 0..2000 {
+        // (x − a)(x − b)(x − c)(x − d) with known roots, or two of them complex.
+        let roots: Vec<f64> = (0..4).map(|_| r.uniform() * 6.0 - 3.0).collect();
+        let complex = r.uniform() < 0.3;
+        let mut poly = vec![1.0];
+        let mut times = |lin: &[f64]| {
+            let mut out = vec![0.0; poly.len() + lin.len() - 1];
+            for (i, a) in poly.iter().enumerate() {
+                for (j, b) in lin.iter().enumerate() {
+                    out[i + j] += a * b;
+                }
+            }
+            poly = out;
+        };
+        times(&[-roots[0], 1.0]);
+        times(&[-roots[1], 1.0]);
+        if complex {
+            times(&[roots[2] * roots[2] + 1.0, -2.0 * roots[2], 1.0]);
+        } else {
+            times(&[-roots[2], 1.0]);
+            times(&[-roots[3], 1.0]);
+        }
+        let got = real_roots(&poly);
+        let want = if complex { &roots[..2] } else { &roots[..] };
+        for w in want {
+            // Close double roots split by √ε: 1e-6.
+            assert!(
+                got.iter().any(|g| (g - w).abs() < 1e-6),
+                "{got:?} lacks {w}"
+            );
+        }
+        assert!(got.len() <= want.len(), "{got:?} vs {want:?}");
+    }
+    // Degree drops: 2x − 4.
+    assert_eq!(&*real_roots(&[-4.0, 2.0, 0.0, 0.0, 0.0]), &[2.0]);
+    assert!(real_roots(&[1.0, 0.0, 1.0]).is_empty());
+}
+
+#[test]
+fn sp5_recovers_angle_triples() {
+    use screwkit_solve::subproblem::sp5;
+    let mut r = Sampler::new(22);
+    let mut found = 0;
+    for _ in 0..3000 {
+        let (k1, k2, k3) = (unit(&mut r), unit(&mut r), unit(&mut r));
+        let (p1, p2, p3) = (point(&mut r), point(&mut r), point(&mut r));
+        let (t1, t2, t3) = (angle(&mut r), angle(&mut r), angle(&mut r));
+        // p0 + R1 p1 = R2 (p2 + R3 p3).
+        let p0 = rot(&k2, t2, &(p2 + rot(&k3, t3, &p3))) - rot(&k1, t1, &p1);
+        let sols = sp5(&p0, &p1, &p2, &p3, &k1, &k2, &k3);
+        for &(a, b, c) in sols.iter() {
+            let lhs = p0 + rot(&k1, a, &p1);
+            let rhs = rot(&k2, b, &(p2 + rot(&k3, c, &p3)));
+            assert!((lhs - rhs).norm() < 1e-6, "residual {}", (lhs - rhs).norm());
+        }
+        if sols
+            .iter()
+            .any(|&(a, b, c)| close(a, t1) && close(b, t2) && close(c, t3))
+        {
+            found += 1;
+        } else {
+            // Only near a double root may the known triple be missed (it is then within √ε).
+            assert!(
+                sols.iter().any(|&(a, b, c)| wrap(a - t1).abs() < 1e-4
+                    && wrap(b - t2).abs() < 1e-4
+                    && wrap(c - t3).abs() < 1e-4),
+                "{sols:?} lacks ({t1}, {t2}, {t3})"
+            );
+        }
+    }
+    assert!(found >= 2990, "{found}");
+    // k1 ∥ k2: circle 1 keeps its height; still solved.
+    let (k, p1, p2, p3) = (
+        Vector3::z(),
+        Vector3::new(1.0, 0.0, 0.3),
+        Vector3::new(0.2, 0.5, 0.0),
+        Vector3::new(0.0, 0.4, 0.1),
+    );
+    let k3 = Vector3::new(1.0, 1.0, 0.0).normalize();
+    let p0 = rot(&k, 0.4, &(p2 + rot(&k3, -0.7, &p3))) - rot(&k, 1.1, &p1);
+    let sols = sp5(&p0, &p1, &p2, &p3, &k, &k, &k3);
+    assert!(sols.iter().all(|&(a, b, c)| {
+        ((p0 + rot(&k, a, &p1)) - rot(&k, b, &(p2 + rot(&k3, c, &p3)))).norm() < 1e-9
+    }));
+    assert!(!sols.is_empty());
+    // Out of reach: no solution.
+    let far = Vector3::new(100.0, 0.0, 0.0);
+    assert!(sp5(&far, &p1, &p2, &p3, &Vector3::x(), &Vector3::y(), &k3).is_empty());
+}
+
+#[test]
+fn sp6_recovers_angle_pairs() {
+    use screwkit_solve::subproblem::sp6;
+    let mut r = Sampler::new(23);
+    let mut found = 0;
+    for _ in 0..3000 {
+        let h: Vec<Vector3<f64>> = (0..4).map(|_| unit(&mut r)).collect();
+        let k: Vec<Vector3<f64>> = (0..4).map(|_| unit(&mut r)).collect();
+        let p: Vec<Vector3<f64>> = (0..4).map(|_| point(&mut r)).collect();
+        let (t1, t2) = (angle(&mut r), angle(&mut r));
+        let f = |i: usize, t: f64| h[i].dot(&rot(&k[i], t, &p[i]));
+        let (d1, d2) = (f(0, t1) + f(1, t2), f(2, t1) + f(3, t2));
+        let sols = sp6(
+            [&h[0], &h[1], &h[2], &h[3]],
+            [&k[0], &k[1], &k[2], &k[3]],
+            [&p[0], &p[1], &p[2], &p[3]],
+            d1,
+            d2,
+        );
+        for &(a, b) in sols.iter() {
+            assert!((f(0, a) + f(1, b) - d1).abs() < 1e-6);
+            assert!((f(2, a) + f(3, b) - d2).abs() < 1e-6);
+        }
+        if sols.iter().any(|&(a, b)| close(a, t1) && close(b, t2)) {
+            found += 1;
+        } else {
+            assert!(
+                sols.iter()
+                    .any(|&(a, b)| wrap(a - t1).abs() < 1e-4 && wrap(b - t2).abs() < 1e-4),
+                "{sols:?} lacks ({t1}, {t2})"
+            );
+        }
+    }
+    assert!(found >= 2990, "{found}");
+}
