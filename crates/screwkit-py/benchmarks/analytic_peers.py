@@ -131,10 +131,12 @@ def compare(
                 distinct.append(s)
         counts.append(len(distinct))
         sol = e.IK(tp[k])
-        peers = {"eaik": [np.asarray(x) for x, ls in zip(sol.Q, sol.is_LS) if not ls]}
+        # Every peer solution counts when screwkit's FK says it reaches the target, whatever
+        # the peer's own least-squares flag.
+        peers = {"eaik": [np.asarray(x) for x in sol.Q]}
         if g is not None:
             r = g.get_ik(tp[k][:3, :3].T.tolist(), tp[k][:3, 3].tolist())
-            peers["ik-geo"] = [np.asarray(x) for x, ls in r if not ls]
+            peers["ik-geo"] = [np.asarray(x) for x, _ in r]
         for peer, sols in peers.items():
             theirs = [x for x in sols if reached(x, ts[k])]
             ok = len(theirs) == len(distinct) and all(

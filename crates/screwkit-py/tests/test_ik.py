@@ -126,8 +126,13 @@ def test_ik_all_seven_r_with_a_locked_joint() -> None:
     assert len(swept) > 0 and all(np.any(np.abs(values - v) < 1e-12) for v in swept[:, 6])
     for s in swept:
         np.testing.assert_allclose(oracle.fk(panda.joint_names, s), t, atol=1e-10)
-    with pytest.raises(ValueError, match="panda_joint5"):
-        panda.ik_all(t, lock=4)
+    # Joint 5 locked: a spherical wrist only, read from the tip (subproblem 5).
+    by_five = panda.ik_all(t, lock=4)
+    assert isinstance(by_five, np.ndarray) and len(by_five) > 0
+    for s in by_five:
+        np.testing.assert_allclose(oracle.fk(panda.joint_names, s), t, atol=1e-10)
+    with pytest.raises(ValueError, match="for 7R chains"):
+        screwkit.Robot.from_urdf(ASSETS / "ur5.urdf").ik_all(t, lock=0)
     with pytest.raises(ValueError, match="no joint"):
         panda.ik_all(t, lock="elbow")
     with pytest.raises(ValueError, match="exclude each other"):

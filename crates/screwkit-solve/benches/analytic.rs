@@ -60,6 +60,72 @@ fn bench(name: &str, kin: &Kinematics, solver: &AnalyticIk) {
     );
 }
 
+/// Does the analytic solver help a 7R arm's IK? Same targets (random configurations within
+/// the limits), one thread: LM from the midpoint; the analytic solver with joint 7 locked at
+/// the seed's (midpoint's) value, nearest solution; the same swept over 8 values of joint 7;
+/// and "analytic, else LM" (the locked solve first, LM when it has no solution in limits).
+fn seven_r_strategies(kin: &Kinematics, solver: &AnalyticIk) {
+    let mut ws = Workspace::new(kin);
+    let mut rng = Sampler::new(7);
+    let targets: Vec<_> = (0..2000)
+        .map(|_| fk(kin, &mut ws, &rng.config(kin)).unwrap())
+        .collect();
+    let mid = kin.midpoint();
+    let j = solver.locked_joint().unwrap();
+    let sweep = solver.sweep(kin, 8);
+    let mut sols = Solutions::default();
+    let opts = IkOptions::default();
+    let mut rows: Vec<(&str, f64, usize)> = Vec::new();
+    for (name, mode) in [
+        ("LM from the midpoint", 0),
+        ("analytic, lock at seed", 1),
+        ("analytic, 8-value sweep", 2),
+        ("analytic, else LM", 3),
+    ] {
+        let mut best = f64::INFINITY;
+        let mut solved = 0;
+        for _ in 0..3 {
+            solved = 0;
+            let t0 = Instant::now();
+            for t in &targets {
+                let ok = match mode {
+                    0 => {
+                        solve(kin, &mut ws, t, &mid, &opts)
+                            .unwrap()
+                            .status
+                            .converged
+                    }
+                    1 | 3 => {
+                        solver.solve(kin, &mut ws, t, mid[j], &mut sols).unwrap();
+                        let hit = sols.is_exact() && sols.nearest(&mid, None).is_some();
+                        hit || (mode == 3
+                            && solve(kin, &mut ws, t, &mid, &opts)
+                                .unwrap()
+                                .status
+                                .converged)
+                    }
+                    _ => {
+                        solver
+                            .solve_swept(kin, &mut ws, t, &sweep, &mut sols)
+                            .unwrap();
+                        sols.is_exact()
+                    }
+                };
+                solved += usize::from(ok);
+            }
+            best = best.min(t0.elapsed().as_secs_f64() / targets.len() as f64);
+        }
+        rows.push((name, best, solved));
+    }
+    for (name, t, solved) in rows {
+        println!(
+            "  panda 7R, {name:<26} {:7.2} µs/target, solved {:5.1} %",
+            t * 1e6,
+            100.0 * solved as f64 / targets.len() as f64
+        );
+    }
+}
+
 fn main() {
     let load = |f: &str| {
         Kinematics::new(
@@ -74,6 +140,7 @@ fn main() {
         &panda,
         &AnalyticIk::locked(&panda, 6).unwrap(),
     );
+    seven_r_strategies(&panda, &AnalyticIk::locked(&panda, 6).unwrap());
     // Joint 5 locked: a spherical wrist only, by subproblem 5 (a quartic).
     bench(
         "panda, j5 lock",

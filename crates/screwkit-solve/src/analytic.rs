@@ -1,7 +1,8 @@
 //! Analytic IK by subproblem decomposition: every solution of a 6R pose — or of a 7R pose with
-//! one joint locked — for the families that have a closed form ([`crate::family`]). The
-//! families solved by a 1D search (two intersecting or two parallel axes only) and the
-//! general 6R are not solved here: they get numerical IK.
+//! one joint locked — for the families that have a closed form ([`crate::family`]), and by a
+//! 1D search for two intersecting axes 5–6 (or 1–2, read from the tip). Two parallel axes
+//! only, other placements of two intersecting axes and the general 6R are not solved here:
+//! they get numerical IK.
 //!
 //! Solved here (with g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on
 //! them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i)):
@@ -63,8 +64,12 @@ type M3 = Matrix3<f64>;
 
 /// The most variables an analytic solution has (a 7R chain with one joint locked).
 pub const MAX_DOF: usize = 7;
-/// The most postures (solutions modulo 2π) of one pose for the families solved here.
-pub const MAX_POSTURES: usize = 8;
+/// The most postures (solutions modulo 2π) of one pose for the families solved here (8 in
+/// closed form, 16 for a 1D search).
+pub const MAX_POSTURES: usize = 16;
+
+/// Samples of the searched angle over (−π, π] for the 1D-search family.
+const SEARCH_SAMPLES: usize = 512;
 
 /// An exact posture whose FK residual exceeds this (× max(1, L)) is polished by Newton steps.
 const POLISH: f64 = 1e-13;
@@ -84,13 +89,17 @@ enum Method {
     Wrist,
     /// 2 ∥ 3 ∥ 4 only (subproblem 6).
     ThreeParallelGeneral,
+    /// Axes 5 and 6 meeting only: a 1D search over θ₄ (subproblem 5 inside).
+    Search56,
+    /// Axes 2 ∥ 3 only: a 1D search over θ₁ (subproblem 6 inside).
+    Search23,
 }
 
 /// The decomposition the relations of six lines (in the order given) allow, if any.
-fn method_of(lines: &[AxisLine], length: f64) -> Option<Method> {
+fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Method)> {
     let (family, parallel, intersecting, _) = relations(lines, true, length);
     let int = |i: usize| intersecting.iter().any(|&(j, _)| j == i);
-    match family {
+    let method = match family {
         Family::SphericalWristTwoParallel => Some(Method::WristParallel),
         Family::SphericalWristTwoIntersecting if int(0) => Some(Method::WristIntersecting12),
         Family::SphericalWristTwoIntersecting => Some(Method::WristIntersecting23),
@@ -105,8 +114,11 @@ fn method_of(lines: &[AxisLine], length: f64) -> Option<Method> {
             Some(Method::ThreeParallelGeneral)
         }
         Family::SphericalWrist => Some(Method::Wrist),
+        Family::TwoIntersecting if int(4) => Some(Method::Search56),
+        Family::TwoParallel if parallel.contains(&1) => Some(Method::Search23),
         _ => None,
-    }
+    };
+    method.map(|m| (family, m))
 }
 
 /// True when the first three lines and the last three each meet in a point: a 6R chain
@@ -118,14 +130,47 @@ fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
     relations(lines, true, length).3.is_some() && relations(&back, true, length).3.is_some()
 }
 
-/// The method for six lines in chain order: forward, else reversed (true).
-fn method_either(lines: &[AxisLine], length: f64) -> Option<(Method, bool)> {
-    if let Some(m) = method_of(lines, length) {
-        return Some((m, false));
+/// For the 1D search: the first three axes (in the order solved) must not nearly meet in one
+/// point. When they do — a spherical shoulder written with rounded angles, as the xArm7's
+/// 1.5708 for π/2 misses by 1e-6 m — the 3R position problem inside the search has solutions
+/// only in θ₄ windows narrower than any sampling, so the search would silently find nothing:
+/// an error naming the miss instead.
+fn search_guard(lines: &[AxisLine], reversed: bool, length: f64) -> Result<(), SolveError> {
+    let mut l = lines.to_vec();
+    if reversed {
+        l.reverse();
     }
+    let pair = |i: usize| {
+        if l[i].direction.cross(&l[i + 1].direction).norm() < 1e-6 {
+            None
+        } else {
+            Some(closest_points(&l[i], &l[i + 1]))
+        }
+    };
+    if let (Some((p, d1)), Some((q, d2))) = (pair(0), pair(1)) {
+        let miss = d1.max(d2).max((p - q).norm());
+        if miss <= 1e-4 * length {
+            return Err(SolveError::InvalidInput(format!(
+                "axes {} nearly meet in one point (within {miss:.1e}, the file's rounding?): \
+                 too close to a spherical shoulder for the 1D search; numerical IK only",
+                if reversed { "4-6" } else { "1-3" }
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The method for six lines in chain order, read forward or reversed (true): the more
+/// specialised family of the two (a closed form before a search), forward on a tie.
+fn method_either(lines: &[AxisLine], length: f64) -> Option<(Method, bool)> {
     let mut back = lines.to_vec();
     back.reverse();
-    method_of(&back, length).map(|m| (m, true))
+    match (method_of(lines, length), method_of(&back, length)) {
+        (Some((f, m)), Some((b, n))) => Some(if b < f { (n, true) } else { (m, false) }),
+        (Some((_, m)), None) => Some((m, false)),
+        (None, Some((_, n))) => Some((n, true)),
+        (None, None) => None,
+    }
 }
 
 /// A 6R problem ready to solve: lines in the order solved, the home of the 6R chain (chain
@@ -159,7 +204,7 @@ impl Prepared {
         };
         let meet = |i: usize| closest_points(&line(i), &line(i + 1)).0;
         let center = match method {
-            Method::ThreeParallel => meet(4),
+            Method::ThreeParallel | Method::Search56 => meet(4),
             Method::ThreeParallelGeneral => V3::zeros(),
             _ => (meet(3) + meet(4)) / 2.0,
         };
@@ -397,6 +442,9 @@ impl AnalyticIk {
             ));
         }
         let (method, reversed) = method_either(&c.axes, kin.length_scale).ok_or_else(fail)?;
+        if method == Method::Search56 {
+            search_guard(&c.axes, reversed, kin.length_scale)?;
+        }
         let lines: [AxisLine; 6] = c.axes.clone().try_into().map_err(|_| fail())?;
         Ok(Self {
             family: c.family,
@@ -456,6 +504,16 @@ impl AnalyticIk {
         }
         match (method_either(&a, l), method_either(&b, l)) {
             (Some(x), Some(y)) if x == y => {
+                if x.0 == Method::Search56 {
+                    search_guard(&a, x.1, l).map_err(|e| {
+                        SolveError::InvalidInput(format!(
+                            "locking joint {} ({}): {}",
+                            joint + 1,
+                            kin.names[joint],
+                            e.to_string().trim_start_matches("invalid input: ")
+                        ))
+                    })?;
+                }
                 solver.method = x.0;
                 solver.reversed = x.1;
                 solver.family = classify_axes(a.to_vec(), true, l).family;
@@ -472,18 +530,25 @@ impl AnalyticIk {
     }
 
     /// The solver of any chain screwkit solves analytically: a 6R chain as
-    /// [`AnalyticIk::new`], a 7R chain with the last joint whose locking leaves a solved
-    /// family (joint 7 first, then 6, …).
+    /// [`AnalyticIk::new`], a 7R chain with the last joint whose locking leaves a closed-form
+    /// family (joint 7 first, then 6, …), else the last one that leaves a 1D search.
     pub fn auto(kin: &Kinematics) -> Result<Self, SolveError> {
         if kin.dof() != 7 {
             return Self::new(kin);
         }
         let mut last = None;
+        let mut search = None;
         for j in (0..7).rev() {
             match Self::locked(kin, j) {
-                Ok(s) => return Ok(s),
+                Ok(s) if !matches!(s.method, Method::Search56 | Method::Search23) => return Ok(s),
+                Ok(s) => {
+                    search.get_or_insert(s);
+                }
                 Err(e) => last = Some(e),
             }
+        }
+        if let Some(s) = search {
+            return Ok(s);
         }
         Err(last.unwrap_or_else(|| SolveError::InvalidInput("no joint to lock".into())))
     }
@@ -570,6 +635,8 @@ impl AnalyticIk {
             Method::ThreeParallel => three_parallel(p, &g, false, &mut singular, &mut emit),
             Method::ThreeParallelGeneral => three_parallel(p, &g, true, &mut singular, &mut emit),
             Method::Wrist => wrist_only(p, &g, &mut singular, &mut emit),
+            Method::Search56 => search56(p, &g, &mut emit),
+            Method::Search23 => search23(p, &g, &mut emit),
         }
         out.singular = singular;
     }
@@ -871,19 +938,36 @@ pub fn describe(kin: &Kinematics) -> String {
     let c = classify(kin);
     match c.family {
         Family::Redundant7R => {
-            let joints: Vec<String> = (0..7)
-                .filter(|&j| AnalyticIk::locked(kin, j).is_ok())
-                .map(|j| (j + 1).to_string())
-                .collect();
-            if joints.is_empty() {
+            let (mut closed, mut search) = (Vec::new(), Vec::new());
+            for j in 0..7 {
+                if let Ok(s) = AnalyticIk::locked(kin, j) {
+                    let list = if matches!(s.method, Method::Search56 | Method::Search23) {
+                        &mut search
+                    } else {
+                        &mut closed
+                    };
+                    list.push((j + 1).to_string());
+                }
+            }
+            let mut parts = Vec::new();
+            if !closed.is_empty() {
+                parts.push(format!(
+                    "closed form with joint {} locked",
+                    closed.join(", ")
+                ));
+            }
+            if !search.is_empty() {
+                parts.push(format!(
+                    "a 1D search with joint {} locked",
+                    search.join(", ")
+                ));
+            }
+            if parts.is_empty() {
                 "7R (redundant): no joint whose locking leaves a family screwkit solves: \
                  numerical IK only"
                     .into()
             } else {
-                format!(
-                    "7R (redundant): analytic with one joint locked (joint {})",
-                    joints.join(", ")
-                )
+                format!("7R (redundant): analytic, {}", parts.join("; "))
             }
         }
         f => match AnalyticIk::new(kin) {
@@ -894,7 +978,8 @@ pub fn describe(kin: &Kinematics) -> String {
                 | Family::SphericalWristTwoIntersecting
                 | Family::ThreeParallelTwoIntersecting
                 | Family::SphericalWrist
-                | Family::ThreeParallel => format!(
+                | Family::ThreeParallel
+                | Family::TwoIntersecting => format!(
                     "{}; this arrangement is not solved by screwkit yet ({e}): numerical IK only",
                     f.describe()
                 ),
@@ -1110,6 +1195,274 @@ fn wrist_only(p: &Prepared, g: &Se3, singular: &mut bool, emit: &mut impl FnMut(
         wrist(p, &rw, singular, |t4, t5, t6, ok| {
             emit([t1, t2, t3, t4, t5, t6], ok);
         });
+    }
+}
+
+/// The triples (θ₁, θ₂, θ₃) reaching y = e₁ e₂ e₃ e₄ p₅₆ at θ₄ (subproblem 5), each with the
+/// orientation error e = k₅ᵀ R_w k₆ − k₅ᵀ k₆ (R_w = (R₁R₂R₃R₄)ᵀ R_g), zero exactly when
+/// R₅ R₆ = R_w has a solution.
+fn search56_at(p: &Prepared, g: &Se3, t4: f64) -> Few<([f64; 4], f64), 4> {
+    let (k, r, p56) = (&p.k, &p.r, &p.center);
+    let y = g.transform_point(p56);
+    let x = r[3] + rotate(&k[3], t4, &(p56 - r[3]));
+    let mut out = Few::default();
+    for &(phi, t2, t3) in sp5(
+        &(r[0] - r[1]),
+        &(y - r[0]),
+        &(r[2] - r[1]),
+        &(x - r[2]),
+        &k[0],
+        &k[1],
+        &k[2],
+    )
+    .iter()
+    {
+        let t = [-phi, t2, t3, t4];
+        let r14 = rotation(&k[0], t[0])
+            * rotation(&k[1], t[1])
+            * rotation(&k[2], t[2])
+            * rotation(&k[3], t[3]);
+        let rw = r14.transpose() * g.rotation();
+        out.push((t, k[4].dot(&(rw * k[5])) - k[4].dot(&k[5])));
+    }
+    out
+}
+
+/// The roots of a 1D search: `at(θ)` gives up to 4 branches (a state whose first 3 entries
+/// identify the branch, and an error e); the roots are the θ where a branch's e = 0. θ is
+/// sampled at [`SEARCH_SAMPLES`] points over a turn; consecutive branches are matched by
+/// nearness of their states; a sign change along a branch — or before a branch ends or after
+/// it begins inside an interval (two roots of a quartic merging: a fold, located by bisection
+/// on existence) — is bisected to machine precision. A root where e only touches zero (a
+/// double root) is missed, as by any sampled search; a sign change across a branch jump is
+/// rejected (|e| must vanish). Returns the states at the roots.
+fn search_1d(at: impl Fn(f64) -> Few<([f64; 4], f64), 4>) -> Vec<[f64; 4]> {
+    use std::f64::consts::{PI, TAU};
+    let theta = |i: usize| -PI + TAU * i as f64 / SEARCH_SAMPLES as f64;
+    let samples: Vec<Few<([f64; 4], f64), 4>> = (0..SEARCH_SAMPLES).map(|i| at(theta(i))).collect();
+    let dist = |a: &[f64; 4], b: &[f64; 4]| (0..3).map(|i| wrap(a[i] - b[i]).abs()).sum::<f64>();
+    // The branch at θ nearest to a reference state.
+    let nearest = |t: f64, reference: &[f64; 4]| -> Option<([f64; 4], f64)> {
+        at(t)
+            .iter()
+            .copied()
+            .min_by(|a, b| dist(&a.0, reference).total_cmp(&dist(&b.0, reference)))
+            .filter(|c| dist(&c.0, reference) < 0.5)
+    };
+    // The branch's sign change between `a` (triple ta, error ea) and `b`, bisected along it.
+    let bisect = |mut a: f64, mut b: f64, ea: f64, ta: [f64; 4]| -> Option<[f64; 4]> {
+        let (mut ea, mut ta) = (ea, ta);
+        for _ in 0..60 {
+            let mid = 0.5 * (a + b);
+            let (tm, em) = nearest(mid, &ta)?;
+            if em.signum() == ea.signum() && em != 0.0 {
+                (a, ea, ta) = (mid, em, tm);
+            } else {
+                b = mid;
+            }
+            if (b - a).abs() < 1e-15 {
+                break;
+            }
+        }
+        nearest(0.5 * (a + b), &ta)
+            .filter(|c| c.1.abs() <= 1e-9)
+            .map(|c| c.0)
+    };
+    // Where the branch through `t` at `from` ends on the way to `to` (roots of the quartic
+    // merging: a fold): the last point it exists, its triple and error.
+    let fold = |from: f64, to: f64, t: [f64; 4], e: f64| -> (f64, [f64; 4], f64) {
+        let (mut a, mut b, mut last) = (from, to, (t, e));
+        for _ in 0..50 {
+            let mid = 0.5 * (a + b);
+            match nearest(mid, &last.0) {
+                Some(c) => {
+                    a = mid;
+                    last = c;
+                }
+                None => b = mid,
+            }
+        }
+        (a, last.0, last.1)
+    };
+    let matched = |t: &[f64; 4], set: &Few<([f64; 4], f64), 4>| {
+        set.iter()
+            .copied()
+            .min_by(|x, y| dist(&x.0, t).total_cmp(&dist(&y.0, t)))
+            .filter(|c| dist(&c.0, t) < 0.5)
+    };
+    let mut roots: Vec<[f64; 4]> = Vec::new();
+    for i in 0..SEARCH_SAMPLES {
+        let j = (i + 1) % SEARCH_SAMPLES;
+        let (a0, b0) = (theta(i), theta(i) + TAU / SEARCH_SAMPLES as f64);
+        for &(ta, ea) in samples[i].iter() {
+            match matched(&ta, &samples[j]) {
+                Some((_, eb)) => {
+                    if ea.signum() != eb.signum() || ea == 0.0 {
+                        roots.extend(bisect(a0, b0, ea, ta));
+                    }
+                }
+                None => {
+                    // The branch ends inside the interval: a sign change before its end.
+                    let (end, te, ee) = fold(a0, b0, ta, ea);
+                    if ea.signum() != ee.signum() {
+                        roots.extend(bisect(a0, end, ea, ta));
+                    } else if ee.abs() <= 1e-9 {
+                        roots.push(te);
+                    }
+                }
+            }
+        }
+        // Branches born inside the interval.
+        for &(tb, eb) in samples[j].iter() {
+            if matched(&tb, &samples[i]).is_some() {
+                continue;
+            }
+            let (start, ts, es) = fold(b0, a0, tb, eb);
+            if es.signum() != eb.signum() {
+                roots.extend(bisect(start, b0, es, ts));
+            } else if es.abs() <= 1e-9 {
+                roots.push(ts);
+            }
+        }
+    }
+    roots
+}
+
+/// Axes 5 and 6 meeting (a 1D search over θ₄, as IK-Geo does for this family): p₅₆ is moved
+/// by joints 1–4 only, so for each θ₄ subproblem 5 gives up to 4 triples (θ₁, θ₂, θ₃)
+/// ([`search56_at`]), and a triple belongs to a solution when R₅ R₆ = R_w is solvable, i.e.
+/// when e(θ₄) = k₅ᵀ R_w k₆ − k₅ᵀ k₆ = 0 ([`search_1d`]); θ₅ and θ₆ then follow by
+/// subproblem 1.
+fn search56(p: &Prepared, g: &Se3, emit: &mut impl FnMut([f64; 6], bool)) {
+    let (k, rg) = (&p.k, g.rotation());
+    let roots = search_1d(|t4| search56_at(p, g, t4));
+    let mut found: Few<[f64; 6], MAX_POSTURES> = Few::default();
+    for t in roots {
+        let r14 = rotation(&k[0], t[0])
+            * rotation(&k[1], t[1])
+            * rotation(&k[2], t[2])
+            * rotation(&k[3], t[3]);
+        let rw = r14.transpose() * rg;
+        // R₅ k₆ = R_w k₆, R₆ k₅ = R₅ᵀ R_w k₅.
+        let t5 = match sp1(&k[5], &(rw * k[5]), &k[4]) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(x) => x,
+            Angles::Any => 0.0,
+        };
+        let want = rotation(&k[4], t5).transpose() * (rw * k[4]);
+        let t6 = match sp1(&k[4], &want, &k[5]) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(x) => x,
+            Angles::Any => 0.0,
+        };
+        let q = [t[0], t[1], t[2], wrap(t[3]), t5, t6];
+        if !found
+            .iter()
+            .any(|f| (0..6).all(|i| wrap(f[i] - q[i]).abs() < 1e-7))
+        {
+            found.push(q);
+            emit(q, true);
+        }
+    }
+}
+
+/// For the two-parallel search at θ₁, with h = e₁⁻¹ g = e₂ e₃ e₄ e₅ e₆ and R₂₃ = R(k₂, θ₂₃):
+/// the k₂ components of h e₆⁻¹ r₅ = e₂ e₃ e₄ r₅ and of R₄ R₅ k₅ = R₂₃ᵀ R_h R₆ᵀ k₅ give
+/// (R_hᵀ k₂)ᵀ R(k₆, −θ₆)(r₅ − r₆) − k₂ᵀ R₄ (r₅ − r₄) = k₂·r₄ − k₂·(h r₆) and
+/// (R_hᵀ k₂)ᵀ R(k₆, −θ₆) k₅ − k₂ᵀ R₄ k₅ = 0: subproblem 6 in (−θ₆, θ₄). Then θ₂₃ (subproblem
+/// 1), θ₅ (subproblem 1) and H₂₃ = h e₆⁻¹ e₅⁻¹ e₄⁻¹ = e₂ e₃; the branch is a solution when
+/// H₂₃ r₃ is as far from axis 2 as r₃ is: the error. State: (θ₆, θ₄, θ₂₃, θ₁).
+fn search23_at(p: &Prepared, g: &Se3, t1: f64) -> Few<([f64; 4], f64), 4> {
+    let (k, r) = (&p.k, &p.r);
+    let r1t = rotation(&k[0], -t1);
+    let hr = r1t * g.rotation();
+    let h = |x: &V3| r[0] + r1t * (g.transform_point(x) - r[0]);
+    let hk2 = hr.transpose() * k[1];
+    let (p56, p45) = (r[4] - r[5], r[3] - r[4]);
+    let mk5 = -k[4];
+    let d1 = k[1].dot(&r[3]) - k[1].dot(&h(&r[5]));
+    let mut out = Few::default();
+    for &(m6, t4) in sp6(
+        [&hk2, &k[1], &hk2, &k[1]],
+        [&k[5], &k[3], &k[5], &k[3]],
+        [&p56, &p45, &k[4], &mk5],
+        d1,
+        0.0,
+    )
+    .iter()
+    {
+        let t6 = -m6;
+        let (r4, r6) = (rotation(&k[3], t4), rotation(&k[5], t6));
+        let t23 = match sp1(&(r4 * k[4]), &(hr * (r6.transpose() * k[4])), &k[1]) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(x) => x,
+            Angles::Any => 0.0,
+        };
+        let (h23, _) = two_parallel_rest(p, g, t1, t23, t4, t6);
+        let off = |x: V3| {
+            let d = x - r[1];
+            (d - k[1] * k[1].dot(&d)).norm()
+        };
+        out.push(([t6, t4, t23, t1], off(h23) - off(r[2])));
+    }
+    out
+}
+
+/// θ₅ and H₂₃ r₃ for the two-parallel search (see [`search23_at`]).
+fn two_parallel_rest(p: &Prepared, g: &Se3, t1: f64, t23: f64, t4: f64, t6: f64) -> (V3, f64) {
+    let (k, r) = (&p.k, &p.r);
+    let r1t = rotation(&k[0], -t1);
+    let hr = r1t * g.rotation();
+    let (r4, r6, r23) = (
+        rotation(&k[3], t4),
+        rotation(&k[5], t6),
+        rotation(&k[1], t23),
+    );
+    // R₅ = R₄ᵀ R₂₃ᵀ R_h R₆ᵀ: R₅ k₆ = R₄ᵀ R₂₃ᵀ R_h k₆ (or, with k₆ ∥ k₅, R₅ᵀ k₄ = R₆ R_hᵀ R₂₃ k₄).
+    let t5 = if k[4].cross(&k[5]).norm() > 1e-3 {
+        let want = r4.transpose() * (r23.transpose() * (hr * k[5]));
+        match sp1(&k[5], &want, &k[4]) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(x) => x,
+            Angles::Any => 0.0,
+        }
+    } else {
+        let want = r6 * (hr.transpose() * (r23 * k[3]));
+        -match sp1(&k[3], &want, &k[4]) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(x) => x,
+            Angles::Any => 0.0,
+        }
+    };
+    // H₂₃ r₃ = h(e₆⁻¹(e₅⁻¹(e₄⁻¹ r₃))).
+    let back = |i: usize, t: f64, x: V3| r[i] + rotate(&k[i], -t, &(x - r[i]));
+    let x = back(5, t6, back(4, t5, back(3, t4, r[2])));
+    let hx = r[0] + r1t * (g.transform_point(&x) - r[0]);
+    (hx, t5)
+}
+
+/// Axes 2 ∥ 3 only (a 1D search over θ₁, as IK-Geo does for this family): [`search23_at`]
+/// and [`search_1d`]; then θ₂ by subproblem 1 (e₂ r₃ = H₂₃ r₃) and θ₃ = ±(θ₂₃ − θ₂).
+fn search23(p: &Prepared, g: &Se3, emit: &mut impl FnMut([f64; 6], bool)) {
+    let (k, r) = (&p.k, &p.r);
+    let s3 = k[1].dot(&k[2]).signum();
+    let mut found: Few<[f64; 6], MAX_POSTURES> = Few::default();
+    for st in search_1d(|t1| search23_at(p, g, t1)) {
+        let [t6, t4, t23, t1] = st;
+        let (h23, t5) = two_parallel_rest(p, g, t1, t23, t4, t6);
+        let t2 = match sp1(&(r[2] - r[1]), &(h23 - r[1]), &k[1]) {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(x) => x,
+            Angles::Any => 0.0,
+        };
+        let q = [wrap(t1), t2, wrap(s3 * (t23 - t2)), t4, t5, t6];
+        if !found
+            .iter()
+            .any(|f| (0..6).all(|i| wrap(f[i] - q[i]).abs() < 1e-7))
+        {
+            found.push(q);
+            emit(q, true);
+        }
     }
 }
 

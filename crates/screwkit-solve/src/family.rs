@@ -55,7 +55,8 @@ pub enum Family {
 
 impl Family {
     /// The family in words, with what it means for IK (and what screwkit does with it:
-    /// [`crate::analytic`] solves the first five; the others use numerical IK).
+    /// [`crate::analytic`] solves the first five, and the sixth when the intersecting axes
+    /// are 5–6 or 1–2; the others use numerical IK).
     pub fn describe(self) -> &'static str {
         match self {
             Family::SphericalWristTwoParallel => {
@@ -75,8 +76,7 @@ impl Family {
                 "three parallel axes: closed form by a quartic (subproblem 6), up to 8 solutions"
             }
             Family::TwoIntersecting => {
-                "two intersecting axes: 1D search, up to 16 solutions; not solved by screwkit \
-                 yet: numerical IK only"
+                "two intersecting axes: 1D search (sampled, then polished), up to 16 solutions"
             }
             Family::TwoParallel => {
                 "two parallel axes: 1D search, up to 16 solutions; not solved by screwkit yet: \

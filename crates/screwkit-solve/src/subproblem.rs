@@ -318,8 +318,9 @@ pub fn sp2(
 
 /// The real roots of the polynomial c\[0\] + c\[1\] x + … + c\[n\] xⁿ (n ≤ 4), each polished by
 /// Newton steps, in no particular order: the eigenvalues of the companion matrix (real Schur
-/// form) whose imaginary part is below 1e-8 of the root's size (a double root splits into a
-/// complex pair of that order), then 3 Newton steps on the polynomial. Leading coefficients
+/// form) whose imaginary part is below 1e-5 of the root's size (a double root splits into a
+/// complex pair of order √ε; the callers check every root against their own equations), then
+/// 3 Newton steps on the polynomial. Leading coefficients
 /// below 1e-13 of the largest are dropped (the degree falls).
 pub fn real_roots(c: &[f64]) -> Few<f64, 4> {
     let big = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -357,18 +358,30 @@ pub fn real_roots(c: &[f64]) -> Few<f64, 4> {
         }
         x
     };
-    let roots: Vec<nalgebra::Complex<f64>> = {
-        let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-        for i in 1..n {
-            m[(i, i - 1)] = 1.0;
-        }
-        for i in 0..n {
-            m[(i, n - 1)] = -c[i] / c[n];
-        }
-        m.complex_eigenvalues().iter().copied().collect()
-    };
-    for z in roots {
-        if z.im.abs() <= 1e-8 * (1.0 + z.re.abs()) {
+    // The companion matrix's eigenvalues, on the stack for each degree.
+    let mut roots = [nalgebra::Complex::new(f64::NAN, f64::NAN); 4];
+    macro_rules! companion {
+        ($m:ty) => {{
+            let mut m = <$m>::zeros();
+            for i in 1..n {
+                m[(i, i - 1)] = 1.0;
+            }
+            for i in 0..n {
+                m[(i, n - 1)] = -c[i] / c[n];
+            }
+            for (slot, z) in roots.iter_mut().zip(m.complex_eigenvalues().iter()) {
+                *slot = *z;
+            }
+        }};
+    }
+    match n {
+        1 => roots[0] = nalgebra::Complex::new(-c[0] / c[1], 0.0),
+        2 => companion!(nalgebra::Matrix2<f64>),
+        3 => companion!(nalgebra::Matrix3<f64>),
+        _ => companion!(nalgebra::Matrix4<f64>),
+    }
+    for &z in roots.iter().take(n) {
+        if z.im.abs() <= 1e-5 * (1.0 + z.re.abs()) {
             let x = polish(z.re);
             if x.is_finite()
                 && !out
@@ -423,7 +436,7 @@ fn poly_mul(a: &[f64], b: &[f64]) -> [f64; 5] {
 /// x = gᵢ (h − δᵢ)/Gᵢ² ± gᵢ⊥ √Rᵢ / Gᵢ² with Rᵢ = Gᵢ² − (h − δᵢ)², and the squared norm
 /// ‖c‖² + ‖u‖² + mᵢ·x (mᵢ = 2(c·u, c·w)) is Pᵢ(h) ± Bᵢ √Rᵢ with Pᵢ linear. Equal norms,
 /// P1 − P3 = ∓B1 √R1 ± B3 √R3, squared twice: (D² − B1² R1 − B3² R3)² = 4 B1² B3² R1 R3 with
-/// D = P1 − P3 — a quartic in h. Each real root, with the sign pair whose norms agree, gives
+/// D = P1 − P3 — a quartic in h (a quadratic when B1 or B3 vanishes). Each real root, with the sign pair whose norms agree, gives
 /// θ1 and θ3; θ2 is subproblem 1 (v3 → v1 about k2). Up to 4 solutions; none when there is no
 /// exact one. A circle whose height does not change (Gᵢ ≈ 0: its axis ∥ k2) fixes h, and the
 /// other angle follows by [`trig`].
@@ -552,16 +565,41 @@ pub fn sp5(
     let r3 = [gg3 - d3 * d3, 2.0 * d3, -1.0];
     let d = [p1c[0] - p3c[0], p1c[1] - p3c[1]];
     let dd = poly_mul(&d, &d);
-    let mut lhs = [0.0; 3];
-    for i in 0..3 {
-        lhs[i] = dd[i] - b1 * b1 * r1[i] - b3 * b3 * r3[i];
-    }
-    let left = poly_mul(&lhs, &lhs);
-    let right = poly_mul(&r1, &r3);
-    let quartic: Vec<f64> = (0..5)
-        .map(|i| left[i] - 4.0 * b1 * b1 * b3 * b3 * right[i])
-        .collect();
-    for &h in real_roots(&quartic).iter() {
+    // A norm that does not depend on the side of the circle (B ≈ 0: the circle's axis meets
+    // k2, as when two consecutive axes intersect) leaves one square root: D² = B² R, a
+    // quadratic (squaring again would only double its roots).
+    let small = 1e-9 * scale * scale;
+    let poly: [f64; 5] = match (b1.abs() <= small, b3.abs() <= small) {
+        (true, true) => [d[0], d[1], 0.0, 0.0, 0.0],
+        (true, false) | (false, true) => {
+            let (b, r) = if b1.abs() <= small {
+                (b3, r3)
+            } else {
+                (b1, r1)
+            };
+            [
+                dd[0] - b * b * r[0],
+                dd[1] - b * b * r[1],
+                dd[2] - b * b * r[2],
+                0.0,
+                0.0,
+            ]
+        }
+        (false, false) => {
+            let mut lhs = [0.0; 3];
+            for i in 0..3 {
+                lhs[i] = dd[i] - b1 * b1 * r1[i] - b3 * b3 * r3[i];
+            }
+            let left = poly_mul(&lhs, &lhs);
+            let right = poly_mul(&r1, &r3);
+            let mut q = [0.0; 5];
+            for i in 0..5 {
+                q[i] = left[i] - 4.0 * b1 * b1 * b3 * b3 * right[i];
+            }
+            q
+        }
+    };
+    for &h in real_roots(&poly).iter() {
         for &x1 in points(h, d1, g1, gg1).iter() {
             for &x3 in points(h, d3, g3, gg3).iter() {
                 accept(x1, x3);
