@@ -41,8 +41,8 @@
 //! lines after j moved by E = e^\[S_j\]v and home E M.
 //!
 //! [`AnalyticIk`] is the solver prepared once per chain (Pinocchio's model side);
-//! [`AnalyticIk::postures`] is the allocation-free kernel; [`AnalyticIk::solve`] turns postures
-//! into [`Solutions`]: the exact postures (or, when none is exact, the least-squares ones),
+//! [`AnalyticIk::postures`] is the kernel (allocation-free for the closed forms);
+//! [`AnalyticIk::solve`] turns postures into [`Solutions`]: the exact postures (or, when none is exact, the least-squares ones),
 //! deduplicated modulo 2π, each at every 2π shift inside the joint limits, each with its
 //! residual checked by forward kinematics. [`ik_all`] and [`ik_nearest`] are the one-call
 //! forms.
@@ -590,8 +590,8 @@ impl AnalyticIk {
         (out, home)
     }
 
-    /// Every posture reaching `target` (the allocation-free kernel): exact ones, and
-    /// least-squares ones on branches where the pose is out of reach. `lock_value` is the
+    /// Every posture reaching `target` (the kernel; allocation-free for the closed forms):
+    /// exact ones, and least-squares ones on branches where the pose is out of reach. `lock_value` is the
     /// locked joint's value (ignored without a lock). The target must be finite (checked by
     /// [`AnalyticIk::solve`]).
     pub fn postures(&self, target: &Se3, lock_value: f64, out: &mut Postures) {
