@@ -21,12 +21,14 @@ use std::time::Instant;
 
 use nalgebra::Matrix6xX;
 use rayon::prelude::*;
+use screwkit_lie::fma::dispatch;
 use screwkit_lie::{Frame, Se3};
 
+use crate::columns::W;
 use crate::error::{RowError, SolveError};
-use crate::fk::{fk_unchecked, link_poses_unchecked};
+use crate::fk::{fk_unchecked, link_poses_unchecked, TipBlock};
 use crate::ik::{check_options, check_target, solve_unchecked, IkOptions, IkStatus};
-use crate::jacobian::fk_jacobian_into;
+use crate::jacobian::{fk_jacobian_into, SpaceJacobianBlock};
 use crate::kinematics::Kinematics;
 use crate::sample::SplitMix64;
 use crate::workspace::Workspace;
@@ -123,7 +125,27 @@ fn for_each_row(
         }
         return Vec::new();
     }
-    let chunks = qs.len().div_ceil((CHUNK * n).max(1));
+    for_each_block(kin, qs, (out, out_width), extra, None, f)
+}
+
+/// A block kernel of [`for_each_block`]: W rows of q, their outputs, their extra outputs.
+type BlockFn<'a> = &'a (dyn Fn(&[f64], &mut [f64], Option<&mut [f64]>) + Sync);
+
+/// Rows in parallel chunks (dof > 0): with a `block` kernel, every W = [`W`] consecutive
+/// checked rows go through it (the structure-of-arrays kernels, each row bit for bit its
+/// single call); other rows (all of them without a block kernel, a block holding a bad row,
+/// the last < W rows) through `row` one by one. A bad row gets NaN output and an entry in the
+/// returned list (in row order).
+fn for_each_block(
+    kin: &Kinematics,
+    qs: &[f64],
+    (out, out_width): (&mut [f64], usize),
+    extra: Option<(&mut [f64], usize)>,
+    block: Option<BlockFn<'_>>,
+    row: impl Fn(&mut Workspace, &[f64], &mut [f64], Option<&mut [f64]>) + Sync,
+) -> Vec<RowError> {
+    let n = kin.dof();
+    let chunks = qs.len().div_ceil(CHUNK * n);
     let extra_width = extra.as_ref().map_or(0, |e| e.1);
     let extra_chunks: Vec<Option<&mut [f64]>> = match extra {
         Some((buf, w)) => buf.chunks_mut(CHUNK * w).map(Some).collect(),
@@ -135,25 +157,41 @@ fn for_each_row(
         .enumerate()
         .map_init(
             || Workspace::new(kin),
-            |ws, (c, ((o, mut e), q))| {
+            |ws, (chunk, ((o, mut e), q))| {
                 let mut errors = Vec::new();
-                for (i, (row_out, row)) in o.chunks_mut(out_width).zip(q.chunks(n)).enumerate() {
-                    let row_extra = e
-                        .as_deref_mut()
-                        .map(|e| &mut e[i * extra_width..(i + 1) * extra_width]);
-                    match kin.check_q(row) {
-                        Ok(()) => f(ws, row, row_out, row_extra),
-                        Err(error) => {
-                            row_out.fill(f64::NAN);
-                            if let Some(x) = row_extra {
-                                x.fill(f64::NAN);
+                let here = q.len() / n;
+                let mut r = 0;
+                while r < here {
+                    let size = (here - r).min(W);
+                    let ok = (r..r + size).all(|i| kin.check_q(&q[i * n..(i + 1) * n]).is_ok());
+                    let rows = |w: usize| r * w..(r + size) * w;
+                    if let (Some(block), true) = (block, size == W && ok) {
+                        block(
+                            &q[rows(n)],
+                            &mut o[rows(out_width)],
+                            e.as_deref_mut().map(|e| &mut e[rows(extra_width)]),
+                        );
+                        r += size;
+                        continue;
+                    }
+                    for i in r..r + size {
+                        let one = |w: usize| i * w..(i + 1) * w;
+                        let row_extra = e.as_deref_mut().map(|e| &mut e[one(extra_width)]);
+                        match kin.check_q(&q[one(n)]) {
+                            Ok(()) => row(ws, &q[one(n)], &mut o[one(out_width)], row_extra),
+                            Err(error) => {
+                                o[one(out_width)].fill(f64::NAN);
+                                if let Some(x) = row_extra {
+                                    x.fill(f64::NAN);
+                                }
+                                errors.push(RowError {
+                                    row: chunk * CHUNK + i,
+                                    error,
+                                });
                             }
-                            errors.push(RowError {
-                                row: c * CHUNK + i,
-                                error,
-                            });
                         }
                     }
+                    r += size;
                 }
                 errors
             },
@@ -167,12 +205,23 @@ fn for_each_row(
 pub fn fk_batch(kin: &Kinematics, qs: &[f64], poses: &mut [f64]) -> Result<(), SolveError> {
     let rows = batch_rows(kin, qs, poses.len(), 16)?;
     check_out(poses.len(), rows, 16, "pose values (N × 16)")?;
-    finish(for_each_row(
+    let n = kin.dof();
+    if n == 0 {
+        return finish(for_each_row(
+            kin,
+            rows,
+            qs,
+            (poses, 16),
+            None,
+            |_, q, out, _| fk_unchecked(kin, q).write_row_major(out),
+        ));
+    }
+    finish(for_each_block(
         kin,
-        rows,
         qs,
         (poses, 16),
         None,
+        Some(&|q, out, _| dispatch(TipBlock { kin, qs: q, out })),
         |_, q, out, _| fk_unchecked(kin, q).write_row_major(out),
     ))
 }
@@ -231,19 +280,39 @@ pub fn jacobian_batch(
         check_out(p.len(), rows, 16, "pose values (N × 16)")?;
     }
     let poses = poses.map(|p| (p, 16));
+    let single =
+        |ws: &mut Workspace, q: &[f64], j_out: &mut [f64], pose_out: Option<&mut [f64]>| {
+            let t = fk_jacobian_into(kin, &mut ws.jacobian, q, frame);
+            write_jacobian(&ws.jacobian, j_out);
+            if let Some(p) = pose_out {
+                t.write_row_major(p);
+            }
+        };
+    if frame == Frame::Space && kin.identity_map && n > 0 {
+        // W configurations at a time (each row bit for bit the single call).
+        return finish(for_each_block(
+            kin,
+            qs,
+            (jacobians, 6 * n),
+            poses,
+            Some(&|q, jac, poses| {
+                dispatch(SpaceJacobianBlock {
+                    kin,
+                    qs: q,
+                    jac,
+                    poses,
+                })
+            }),
+            single,
+        ));
+    }
     finish(for_each_row(
         kin,
         rows,
         qs,
         (jacobians, 6 * n),
         poses,
-        |ws, q, j_out, pose_out| {
-            let t = fk_jacobian_into(kin, &mut ws.jacobian, q, frame);
-            write_jacobian(&ws.jacobian, j_out);
-            if let Some(p) = pose_out {
-                t.write_row_major(p);
-            }
-        },
+        single,
     ))
 }
 

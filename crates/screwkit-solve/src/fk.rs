@@ -7,12 +7,12 @@
 //! chosen at run time; the two agree to the last bit or so).
 
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
-use screwkit_lie::Se3;
+use screwkit_lie::{trig, Se3};
 
-use crate::columns::Columns;
+use crate::columns::{Block, Columns, Lanes, W};
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
-use crate::poe::walk;
+use crate::poe::{joint_theta, walk};
 use crate::workspace::Workspace;
 
 /// The tip pose T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M. Checks q (length, finite).
@@ -55,6 +55,48 @@ impl Kernel for TipPose<'_> {
             |_, jc, theta, s, c| jc.apply::<A>(&mut t, theta, s, c),
         );
         t.compose::<A>(kin.home.rotation(), &(*kin.home.translation()).into())
+    }
+}
+
+/// The tip poses of W = [`crate::columns::W`] configurations at once (structure of arrays,
+/// [`Block`]): `qs` holds W rows of dof finite values, `out` W row-major 4 × 4 poses. Each row
+/// equals [`fk`] of that row bit for bit (same multiply-adds, same order, the same vectorised
+/// sine and cosine, here across configurations instead of joints). Used by
+/// [`crate::batch::fk_batch`].
+pub(crate) struct TipBlock<'a> {
+    pub(crate) kin: &'a Kinematics,
+    pub(crate) qs: &'a [f64],
+    pub(crate) out: &'a mut [f64],
+}
+
+impl Kernel for TipBlock<'_> {
+    type Output = ();
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
+    fn run<A: MulAdd>(self) {
+        let kin = self.kin;
+        let n = kin.dof();
+        let qs = &self.qs[..W * n];
+        let mut t = Block::identity();
+        for (j, jc) in kin.space.iter().enumerate() {
+            // Plain loops (see `PoeJoint::apply_block`).
+            let mut theta: Lanes = [0.0; W];
+            for l in 0..W {
+                let row = &qs[l * n..(l + 1) * n];
+                theta[l] = if kin.identity_map {
+                    row[j]
+                } else {
+                    joint_theta(&kin.space, false, j, row)
+                };
+            }
+            let (mut s, mut c) = ([0.0; W], [0.0; W]);
+            trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
+            jc.apply_block::<A>(&mut t, &theta, &s, &c);
+        }
+        t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
+        for l in 0..W {
+            t.write_row_major(l, &mut self.out[16 * l..16 * (l + 1)]);
+        }
     }
 }
 

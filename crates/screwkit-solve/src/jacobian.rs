@@ -7,9 +7,9 @@
 
 use nalgebra::Matrix6xX;
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
-use screwkit_lie::{Frame, Se3};
+use screwkit_lie::{trig, Frame, Se3};
 
-use crate::columns::{Columns, Lane};
+use crate::columns::{Block, Columns, Lane, Lanes, W};
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
 use crate::poe::{walk, walk_rev, PoeJoint};
@@ -190,6 +190,58 @@ impl Kernel for PoseAndJacobian<'_> {
                     jb.apply::<A>(&mut t, -theta, -s, c);
                 });
                 kin.home_columns.then::<A>(&t.inverse::<A>()).to_se3()
+            }
+        }
+    }
+}
+
+/// Tip poses and space Jacobians of W = [`W`] configurations at once (structure of arrays,
+/// [`Block`]), for chains whose joints each own their variable: `qs` W rows of dof values,
+/// `jac` W row-major 6 × dof Jacobians, `poses` W row-major 4 × 4 (when given). Column j is
+/// \[Ad\] of the joints before j applied to S_j, as in [`PoseAndJacobian`], with the same
+/// operations in the same order: each row equals the single call bit for bit.
+pub(crate) struct SpaceJacobianBlock<'a> {
+    pub(crate) kin: &'a Kinematics,
+    pub(crate) qs: &'a [f64],
+    pub(crate) jac: &'a mut [f64],
+    pub(crate) poses: Option<&'a mut [f64]>,
+}
+
+impl Kernel for SpaceJacobianBlock<'_> {
+    type Output = ();
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
+    fn run<A: MulAdd>(self) {
+        let Self {
+            kin,
+            qs,
+            jac,
+            poses,
+        } = self;
+        let n = kin.dof();
+        let mut t = Block::identity();
+        for (j, jc) in kin.space.iter().enumerate() {
+            // Plain loops (see `PoeJoint::apply_block`).
+            let mut theta: Lanes = [0.0; W];
+            for l in 0..W {
+                theta[l] = qs[l * n + j];
+            }
+            let (w, v) = jc.adjoint_column_block::<A>(&t);
+            for l in 0..W {
+                let out = &mut jac[6 * n * l..6 * n * (l + 1)];
+                for i in 0..3 {
+                    out[i * n + j] = w[i][l];
+                    out[(i + 3) * n + j] = v[i][l];
+                }
+            }
+            let (mut s, mut c) = ([0.0; W], [0.0; W]);
+            trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
+            jc.apply_block::<A>(&mut t, &theta, &s, &c);
+        }
+        if let Some(p) = poses {
+            t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
+            for l in 0..W {
+                t.write_row_major(l, &mut p[16 * l..16 * (l + 1)]);
             }
         }
     }

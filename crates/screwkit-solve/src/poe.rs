@@ -14,7 +14,7 @@ use screwkit_lie::se3::translation_from_coefficients;
 use screwkit_lie::{so3, trig, Twist};
 use screwkit_model::Drive;
 
-use crate::columns::{add, cross, Columns, Lane};
+use crate::columns::{add, cross, Block, Columns, Lane, Lanes, W};
 
 /// A revolute axis ω that is a coordinate axis (to within 1e-15 per component), with its sign:
 /// then T e^{[S]θ} only mixes two columns of R.
@@ -123,6 +123,123 @@ impl PoeJoint {
         }
     }
 
+    /// [`PoeJoint::apply`] for the W configurations of a [`Block`] (θ, sin θ, cos θ per lane),
+    /// with the same multiply-adds in the same order, so each lane equals the single-pose
+    /// update bit for bit.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
+    pub(crate) fn apply_block<A: MulAdd>(
+        &self,
+        t: &mut Block,
+        theta: &Lanes,
+        s: &Lanes,
+        c: &Lanes,
+    ) {
+        // Plain loops only: iterator adaptors and `array::from_fn` may stay out of line, and
+        // then their `mul_add` is compiled without FMA (a library call) outside the clone.
+        let mut step = [[0.0; W]; 3];
+        if self.prismatic {
+            for i in 0..3 {
+                for l in 0..W {
+                    step[i][l] = self.v[i] * theta[l];
+                }
+            }
+            t.translate::<A>(&step);
+            return;
+        }
+        // translation_from_coefficients per lane: v θ + (ω × v)(1 − c) + (ω × ω × v)(θ − s).
+        for i in 0..3 {
+            for l in 0..W {
+                step[i][l] = A::madd(
+                    self.v[i],
+                    theta[l],
+                    A::madd(self.wv[i], 1.0 - c[l], self.wwv[i] * (theta[l] - s[l])),
+                );
+            }
+        }
+        let p_local = step;
+        let mut gs = [0.0; W];
+        match self.aligned {
+            Aligned::General => {
+                // so3::rotation_from_coefficients(ω, 1, s, 1 − c) per lane.
+                let [x, y, z] = self.w;
+                // One entry of so3::rotation_from_coefficients for every lane (a = sin θ,
+                // b = 1 − cos θ, d = 1 − b·1·1), the expression written as there.
+                macro_rules! lane {
+                    (|$a:ident, $b:ident| $e:expr) => {{
+                        let mut out: Lanes = [0.0; W];
+                        for l in 0..W {
+                            let ($a, $b) = (s[l], 1.0 - c[l]);
+                            let _ = $a;
+                            out[l] = $e;
+                        }
+                        out
+                    }};
+                }
+                let e = [
+                    [
+                        lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * x * x),
+                        lane!(|a, b| b * x * y - a * z),
+                        lane!(|a, b| b * x * z + a * y),
+                    ],
+                    [
+                        lane!(|a, b| b * x * y + a * z),
+                        lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * y * y),
+                        lane!(|a, b| b * y * z - a * x),
+                    ],
+                    [
+                        lane!(|a, b| b * x * z - a * y),
+                        lane!(|a, b| b * y * z + a * x),
+                        lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * z * z),
+                    ],
+                ];
+                t.compose::<A>(&e, &p_local);
+            }
+            Aligned::X(g) => {
+                t.translate::<A>(&p_local);
+                for l in 0..W {
+                    gs[l] = g * s[l];
+                }
+                t.rotate_axis::<A, 1, 2>(&gs, c);
+            }
+            Aligned::Y(g) => {
+                t.translate::<A>(&p_local);
+                for l in 0..W {
+                    gs[l] = g * s[l];
+                }
+                t.rotate_axis::<A, 2, 0>(&gs, c);
+            }
+            Aligned::Z(g) => {
+                t.translate::<A>(&p_local);
+                for l in 0..W {
+                    gs[l] = g * s[l];
+                }
+                t.rotate_axis::<A, 0, 1>(&gs, c);
+            }
+        }
+    }
+
+    /// [`PoeJoint::adjoint_column`] for the W configurations of a [`Block`]: (R ω, R v + p × R ω)
+    /// per lane, the same operations in the same order.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
+    pub(crate) fn adjoint_column_block<A: MulAdd>(&self, t: &Block) -> ([Lanes; 3], [Lanes; 3]) {
+        let w = t.rotate::<A>(&self.w);
+        let mut v = t.rotate::<A>(&self.v);
+        let p = &t.c[3];
+        for l in 0..W {
+            let cross = [
+                p[1][l] * w[2][l] - p[2][l] * w[1][l],
+                p[2][l] * w[0][l] - p[0][l] * w[2][l],
+                p[0][l] * w[1][l] - p[1][l] * w[0][l],
+            ];
+            for i in 0..3 {
+                v[i][l] += cross[i];
+            }
+        }
+        (w, v)
+    }
+
     /// \[Ad_T\] S = (R ω, R v + p × R ω) as two lanes (w = 0): the Jacobian column of this joint
     /// when the joints before it make T ([`screwkit_lie::Se3::adjoint_apply`] on columns).
     #[inline(always)]
@@ -185,7 +302,7 @@ pub(crate) fn walk_rev<A: MulAdd>(
 
 /// θ_j: q\[j\] when every joint owns its variable, else the joint's [`Drive`].
 #[inline(always)]
-fn joint_theta(joints: &[PoeJoint], identity_map: bool, j: usize, q: &[f64]) -> f64 {
+pub(crate) fn joint_theta(joints: &[PoeJoint], identity_map: bool, j: usize, q: &[f64]) -> f64 {
     if identity_map {
         q[j]
     } else {

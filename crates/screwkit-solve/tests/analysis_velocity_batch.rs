@@ -420,3 +420,73 @@ fn position_analysis_from_finite_differences() {
     assert_eq!((pl.rank, pl.manipulability), (2, 0.0));
     assert!(pl.condition_number.is_infinite());
 }
+
+/// The block (structure-of-arrays) FK kernel gives every row bit for bit the single call, on
+/// every bundled chain (mimic joints, prismatic joints, general and axis-aligned revolute axes)
+/// and, when ../shared/urdf is beside the clone, on the real ones; with a row count that is
+/// not a multiple of the block and a bad row inside a block.
+#[test]
+fn block_fk_equals_single_calls_on_every_chain() {
+    let mut chains: Vec<Kinematics> = common::CHAINS
+        .iter()
+        .map(|(f, b, t)| load(f, *b, *t).2)
+        .collect();
+    if let Ok(dir) = std::env::var("SCREWKIT_SHARED_URDF") {
+        for (f, b, t) in screwkit_testkit::SHARED_CHAINS {
+            let chain = screwkit_model::load_chain(format!("{dir}/{f}"), Some(b), Some(t)).unwrap();
+            chains.push(Kinematics::new(&chain));
+        }
+    }
+    for kin in &chains {
+        let n = kin.dof();
+        let rows = 8 * 40 + 5;
+        let mut qs = screwkit_solve::sample::configurations(kin, rows, 9);
+        if n > 0 {
+            qs[13 * n] = f64::NAN;
+        }
+        let mut poses = vec![0.0; rows * 16];
+        let r = fk_batch(kin, &qs, &mut poses);
+        if n > 0 {
+            assert!(matches!(r, Err(SolveError::Rows(ref e)) if e.len() == 1 && e[0].row == 13));
+        }
+        // The space Jacobian's block kernel too (with poses), row by row against single calls.
+        let (mut js, mut jp) = (vec![0.0; rows * 6 * n], vec![0.0; rows * 16]);
+        if n > 0 {
+            let r = jacobian_batch(kin, &qs, Frame::Space, &mut js, Some(&mut jp));
+            assert!(matches!(r, Err(SolveError::Rows(ref e)) if e.len() == 1 && e[0].row == 13));
+            assert_eq!(
+                poses.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                jp.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+            let mut ws = Workspace::new(kin);
+            for k in (0..rows).filter(|&k| k != 13) {
+                let single = fk_jacobian(kin, &mut ws, &qs[k * n..(k + 1) * n], Frame::Space)
+                    .unwrap()
+                    .jacobian
+                    .clone();
+                let got = Matrix6xX::from_row_slice(&js[6 * n * k..6 * n * (k + 1)]);
+                assert!(
+                    got.iter()
+                        .zip(single.iter())
+                        .all(|(a, b)| a.to_bits() == b.to_bits()),
+                    "row {k}"
+                );
+            }
+        }
+        for k in 0..rows {
+            let got = &poses[16 * k..16 * (k + 1)];
+            match fk1(kin, &qs[k * n..(k + 1) * n]) {
+                Ok(t) => {
+                    let mut want = [0.0; 16];
+                    t.write_row_major(&mut want);
+                    assert_eq!(
+                        got.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                        want.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                        "row {k}"
+                    );
+                }
+                Err(_) => assert!(got.iter().all(|x| x.is_nan())),
+            }
+        }
+    }
+}
