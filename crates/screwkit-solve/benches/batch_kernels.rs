@@ -1,13 +1,16 @@
 //! Batched kernels per configuration, next to a loop of single calls on the same rows, in one
 //! run (interleaved rounds, minimum kept): tip FK (`fk_batch`, the structure-of-arrays block
 //! kernel), FK + space Jacobian (`jacobian_batch` with poses), on 1 and 2 threads, for the
-//! bundled Panda and iiwa14 and, when ../shared/urdf is beside the clone, pybullet's Panda.
+//! bundled Panda and iiwa14 and, when ../shared/urdf is beside the clone, pybullet's Panda;
+//! then IK (`ik_batch`, 2000 targets, no clock) against a loop of single solves.
 //! Run: `cargo bench -p screwkit-solve --bench batch_kernels`.
 
 use std::time::Instant;
 
-use screwkit_solve::batch::{fk_batch, jacobian_batch};
+use screwkit_lie::Se3;
+use screwkit_solve::batch::{fk_batch, ik_batch, jacobian_batch, row_seed};
 use screwkit_solve::fk::fk;
+use screwkit_solve::ik::{solve, IkOptions, IkStatus};
 use screwkit_solve::jacobian::fk_jacobian;
 use screwkit_solve::{Frame, Kinematics, Workspace};
 
@@ -63,6 +66,50 @@ fn bench(name: &str, kin: &Kinematics) {
     );
 }
 
+fn ik(name: &str, kin: &Kinematics) {
+    let rows = 2000;
+    let n = kin.dof();
+    let qs = screwkit_solve::sample::configurations(kin, rows, 5);
+    let mut targets = vec![0.0; rows * 16];
+    fk_batch(kin, &qs, &mut targets).unwrap();
+    let opts = IkOptions {
+        timeout: None,
+        ..IkOptions::default()
+    };
+    let mut ws = Workspace::new(kin);
+    let (mut q, mut status) = (vec![0.0; rows * n], vec![IkStatus::default(); rows]);
+    let mid = kin.midpoint();
+    let mut best = [f64::INFINITY; 3];
+    let per = |t0: Instant| t0.elapsed().as_secs_f64() / rows as f64 * 1e6;
+    for _ in 0..5 {
+        let t0 = Instant::now();
+        for k in 0..rows {
+            let t = Se3::from_row_major(&targets[16 * k..16 * (k + 1)], 1e-6).unwrap();
+            let o = IkOptions {
+                seed: row_seed(opts.seed, k),
+                ..opts.clone()
+            };
+            std::hint::black_box(solve(kin, &mut ws, &t, &mid, &o).unwrap());
+        }
+        best[0] = best[0].min(per(t0));
+        for threads in [1usize, 2] {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            let t0 = Instant::now();
+            pool.install(|| {
+                ik_batch(kin, &targets, None, &opts, &mut q, &mut status, None).unwrap()
+            });
+            best[threads] = best[threads].min(per(t0));
+        }
+    }
+    println!(
+        "{name:<15} IK: single loop {:6.2} µs, batch 1 thread {:6.2} µs, 2 threads {:6.2} µs ({:.2}x)",
+        best[0], best[1], best[2], best[1] / best[2]
+    );
+}
+
 fn main() {
     let load = |f: &str, b: Option<&str>, t: Option<&str>| {
         Kinematics::new(&screwkit_model::load_chain(f, b, t).unwrap())
@@ -85,4 +132,12 @@ fn main() {
             &load(pb, Some("panda_link0"), Some("panda_hand")),
         );
     }
+    ik(
+        "panda",
+        &load(&screwkit_testkit::bundled("panda.urdf"), None, None),
+    );
+    ik(
+        "ur5",
+        &load(&screwkit_testkit::bundled("ur5.urdf"), None, None),
+    );
 }

@@ -152,4 +152,59 @@ mod kernels_agree {
             }
         }
     }
+
+    /// The block kernels with each policy equal the single-pose kernels with the same policy,
+    /// bit for bit (the dispatched batch tests cover only the policy this CPU runs).
+    #[test]
+    fn block_kernels_equal_single_kernels_under_both_policies() {
+        use crate::columns::W;
+        use crate::fk::TipBlock;
+        use crate::jacobian::SpaceJacobianBlock;
+        use screwkit_lie::fma::MulAdd;
+        fn check<A: MulAdd>(file: &str, kin: &crate::Kinematics) {
+            let n = kin.dof();
+            let qs = crate::sample::configurations(kin, W, 5);
+            let (mut poses, mut jac, mut jposes) =
+                (vec![0.0; 16 * W], vec![0.0; 6 * n * W], vec![0.0; 16 * W]);
+            TipBlock {
+                kin,
+                qs: &qs,
+                out: &mut poses,
+            }
+            .run::<A>();
+            SpaceJacobianBlock {
+                kin,
+                qs: &qs,
+                jac: &mut jac,
+                poses: Some(&mut jposes),
+            }
+            .run::<A>();
+            let mut j1 = Matrix6xX::zeros(n);
+            for (l, q) in qs.chunks(n).enumerate() {
+                let mut want = [0.0; 16];
+                TipPose { kin, q }
+                    .run::<A>()
+                    .to_se3()
+                    .write_row_major(&mut want);
+                assert_eq!(&poses[16 * l..16 * (l + 1)], &want, "{file}");
+                assert_eq!(&jposes[16 * l..16 * (l + 1)], &want, "{file}");
+                PoseAndJacobian {
+                    kin,
+                    jac: &mut j1,
+                    q,
+                    frame: Frame::Space,
+                }
+                .run::<A>();
+                let mut row_major = vec![0.0; 6 * n];
+                crate::batch::write_jacobian(&j1, &mut row_major);
+                assert_eq!(&jac[6 * n * l..6 * n * (l + 1)], &row_major[..], "{file}");
+            }
+        }
+        for (file, kin) in test_chains() {
+            if kin.dof() > 0 && kin.identity_map {
+                check::<Plain>(file, &kin);
+                check::<Fused>(file, &kin);
+            }
+        }
+    }
 }
