@@ -7,12 +7,12 @@
 //! chosen at run time; the two agree to the last bit or so).
 
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
-use screwkit_lie::{trig, Se3};
+use screwkit_lie::Se3;
 
-use crate::columns::{Block, Columns, Lanes, W};
+use crate::columns::{Block, Columns, W};
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
-use crate::poe::{joint_theta, walk};
+use crate::poe::{walk, walk_block};
 use crate::workspace::Workspace;
 
 /// The tip pose T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M. Checks q (length, finite).
@@ -76,23 +76,14 @@ impl Kernel for TipBlock<'_> {
     fn run<A: MulAdd>(self) {
         let kin = self.kin;
         let n = kin.dof();
-        let qs = &self.qs[..W * n];
         let mut t = Block::identity();
-        for (j, jc) in kin.space.iter().enumerate() {
-            // Plain loops (see `PoeJoint::apply_block`).
-            let mut theta: Lanes = [0.0; W];
-            for l in 0..W {
-                let row = &qs[l * n..(l + 1) * n];
-                theta[l] = if kin.identity_map {
-                    row[j]
-                } else {
-                    joint_theta(&kin.space, false, j, row)
-                };
-            }
-            let (mut s, mut c) = ([0.0; W], [0.0; W]);
-            trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
-            jc.apply_block::<A>(&mut t, &theta, &s, &c);
-        }
+        walk_block::<A>(
+            &kin.space,
+            kin.identity_map,
+            &self.qs[..W * n],
+            n,
+            |_, jc, theta, s, c| jc.apply_block::<A>(&mut t, theta, s, c),
+        );
         t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
         for l in 0..W {
             t.write_row_major(l, &mut self.out[16 * l..16 * (l + 1)]);

@@ -7,12 +7,12 @@
 
 use nalgebra::Matrix6xX;
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
-use screwkit_lie::{trig, Frame, Se3};
+use screwkit_lie::{Frame, Se3};
 
-use crate::columns::{Block, Columns, Lane, Lanes, W};
+use crate::columns::{Block, Columns, Lane, W};
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
-use crate::poe::{walk, walk_rev, PoeJoint};
+use crate::poe::{walk, walk_block, walk_rev, PoeJoint};
 use crate::workspace::Workspace;
 
 /// The tip pose and the Jacobian of one pass (see [`fk_jacobian`]).
@@ -220,12 +220,7 @@ impl Kernel for SpaceJacobianBlock<'_> {
         } = self;
         let n = kin.dof();
         let mut t = Block::identity();
-        for (j, jc) in kin.space.iter().enumerate() {
-            // Plain loops (see `PoeJoint::apply_block`).
-            let mut theta: Lanes = [0.0; W];
-            for l in 0..W {
-                theta[l] = qs[l * n + j];
-            }
+        walk_block::<A>(&kin.space, true, &qs[..W * n], n, |j, jc, theta, s, c| {
             let (w, v) = jc.adjoint_column_block::<A>(&t);
             for l in 0..W {
                 let out = &mut jac[6 * n * l..6 * n * (l + 1)];
@@ -234,10 +229,8 @@ impl Kernel for SpaceJacobianBlock<'_> {
                     out[(i + 3) * n + j] = v[i][l];
                 }
             }
-            let (mut s, mut c) = ([0.0; W], [0.0; W]);
-            trig::sin_cos_lanes_with::<A>(&theta, &mut s, &mut c);
-            jc.apply_block::<A>(&mut t, &theta, &s, &c);
-        }
+            jc.apply_block::<A>(&mut t, theta, s, c);
+        });
         if let Some(p) = poses {
             t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
             for l in 0..W {
