@@ -295,13 +295,24 @@ pub(crate) fn walk_block<A: MulAdd>(
     let mut start = 0;
     while start < joints.len() {
         let end = (start + AHEAD).min(joints.len());
-        for j in start..end {
-            let th = &mut theta[j - start];
-            for l in 0..W {
-                let row = &qs[l * n..(l + 1) * n];
-                th[l] = joint_theta(joints, identity_map, j, row);
+        // θ of joints start..end for every row: row by row, reading each row's values
+        // contiguously (a lane-by-lane read of one joint across rows becomes a hardware gather
+        // when the build enables AVX-512, slow on this class of CPU).
+        for l in 0..W {
+            let row = &qs[l * n..(l + 1) * n];
+            if identity_map {
+                for (k, &v) in row[start..end].iter().enumerate() {
+                    theta[k][l] = v;
+                }
+            } else {
+                for j in start..end {
+                    theta[j - start][l] = joint_theta(joints, false, j, row);
+                }
             }
-            trig::sin_cos_lanes_with::<A>(th, &mut s[j - start], &mut c[j - start]);
+        }
+        for j in start..end {
+            let k = j - start;
+            trig::sin_cos_lanes_with::<A>(&theta[k], &mut s[k], &mut c[k]);
         }
         for j in start..end {
             let k = j - start;
