@@ -1344,17 +1344,9 @@ fn search56(p: &Prepared, g: &Se3, emit: &mut impl FnMut([f64; 6], bool)) {
             * rotation(&k[3], t[3]);
         let rw = r14.transpose() * rg;
         // R₅ k₆ = R_w k₆, R₆ k₅ = R₅ᵀ R_w k₅.
-        let t5 = match sp1(&k[5], &(rw * k[5]), &k[4]) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(x) => x,
-            Angles::Any => 0.0,
-        };
+        let t5 = sp1(&k[5], &(rw * k[5]), &k[4]).first();
         let want = rotation(&k[4], t5).transpose() * (rw * k[4]);
-        let t6 = match sp1(&k[4], &want, &k[5]) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(x) => x,
-            Angles::Any => 0.0,
-        };
+        let t6 = sp1(&k[4], &want, &k[5]).first();
         let q = [t[0], t[1], t[2], wrap(t[3]), t5, t6];
         if !found
             .iter()
@@ -1393,11 +1385,7 @@ fn search23_at(p: &Prepared, g: &Se3, t1: f64) -> Few<([f64; 4], f64), 4> {
     {
         let t6 = -m6;
         let (r4, r6) = (rotation(&k[3], t4), rotation(&k[5], t6));
-        let t23 = match sp1(&(r4 * k[4]), &(hr * (r6.transpose() * k[4])), &k[1]) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(x) => x,
-            Angles::Any => 0.0,
-        };
+        let t23 = sp1(&(r4 * k[4]), &(hr * (r6.transpose() * k[4])), &k[1]).first();
         let (h23, _) = two_parallel_rest(p, g, t1, t23, t4, t6);
         let off = |x: V3| {
             let d = x - r[1];
@@ -1421,18 +1409,10 @@ fn two_parallel_rest(p: &Prepared, g: &Se3, t1: f64, t23: f64, t4: f64, t6: f64)
     // R₅ = R₄ᵀ R₂₃ᵀ R_h R₆ᵀ: R₅ k₆ = R₄ᵀ R₂₃ᵀ R_h k₆ (or, with k₆ ∥ k₅, R₅ᵀ k₄ = R₆ R_hᵀ R₂₃ k₄).
     let t5 = if k[4].cross(&k[5]).norm() > 1e-3 {
         let want = r4.transpose() * (r23.transpose() * (hr * k[5]));
-        match sp1(&k[5], &want, &k[4]) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(x) => x,
-            Angles::Any => 0.0,
-        }
+        sp1(&k[5], &want, &k[4]).first()
     } else {
         let want = r6 * (hr.transpose() * (r23 * k[3]));
-        -match sp1(&k[3], &want, &k[4]) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(x) => x,
-            Angles::Any => 0.0,
-        }
+        -sp1(&k[3], &want, &k[4]).first()
     };
     // H₂₃ r₃ = h(e₆⁻¹(e₅⁻¹(e₄⁻¹ r₃))).
     let back = |i: usize, t: f64, x: V3| r[i] + rotate(&k[i], -t, &(x - r[i]));
@@ -1450,11 +1430,7 @@ fn search23(p: &Prepared, g: &Se3, emit: &mut impl FnMut([f64; 6], bool)) {
     for st in search_1d(|t1| search23_at(p, g, t1)) {
         let [t6, t4, t23, t1] = st;
         let (h23, t5) = two_parallel_rest(p, g, t1, t23, t4, t6);
-        let t2 = match sp1(&(r[2] - r[1]), &(h23 - r[1]), &k[1]) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(x) => x,
-            Angles::Any => 0.0,
-        };
+        let t2 = sp1(&(r[2] - r[1]), &(h23 - r[1]), &k[1]).first();
         let q = [wrap(t1), t2, wrap(s3 * (t23 - t2)), t4, t5, t6];
         if !found
             .iter()

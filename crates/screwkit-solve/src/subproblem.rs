@@ -96,6 +96,18 @@ pub enum Angles {
     Any,
 }
 
+impl Angles {
+    /// One angle to go on with: the first exact one, else the least-squares one, else 0 (every
+    /// angle solves it).
+    pub fn first(self) -> f64 {
+        match self {
+            Angles::Exact(v) => v[0],
+            Angles::LeastSquares(t) => t,
+            Angles::Any => 0.0,
+        }
+    }
+}
+
 /// Tolerance for "exact" and for degeneracy, relative to the sizes involved.
 const EPS: f64 = 1e-12;
 
@@ -478,11 +490,7 @@ pub fn sp5(
         {
             return;
         }
-        let t2 = match sp1(&v3, &v1, k2) {
-            Angles::Exact(v) => v[0],
-            Angles::LeastSquares(t) => t,
-            Angles::Any => 0.0,
-        };
+        let t2 = sp1(&v3, &v1, k2).first();
         let t = polish5(
             p0,
             p1,
