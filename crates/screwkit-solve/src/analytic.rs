@@ -1173,23 +1173,31 @@ fn wrist_intersecting(
     }
 }
 
-/// Spherical wrist only (module documentation): subproblem 5 for θ₁, θ₂, θ₃, then the wrist.
-fn wrist_only(p: &Prepared, g: &Se3, singular: &mut bool, emit: &mut impl FnMut([f64; 6], bool)) {
-    let (k, r, pw) = (&p.k, &p.r, &p.center);
-    let rg = g.rotation();
-    let y = g.transform_point(pw);
-    // R(k₁, −θ₁)(y − r₁) + r₁ − r₂ = R₂ ((r₃ − r₂) + R₃ (p_w − r₃)).
-    let sols = sp5(
+/// (θ₁, θ₂, θ₃) with e₁ e₂ e₃ x = y for three general axes: R(k₁, −θ₁)(y − r₁) + r₁ − r₂ =
+/// R₂ ((r₃ − r₂) + R₃ (x − r₃)), subproblem 5 (up to 4 triples).
+fn position_3r(p: &Prepared, y: &V3, x: &V3) -> Few<(f64, f64, f64), 4> {
+    let (k, r) = (&p.k, &p.r);
+    let mut out = sp5(
         &(r[0] - r[1]),
         &(y - r[0]),
         &(r[2] - r[1]),
-        &(pw - r[2]),
+        &(x - r[2]),
         &k[0],
         &k[1],
         &k[2],
     );
-    for &(phi, t2, t3) in sols.iter() {
-        let t1 = -phi;
+    for t in out.iter_mut() {
+        t.0 = -t.0;
+    }
+    out
+}
+
+/// Spherical wrist only (module documentation): subproblem 5 for θ₁, θ₂, θ₃, then the wrist.
+fn wrist_only(p: &Prepared, g: &Se3, singular: &mut bool, emit: &mut impl FnMut([f64; 6], bool)) {
+    let (k, pw) = (&p.k, &p.center);
+    let rg = g.rotation();
+    let y = g.transform_point(pw);
+    for &(t1, t2, t3) in position_3r(p, &y, pw).iter() {
         let r123 = rotation(&k[0], t1) * rotation(&k[1], t2) * rotation(&k[2], t3);
         let rw = r123.transpose() * rg;
         wrist(p, &rw, singular, |t4, t5, t6, ok| {
@@ -1206,18 +1214,8 @@ fn search56_at(p: &Prepared, g: &Se3, t4: f64) -> Few<([f64; 4], f64), 4> {
     let y = g.transform_point(p56);
     let x = r[3] + rotate(&k[3], t4, &(p56 - r[3]));
     let mut out = Few::default();
-    for &(phi, t2, t3) in sp5(
-        &(r[0] - r[1]),
-        &(y - r[0]),
-        &(r[2] - r[1]),
-        &(x - r[2]),
-        &k[0],
-        &k[1],
-        &k[2],
-    )
-    .iter()
-    {
-        let t = [-phi, t2, t3, t4];
+    for &(t1, t2, t3) in position_3r(p, &y, &x).iter() {
+        let t = [t1, t2, t3, t4];
         let r14 = rotation(&k[0], t[0])
             * rotation(&k[1], t[1])
             * rotation(&k[2], t[2])
