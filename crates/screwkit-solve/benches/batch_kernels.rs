@@ -14,37 +14,50 @@ use screwkit_solve::ik::{solve, IkOptions, IkStatus};
 use screwkit_solve::jacobian::fk_jacobian;
 use screwkit_solve::{Frame, Kinematics, Workspace};
 
-fn bench(name: &str, kin: &Kinematics) {
-    let rows = 100_000;
-    let n = kin.dof();
-    let qs = screwkit_solve::sample::configurations(kin, rows, 3);
-    let mut poses = vec![0.0; rows * 16];
-    let mut jac = vec![0.0; rows * 6 * n];
-    let mut ws = Workspace::new(kin);
-    let pools: Vec<_> = [1usize, 2]
-        .iter()
-        .map(|&t| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .unwrap()
-        })
-        .collect();
-    let mut best = [f64::INFINITY; 6];
-    let per = |t0: Instant| t0.elapsed().as_secs_f64() / rows as f64 * 1e9;
-    for _ in 0..7 {
+/// One chain's rows, buffers and best times (ns per configuration): FK single, batch 1 and 2
+/// threads, FK + J single, batch 1 and 2 threads.
+struct Case {
+    name: &'static str,
+    kin: Kinematics,
+    qs: Vec<f64>,
+    poses: Vec<f64>,
+    jac: Vec<f64>,
+    best: [f64; 6],
+}
+
+const ROWS: usize = 100_000;
+
+impl Case {
+    fn new(name: &'static str, kin: Kinematics) -> Self {
+        let n = kin.dof();
+        Self {
+            name,
+            qs: screwkit_solve::sample::configurations(&kin, ROWS, 3),
+            poses: vec![0.0; ROWS * 16],
+            jac: vec![0.0; ROWS * 6 * n],
+            kin,
+            best: [f64::INFINITY; 6],
+        }
+    }
+
+    /// One round of the six measurements; the minimum over rounds is kept.
+    fn round(&mut self, pools: &[rayon::ThreadPool]) {
+        let (kin, qs, n) = (&self.kin, &self.qs, self.kin.dof());
+        let mut ws = Workspace::new(kin);
+        let per = |t0: Instant| t0.elapsed().as_secs_f64() / ROWS as f64 * 1e9;
+        let best = &mut self.best;
         let t0 = Instant::now();
-        for k in 0..rows {
+        for k in 0..ROWS {
             std::hint::black_box(fk(kin, &mut ws, &qs[k * n..(k + 1) * n]).unwrap());
         }
         best[0] = best[0].min(per(t0));
         for (i, pool) in pools.iter().enumerate() {
             let t0 = Instant::now();
-            pool.install(|| fk_batch(kin, &qs, &mut poses).unwrap());
+            pool.install(|| fk_batch(kin, qs, &mut self.poses).unwrap());
             best[1 + i] = best[1 + i].min(per(t0));
         }
         let t0 = Instant::now();
-        for k in 0..rows {
+        for k in 0..ROWS {
             std::hint::black_box(
                 fk_jacobian(kin, &mut ws, &qs[k * n..(k + 1) * n], Frame::Space)
                     .unwrap()
@@ -55,15 +68,53 @@ fn bench(name: &str, kin: &Kinematics) {
         for (i, pool) in pools.iter().enumerate() {
             let t0 = Instant::now();
             pool.install(|| {
-                jacobian_batch(kin, &qs, Frame::Space, &mut jac, Some(&mut poses)).unwrap()
+                jacobian_batch(kin, qs, Frame::Space, &mut self.jac, Some(&mut self.poses)).unwrap()
             });
             best[4 + i] = best[4 + i].min(per(t0));
         }
     }
-    println!(
-        "{name:<15} FK: single {:6.1} ns, batch 1 thread {:6.1} ns, 2 threads {:6.1} ns ({:.2}x) | FK+J: single {:6.1} ns, batch 1 thread {:6.1} ns, 2 threads {:6.1} ns ({:.2}x)",
-        best[0], best[1], best[2], best[1] / best[2], best[3], best[4], best[5], best[4] / best[5]
-    );
+
+    fn print(&self) {
+        let b = &self.best;
+        println!(
+            "{:<15} FK: single {:6.1} ns, batch 1 thread {:6.1} ns, 2 threads {:6.1} ns ({:.2}x) | FK+J: single {:6.1} ns, batch 1 thread {:6.1} ns, 2 threads {:6.1} ns ({:.2}x)",
+            self.name, b[0], b[1], b[2], b[1] / b[2], b[3], b[4], b[5], b[4] / b[5]
+        );
+    }
+}
+
+/// The chains measured in the same rounds (interleaved), so their ratios are of one moment.
+fn kernels(cases: &mut [Case]) {
+    let pools: Vec<_> = [1usize, 2]
+        .iter()
+        .map(|&t| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .unwrap()
+        })
+        .collect();
+    for _ in 0..9 {
+        for case in cases.iter_mut() {
+            case.round(&pools);
+        }
+    }
+    for case in cases.iter() {
+        case.print();
+    }
+    // pybullet's Panda (axes written with a rounded π/2) against the bundled one.
+    if let [panda, .., pb] = cases {
+        if pb.name == "panda_pybullet" {
+            let r = |k: usize| pb.best[k] / panda.best[k];
+            println!(
+                "panda_pybullet / panda: FK single {:.3}, batch {:.3} | FK+J single {:.3}, batch {:.3}",
+                r(0),
+                r(1),
+                r(3),
+                r(4)
+            );
+        }
+    }
 }
 
 fn ik(name: &str, kin: &Kinematics) {
@@ -114,24 +165,27 @@ fn main() {
     let load = |f: &str, b: Option<&str>, t: Option<&str>| {
         Kinematics::new(&screwkit_model::load_chain(f, b, t).unwrap())
     };
-    bench(
-        "panda",
-        &load(&screwkit_testkit::bundled("panda.urdf"), None, None),
-    );
-    bench(
-        "iiwa14",
-        &load(&screwkit_testkit::bundled("iiwa14.urdf"), None, None),
-    );
+    let mut cases = vec![
+        Case::new(
+            "panda",
+            load(&screwkit_testkit::bundled("panda.urdf"), None, None),
+        ),
+        Case::new(
+            "iiwa14",
+            load(&screwkit_testkit::bundled("iiwa14.urdf"), None, None),
+        ),
+    ];
     let pb = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../../shared/urdf/panda_pybullet.urdf"
     );
     if std::path::Path::new(pb).exists() {
-        bench(
+        cases.push(Case::new(
             "panda_pybullet",
-            &load(pb, Some("panda_link0"), Some("panda_hand")),
-        );
+            load(pb, Some("panda_link0"), Some("panda_hand")),
+        ));
     }
+    kernels(&mut cases);
     ik(
         "panda",
         &load(&screwkit_testkit::bundled("panda.urdf"), None, None),

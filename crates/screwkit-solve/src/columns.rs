@@ -156,6 +156,37 @@ impl Columns {
         self.0[I] = madd::<A>(w, s, scale(u, c));
         self.0[J] = madd::<A>(u, -s, scale(w, c));
     }
+
+    /// T · [[e^{[ω]φ}, 0], [0, 1]] for ω = g e_K + δ near a coordinate axis (δ ⊥ e_K, |δ| ≤
+    /// [`crate::poe::NEAR_AXIS`]), given s = g sin φ, c = cos φ and u = g (δ_I, δ_J), where
+    /// e_I × e_J = e_K. Rodrigues, e^{[ω]φ} = c I + sin φ [ω] + b ωωᵀ with b = 1 − c, splits into
+    /// the axis rotation of [`Columns::rotate_axis`] plus sin φ [δ] + b g (e_K δᵀ + δ e_Kᵀ) + b δδᵀ;
+    /// dropping the last term (≤ 2|δ|² ≤ 2e-18) leaves, with R_m the old columns,
+    /// col_I ← c R_I + s R_J + (b u_I − s u_J) R_K,
+    /// col_J ← c R_J − s R_I + (b u_J + s u_I) R_K,
+    /// col_K ← R_K + (b u_I + s u_J) R_I + (b u_J − s u_I) R_J.
+    #[inline(always)]
+    pub(crate) fn rotate_near_axis<A: MulAdd, const I: usize, const J: usize, const K: usize>(
+        &mut self,
+        s: f64,
+        c: f64,
+        u: &[f64; 2],
+    ) {
+        let (ri, rj, rk) = (self.0[I], self.0[J], self.0[K]);
+        let b = 1.0 - c;
+        let [ui, uj] = *u;
+        self.0[I] = madd::<A>(
+            rk,
+            A::madd(b, ui, -(s * uj)),
+            madd::<A>(rj, s, scale(ri, c)),
+        );
+        self.0[J] = madd::<A>(rk, A::madd(b, uj, s * ui), madd::<A>(ri, -s, scale(rj, c)));
+        self.0[K] = madd::<A>(
+            ri,
+            A::madd(b, ui, s * uj),
+            madd::<A>(rj, A::madd(b, uj, -(s * ui)), rk),
+        );
+    }
 }
 
 /// Configurations per [`Block`]: the lanes of the vectorised sine and cosine
@@ -253,6 +284,33 @@ impl Block {
                 let (u, w) = (self.c[I][i][l], self.c[J][i][l]);
                 self.c[I][i][l] = A::madd(w, s[l], u * c[l]);
                 self.c[J][i][l] = A::madd(u, -s[l], w * c[l]);
+            }
+        }
+    }
+
+    /// [`Columns::rotate_near_axis`] per lane, the same multiply-adds in the same order.
+    #[inline(always)]
+    pub(crate) fn rotate_near_axis<A: MulAdd, const I: usize, const J: usize, const K: usize>(
+        &mut self,
+        s: &Lanes,
+        c: &Lanes,
+        u: &[f64; 2],
+    ) {
+        let [ui, uj] = *u;
+        let (mut ki, mut kj, mut ii, mut ij) = ([0.0; W], [0.0; W], [0.0; W], [0.0; W]);
+        for l in 0..W {
+            let b = 1.0 - c[l];
+            ki[l] = A::madd(b, ui, -(s[l] * uj));
+            kj[l] = A::madd(b, uj, s[l] * ui);
+            ii[l] = A::madd(b, ui, s[l] * uj);
+            ij[l] = A::madd(b, uj, -(s[l] * ui));
+        }
+        for i in 0..3 {
+            for l in 0..W {
+                let (ri, rj, rk) = (self.c[I][i][l], self.c[J][i][l], self.c[K][i][l]);
+                self.c[I][i][l] = A::madd(rk, ki[l], A::madd(rj, s[l], ri * c[l]));
+                self.c[J][i][l] = A::madd(rk, kj[l], A::madd(ri, -s[l], rj * c[l]));
+                self.c[K][i][l] = A::madd(ri, ii[l], A::madd(rj, ij[l], rk));
             }
         }
     }

@@ -9,10 +9,10 @@ use nalgebra::Matrix6xX;
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{Frame, Se3};
 
-use crate::columns::{Block, Columns, Lane, W};
+use crate::columns::{Block, Columns, Lane, Lanes, W};
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
-use crate::poe::{walk, walk_block, walk_rev, PoeJoint};
+use crate::poe::{walk, walk_block, walk_rev, BlockStep, PoeJoint};
 use crate::workspace::Workspace;
 
 /// The tip pose and the Jacobian of one pass (see [`fk_jacobian`]).
@@ -207,6 +207,31 @@ pub(crate) struct SpaceJacobianBlock<'a> {
     pub(crate) poses: Option<&'a mut [f64]>,
 }
 
+/// The FK + Jacobian block's step: column j of each lane's space Jacobian is \[Ad_T\] S_j with
+/// T the product of the joints before j ([`PoeJoint::adjoint_column_block`]), then T ← T e^{[S_j]θ_j}.
+struct JacobianStep<'a> {
+    t: Block,
+    jac: &'a mut [f64],
+    n: usize,
+}
+
+impl BlockStep for JacobianStep<'_> {
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
+    fn step<A: MulAdd>(&mut self, j: usize, jc: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes) {
+        let n = self.n;
+        let (w, v) = jc.adjoint_column_block::<A>(&self.t);
+        for l in 0..W {
+            let out = &mut self.jac[6 * n * l..6 * n * (l + 1)];
+            for i in 0..3 {
+                out[i * n + j] = w[i][l];
+                out[(i + 3) * n + j] = v[i][l];
+            }
+        }
+        jc.apply_block::<A>(&mut self.t, theta, s, c);
+    }
+}
+
 impl Kernel for SpaceJacobianBlock<'_> {
     type Output = ();
     #[inline(always)]
@@ -219,18 +244,13 @@ impl Kernel for SpaceJacobianBlock<'_> {
             poses,
         } = self;
         let n = kin.dof();
-        let mut t = Block::identity();
-        walk_block::<A>(&kin.space, true, &qs[..W * n], n, |j, jc, theta, s, c| {
-            let (w, v) = jc.adjoint_column_block::<A>(&t);
-            for l in 0..W {
-                let out = &mut jac[6 * n * l..6 * n * (l + 1)];
-                for i in 0..3 {
-                    out[i * n + j] = w[i][l];
-                    out[(i + 3) * n + j] = v[i][l];
-                }
-            }
-            jc.apply_block::<A>(&mut t, theta, s, c);
-        });
+        let mut step = JacobianStep {
+            t: Block::identity(),
+            jac,
+            n,
+        };
+        walk_block::<A>(&kin.space, true, &qs[..W * n], n, &mut step);
+        let mut t = step.t;
         if let Some(p) = poses {
             t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
             for l in 0..W {

@@ -16,33 +16,50 @@ use screwkit_model::Drive;
 
 use crate::columns::{add, cross, Block, Columns, Lane, Lanes, W};
 
+/// Largest off-axis component |δ| of a revolute axis ω = ±e_k + δ that still takes the
+/// near-axis update ([`Columns::rotate_near_axis`]): the terms that update drops are
+/// O(|δ|²) ≤ 1e-18, far below the rounding of the general update.
+pub(crate) const NEAR_AXIS: f64 = 1e-9;
+
 /// A revolute axis ω that is a coordinate axis (to within 1e-15 per component), with its sign:
-/// then T e^{[S]θ} only mixes two columns of R.
+/// then T e^{[S]θ} only mixes two columns of R. Or one that is within [`NEAR_AXIS`] of one —
+/// how real files write π/2 (`1.57079632679`) puts their axes 1e-13–1e-11 off — with its sign g
+/// and u = g·(δ_I, δ_J), the off-axis components (I, J: the other two axes in cyclic order).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Aligned {
     /// Not a coordinate axis.
     General,
-    /// ±x (sign).
-    X(f64),
-    /// ±y (sign).
-    Y(f64),
-    /// ±z (sign).
-    Z(f64),
+    /// ±x or near it (sign; u = g·(ω_y, ω_z), zero when exact).
+    X(f64, [f64; 2]),
+    /// ±y or near it (sign; u = g·(ω_z, ω_x), zero when exact).
+    Y(f64, [f64; 2]),
+    /// ±z or near it (sign; u = g·(ω_x, ω_y), zero when exact).
+    Z(f64, [f64; 2]),
 }
 
 impl Aligned {
     fn of(w: &Vector3<f64>) -> Aligned {
         let tiny = |x: f64| x.abs() < 1e-15;
+        let near = |x: f64| x.abs() <= NEAR_AXIS;
         let unit = |x: f64| (x.abs() - 1.0).abs() < 1e-15;
-        if unit(w.x) && tiny(w.y) && tiny(w.z) {
-            Aligned::X(w.x.signum())
-        } else if tiny(w.x) && unit(w.y) && tiny(w.z) {
-            Aligned::Y(w.y.signum())
-        } else if tiny(w.x) && tiny(w.y) && unit(w.z) {
-            Aligned::Z(w.z.signum())
-        } else {
-            Aligned::General
+        // (k, I, J) with e_I × e_J = e_k.
+        for (k, i, j) in [(0, 1, 2), (1, 2, 0), (2, 0, 1)] {
+            if !unit(w[k]) || !near(w[i]) || !near(w[j]) {
+                continue;
+            }
+            let g = w[k].signum();
+            let u = if tiny(w[i]) && tiny(w[j]) {
+                [0.0; 2]
+            } else {
+                [g * w[i], g * w[j]]
+            };
+            return match k {
+                0 => Aligned::X(g, u),
+                1 => Aligned::Y(g, u),
+                _ => Aligned::Z(g, u),
+            };
         }
+        Aligned::General
     }
 }
 
@@ -87,8 +104,10 @@ impl PoeJoint {
     /// T ← T e^{[S]θ}, given (sin θ, cos θ), without forming e^{[S]θ} where the joint allows it:
     /// prismatic p ← p + θ R v (R unchanged); revolute or screw p ← p + R G(θ)v
     /// ([`translation_from_coefficients`]), then R ← R e^{[ω]θ}, which for ω = ±(a coordinate
-    /// axis) mixes two columns of R ([`Columns::rotate_axis`], 4 column multiply-adds) and
-    /// otherwise multiplies by Rodrigues' matrix ([`so3::rotation_from_coefficients`]).
+    /// axis) mixes two columns of R ([`Columns::rotate_axis`], 4 column multiply-adds), for ω
+    /// within [`NEAR_AXIS`] of one adds the first-order terms in the offset
+    /// ([`Columns::rotate_near_axis`], 8 more) and otherwise multiplies by Rodrigues' matrix
+    /// ([`so3::rotation_from_coefficients`]).
     #[inline(always)]
     pub(crate) fn apply<A: MulAdd>(&self, t: &mut Columns, theta: f64, s: f64, c: f64) {
         if self.prismatic {
@@ -108,17 +127,29 @@ impl PoeJoint {
                 let e = so3::rotation_from_coefficients(&self.w.into(), 1.0, s, 1.0 - c);
                 *t = t.compose::<A>(&e, &p_local);
             }
-            Aligned::X(g) => {
+            Aligned::X(g, u) => {
                 t.translate::<A>(&p_local);
-                t.rotate_axis::<A, 1, 2>(g * s, c);
+                if u == [0.0; 2] {
+                    t.rotate_axis::<A, 1, 2>(g * s, c);
+                } else {
+                    t.rotate_near_axis::<A, 1, 2, 0>(g * s, c, &u);
+                }
             }
-            Aligned::Y(g) => {
+            Aligned::Y(g, u) => {
                 t.translate::<A>(&p_local);
-                t.rotate_axis::<A, 2, 0>(g * s, c);
+                if u == [0.0; 2] {
+                    t.rotate_axis::<A, 2, 0>(g * s, c);
+                } else {
+                    t.rotate_near_axis::<A, 2, 0, 1>(g * s, c, &u);
+                }
             }
-            Aligned::Z(g) => {
+            Aligned::Z(g, u) => {
                 t.translate::<A>(&p_local);
-                t.rotate_axis::<A, 0, 1>(g * s, c);
+                if u == [0.0; 2] {
+                    t.rotate_axis::<A, 0, 1>(g * s, c);
+                } else {
+                    t.rotate_near_axis::<A, 0, 1, 2>(g * s, c, &u);
+                }
             }
         }
     }
@@ -195,26 +226,22 @@ impl PoeJoint {
                 ];
                 t.compose::<A>(&e, &p_local);
             }
-            Aligned::X(g) => {
+            Aligned::X(g, u) | Aligned::Y(g, u) | Aligned::Z(g, u) => {
                 t.translate::<A>(&p_local);
                 for l in 0..W {
                     gs[l] = g * s[l];
                 }
-                t.rotate_axis::<A, 1, 2>(&gs, c);
-            }
-            Aligned::Y(g) => {
-                t.translate::<A>(&p_local);
-                for l in 0..W {
-                    gs[l] = g * s[l];
+                // One arm for the three axes, then the axis and exactness: written as separate
+                // top-level arms (or with a guard) this block came out 8–10 % slower on the
+                // exact-axes Panda (measured); the scalar `apply` is the other way round.
+                match (self.aligned, u == [0.0; 2]) {
+                    (Aligned::X(..), true) => t.rotate_axis::<A, 1, 2>(&gs, c),
+                    (Aligned::Y(..), true) => t.rotate_axis::<A, 2, 0>(&gs, c),
+                    (Aligned::Z(..), true) => t.rotate_axis::<A, 0, 1>(&gs, c),
+                    (Aligned::X(..), false) => t.rotate_near_axis::<A, 1, 2, 0>(&gs, c, &u),
+                    (Aligned::Y(..), false) => t.rotate_near_axis::<A, 2, 0, 1>(&gs, c, &u),
+                    _ => t.rotate_near_axis::<A, 0, 1, 2>(&gs, c, &u),
                 }
-                t.rotate_axis::<A, 2, 0>(&gs, c);
-            }
-            Aligned::Z(g) => {
-                t.translate::<A>(&p_local);
-                for l in 0..W {
-                    gs[l] = g * s[l];
-                }
-                t.rotate_axis::<A, 0, 1>(&gs, c);
             }
         }
     }
@@ -286,7 +313,7 @@ pub(crate) fn walk_block<A: MulAdd>(
     identity_map: bool,
     qs: &[f64],
     n: usize,
-    mut f: impl FnMut(usize, &PoeJoint, &Lanes, &Lanes, &Lanes),
+    visit: &mut impl BlockStep,
 ) {
     const AHEAD: usize = 8;
     let mut theta = [[0.0; W]; AHEAD];
@@ -316,9 +343,27 @@ pub(crate) fn walk_block<A: MulAdd>(
         }
         for j in start..end {
             let k = j - start;
-            f(j, &joints[j], &theta[k], &s[k], &c[k]);
+            visit.step::<A>(j, &joints[j], &theta[k], &s[k], &c[k]);
         }
         start = end;
+    }
+}
+
+/// What a block kernel does at joint j of [`walk_block`], given (θ, sin θ, cos θ) per lane.
+/// A trait with an `#[inline(always)]` method rather than a closure: a closure is a separate
+/// function the inliner may leave out of line, and then, outside the AVX2 + FMA clone, every
+/// fused multiply-add in it is a library call (measured: the FK + Jacobian block 8× slower once
+/// its closure grew past the inliner's threshold).
+pub(crate) trait BlockStep {
+    /// The work at joint `j` (its prepared `joint`).
+    fn step<A: MulAdd>(&mut self, j: usize, joint: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes);
+}
+
+/// The FK block's step: T ← T e^{[S_j]θ_j} lane by lane ([`PoeJoint::apply_block`]).
+impl BlockStep for Block {
+    #[inline(always)]
+    fn step<A: MulAdd>(&mut self, _: usize, joint: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes) {
+        joint.apply_block::<A>(self, theta, s, c);
     }
 }
 
@@ -381,6 +426,11 @@ mod tests {
             Vector3::z(),
             -Vector3::z(),
             Vector3::new(1.0, 1.0, 0.0).normalize(),
+            // Off a coordinate axis by 1e-11 .. 1e-9: the near-axis update.
+            Vector3::new(1.0, 3e-11, -2e-12).normalize(),
+            Vector3::new(-4e-12, -1.0, 1e-9).normalize(),
+            Vector3::new(-2e-11, 7e-13, 1.0).normalize(),
+            Vector3::new(1e-13, 0.0, -1.0).normalize(),
         ] {
             for pitch in [0.0, 0.35] {
                 let s = ScrewAxis::from_point_direction_pitch(point, axis, pitch).unwrap();
@@ -388,6 +438,15 @@ mod tests {
                 assert_eq!(
                     jc.aligned == Aligned::General,
                     axis.x.abs() > 0.5 && axis.y.abs() > 0.5
+                );
+                let off = [axis.x, axis.y, axis.z]
+                    .iter()
+                    .filter(|x| x.abs() < 0.5 && x.abs() >= 1e-15)
+                    .count();
+                assert_eq!(
+                    matches!(jc.aligned, Aligned::X(_, u) | Aligned::Y(_, u) | Aligned::Z(_, u) if u != [0.0; 2]),
+                    off > 0 && jc.aligned != Aligned::General,
+                    "{axis:?}"
                 );
                 cases.push((*s.twist(), jc));
             }
@@ -409,6 +468,17 @@ mod tests {
                 for got in [cols.to_se3(), fused.to_se3()] {
                     assert!(got.max_abs_diff(&oracle) < 1e-14, "{twist:?} {theta}");
                 }
+                // The near-axis and axis updates against Rodrigues' full product (the general
+                // update of the same joint): equal to rounding.
+                let mut general = jc.clone();
+                general.aligned = Aligned::General;
+                let mut full = Columns::from_se3(&t);
+                general.apply::<screwkit_lie::fma::Plain>(&mut full, theta, sn, cs);
+                let diff = cols.to_se3().max_abs_diff(&full.to_se3());
+                assert!(
+                    diff < 2e-16 * (1.0 + theta.abs()),
+                    "{twist:?} {theta}: {diff:e}"
+                );
                 let (w, v) = jc.adjoint_column::<screwkit_lie::fma::Plain>(&Columns::from_se3(&t));
                 let want = t.adjoint_apply(twist);
                 for i in 0..3 {

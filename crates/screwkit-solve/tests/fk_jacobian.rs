@@ -37,6 +37,38 @@ fn fk_matches_composition_and_the_plain_product() {
     }
 }
 
+/// The same on the real files of ../shared/urdf (run by `.ci/run` with `--ignored`), where
+/// axes written with a rounded π/2 sit 1e-13–1e-11 off a coordinate axis and take the
+/// near-axis update: the kernels (tip FK, FK + space Jacobian) equal the URDF composed joint by
+/// joint and the plain product of exponentials to 4e-15 (measured 1.0–3.1e-15 with or without
+/// the near-axis update: a few ulps of metre-sized values after six or seven joints).
+#[test]
+#[ignore = "needs the real-world URDFs of ../shared/urdf: set SCREWKIT_SHARED_URDF=<that folder> and run with --ignored (.ci/run does)"]
+fn kernels_match_composition_on_the_real_files() {
+    let dir = std::env::var("SCREWKIT_SHARED_URDF")
+        .expect("SCREWKIT_SHARED_URDF must name the folder with the shared real-world URDFs");
+    let mut rng = Sampler::new(7);
+    for &(file, base, tip) in screwkit_testkit::SHARED_CHAINS {
+        let tree = screwkit_model::urdf::load_file(format!("{dir}/{file}")).unwrap();
+        let chain = screwkit_model::Chain::from_tree(&tree, Some(base), Some(tip)).unwrap();
+        let kin = screwkit_solve::Kinematics::new(&chain);
+        let mut ws = Workspace::new(&kin);
+        let mut worst = 0.0f64;
+        for _ in 0..300 {
+            let q = rng.config(&kin);
+            let t = fk1(&kin, &q).unwrap();
+            let by_jacobian = fk_jacobian(&kin, &mut ws, &q, Frame::Space).unwrap().pose;
+            let want = fk_by_composition(&tree, &chain, &q).unwrap();
+            for got in [t, by_jacobian] {
+                worst = worst
+                    .max((got.to_homogeneous() - want).amax())
+                    .max(got.max_abs_diff(&poe_space(&chain, &q)));
+            }
+        }
+        assert!(worst < 4e-15, "{file} {base}→{tip}: {worst:e}");
+    }
+}
+
 /// Planar 3R closed form: x = c1 + 0.8 c12 + 0.5 c123, y = s1 + 0.8 s12 + 0.5 s123.
 #[test]
 fn planar_closed_form() {
