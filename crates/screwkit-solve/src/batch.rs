@@ -128,13 +128,7 @@ fn for_each_row(
     for_each_block(kin, qs, (out, out_width), extra, None, f)
 }
 
-/// Whether the batches use the structure-of-arrays block kernels. Not in builds compiled with
-/// AVX-512 enabled (`-C target-cpu=native` on an AVX-512 CPU): there the 8-lane blocks came out
-/// slower than the row-by-row path (measured: Panda FK 48 vs 49 ns, pybullet's Panda 95 vs
-/// 62 ns per configuration, against 39 and 46 ns for the blocks in the default build), so
-/// those builds keep the single-call kernel per row until the 512-bit code generation of the
-/// blocks is understood (issue 16, item 5).
-const BLOCKS: bool = !cfg!(target_feature = "avx512f");
+
 
 /// A block kernel of [`for_each_block`]: W rows of q, their outputs, their extra outputs.
 type BlockFn<'a> = &'a (dyn Fn(&[f64], &mut [f64], Option<&mut [f64]>) + Sync);
@@ -173,7 +167,7 @@ fn for_each_block(
                     let size = (here - r).min(W);
                     let ok = (r..r + size).all(|i| kin.check_q(&q[i * n..(i + 1) * n]).is_ok());
                     let rows = |w: usize| r * w..(r + size) * w;
-                    if let (Some(block), true) = (block, BLOCKS && size == W && ok) {
+                    if let (Some(block), true) = (block, size == W && ok) {
                         block(
                             &q[rows(n)],
                             &mut o[rows(out_width)],

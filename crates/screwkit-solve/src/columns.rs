@@ -201,6 +201,7 @@ pub(crate) type Lanes = [f64; W];
 /// by lane with the same multiply-adds in the same order, so configuration l's result is
 /// bit for bit the single-pose one; the loops over lanes vectorise across configurations.
 #[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
 pub(crate) struct Block {
     pub(crate) c: [[Lanes; 3]; 4],
 }
@@ -262,14 +263,25 @@ impl Block {
     /// [`Columns::compose`] with one E and t for every lane (M at the end of the chain).
     #[inline(always)]
     pub(crate) fn compose_fixed<A: MulAdd>(&mut self, e: &Matrix3<f64>, t: &[f64; 3]) {
-        let (mut ee, mut tt) = ([[[0.0; W]; 3]; 3], [[0.0; W]; 3]);
-        for r in 0..3 {
-            for k in 0..3 {
-                ee[r][k] = [e[(r, k)]; W];
+        // The same multiply-adds as `compose` with every lane of E and t equal, written with
+        // the scalars (splat arrays built on the stack cost a store and reload each).
+        for i in 0..3 {
+            let (a, b, c) = (self.c[0][i], self.c[1][i], self.c[2][i]);
+            for l in 0..W {
+                self.c[3][i][l] = A::madd(
+                    a[l],
+                    t[0],
+                    A::madd(b[l], t[1], A::madd(c[l], t[2], self.c[3][i][l])),
+                );
             }
-            tt[r] = [t[r]; W];
+            for k in 0..3 {
+                let mut out = [0.0; W];
+                for l in 0..W {
+                    out[l] = A::madd(a[l], e[(0, k)], A::madd(b[l], e[(1, k)], c[l] * e[(2, k)]));
+                }
+                self.c[k][i] = out;
+            }
         }
-        self.compose::<A>(&ee, &tt);
     }
 
     /// [`Columns::rotate_axis`] per lane: col_I ← c col_I + s col_J, col_J ← c col_J − s col_I.
