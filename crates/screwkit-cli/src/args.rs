@@ -55,6 +55,85 @@ pub enum Command {
     View(ViewArgs),
     /// Expand a xacro file and print the URDF.
     Xacro(XacroFileArgs),
+    /// A reachability map: voxels x orientations solved by IK, written as .npz (`reach merge`
+    /// joins shards).
+    Reach(Box<ReachArgs>),
+}
+
+/// `reach`: build a map (or a shard of one), or `reach merge` shards.
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct ReachArgs {
+    /// `merge`: join shards into one map.
+    #[command(subcommand)]
+    pub merge: Option<ReachCommand>,
+    /// The URDF or xacro file.
+    #[arg(required = true)]
+    pub urdf: Option<PathBuf>,
+    /// xacro expansion.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
+    /// Base link of the chain (default: the root link).
+    #[arg(long)]
+    pub base: Option<String>,
+    /// Tip link of the chain (default: the only leaf below the base).
+    #[arg(long)]
+    pub tip: Option<String>,
+    /// A tool frame (TCP) fixed to the tip link: x,y,z,roll,pitch,yaw (m, rad).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub tool: Option<List>,
+    /// Voxel edge in metres.
+    #[arg(long, default_value_t = 0.05)]
+    pub resolution: f64,
+    /// Orientations tested per voxel (K).
+    #[arg(long, default_value_t = 50)]
+    pub orientations: usize,
+    /// free: K rotations spread over SO(3); directions: K approach directions on a sphere,
+    /// the tool's z axis pointing at the voxel centre (capability maps).
+    #[arg(long, default_value = "free")]
+    pub mode: String,
+    /// The box to map, xmin,ymin,zmin,xmax,ymax,zmax in metres (default: the chain's reach).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub bounds: Option<List>,
+    /// auto (analytic for 6R arms with a closed form, else numerical), analytic, numerical.
+    #[arg(long, default_value = "auto")]
+    pub solver: String,
+    /// Seed of numerical IK's restarts.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Numerical IK: restarts per pose.
+    #[arg(long, default_value_t = 5)]
+    pub restarts: usize,
+    /// Numerical IK: iterations per attempt.
+    #[arg(long, default_value_t = 100)]
+    pub iterations: usize,
+    /// Compute part i of N (0-based), a contiguous 1/N of the voxels: `reach merge` joins
+    /// the N files into the map the unsharded run writes.
+    #[arg(long, value_name = "i/N")]
+    pub shard: Option<String>,
+    /// Also write the SVG slices through the base (xy, xz, yz) to this file (whole maps).
+    #[arg(long, value_name = "FILE")]
+    pub svg: Option<String>,
+    /// The .npz map to write.
+    #[arg(short, long, required = true)]
+    pub output: Option<String>,
+}
+
+/// Subcommands of `reach`.
+#[derive(Debug, clap::Subcommand)]
+pub enum ReachCommand {
+    /// Join the shards of a map (any order) into the map the unsharded run writes.
+    Merge {
+        /// The .npz map to write.
+        #[arg(short, long)]
+        output: String,
+        /// Also write the SVG slices through the base to this file.
+        #[arg(long, value_name = "FILE")]
+        svg: Option<String>,
+        /// The shard files (all N of them).
+        #[arg(required = true)]
+        shards: Vec<String>,
+    },
 }
 
 /// How to expand a xacro file: package folders and `xacro:arg` values.

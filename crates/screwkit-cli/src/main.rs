@@ -15,6 +15,7 @@ mod info;
 mod jacobian;
 mod npy;
 mod output;
+mod reach;
 mod table;
 
 use std::process::ExitCode;
@@ -114,6 +115,7 @@ fn run(cli: &Cli) -> CliResult {
         Command::Exp(a) => calc::exp(a, cli.format),
         Command::Log(a) => calc::log(a, cli.format),
         Command::Bench(a) => bench::run(a, cli.format),
+        Command::Reach(a) => reach::run(a, cli.format),
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {

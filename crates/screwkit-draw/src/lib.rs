@@ -13,6 +13,8 @@
 //!   (S, M, limits, mimic rule) and a small canvas renderer: orbit and zoom, a slider per joint,
 //!   the live tip pose and space screw axes. Its FK is the product of exponentials written in
 //!   JavaScript, tested equal to the library's in a headless browser.
+//! - [`heatmap::render`]: panels of cells coloured by a value in [0, 1] (viridis) with their
+//!   axes in metres and a colour bar: the slices of a reachability map.
 //!
 //! ```
 //! use screwkit_draw::{svg, Scene, View};
@@ -25,6 +27,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod heatmap;
 pub mod html;
 pub mod scene;
 pub mod svg;

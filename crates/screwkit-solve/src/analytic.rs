@@ -553,6 +553,12 @@ impl AnalyticIk {
         Err(last.unwrap_or_else(|| SolveError::InvalidInput("no joint to lock".into())))
     }
 
+    /// True when every solution comes in closed form; false for the sampled 1D searches
+    /// (1–3 ms per pose, roots may be missed where the error only touches zero).
+    pub fn closed_form(&self) -> bool {
+        !matches!(self.method, Method::Search56 | Method::Search23)
+    }
+
     /// The family of the 6R problem solved (for a locked 7R chain: of the other six joints).
     pub fn family(&self) -> Family {
         self.family

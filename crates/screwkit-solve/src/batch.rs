@@ -128,8 +128,6 @@ fn for_each_row(
     for_each_block(kin, qs, (out, out_width), extra, None, f)
 }
 
-
-
 /// A block kernel of [`for_each_block`]: W rows of q, their outputs, their extra outputs.
 type BlockFn<'a> = &'a (dyn Fn(&[f64], &mut [f64], Option<&mut [f64]>) + Sync);
 
@@ -445,10 +443,11 @@ pub fn ik_batch_from(
         .zip(status.par_iter_mut())
         .zip(times.par_iter_mut())
         .enumerate()
-        // One target per task: IK costs are heavy-tailed (a restart can cost 10× a median
-        // solve), so coarse chunks leave one worker finishing alone; work stealing at single
-        // targets keeps both busy for a few ns of overhead per ~10 µs solve.
-        .with_max_len(1)
+        // Four targets per task: IK costs are heavy-tailed (a restart can cost 10× a median
+        // solve), so coarse chunks leave one worker finishing alone; at four a straggler costs
+        // a few solves, and the task overhead of one target per task (measured +3–6 % on one
+        // thread against a loop of single solves) shrinks fourfold.
+        .with_max_len(4)
         .map_init(
             || Workspace::new(kin),
             |ws, (k, ((q_row, st), time))| {

@@ -51,6 +51,21 @@ fn analysis_matches_nalgebra_svd() {
                 (a.manipulability - det.max(0.0).sqrt()).abs() < 1e-10,
                 "{file}"
             );
+            // The SVD-free form (row-major J), in the space and the body frame.
+            let row_major = |j: &nalgebra::Matrix6xX<f64>| {
+                let mut v = vec![0.0; 6 * j.ncols()];
+                screwkit_solve::batch::write_jacobian(j, &mut v);
+                v
+            };
+            let n = kin.dof();
+            for frame_j in [j.clone(), jac(&kin, &q, Frame::Body)] {
+                let w = screwkit_solve::analysis::manipulability(&row_major(&frame_j), n);
+                assert!(
+                    (w - a.manipulability).abs() <= 1e-9 * a.manipulability.max(1e-3),
+                    "{file}: {w} vs {}",
+                    a.manipulability
+                );
+            }
             if kin.dof() == 6 {
                 let dj = nalgebra::Matrix6::from_iterator(j.iter().copied()).determinant();
                 assert!((a.determinant.unwrap() - dj).abs() < 1e-12);

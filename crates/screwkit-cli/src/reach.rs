@@ -1,0 +1,174 @@
+//! `screwkit reach`: a reachability map (or a shard of one) into an .npz file, with a progress
+//! bar on a terminal and a one-line summary; `screwkit reach merge` joins shards. The map is
+//! built by `screwkit_reach` (the library's batch IK underneath); this file only parses and
+//! prints.
+
+use std::io::IsTerminal;
+use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use screwkit_reach::{OrientationMode, Plan, ReachSpec, Shard, SolverChoice};
+
+use crate::args::{ChainArgs, Format, ReachArgs, ReachCommand};
+use crate::output::{CliResult, Failure};
+
+/// Runs `reach` or `reach merge`.
+pub fn run(a: &ReachArgs, format: Format) -> CliResult {
+    if let Some(ReachCommand::Merge {
+        output,
+        svg,
+        shards,
+    }) = &a.merge
+    {
+        let started = Instant::now();
+        let s = screwkit_reach::merge(shards, output)?;
+        if let Some(svg) = svg {
+            write_svg(output, svg)?;
+        }
+        let secs = started.elapsed().as_secs_f64();
+        print_summary(
+            format,
+            "merged",
+            &s,
+            None,
+            secs,
+            &format!("{} shards → {output}", shards.len()),
+        );
+        return Ok(());
+    }
+    let (Some(urdf), Some(output)) = (&a.urdf, &a.output) else {
+        return Err(Failure("reach needs a robot file and -o MAP".into()));
+    };
+    let chain_args = ChainArgs {
+        urdf: urdf.clone(),
+        xacro: a.xacro.clone(),
+        base: a.base.clone(),
+        tip: a.tip.clone(),
+        tool: a.tool.clone(),
+    };
+    let (chain, kin) = crate::load(&chain_args)?;
+    let spec = ReachSpec {
+        resolution: a.resolution,
+        orientations: a.orientations,
+        mode: match a.mode.as_str() {
+            "free" => OrientationMode::Free,
+            "directions" => OrientationMode::Directions,
+            m => return Err(Failure(format!("--mode {m}: use free or directions"))),
+        },
+        bounds: match &a.bounds {
+            None => None,
+            Some(l) if l.0.len() == 6 => Some(([l.0[0], l.0[1], l.0[2]], [l.0[3], l.0[4], l.0[5]])),
+            Some(l) => {
+                return Err(Failure(format!(
+                    "--bounds wants 6 numbers xmin,ymin,zmin,xmax,ymax,zmax, got {}",
+                    l.0.len()
+                )))
+            }
+        },
+        solver: match a.solver.as_str() {
+            "auto" => SolverChoice::Auto,
+            "analytic" => SolverChoice::Analytic,
+            "numerical" => SolverChoice::Numerical,
+            s => {
+                return Err(Failure(format!(
+                    "--solver {s}: use auto, analytic or numerical"
+                )))
+            }
+        },
+        seed: a.seed,
+        restarts: a.restarts,
+        iterations: a.iterations,
+    };
+    let shard = match &a.shard {
+        Some(s) => Shard::parse(s)?,
+        None => Shard::WHOLE,
+    };
+    if a.svg.is_some() && shard.count > 1 {
+        return Err(Failure(
+            "--svg needs the whole map: draw it after `reach merge` (which takes --svg too)".into(),
+        ));
+    }
+    let plan = Plan::new(&chain, &kin, &spec)?;
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = ProgressBar::new(0);
+        if let Ok(style) = ProgressStyle::with_template(
+            "{bar:40} {percent:>3}% {human_pos}/{human_len} poses, {per_sec}, ETA {eta}",
+        ) {
+            b.set_style(style);
+        }
+        b
+    });
+    let started = Instant::now();
+    let s = screwkit_reach::build(&plan, &kin, shard, output, |done, total| {
+        if let Some(b) = &bar {
+            b.set_length(total as u64);
+            b.set_position(done as u64);
+        }
+    })?;
+    let secs = started.elapsed().as_secs_f64();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    if let Some(svg) = &a.svg {
+        write_svg(output, svg)?;
+    }
+    let what = if shard.count > 1 {
+        format!("shard {}/{} → {output}", shard.index, shard.count)
+    } else {
+        format!("→ {output}")
+    };
+    print_summary(
+        format,
+        plan.solver_name(),
+        &s,
+        Some(plan.rotations.len()),
+        secs,
+        &what,
+    );
+    Ok(())
+}
+
+fn write_svg(map: &str, svg: &str) -> CliResult {
+    let m = screwkit_reach::read(map)?;
+    if m.voxels.len() != m.grid.len() {
+        return Err(Failure(format!("{map} is a shard: draw the merged map")));
+    }
+    std::fs::write(svg, screwkit_reach::slices::svg(&m))
+        .map_err(|e| Failure(format!("cannot write {svg}: {e}")))
+}
+
+fn print_summary(
+    format: Format,
+    solver: &str,
+    s: &screwkit_reach::Summary,
+    k: Option<usize>,
+    secs: f64,
+    what: &str,
+) {
+    let rate = s.solved as f64 / secs.max(1e-9);
+    let threads = rayon::current_num_threads();
+    let fraction = s.reached as f64 / s.poses.max(1) as f64;
+    if format == Format::Json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "voxels": s.voxels, "poses": s.poses, "solved": s.solved, "reached": s.reached,
+                "reached_fraction": fraction, "seconds": secs, "solves_per_second": rate,
+                "threads": threads, "solver": solver,
+            })
+        );
+        return;
+    }
+    let k = k
+        .map(|k| format!(" × {k} orientations"))
+        .unwrap_or_default();
+    println!(
+        "{} voxels{k} = {} poses ({} solved in reach), {} reached ({:.1} %), {secs:.2} s, {:.0} solves/s on {threads} threads ({solver} IK) {what}",
+        s.voxels,
+        s.poses,
+        s.solved,
+        s.reached,
+        100.0 * fraction,
+        rate
+    );
+}

@@ -1,0 +1,672 @@
+//! Reachability maps of a robot arm (Zacharias et al., IROS 2007; Vahrenkamp et al.): the
+//! workspace cut into voxels, K tool orientations tested at every voxel centre by screwkit's
+//! IK — every solution by the analytic solver where the chain has a closed form, one solution
+//! within the limits by numerical IK otherwise — and per voxel the reachability index
+//! (reached ÷ K), per pose the best manipulability √det(J Jᵀ) over its solutions.
+//!
+//! A front end of the library: the poses come from [`grid`], the solving from
+//! `screwkit_solve`'s batch calls ([`screwkit_solve::analytic::AnalyticIk::solve_batch`],
+//! [`screwkit_solve::batch::ik_batch_from`], [`screwkit_solve::batch::jacobian_batch`],
+//! [`screwkit_solve::analysis::manipulability`]); nothing here computes kinematics.
+//!
+//! Maps are `.npz` files ([`npz`]) written as they are computed, so memory stays bounded
+//! whatever the pose count; a map can be computed in N shards (`--shard i/N`: a contiguous
+//! 1/N of the voxels each) and [`merge`]d into the file the unsharded run writes, array for
+//! array and byte for byte (no timings or host names in a map). Every pose's result depends
+//! only on the spec and the pose's global index (numerical IK restarts from
+//! [`screwkit_solve::batch::row_seed`] of it), never on threads, shards or load.
+
+pub mod grid;
+pub mod npz;
+pub mod slices;
+
+use std::ops::Range;
+
+use nalgebra::Matrix3;
+use serde::{Deserialize, Serialize};
+
+use screwkit_model::{Chain, JointKind};
+use screwkit_solve::analytic::AnalyticIk;
+use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
+use screwkit_solve::{Frame, Kinematics};
+
+pub use grid::{orientations, Grid, OrientationMode};
+use npz::{NpzReader, NpzWriter};
+
+/// What can go wrong building, reading or merging a map.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ReachError {
+    /// A bad spec or argument.
+    Input(String),
+    /// A file could not be read or written.
+    Io(String),
+    /// A file is not a map (or not a shard of the same map).
+    Format(String),
+    /// The solver refused the chain.
+    Solve(String),
+}
+
+impl ReachError {
+    pub(crate) fn io(path: &str, e: std::io::Error) -> Self {
+        ReachError::Io(format!("{path}: {e}"))
+    }
+}
+
+impl std::fmt::Display for ReachError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReachError::Input(s) | ReachError::Io(s) | ReachError::Format(s) => f.write_str(s),
+            ReachError::Solve(s) => write!(f, "IK: {s}"),
+        }
+    }
+}
+
+impl std::error::Error for ReachError {}
+
+/// Which IK a map uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SolverChoice {
+    /// Analytic when the chain is a 6R arm with a closed form, numerical otherwise.
+    Auto,
+    /// The analytic solver (every solution); an error for chains without a closed form.
+    Analytic,
+    /// Numerical IK (one solution within the limits per pose).
+    Numerical,
+}
+
+/// What to map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ReachSpec {
+    /// Voxel edge (m).
+    pub resolution: f64,
+    /// Orientations tested per voxel (K).
+    pub orientations: usize,
+    /// How they are spread.
+    pub mode: OrientationMode,
+    /// Box to map (min, max corners in the base frame); `None`: the ball the chain can reach.
+    pub bounds: Option<([f64; 3], [f64; 3])>,
+    /// Which IK.
+    pub solver: SolverChoice,
+    /// Seed of numerical IK's restarts.
+    pub seed: u64,
+    /// Numerical IK: random restarts per pose after the first attempt.
+    pub restarts: usize,
+    /// Numerical IK: iterations per attempt.
+    pub iterations: usize,
+}
+
+impl Default for ReachSpec {
+    /// 5 cm voxels, 50 free orientations, the reachable ball, IK chosen per chain, numerical
+    /// IK with 5 restarts of 100 iterations (an LM solve that converges takes 5–30).
+    fn default() -> Self {
+        Self {
+            resolution: 0.05,
+            orientations: 50,
+            mode: OrientationMode::Free,
+            bounds: None,
+            solver: SolverChoice::Auto,
+            seed: 0,
+            restarts: 5,
+            iterations: 100,
+        }
+    }
+}
+
+/// One part of a map: shard `index` of `count` (0-based).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// Which part, 0 ≤ index < count.
+    pub index: usize,
+    /// Into how many parts the voxels are cut.
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole map.
+    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
+
+    /// Parses `i/N` (0 ≤ i < N).
+    pub fn parse(s: &str) -> Result<Shard, ReachError> {
+        let bad = || ReachError::Input(format!("--shard wants i/N with 0 ≤ i < N, got '{s}'"));
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if count == 0 || index >= count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Its voxels among `total`: the contiguous range [total·i/N, total·(i+1)/N).
+    pub fn voxels(self, total: usize) -> Range<usize> {
+        let at = |i: usize| ((total as u128 * i as u128) / self.count as u128) as usize;
+        at(self.index)..at(self.index + 1)
+    }
+}
+
+/// The IK a plan resolved to.
+#[derive(Debug, Clone)]
+enum Solver {
+    Analytic(Box<AnalyticIk>),
+    Numerical(IkOptions),
+}
+
+/// A spec made concrete for one chain: the grid, the K rotations, the solver, and the ball
+/// the chain can reach (voxels outside it are not solved: index 0).
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// The spec.
+    pub spec: ReachSpec,
+    /// The voxels.
+    pub grid: Grid,
+    /// The K tool rotations tested at every voxel.
+    pub rotations: Vec<Matrix3<f64>>,
+    /// Centre of the reachable ball (the first joint's origin at home), base frame.
+    pub reach_centre: [f64; 3],
+    /// Its radius: the sum of the distances between consecutive joint origins and to the tip,
+    /// which no joint motion changes, plus every prismatic joint's largest travel (m).
+    pub reach_radius: f64,
+    /// "robot base→tip" for the map's metadata.
+    pub label: String,
+    solver: Solver,
+}
+
+impl Plan {
+    /// The plan of `spec` for `chain` (whose kinematics is `kin`).
+    pub fn new(chain: &Chain, kin: &Kinematics, spec: &ReachSpec) -> Result<Plan, ReachError> {
+        if spec.orientations == 0 {
+            return Err(ReachError::Input(
+                "at least one orientation per voxel is needed".into(),
+            ));
+        }
+        let (reach_centre, reach_radius) = reach_ball(chain);
+        let (lo, hi) = spec.bounds.unwrap_or_else(|| {
+            let r = reach_radius + spec.resolution;
+            (
+                reach_centre.map(|c| c - r),
+                [
+                    reach_centre[0] + r,
+                    reach_centre[1] + r,
+                    reach_centre[2] + r,
+                ],
+            )
+        });
+        let grid = Grid::covering(lo, hi, spec.resolution)?;
+        let numerical = || {
+            Solver::Numerical(IkOptions {
+                method: IkMethod::LM,
+                max_iterations: spec.iterations.max(1),
+                max_restarts: spec.restarts,
+                timeout: None,
+                seed: spec.seed,
+                ..IkOptions::default()
+            })
+        };
+        let solver = match spec.solver {
+            SolverChoice::Numerical => numerical(),
+            SolverChoice::Auto => match AnalyticIk::new(kin) {
+                Ok(ik) if ik.closed_form() => Solver::Analytic(Box::new(ik)),
+                _ => numerical(),
+            },
+            SolverChoice::Analytic => match AnalyticIk::new(kin) {
+                Ok(ik) => Solver::Analytic(Box::new(ik)),
+                Err(e) => {
+                    return Err(ReachError::Solve(format!(
+                        "{e} (maps use the analytic solver for 6R chains; choose numerical IK)"
+                    )))
+                }
+            },
+        };
+        Ok(Plan {
+            spec: spec.clone(),
+            grid,
+            rotations: orientations(spec.mode, spec.orientations),
+            reach_centre,
+            reach_radius,
+            label: format!("{} {}→{}", chain.robot, chain.base, chain.tip),
+            solver,
+        })
+    }
+
+    /// "analytic" or "numerical".
+    pub fn solver_name(&self) -> &'static str {
+        match self.solver {
+            Solver::Analytic(_) => "analytic",
+            Solver::Numerical(_) => "numerical",
+        }
+    }
+
+    /// Poses of the whole map (voxels × K).
+    pub fn poses(&self) -> usize {
+        self.grid.len() * self.rotations.len()
+    }
+
+    /// True when voxel `v`'s centre lies in the reachable ball (with half a voxel's diagonal
+    /// to spare), so its poses are solved.
+    pub fn in_reach(&self, v: usize) -> bool {
+        let c = self.grid.centre(v);
+        let d2: f64 = (0..3).map(|a| (c[a] - self.reach_centre[a]).powi(2)).sum();
+        d2.sqrt() <= self.reach_radius + 1e-9
+    }
+
+    /// The map's metadata (the `meta` entry, JSON): everything that defines its arrays.
+    fn meta(&self, shard: Shard) -> String {
+        let range = shard.voxels(self.grid.len());
+        serde_json::json!({
+            "format": "screwkit reachability map 1",
+            "robot": self.label,
+            "solver": self.solver_name(),
+            "spec": self.spec,
+            "grid": self.grid,
+            "reach_centre": self.reach_centre,
+            "reach_radius": self.reach_radius,
+            "shard": [shard.index, shard.count],
+            "voxels": [range.start, range.end],
+        })
+        .to_string()
+    }
+
+    /// Solves voxels `voxels` (all K poses of each) and writes each pose's best manipulability
+    /// (NaN: not reached) into `out` (voxels × K, row-major).
+    fn solve_voxels(
+        &self,
+        kin: &Kinematics,
+        voxels: Range<usize>,
+        out: &mut [f64],
+    ) -> Result<(), ReachError> {
+        let k = self.rotations.len();
+        out.fill(f64::NAN);
+        // Targets of the voxels in reach, in runs of consecutive global pose indices.
+        let mut targets = Vec::new();
+        let mut runs: Vec<(usize, usize)> = Vec::new(); // (first global pose, count)
+        for v in voxels.clone() {
+            if !self.in_reach(v) {
+                continue;
+            }
+            let c = self.grid.centre(v);
+            for r in &self.rotations {
+                targets.extend_from_slice(&[
+                    r[(0, 0)],
+                    r[(0, 1)],
+                    r[(0, 2)],
+                    c[0],
+                    r[(1, 0)],
+                    r[(1, 1)],
+                    r[(1, 2)],
+                    c[1],
+                    r[(2, 0)],
+                    r[(2, 1)],
+                    r[(2, 2)],
+                    c[2],
+                    0.0,
+                    0.0,
+                    0.0,
+                    1.0,
+                ]);
+            }
+            match runs.last_mut() {
+                Some((first, count)) if *first + *count == v * k => *count += k,
+                _ => runs.push((v * k, k)),
+            }
+        }
+        let n = kin.dof();
+        // Every solution found, with the local pose (index into `out`) it belongs to.
+        let mut qs: Vec<f64> = Vec::new();
+        let mut owner: Vec<usize> = Vec::new();
+        let base = voxels.start * k;
+        match &self.solver {
+            Solver::Analytic(ik) => {
+                let results = ik
+                    .solve_batch(kin, &targets, None)
+                    .map_err(|e| ReachError::Solve(e.to_string()))?;
+                // One Jacobian per posture: the 2π representatives that joints with limits
+                // wider than ±π add have the same manipulability. Per pose, in parallel.
+                let distinct: Vec<Vec<f64>> = {
+                    use rayon::prelude::*;
+                    results
+                        .par_iter()
+                        .map(|r| r.as_ref().map_or_else(|_| Vec::new(), |s| postures(s, n)))
+                        .collect()
+                };
+                let mut row = 0;
+                for &(first, count) in &runs {
+                    for p in first..first + count {
+                        qs.extend_from_slice(&distinct[row]);
+                        owner.extend(std::iter::repeat_n(
+                            p - base,
+                            distinct[row].len() / n.max(1),
+                        ));
+                        row += 1;
+                    }
+                }
+            }
+            Solver::Numerical(opts) => {
+                let mut at = 0;
+                for &(first, count) in &runs {
+                    let t = &targets[16 * at..16 * (at + count)];
+                    let mut q = vec![0.0; count * n];
+                    let mut status = vec![IkStatus::unsolved(); count];
+                    // Bad rows cannot occur (the targets are rotations built here); a row
+                    // error would leave its status unsolved, i.e. not reached.
+                    let _ = screwkit_solve::batch::ik_batch_from(
+                        kin,
+                        first,
+                        t,
+                        None,
+                        opts,
+                        &mut q,
+                        &mut status,
+                        None,
+                    );
+                    for (i, st) in status.iter().enumerate() {
+                        if st.converged && kin.within_limits(&q[i * n..(i + 1) * n], 1e-9) {
+                            qs.extend_from_slice(&q[i * n..(i + 1) * n]);
+                            owner.push(first + i - base);
+                        }
+                    }
+                    at += count;
+                }
+            }
+        }
+        if owner.is_empty() {
+            return Ok(());
+        }
+        let mut jac = vec![0.0; owner.len() * 6 * n];
+        screwkit_solve::batch::jacobian_batch(kin, &qs, Frame::Space, &mut jac, None)
+            .map_err(|e| ReachError::Solve(e.to_string()))?;
+        let w: Vec<f64> = {
+            use rayon::prelude::*;
+            jac.par_chunks(6 * n)
+                .map(|j| screwkit_solve::analysis::manipulability(j, n))
+                .collect()
+        };
+        for (&p, &w) in owner.iter().zip(&w) {
+            out[p] = if out[p].is_nan() { w } else { out[p].max(w) };
+        }
+        Ok(())
+    }
+}
+
+/// The exact solutions of `sol` that differ by more than 2π shifts (to 1e-9 rad), flat.
+fn postures(sol: &screwkit_solve::analytic::Solutions, n: usize) -> Vec<f64> {
+    let (mut kept, mut wrapped) = (Vec::new(), Vec::new());
+    for i in (0..sol.len()).filter(|&i| sol.exact(i)) {
+        let q = sol.q(i);
+        let w: Vec<f64> = q.iter().map(|&x| wrap(x)).collect();
+        let seen = wrapped.chunks(n.max(1)).any(|k: &[f64]| {
+            k.iter().zip(&w).all(|(a, b)| {
+                let d = (a - b).abs();
+                d < 1e-9 || (std::f64::consts::TAU - d).abs() < 1e-9
+            })
+        });
+        if !seen {
+            wrapped.extend_from_slice(&w);
+            kept.extend_from_slice(q);
+        }
+    }
+    kept
+}
+
+/// x moved by a multiple of 2π into [−π, π].
+fn wrap(x: f64) -> f64 {
+    x - std::f64::consts::TAU * (x / std::f64::consts::TAU).round()
+}
+
+/// The reachable ball of a chain: centre at the first joint's origin (which no joint moves),
+/// radius Σ |o_{j+1} − o_j| + |tip − o_last| over the joint origins at home (each distance is
+/// fixed: only joint j moves o_{j+1} relative to o_j, about an axis through o_j) plus the
+/// largest travel of each prismatic joint.
+pub fn reach_ball(chain: &Chain) -> ([f64; 3], f64) {
+    let origins: Vec<nalgebra::Vector3<f64>> = chain
+        .joints
+        .iter()
+        .map(|j| *j.home.translation())
+        .chain(std::iter::once(*chain.home.translation()))
+        .collect();
+    let centre = origins[0];
+    let mut r: f64 = origins.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
+    for v in &chain.variables {
+        if v.kind == JointKind::Prismatic {
+            let travel = v.lower.abs().max(v.upper.abs());
+            r += if travel.is_finite() { travel } else { 0.0 };
+        }
+    }
+    ([centre.x, centre.y, centre.z], r)
+}
+
+/// What a build did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Summary {
+    /// Voxels in this file.
+    pub voxels: usize,
+    /// Poses in this file (voxels × K).
+    pub poses: usize,
+    /// Poses solved (their voxel in the reachable ball).
+    pub solved: usize,
+    /// Poses reached.
+    pub reached: usize,
+}
+
+/// Voxels solved per step of a build (progress is reported after each).
+const CHUNK_VOXELS: usize = 256;
+
+/// Builds shard `shard` of the map of `plan` into the `.npz` file `path`, streaming the
+/// per-pose results: memory holds a chunk of poses and the per-voxel arrays. `progress(done,
+/// total)` is called with poses after each chunk.
+pub fn build(
+    plan: &Plan,
+    kin: &Kinematics,
+    shard: Shard,
+    path: &str,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<Summary, ReachError> {
+    let k = plan.rotations.len();
+    let range = shard.voxels(plan.grid.len());
+    let nv = range.len();
+    let mut out = NpzWriter::create(path)?;
+    out.start("pose_manipulability", "<f8", &[nv, k])?;
+    let (mut index, mut best) = (Vec::with_capacity(nv), Vec::with_capacity(nv));
+    let mut summary = Summary {
+        voxels: nv,
+        poses: nv * k,
+        solved: 0,
+        reached: 0,
+    };
+    let mut buf = vec![0.0; CHUNK_VOXELS * k];
+    let mut v = range.start;
+    while v < range.end {
+        let end = (v + CHUNK_VOXELS).min(range.end);
+        let w = &mut buf[..(end - v) * k];
+        plan.solve_voxels(kin, v..end, w)?;
+        for (i, poses) in w.chunks(k).enumerate() {
+            let reached = poses.iter().filter(|x| !x.is_nan()).count();
+            if plan.in_reach(v + i) {
+                summary.solved += k;
+            }
+            summary.reached += reached;
+            index.push(reached as f64 / k as f64);
+            best.push(poses.iter().copied().fold(f64::NAN, f64::max));
+        }
+        out.write_f64(w)?;
+        v = end;
+        progress((v - range.start) * k, nv * k);
+    }
+    let centres: Vec<f64> = range.clone().flat_map(|v| plan.grid.centre(v)).collect();
+    write_tail(&mut out, plan, shard, &centres, &index, &best)?;
+    out.finish()?;
+    Ok(summary)
+}
+
+/// The per-voxel and descriptive entries after `pose_manipulability`, in a fixed order.
+fn write_tail(
+    out: &mut NpzWriter,
+    plan: &Plan,
+    shard: Shard,
+    centres: &[f64],
+    index: &[f64],
+    best: &[f64],
+) -> Result<(), ReachError> {
+    let nv = index.len();
+    out.f64_array("centres", &[nv, 3], centres)?;
+    out.f64_array("index", &[nv], index)?;
+    out.f64_array("best_manipulability", &[nv], best)?;
+    write_description(out, plan.meta(shard), &plan.grid, &plan.rotations, shard)
+}
+
+fn write_description(
+    out: &mut NpzWriter,
+    meta: String,
+    grid: &Grid,
+    rotations: &[Matrix3<f64>],
+    shard: Shard,
+) -> Result<(), ReachError> {
+    let range = shard.voxels(grid.len());
+    let rot: Vec<f64> = rotations
+        .iter()
+        .flat_map(|r| (0..3).flat_map(move |i| (0..3).map(move |j| r[(i, j)])))
+        .collect();
+    out.f64_array("orientations", &[rotations.len(), 3, 3], &rot)?;
+    out.f64_array("grid_origin", &[3], &grid.origin)?;
+    out.i64_array("grid_shape", &[3], &grid.shape.map(|s| s as i64))?;
+    out.f64_array("resolution", &[], &[grid.resolution])?;
+    out.i64_array("voxel_range", &[2], &[range.start as i64, range.end as i64])?;
+    out.text("meta", &meta)
+}
+
+/// A map read back (the per-voxel arrays; `pose_manipulability` stays on disk unless asked).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapFile {
+    /// The `meta` entry (JSON).
+    pub meta: serde_json::Value,
+    /// The grid.
+    pub grid: Grid,
+    /// Voxels of this file (a shard's range, or all).
+    pub voxels: Range<usize>,
+    /// Orientations per voxel.
+    pub k: usize,
+    /// Reachability index per voxel.
+    pub index: Vec<f64>,
+    /// Best manipulability per voxel (NaN: none reached).
+    pub best: Vec<f64>,
+    /// Voxel centres (voxels × 3).
+    pub centres: Vec<f64>,
+}
+
+/// Reads the per-voxel arrays and metadata of map (or shard) `path`.
+pub fn read(path: &str) -> Result<MapFile, ReachError> {
+    let mut z = NpzReader::open(path)?;
+    let meta: serde_json::Value = serde_json::from_str(&z.text("meta")?)
+        .map_err(|e| ReachError::Format(format!("{path}: bad meta: {e}")))?;
+    if meta["format"] != "screwkit reachability map 1" {
+        return Err(ReachError::Format(format!(
+            "{path}: not a screwkit reachability map"
+        )));
+    }
+    let grid: Grid = serde_json::from_value(meta["grid"].clone())
+        .map_err(|e| ReachError::Format(format!("{path}: bad grid: {e}")))?;
+    let (_, r) = z.i64_array("voxel_range")?;
+    let voxels = r[0] as usize..r[1] as usize;
+    let (_, index) = z.f64_array("index")?;
+    let (_, best) = z.f64_array("best_manipulability")?;
+    let (_, centres) = z.f64_array("centres")?;
+    let k = meta["spec"]["orientations"].as_u64().unwrap_or(0) as usize;
+    if index.len() != voxels.len() || best.len() != voxels.len() {
+        return Err(ReachError::Format(format!(
+            "{path}: arrays do not match the voxel range"
+        )));
+    }
+    Ok(MapFile {
+        meta,
+        grid,
+        voxels,
+        k,
+        index,
+        best,
+        centres,
+    })
+}
+
+/// Joins the shards `paths` (any order) into the map `out`: the file the unsharded build
+/// writes, byte for byte. An error naming the file when a shard belongs to another map, is
+/// missing, or appears twice. Streams `pose_manipulability`; memory holds the per-voxel arrays.
+pub fn merge(paths: &[String], out: &str) -> Result<Summary, ReachError> {
+    if paths.is_empty() {
+        return Err(ReachError::Input("no shards to merge".into()));
+    }
+    let mut shards: Vec<(MapFile, &String)> = paths
+        .iter()
+        .map(|p| read(p).map(|m| (m, p)))
+        .collect::<Result<_, _>>()?;
+    shards.sort_by_key(|(m, _)| m.voxels.start);
+    let strip = |m: &serde_json::Value| {
+        let mut m = m.clone();
+        for key in ["shard", "voxels"] {
+            m.as_object_mut().map(|o| o.remove(key));
+        }
+        m
+    };
+    let (first, first_path) = &shards[0];
+    let count = first.meta["shard"][1].as_u64().unwrap_or(0) as usize;
+    let mut expect = 0;
+    for (m, p) in &shards {
+        if strip(&m.meta) != strip(&first.meta) {
+            return Err(ReachError::Format(format!(
+                "{p}: a shard of another map than {first_path} (robot, spec or grid differ)"
+            )));
+        }
+        if m.voxels.start != expect {
+            return Err(ReachError::Format(format!(
+                "{p}: voxels {}..{} where {expect} was expected next (a shard missing or twice)",
+                m.voxels.start, m.voxels.end
+            )));
+        }
+        expect = m.voxels.end;
+    }
+    if expect != first.grid.len() || shards.len() != count {
+        return Err(ReachError::Format(format!(
+            "the shards cover voxels 0..{expect} of {} ({} of {count} shards given)",
+            first.grid.len(),
+            shards.len()
+        )));
+    }
+    let k = first.k;
+    let nv = first.grid.len();
+    let mut w = NpzWriter::create(out)?;
+    w.start("pose_manipulability", "<f8", &[nv, k])?;
+    for (_, p) in &shards {
+        let mut r = NpzReader::open(p)?;
+        npz::copy_entry(&mut r, "pose_manipulability", &mut w, 1 << 20)?;
+    }
+    let cat = |f: &dyn Fn(&MapFile) -> &Vec<f64>| -> Vec<f64> {
+        shards.iter().flat_map(|(m, _)| f(m).clone()).collect()
+    };
+    let (centres, index, best) = (cat(&|m| &m.centres), cat(&|m| &m.index), cat(&|m| &m.best));
+    w.f64_array("centres", &[nv, 3], &centres)?;
+    w.f64_array("index", &[nv], &index)?;
+    w.f64_array("best_manipulability", &[nv], &best)?;
+    let mut whole = strip(&first.meta);
+    if let Some(o) = whole.as_object_mut() {
+        o.insert("shard".into(), serde_json::json!([0, 1]));
+        o.insert("voxels".into(), serde_json::json!([0, nv]));
+    }
+    let mut r = NpzReader::open(first_path)?;
+    let (_, rot) = r.f64_array("orientations")?;
+    let rotations: Vec<Matrix3<f64>> = rot.chunks_exact(9).map(Matrix3::from_row_slice).collect();
+    write_description(
+        &mut w,
+        whole.to_string(),
+        &first.grid,
+        &rotations,
+        Shard::WHOLE,
+    )?;
+    w.finish()?;
+    let reached = index.iter().map(|x| (x * k as f64).round() as usize).sum();
+    Ok(Summary {
+        voxels: nv,
+        poses: nv * k,
+        solved: 0,
+        reached,
+    })
+}
