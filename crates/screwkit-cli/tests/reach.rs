@@ -87,7 +87,7 @@ fn shards_merge_into_the_whole_map() {
         ),
         (
             vec!["reach", "merge", "-o", &p("y.npz"), &shards[0]],
-            "1 of 2 shards",
+            "missing or twice",
         ),
     ] {
         let (ok, _, err) = run(&args);
