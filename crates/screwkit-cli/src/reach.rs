@@ -26,14 +26,25 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
             write_svg(output, svg)?;
         }
         let secs = started.elapsed().as_secs_f64();
-        print_summary(
-            format,
-            "merged",
-            &s,
-            None,
-            secs,
-            &format!("{} shards → {output}", shards.len()),
-        );
+        let fraction = s.reached as f64 / s.poses.max(1) as f64;
+        if format == Format::Json {
+            println!(
+                "{}",
+                serde_json::json!({
+                    "voxels": s.voxels, "poses": s.poses, "reached": s.reached,
+                    "reached_fraction": fraction, "seconds": secs, "shards": shards.len(),
+                })
+            );
+        } else {
+            println!(
+                "merged {} shards: {} voxels = {} poses, {} reached ({:.1} %), {secs:.2} s → {output}",
+                shards.len(),
+                s.voxels,
+                s.poses,
+                s.reached,
+                100.0 * fraction
+            );
+        }
         return Ok(());
     }
     let (Some(urdf), Some(output)) = (&a.urdf, &a.output) else {

@@ -1,5 +1,5 @@
 //! Heat-map panels as SVG (the slices of a reachability map): each panel a grid of cells
-//! coloured by a value in [0, 1] on the viridis scale (0 light grey, empty cells left out),
+//! coloured by a value in [0, 1] on the viridis scale (0 light grey, NaN white),
 //! with its axes in metres, a cross at the origin and one colour bar for the sheet.
 //! Deterministic: the same panels give the same bytes. Knows nothing of robots or maps.
 
@@ -8,7 +8,7 @@ use std::fmt::Write;
 use crate::svg::escape;
 
 /// One panel: `values[r * nx + c]` is the cell whose centre is (x0 + c·step, y0 + r·step);
-/// NaN leaves a cell empty. Row 0 is drawn at the bottom (y up).
+/// NaN is drawn white. Row 0 is drawn at the bottom (y up).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Panel {
     /// Title above the panel.
@@ -123,20 +123,33 @@ fn panel(s: &mut String, p: &Panel, left: f64, top: f64) {
         top - 6.0,
         escape(&p.title)
     );
+    // The grid's extent in the colour of 0, then every other cell (0 cells are most of a
+    // map: one rectangle for all of them keeps the file small).
+    let _ = writeln!(
+        s,
+        "<rect class=\"zero\" x=\"{ox:.2}\" y=\"{oy:.2}\" width=\"{:.2}\" height=\"{:.2}\" fill=\"{}\"/>",
+        p.nx as f64 * cell,
+        p.ny as f64 * cell,
+        colour(0.0)
+    );
     for r in 0..p.ny {
         for c in 0..p.nx {
             let v = p.values[r * p.nx + c];
-            if v.is_nan() {
+            if v <= 0.0 {
                 continue;
             }
+            let fill = if v.is_nan() {
+                "white".into()
+            } else {
+                colour(v)
+            };
             let _ = writeln!(
                 s,
-                "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" fill=\"{}\"/>",
+                "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" fill=\"{fill}\"/>",
                 ox + c as f64 * cell,
                 oy + (p.ny - 1 - r) as f64 * cell,
                 cell + 0.05,
                 cell + 0.05,
-                colour(v)
             );
         }
     }
@@ -205,10 +218,13 @@ mod tests {
             values: vec![0.0, 0.5, 1.0, f64::NAN, 0.25, 0.75, 0.1, 0.2, 0.3],
         };
         let svg = render("map", &[p], "reachability index");
-        // 8 cells drawn (one NaN), plus 50 colour-bar rects and the frame rects.
+        // 7 cells above 0 and the NaN one (white) drawn, the 0 one by the grid's background;
+        // plus 50 colour-bar rects and the frame.
         let cells = svg.matches("<rect x=").count();
         assert_eq!(cells, 8 + 50 + 1);
-        assert!(svg.contains("#e6e6e6")); // the 0 cell
+        // The sheet's background and the NaN cell.
+        assert_eq!(svg.matches("fill=\"white\"/>").count(), 2);
+        assert!(svg.contains("class=\"zero\"") && svg.contains("#e6e6e6"));
         assert!(svg.contains("#fde725")); // viridis(1)
         assert!(svg.contains("class=\"origin\""));
         assert_eq!(viridis(0.0), (68, 1, 84));

@@ -8,6 +8,7 @@
 mod array;
 mod errors;
 mod pool;
+mod reach;
 mod results;
 mod robot;
 
@@ -109,6 +110,9 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(adjoint, m)?)?;
     m.add_function(wrap_pyfunction!(row_seed, m)?)?;
     m.add_function(wrap_pyfunction!(xacro, m)?)?;
+    m.add_function(wrap_pyfunction!(reach::reach_build, m)?)?;
+    m.add_function(wrap_pyfunction!(reach::reach_merge, m)?)?;
+    m.add_function(wrap_pyfunction!(reach::reach_svg, m)?)?;
     m.add_function(wrap_pyfunction!(pool::set_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(pool::num_threads, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

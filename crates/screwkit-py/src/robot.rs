@@ -52,6 +52,11 @@ enum Rows {
 }
 
 impl Robot {
+    /// The chain and its kinematics (for the other modules of the binding).
+    pub(crate) fn parts(&self) -> (&Chain, &Kinematics) {
+        (&self.chain, &self.kin)
+    }
+
     fn build(text: String, source: &str, base: Option<&str>, tip: Option<&str>) -> PyResult<Self> {
         let tree = screwkit_model::urdf::load_str(&text, source).map_err(model_error)?;
         let chain = Chain::from_tree(&tree, base, tip).map_err(model_error)?;

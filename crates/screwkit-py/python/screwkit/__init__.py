@@ -26,18 +26,22 @@ from ._screwkit import (
     set_num_threads,
     xacro,
 )
+from .reach import ReachMap, merge, reach
 
 __all__ = [
     "Analysis",
     "BatchError",
     "IkBatchResult",
     "IkResult",
+    "ReachMap",
     "Robot",
     "__version__",
     "adjoint",
     "exp",
     "log",
+    "merge",
     "num_threads",
+    "reach",
     "row_seed",
     "set_num_threads",
     "xacro",

@@ -22,6 +22,9 @@ __all__ = [
     "set_num_threads",
     "num_threads",
     "xacro",
+    "reach_build",
+    "reach_merge",
+    "reach_svg",
     "__version__",
 ]
 
@@ -235,3 +238,26 @@ def xacro(
     package_paths: Sequence[str | os.PathLike[str]] | None = None,
     args: Mapping[str, str] | None = None,
 ) -> str: ...
+def reach_build(
+    robot: Robot,
+    path: str,
+    *,
+    resolution: float,
+    orientations: int,
+    mode: str,
+    bounds: tuple[float, ...] | None,
+    solver: str,
+    seed: int,
+    restarts: int,
+    iterations: int,
+    shard_index: int,
+    shard_count: int,
+) -> dict[str, Any]:
+    """Builds shard `shard_index` of `shard_count` of a reachability map into the .npz `path`
+    (the GIL released); a summary dict. Use `screwkit.reach`."""
+
+def reach_merge(shards: list[str], path: str) -> dict[str, Any]:
+    """Joins map shards into `path`. Use `screwkit.merge`."""
+
+def reach_svg(path: str) -> str:
+    """The SVG slices through the base of the whole map `path`."""

@@ -1,0 +1,124 @@
+//! Reachability maps from Python: `screwkit_reach`'s build, merge and slices, the GIL
+//! released while a map is computed (on the pool of `screwkit.set_num_threads`).
+
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use screwkit_reach::{OrientationMode, Plan, ReachError, ReachSpec, Shard, SolverChoice};
+
+use crate::pool;
+use crate::robot::Robot;
+
+fn reach_error(e: ReachError) -> PyErr {
+    match e {
+        ReachError::Io(m) => PyOSError::new_err(m),
+        e => PyValueError::new_err(e.to_string()),
+    }
+}
+
+fn summary<'py>(
+    py: Python<'py>,
+    s: &screwkit_reach::Summary,
+    secs: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("voxels", s.voxels)?;
+    d.set_item("poses", s.poses)?;
+    d.set_item("solved", s.solved)?;
+    d.set_item("reached", s.reached)?;
+    d.set_item("seconds", secs)?;
+    Ok(d)
+}
+
+/// Builds shard `shard_index` of `shard_count` of the map of `robot` into the .npz `path`;
+/// returns a summary dict (voxels, poses, solved, reached, seconds).
+#[pyfunction]
+#[pyo3(signature = (robot, path, *, resolution, orientations, mode, bounds, solver, seed, restarts, iterations, shard_index, shard_count))]
+#[allow(clippy::too_many_arguments)]
+pub fn reach_build<'py>(
+    py: Python<'py>,
+    robot: &Robot,
+    path: String,
+    resolution: f64,
+    orientations: usize,
+    mode: &str,
+    bounds: Option<[f64; 6]>,
+    solver: &str,
+    seed: u64,
+    restarts: usize,
+    iterations: usize,
+    shard_index: usize,
+    shard_count: usize,
+) -> PyResult<Bound<'py, PyDict>> {
+    let spec = ReachSpec {
+        resolution,
+        orientations,
+        mode: match mode {
+            "free" => OrientationMode::Free,
+            "directions" => OrientationMode::Directions,
+            m => {
+                return Err(PyValueError::new_err(format!(
+                    "mode: expected \"free\" or \"directions\", got {m:?}"
+                )))
+            }
+        },
+        bounds: bounds.map(|b| ([b[0], b[1], b[2]], [b[3], b[4], b[5]])),
+        solver: match solver {
+            "auto" => SolverChoice::Auto,
+            "analytic" => SolverChoice::Analytic,
+            "numerical" => SolverChoice::Numerical,
+            s => {
+                return Err(PyValueError::new_err(format!(
+                    "solver: expected \"auto\", \"analytic\" or \"numerical\", got {s:?}"
+                )))
+            }
+        },
+        seed,
+        restarts,
+        iterations,
+    };
+    if shard_count == 0 || shard_index >= shard_count {
+        return Err(PyValueError::new_err(format!(
+            "shard: expected 0 <= index < count, got {shard_index} of {shard_count}"
+        )));
+    }
+    let (chain, kin) = robot.parts();
+    let plan = Plan::new(chain, kin, &spec).map_err(reach_error)?;
+    let shard = Shard {
+        index: shard_index,
+        count: shard_count,
+    };
+    let started = std::time::Instant::now();
+    let s = py
+        .detach(|| pool::run(|| screwkit_reach::build(&plan, kin, shard, &path, |_, _| {})))
+        .map_err(reach_error)?;
+    let d = summary(py, &s, started.elapsed().as_secs_f64())?;
+    d.set_item("solver", plan.solver_name())?;
+    Ok(d)
+}
+
+/// Joins shard files into the map `path` (the file the unsharded build writes).
+#[pyfunction]
+pub fn reach_merge<'py>(
+    py: Python<'py>,
+    shards: Vec<String>,
+    path: String,
+) -> PyResult<Bound<'py, PyDict>> {
+    let started = std::time::Instant::now();
+    let s = py
+        .detach(|| screwkit_reach::merge(&shards, &path))
+        .map_err(reach_error)?;
+    summary(py, &s, started.elapsed().as_secs_f64())
+}
+
+/// The SVG slices through the base of the (whole) map `path`.
+#[pyfunction]
+pub fn reach_svg(path: String) -> PyResult<String> {
+    let m = screwkit_reach::read(&path).map_err(reach_error)?;
+    if m.voxels.len() != m.grid.len() {
+        return Err(PyValueError::new_err(format!(
+            "{path} is a shard: draw the merged map"
+        )));
+    }
+    Ok(screwkit_reach::slices::svg(&m))
+}
