@@ -114,7 +114,8 @@ pub struct ReachArgs {
     /// Also write the SVG slices through the base (xy, xz, yz) to this file (whole maps).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<String>,
-    /// The .npz map to write.
+    /// The map to write: .npz (numpy), or for small maps (≤ 10⁷ poses) .csv (one line per
+    /// voxel) or .json (per voxel and per pose).
     #[arg(short, long, required = true)]
     pub output: Option<String>,
 }

@@ -109,8 +109,26 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         }
         b
     });
+    // A small map may be written as text: built as .npz beside it, then exported.
+    let text = output.ends_with(".csv") || output.ends_with(".json");
+    if !text && !output.ends_with(".npz") {
+        return Err(Failure(format!(
+            "-o {output}: write a map as .npz, or a small one as .csv or .json"
+        )));
+    }
+    if text && plan.poses() > screwkit_reach::TEXT_MAX_POSES {
+        return Err(Failure(format!(
+            "-o {output}: {} poses is too many for text; write .npz",
+            plan.poses()
+        )));
+    }
+    let npz = if text {
+        format!("{output}.npz")
+    } else {
+        output.clone()
+    };
     let started = Instant::now();
-    let s = screwkit_reach::build(&plan, &kin, shard, output, |done, total| {
+    let s = screwkit_reach::build(&plan, &kin, shard, &npz, |done, total| {
         if let Some(b) = &bar {
             b.set_length(total as u64);
             b.set_position(done as u64);
@@ -121,7 +139,12 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         b.finish_and_clear();
     }
     if let Some(svg) = &a.svg {
-        write_svg(output, svg)?;
+        write_svg(&npz, svg)?;
+    }
+    if text {
+        let r = screwkit_reach::export(&npz, output);
+        let _ = std::fs::remove_file(&npz);
+        r?;
     }
     let what = if shard.count > 1 {
         format!("shard {}/{} → {output}", shard.index, shard.count)

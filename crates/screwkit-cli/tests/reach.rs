@@ -54,6 +54,36 @@ fn shards_merge_into_the_whole_map() {
     let svg = std::fs::read_to_string(&whole_svg).unwrap();
     assert!(svg.starts_with("<svg") && svg.matches("class=\"panel\"").count() == 3);
 
+    // Small maps as text: one CSV line per voxel, JSON per voxel and pose, equal to the .npz.
+    let map = screwkit_reach::read(&whole_npz).unwrap();
+    let (csv, json) = (p("whole.csv"), p("whole.json"));
+    for out in [&csv, &json] {
+        let mut a = vec!["reach", ur5.as_str()];
+        a.extend(spec);
+        a.extend(["-o", out.as_str()]);
+        let (ok, _, err) = run(&a);
+        assert!(ok, "{err}");
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "x,y,z,index,best_manipulability");
+    assert_eq!(lines.len(), map.index.len() + 1);
+    for (line, want) in lines[1..].iter().zip(&map.index) {
+        let index: f64 = line.split(',').nth(3).unwrap().parse().unwrap();
+        assert_eq!(index, *want);
+    }
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let voxels = v["voxels"].as_array().unwrap();
+    assert_eq!(voxels.len(), map.index.len());
+    for (vox, want) in voxels.iter().zip(&map.index) {
+        let poses = vox["pose_manipulability"].as_array().unwrap();
+        assert_eq!(poses.len(), 6);
+        let reached = poses.iter().filter(|x| !x.is_null()).count();
+        assert_eq!(reached as f64 / 6.0, *want);
+    }
+    assert!(!std::path::Path::new(&format!("{csv}.npz")).exists());
+
     // One line, non-zero exit, for each mistake.
     for (args, says) in [
         (

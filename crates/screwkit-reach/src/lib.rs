@@ -670,3 +670,80 @@ pub fn merge(paths: &[String], out: &str) -> Result<Summary, ReachError> {
         reached,
     })
 }
+
+/// Largest map [`export`] writes as text (poses).
+pub const TEXT_MAX_POSES: usize = 10_000_000;
+
+/// Writes map `npz` (whole or shard) as text for small maps: `.csv` (a header, then one line
+/// per voxel: x, y, z, index, best_manipulability) or `.json` (`{"meta": …, "voxels": [{"centre",
+/// "index", "best_manipulability", "pose_manipulability": [K]}]}`, NaN as null), chosen by
+/// `out`'s extension. An error above [`TEXT_MAX_POSES`] poses.
+pub fn export(npz: &str, out: &str) -> Result<(), ReachError> {
+    use std::io::Write;
+    let m = read(npz)?;
+    let poses = m.index.len() * m.k;
+    if poses > TEXT_MAX_POSES {
+        return Err(ReachError::Input(format!(
+            "{poses} poses is too many for text: keep the .npz (numpy reads it directly)"
+        )));
+    }
+    let file = std::fs::File::create(out).map_err(|e| ReachError::io(out, e))?;
+    let mut w = std::io::BufWriter::new(file);
+    let num = |x: f64| -> serde_json::Value {
+        if x.is_finite() {
+            serde_json::json!(x)
+        } else {
+            serde_json::Value::Null
+        }
+    };
+    let res = if out.ends_with(".csv") {
+        let mut r = writeln!(w, "x,y,z,index,best_manipulability");
+        for (i, c) in m.centres.chunks(3).enumerate() {
+            if r.is_err() {
+                break;
+            }
+            r = writeln!(
+                w,
+                "{},{},{},{},{}",
+                c[0],
+                c[1],
+                c[2],
+                m.index[i],
+                if m.best[i].is_nan() {
+                    String::new()
+                } else {
+                    m.best[i].to_string()
+                }
+            );
+        }
+        r
+    } else if out.ends_with(".json") {
+        let mut z = NpzReader::open(npz)?;
+        let (_, pose) = z.f64_array("pose_manipulability")?;
+        let voxels: Vec<serde_json::Value> = (0..m.index.len())
+            .map(|i| {
+                serde_json::json!({
+                    "centre": &m.centres[3 * i..3 * i + 3],
+                    "index": m.index[i],
+                    "best_manipulability": num(m.best[i]),
+                    "pose_manipulability": pose[i * m.k..(i + 1) * m.k]
+                        .iter()
+                        .map(|&x| num(x))
+                        .collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        serde_json::to_writer(
+            &mut w,
+            &serde_json::json!({"meta": m.meta, "voxels": voxels}),
+        )
+        .map_err(std::io::Error::other)
+        .and_then(|()| writeln!(w))
+    } else {
+        return Err(ReachError::Input(format!(
+            "{out}: write a map as .npz, or a small one as .csv or .json"
+        )));
+    };
+    res.and_then(|()| w.flush())
+        .map_err(|e| ReachError::io(out, e))
+}
