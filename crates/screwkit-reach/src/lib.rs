@@ -449,8 +449,10 @@ pub struct Summary {
     pub reached: usize,
 }
 
-/// Voxels solved per step of a build (progress is reported after each).
-const CHUNK_VOXELS: usize = 256;
+/// Poses solved per step of a build (whole voxels; progress is reported after each). Bounds
+/// memory: the analytic solver returns every 2π representative of every posture (up to 512
+/// for a UR5 with ±2π limits, 24 KB a pose), so a step of 2048 poses stays under 50 MB.
+const CHUNK_POSES: usize = 2048;
 
 /// Builds shard `shard` of the map of `plan` into the `.npz` file `path`, streaming the
 /// per-pose results: memory holds a chunk of poses and the per-voxel arrays. `progress(done,
@@ -474,10 +476,11 @@ pub fn build(
         solved: 0,
         reached: 0,
     };
-    let mut buf = vec![0.0; CHUNK_VOXELS * k];
+    let chunk_voxels = (CHUNK_POSES / k).max(1);
+    let mut buf = vec![0.0; chunk_voxels * k];
     let mut v = range.start;
     while v < range.end {
-        let end = (v + CHUNK_VOXELS).min(range.end);
+        let end = (v + chunk_voxels).min(range.end);
         let w = &mut buf[..(end - v) * k];
         plan.solve_voxels(kin, v..end, w)?;
         for (i, poses) in w.chunks(k).enumerate() {
