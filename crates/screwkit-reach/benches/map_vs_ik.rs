@@ -1,6 +1,6 @@
 //! The map builder against the raw batched IK it calls, in one process (interleaved rounds,
 //! minimum kept): the same in-reach poses of a UR5 map (0.1 m, 20 orientations) solved by
-//! `AnalyticIk::solve_batch` alone, and the whole `build` (targets, solve, one Jacobian and
+//! `AnalyticIk::solve_batch` alone (2048 targets a call, as the map), and the whole `build` (targets, solve, one Jacobian and
 //! manipulability per posture, .npz streaming); the same for numerical IK (`ik_batch_from`)
 //! on the UR5 and the Panda. Prints solves/s on the current pool and the ratio.
 //! Run: `cargo bench -p screwkit-reach --bench map_vs_ik [-- THREADS]`.
@@ -59,7 +59,11 @@ fn case(name: &str, file: &str, solver: SolverChoice) {
         let t0 = Instant::now();
         match (&ik, plan.solver_name()) {
             (Some(ik), "analytic") => {
-                std::hint::black_box(ik.solve_batch(&kin, &t, None).unwrap());
+                // In batches of 2048 targets, as the map does: one call on all of them would
+                // hold every solution list at once (up to 24 KB a pose) and measure the memory.
+                for chunk in t.chunks(2048 * 16) {
+                    std::hint::black_box(ik.solve_batch(&kin, chunk, None).unwrap());
+                }
             }
             _ => {
                 let mut q = vec![0.0; poses * n];
