@@ -1,15 +1,12 @@
 //! Binary batches: numpy's `.npy` format (version 1.0, little-endian float64, C order), read
 //! and written a chunk of rows at a time so memory stays bounded whatever N is.
 //!
-//! Written here rather than with an npy crate: the format is a magic string, a Python-dict
-//! header and raw little-endian numbers; the reader needs only `<f8` C-order arrays and the
-//! writer only knows N up front, which these 120 lines do without a dependency.
+//! The header (magic, version, Python dict) is `screwkit_reach::npz`'s, which writes the maps'
+//! arrays; the reader here needs only `<f8` C-order arrays and the writer knows N up front.
 
 use std::io::{BufReader, BufWriter, Read, Write};
 
 use crate::output::{CliResult, Failure};
-
-const MAGIC: &[u8] = b"\x93NUMPY";
 
 /// A `.npy` file of float64 rows being read.
 pub struct NpyReader {
@@ -23,18 +20,6 @@ pub struct NpyReader {
     pub remaining: usize,
 }
 
-/// The value of `key` in the header dict, as written by numpy (`'key': value,`).
-fn header_field<'a>(header: &'a str, key: &str) -> Option<&'a str> {
-    let start = header.find(&format!("'{key}':"))? + key.len() + 3;
-    let rest = header[start..].trim_start();
-    let end = if rest.starts_with('(') {
-        rest.find(')')? + 1
-    } else {
-        rest.find(',').or_else(|| rest.find('}'))?
-    };
-    Some(rest[..end].trim())
-}
-
 impl NpyReader {
     /// Opens a `.npy` file of float64 (`<f8`, C order).
     pub fn open(path: &str) -> CliResult<Self> {
@@ -42,46 +27,19 @@ impl NpyReader {
         let mut file = BufReader::new(
             std::fs::File::open(path).map_err(|e| err(format!("cannot read the file: {e}")))?,
         );
-        let mut head = [0u8; 10];
-        file.read_exact(&mut head)
-            .map_err(|_| err("not a .npy file (too short)".into()))?;
-        if &head[..6] != MAGIC {
-            return Err(err("not a .npy file (no \\x93NUMPY magic)".into()));
-        }
-        let (major, len) = (head[6], u16::from_le_bytes([head[8], head[9]]) as usize);
-        let len = match major {
-            1 => len,
-            2 | 3 => {
-                let mut more = [0u8; 2];
-                file.read_exact(&mut more)
-                    .map_err(|_| err("truncated header".into()))?;
-                u32::from_le_bytes([head[8], head[9], more[0], more[1]]) as usize
-            }
-            v => return Err(err(format!(".npy version {v} is not supported"))),
-        };
-        let mut header = vec![0u8; len];
-        file.read_exact(&mut header)
-            .map_err(|_| err("truncated header".into()))?;
-        let header = String::from_utf8_lossy(&header).to_string();
-        let descr = header_field(&header, "descr").unwrap_or("?");
-        if !matches!(descr, "'<f8'" | "'=f8'") {
+        let h = screwkit_reach::npz::read_npy_header(&mut file).map_err(err)?;
+        if !matches!(h.descr.as_str(), "<f8" | "=f8") {
             return Err(err(format!(
-                "dtype {descr}: expected float64 ('<f8'); convert with a.astype(np.float64)"
+                "dtype '{}': expected float64 ('<f8'); convert with a.astype(np.float64)",
+                h.descr
             )));
         }
-        if header_field(&header, "fortran_order") != Some("False") {
+        if h.fortran {
             return Err(err(
                 "Fortran-ordered array: save np.ascontiguousarray(a)".into()
             ));
         }
-        let shape_text = header_field(&header, "shape").ok_or_else(|| err("no shape".into()))?;
-        let shape: Vec<usize> = shape_text
-            .trim_matches(|c| c == '(' || c == ')')
-            .split(',')
-            .filter(|s| !s.trim().is_empty())
-            .map(|s| s.trim().parse::<usize>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| err(format!("bad shape {shape_text}")))?;
+        let shape = h.shape;
         if shape.is_empty() {
             return Err(err("a scalar, not an array of rows".into()));
         }
@@ -125,29 +83,8 @@ impl NpyWriter {
     pub fn create(path: &str, shape: &[usize], descr: &str) -> CliResult<Self> {
         let err = |e: std::io::Error| Failure(format!("{path}: cannot write: {e}"));
         let mut file = BufWriter::new(std::fs::File::create(path).map_err(err)?);
-        let dims = match shape {
-            [one] => format!("({one},)"),
-            _ => format!(
-                "({})",
-                shape
-                    .iter()
-                    .map(usize::to_string)
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-        };
-        let mut header =
-            format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {dims}, }}");
-        // Magic (6) + version (2) + length (2) + header + '\n' is a multiple of 64.
-        while (10 + header.len() + 1) % 64 != 0 {
-            header.push(' ');
-        }
-        header.push('\n');
-        file.write_all(MAGIC).map_err(err)?;
-        file.write_all(&[1, 0]).map_err(err)?;
-        file.write_all(&(header.len() as u16).to_le_bytes())
+        file.write_all(&screwkit_reach::npz::npy_header(descr, shape))
             .map_err(err)?;
-        file.write_all(header.as_bytes()).map_err(err)?;
         let item = if descr == "|b1" { 1 } else { 8 };
         Ok(Self {
             file,

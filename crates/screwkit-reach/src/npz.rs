@@ -299,29 +299,40 @@ impl NpyEntry<'_> {
     }
 }
 
-/// The (descr, shape) of a `.npy` header read from `r`.
-fn read_header(
-    r: &mut impl Read,
-    path: &str,
-    name: &str,
-) -> Result<(String, Vec<usize>), ReachError> {
-    let bad = |why: &str| ReachError::Format(format!("{path}: array '{name}': {why}"));
+/// A `.npy` header: dtype string (`<f8`, …), C or Fortran order, shape.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NpyHeader {
+    /// numpy dtype string, without quotes.
+    pub descr: String,
+    /// True for a Fortran-ordered (column-major) array.
+    pub fortran: bool,
+    /// The array's shape (empty for a 0-d array).
+    pub shape: Vec<usize>,
+}
+
+/// Reads a `.npy` header (format 1.0, 2.0 or 3.0) from `r`, leaving it at the data. The error
+/// says what is wrong in a few words ("not a .npy file (no \x93NUMPY magic)", "truncated
+/// header", "bad shape …"); the caller adds the file's name.
+pub fn read_npy_header(r: &mut impl Read) -> Result<NpyHeader, String> {
     let mut head = [0u8; 10];
-    r.read_exact(&mut head).map_err(|_| bad("truncated"))?;
+    r.read_exact(&mut head)
+        .map_err(|_| "not a .npy file (too short)".to_string())?;
     if &head[..6] != MAGIC {
-        return Err(bad("not a .npy array"));
+        return Err("not a .npy file (no \\x93NUMPY magic)".into());
     }
     let len = match head[6] {
         1 => u16::from_le_bytes([head[8], head[9]]) as usize,
-        _ => {
+        2 | 3 => {
             let mut more = [0u8; 2];
-            r.read_exact(&mut more).map_err(|_| bad("truncated"))?;
+            r.read_exact(&mut more)
+                .map_err(|_| "truncated header".to_string())?;
             u32::from_le_bytes([head[8], head[9], more[0], more[1]]) as usize
         }
+        v => return Err(format!(".npy version {v} is not supported")),
     };
     let mut dict = vec![0u8; len];
     r.read_exact(&mut dict)
-        .map_err(|_| bad("truncated header"))?;
+        .map_err(|_| "truncated header".to_string())?;
     let dict = String::from_utf8_lossy(&dict).to_string();
     let field = |key: &str| -> Option<String> {
         let start = dict.find(&format!("'{key}':"))? + key.len() + 3;
@@ -333,19 +344,36 @@ fn read_header(
         };
         Some(rest[..end].trim().trim_matches('\'').to_string())
     };
-    if field("fortran_order").as_deref() != Some("False") {
-        return Err(bad("Fortran order is not read"));
-    }
-    let descr = field("descr").ok_or_else(|| bad("no dtype"))?;
-    let shape = field("shape").ok_or_else(|| bad("no shape"))?;
-    let shape = shape
+    let descr = field("descr").ok_or_else(|| "no dtype in the header".to_string())?;
+    let fortran = field("fortran_order").as_deref() == Some("True");
+    let shape_text = field("shape").ok_or_else(|| "no shape in the header".to_string())?;
+    let shape = shape_text
         .trim_matches(|c| c == '(' || c == ')')
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
-        .map(|s| s.parse::<usize>().map_err(|_| bad("bad shape")))
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((descr, shape))
+        .map(|s| s.parse::<usize>())
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|_| format!("bad shape {shape_text}"))?;
+    Ok(NpyHeader {
+        descr,
+        fortran,
+        shape,
+    })
+}
+
+/// The (descr, shape) of entry `name`'s header, C order required.
+fn read_header(
+    r: &mut impl Read,
+    path: &str,
+    name: &str,
+) -> Result<(String, Vec<usize>), ReachError> {
+    let bad = |why: &str| ReachError::Format(format!("{path}: array '{name}': {why}"));
+    let h = read_npy_header(r).map_err(|e| bad(&e))?;
+    if h.fortran {
+        return Err(bad("Fortran order is not read"));
+    }
+    Ok((h.descr, h.shape))
 }
 
 /// Copies entry `name` of `from` into the open entry of `to`, `chunk` bytes at a time (the

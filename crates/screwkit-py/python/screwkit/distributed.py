@@ -15,7 +15,7 @@ from typing import Any
 
 from . import _screwkit
 from ._screwkit import Robot
-from .reach import Bounds, ReachMap, _check, merge
+from .reach import Bounds, ReachMap, _check, _unsaved, merge
 
 
 def _shard_task(
@@ -90,16 +90,4 @@ def reach(
         if path is not None:
             return merge(files, path)
         merged = os.path.join(tmp, "map.npz")
-        m = merge(files, merged)
-        return ReachMap(
-            index=m.index,
-            best_manipulability=m.best_manipulability,
-            pose_manipulability=m.pose_manipulability,
-            centres=m.centres,
-            orientations=m.orientations,
-            grid_origin=m.grid_origin,
-            grid_shape=m.grid_shape,
-            resolution=m.resolution,
-            meta=m.meta,
-            path=None,
-        )
+        return _unsaved(merge(files, merged))

@@ -10,6 +10,7 @@ Maps are ``.npz`` files that numpy reads directly; :func:`reach` computes one on
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import tempfile
@@ -152,15 +153,5 @@ def _temp_path() -> str:
 
 
 def _unsaved(m: ReachMap) -> ReachMap:
-    return ReachMap(
-        index=m.index,
-        best_manipulability=m.best_manipulability,
-        pose_manipulability=m.pose_manipulability,
-        centres=m.centres,
-        orientations=m.orientations,
-        grid_origin=m.grid_origin,
-        grid_shape=m.grid_shape,
-        resolution=m.resolution,
-        meta=m.meta,
-        path=None,
-    )
+    """The same map without a file behind it."""
+    return dataclasses.replace(m, path=None)
