@@ -24,6 +24,10 @@ pub enum ErrorKind {
     /// The file is empty (or only whitespace).
     #[error("the file is empty")]
     Empty,
+    /// The input is beyond one of the stated limits ([`crate::input`]): a file larger than
+    /// 64 MiB, an endless stream, an expansion too large.
+    #[error("too large: {0}")]
+    TooLarge(String),
     /// Not well-formed XML.
     #[error("malformed XML: {0}")]
     Xml(String),

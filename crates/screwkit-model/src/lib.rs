@@ -3,6 +3,7 @@
 //! URDF → kinematic tree → serial chain with the screw axes of the product of exponentials,
 //! T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M (space form) = M e^\[B₁\]θ₁ ⋯ e^\[Bₙ\]θₙ (body form).
 //!
+//! - [`input`]: bounded reads and the XML checks every robot file passes (the stated limits).
 //! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
 //! - [`tree`]: links, joints, paths between links.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
@@ -22,6 +23,7 @@
 
 pub mod chain;
 pub mod error;
+pub mod input;
 pub mod table;
 pub mod tree;
 pub mod urdf;

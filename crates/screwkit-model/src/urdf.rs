@@ -25,6 +25,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::{ErrorKind, ModelError};
+use crate::input;
 use crate::tree::{JointKind, Limit, Mimic, Tree, TreeJointSpec};
 use crate::xacro::{self, XacroOptions};
 
@@ -38,8 +39,7 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
 pub fn load_file_with(path: impl AsRef<Path>, opts: &XacroOptions) -> Result<Tree, ModelError> {
     let path = path.as_ref();
     let label = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| ModelError::new(label.clone(), ErrorKind::Io(e.to_string())))?;
+    let bytes = input::read_file(path)?;
     let text = decode(&bytes).map_err(|kind| ModelError::new(label.clone(), kind))?;
     load_str_with(&text, &label, path.parent().unwrap_or(Path::new(".")), opts)
 }
@@ -110,14 +110,9 @@ pub fn load_str_with(
 /// Plain URDF text into a [`Tree`].
 fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
     let err = |kind| ModelError::new(source, kind);
-    let opts = roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    };
-    let doc = roxmltree::Document::parse_with_options(text, opts)
-        .map_err(|e| err(ErrorKind::Xml(e.to_string())))?;
+    let doc = input::parse_xml(text).map_err(err)?;
     let robot = doc.root_element();
-    if robot.tag_name().name() != "robot" {
+    if robot.tag_name().name() != "robot" || input::is_prefixed(text, &robot) {
         return Err(err(ErrorKind::NotARobot(robot.tag_name().name().into())));
     }
     let (clean, facts) = pre_pass(text, &robot).map_err(err)?;
@@ -186,7 +181,11 @@ fn pre_pass(
     }
     out.push_str(">\n");
     let mut facts = HashMap::new();
-    for node in robot.children().filter(|n| n.is_element()) {
+    // Elements written with a prefix (`<u:joint>`) are another format's: urdfdom never reads them.
+    for node in robot
+        .children()
+        .filter(|n| n.is_element() && !input::is_prefixed(text, n))
+    {
         match node.tag_name().name() {
             "link" => {
                 // urdf-rs requires the name; let it report a missing one.
@@ -223,7 +222,10 @@ fn joint_for_urdf_rs(
     }
     out.push('>');
     let mut fact = LimitFacts::default();
-    for child in node.children().filter(|n| n.is_element()) {
+    for child in node
+        .children()
+        .filter(|n| n.is_element() && !input::is_prefixed(text, n))
+    {
         let tag = child.tag_name().name();
         let checks: &[(&str, usize)] = match tag {
             "origin" => &[("xyz", 3), ("rpy", 3)],
@@ -238,26 +240,25 @@ fn joint_for_urdf_rs(
                 check_numbers(name, tag, attr, v, count)?;
             }
         }
-        let slice = &text[child.range()];
+        // Rebuilt from its attributes in no namespace (what urdfdom reads): nothing else of
+        // the file's text reaches urdf-rs.
+        out.push('<');
+        out.push_str(tag);
+        for a in child.attributes().filter(|a| a.namespace().is_none()) {
+            out.push_str(&format!(" {}=\"{}\"", a.name(), escape(a.value())));
+        }
         if tag == "limit" {
             fact.has_limit = true;
             fact.has_velocity = child.attribute("velocity").is_some();
             fact.has_effort = child.attribute("effort").is_some();
-            let mut extra = String::new();
             if !fact.has_velocity {
-                extra.push_str(" velocity=\"0\"");
+                out.push_str(" velocity=\"0\"");
             }
             if !fact.has_effort {
-                extra.push_str(" effort=\"0\"");
+                out.push_str(" effort=\"0\"");
             }
-            // The element text starts with "<limit"; add the attributes right after it.
-            let head = "<limit".len().min(slice.len());
-            out.push_str(&slice[..head]);
-            out.push_str(&extra);
-            out.push_str(&slice[head..]);
-        } else {
-            out.push_str(slice);
         }
+        out.push_str("/>");
     }
     out.push_str("</joint>\n");
     Ok((out, fact))

@@ -28,6 +28,7 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 use crate::error::{ErrorKind, ModelError};
+use crate::input::{self, Lines};
 
 /// The namespace URIs xacro files declare.
 pub const XACRO_NAMESPACES: [&str; 3] = [
@@ -65,7 +66,7 @@ pub fn is_xacro(text: &str) -> bool {
         "link", "joint", "origin", "axis", "limit", "parent", "child", "mimic",
     ];
     let xacro_ns = |ns: Option<&str>| ns.is_some_and(|ns| XACRO_NAMESPACES.contains(&ns));
-    match roxmltree::Document::parse_with_options(text, parse_options()) {
+    match input::parse_xml(text) {
         Ok(doc) => doc.descendants().filter(|n| n.is_element()).any(|n| {
             xacro_ns(n.tag_name().namespace())
                 || n.attributes().any(|a| xacro_ns(a.namespace()))
@@ -78,26 +79,66 @@ pub fn is_xacro(text: &str) -> bool {
     }
 }
 
-fn parse_options<'a>() -> roxmltree::ParsingOptions<'a> {
-    roxmltree::ParsingOptions {
-        allow_dtd: true,
-        ..Default::default()
-    }
-}
-
 /// Expands a xacro file into URDF text.
 pub fn expand_file(path: impl AsRef<Path>, opts: &XacroOptions) -> Result<String, ModelError> {
     let path = path.as_ref();
     let label = path.display().to_string();
-    let bytes = std::fs::read(path)
-        .map_err(|e| ModelError::new(label.clone(), ErrorKind::Io(e.to_string())))?;
+    let bytes = input::read_file(path)?;
     let text = crate::urdf::decode(&bytes).map_err(|k| ModelError::new(label.clone(), k))?;
     expand_str(&text, &label, path.parent().unwrap_or(Path::new(".")), opts)
 }
 
 /// Expands xacro text into URDF text; `source` names it in errors, `dir` is where relative
 /// includes are found.
+///
+/// Limits (each an error naming the file and line): macros and includes nested at most
+/// 200 deep; expressions, properties defined by properties, macros and elements nested at most
+/// [`MAX_NESTING`] levels together; at most [`MAX_OUTPUT_BYTES`] of output (and of any one
+/// string value); at most [`MAX_WORK`] elements, texts and expressions processed (exponential
+/// macro fan-out); every file read at most [`input::MAX_FILE_BYTES`]. The expansion runs on a
+/// thread of its own with a stack sized for these limits, whatever the caller's stack.
 pub fn expand_str(
+    text: &str,
+    source: &str,
+    dir: &Path,
+    opts: &XacroOptions,
+) -> Result<String, ModelError> {
+    std::thread::scope(|s| {
+        std::thread::Builder::new()
+            .name("xacro".into())
+            .stack_size(EXPANDER_STACK)
+            .spawn_scoped(s, || expand_on_this_thread(text, source, dir, opts))
+            .map_err(|e| {
+                ModelError::new(
+                    source,
+                    ErrorKind::Io(format!("cannot start the xacro expander: {e}")),
+                )
+            })?
+            .join()
+            .unwrap_or_else(|_| {
+                Err(ModelError::new(
+                    source,
+                    ErrorKind::XacroExpand("internal error in the xacro expander".into()),
+                ))
+            })
+    })
+}
+
+/// The expander thread's stack: [`MAX_NESTING`] levels of the deepest recursion measured at
+/// under 4 KiB each in a debug build, with room to spare (virtual memory: only the pages used
+/// are ever touched).
+const EXPANDER_STACK: usize = 64 << 20;
+
+/// The most levels of expressions, property definitions, macro calls and elements nested in
+/// one another during an expansion.
+pub const MAX_NESTING: usize = 1000;
+/// The most text an expansion may produce (and the longest string value); each element
+/// counts 64 bytes besides its name and attributes (what it takes in memory).
+pub const MAX_OUTPUT_BYTES: usize = 64 << 20;
+/// The most elements, texts and expression tokens one expansion may process.
+pub const MAX_WORK: u64 = 5_000_000;
+
+fn expand_on_this_thread(
     text: &str,
     source: &str,
     dir: &Path,
@@ -107,6 +148,9 @@ pub fn expand_str(
         opts,
         args: opts.args.iter().cloned().collect(),
         depth: 0,
+        nest: 0,
+        work: 0,
+        out_bytes: 0,
     };
     let root = x.parse(&crate::urdf::tolerate(text), source, dir)?;
     let scope = Scope::new(None);
@@ -313,6 +357,14 @@ struct Expander<'o> {
     args: HashMap<String, String>,
     /// Include and macro nesting, bounded against runaway recursion.
     depth: usize,
+    /// Every recursive construct (expression, property definition, macro, element) nested
+    /// now, at most [`MAX_NESTING`].
+    nest: usize,
+    /// Elements, texts and tokens processed so far, at most [`MAX_WORK`].
+    work: u64,
+    /// Output text produced so far (approximately: names, attribute values and texts), at
+    /// most [`MAX_OUTPUT_BYTES`].
+    out_bytes: usize,
 }
 
 const MAX_DEPTH: usize = 200;
@@ -325,12 +377,56 @@ fn fail(at: &At, what: impl std::fmt::Display) -> ModelError {
 }
 
 impl Expander<'_> {
+    /// Enters one level of nesting ([`MAX_NESTING`]); [`Expander::leave`] undoes it.
+    fn nest_in(&mut self, at: &At, what: &str) -> Result<(), ModelError> {
+        self.nest += 1;
+        if self.nest > MAX_NESTING {
+            self.nest -= 1;
+            return Err(fail(
+                at,
+                format!("{what} nested more than {MAX_NESTING} levels deep (expressions, properties, macros and elements together)"),
+            ));
+        }
+        Ok(())
+    }
+
+    fn leave(&mut self) {
+        self.nest -= 1;
+    }
+
+    /// Counts `n` units of work ([`MAX_WORK`]).
+    fn count(&mut self, n: u64, at: &At) -> Result<(), ModelError> {
+        self.work += n;
+        if self.work > MAX_WORK {
+            return Err(fail(
+                at,
+                format!("the expansion does more than {MAX_WORK} steps (macros calling macros many times over?)"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Counts `n` bytes of output ([`MAX_OUTPUT_BYTES`]).
+    fn produce(&mut self, n: usize, at: &At) -> Result<(), ModelError> {
+        self.out_bytes += n;
+        if self.out_bytes > MAX_OUTPUT_BYTES {
+            return Err(fail(
+                at,
+                format!(
+                    "the expanded robot is larger than {} MiB",
+                    MAX_OUTPUT_BYTES >> 20
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Parses a file's text into owned nodes and returns its root element.
     fn parse(&mut self, text: &str, source: &str, dir: &Path) -> Result<Rc<Elem>, ModelError> {
         let file: Rc<str> = source.into();
         let dir: Rc<Path> = dir.into();
         let declared;
-        let text = match roxmltree::Document::parse_with_options(text, parse_options()) {
+        let text = match roxmltree::Document::parse_with_options(text, input::parse_options()) {
             Err(e) if e.to_string().contains("xacro") => {
                 // `xacro:` used without declaring it: declare it on the root element.
                 declared = declare_xacro(text)
@@ -339,9 +435,15 @@ impl Expander<'_> {
             }
             _ => text,
         };
-        let doc = roxmltree::Document::parse_with_options(text, parse_options())
-            .map_err(|e| ModelError::new(source, ErrorKind::Xml(e.to_string())))?;
-        Ok(convert(&doc, doc.root_element(), &file, &dir))
+        let doc = input::parse_xml(text).map_err(|k| ModelError::new(source, k))?;
+        let lines = Lines::new(text);
+        let cx = Convert {
+            text,
+            lines: &lines,
+            file: &file,
+            dir: &dir,
+        };
+        Ok(cx.elem(doc.root_element()))
     }
 
     /// Text with `${…}` and `$(…)` evaluated, as a string.
@@ -396,12 +498,22 @@ impl Expander<'_> {
         Ok(match parts.len() {
             0 => Value::Str(String::new()),
             1 => parts.pop().unwrap_or(Value::Str(String::new())),
-            _ => Value::Str(parts.iter().map(Value::to_text).collect()),
+            _ => {
+                let text: Vec<String> = parts.iter().map(Value::to_text).collect();
+                if text.iter().map(String::len).sum::<usize>() > MAX_OUTPUT_BYTES {
+                    return Err(fail(
+                        at,
+                        format!("a text longer than {} MiB", MAX_OUTPUT_BYTES >> 20),
+                    ));
+                }
+                Value::Str(text.concat())
+            }
         })
     }
 
     fn expr(&mut self, src: &str, scope: &Scope, at: &At) -> Result<Value, ModelError> {
         let tokens = lex(src).map_err(|e| fail(at, format!("${{{src}}}: {e}")))?;
+        self.count(tokens.len() as u64 + 1, at)?;
         let mut p = Parser {
             x: self,
             tokens,
@@ -409,6 +521,7 @@ impl Expander<'_> {
             scope,
             at,
             src,
+            skip: 0,
         };
         let v = p.ternary()?;
         if p.pos != p.tokens.len() {
@@ -449,18 +562,26 @@ impl Expander<'_> {
     /// The folder of package `pkg`.
     fn find(&self, pkg: &str, at: &At) -> Result<String, ModelError> {
         let mut roots: Vec<PathBuf> = self.opts.package_paths.clone();
-        let split = |v: std::ffi::OsString| std::env::split_paths(&v).collect::<Vec<_>>();
+        // Absolute, so that `$(find pkg)/x.xacro` is not joined to the including file's folder
+        // a second time when the package path is relative.
+        let split = |v: std::ffi::OsString| {
+            std::env::split_paths(&v)
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect::<Vec<_>>()
+        };
         if let Some(v) = std::env::var_os("ROS_PACKAGE_PATH") {
             roots.extend(split(v));
         }
         for root in &roots {
-            if let Some(found) = find_below(root, pkg, 3) {
+            let root = std::path::absolute(root).unwrap_or_else(|_| root.clone());
+            if let Some(found) = find_below(&root, pkg, 3) {
                 return Ok(found.display().to_string());
             }
         }
         if let Some(v) = std::env::var_os("AMENT_PREFIX_PATH") {
             for prefix in split(v) {
                 let d = prefix.join("share").join(pkg);
+                let d = std::path::absolute(&d).unwrap_or(d);
                 if d.is_dir() {
                     return Ok(d.display().to_string());
                 }
@@ -491,7 +612,14 @@ impl Expander<'_> {
                     ));
                 }
                 owner.0.borrow_mut().busy.push(name.to_string());
-                let v = self.eval_text(&text, &def_scope, &def_at).map(literal);
+                let v = match self.nest_in(at, "properties defined by properties") {
+                    Ok(()) => {
+                        let v = self.eval_text(&text, &def_scope, &def_at).map(literal);
+                        self.leave();
+                        v
+                    }
+                    Err(e) => Err(e),
+                };
                 owner.0.borrow_mut().busy.retain(|b| b != name);
                 let v = v?;
                 owner
@@ -514,13 +642,22 @@ impl Expander<'_> {
         for node in nodes {
             match node {
                 Node::Text(t, at) => {
+                    self.count(1, at)?;
                     if !t.trim().is_empty() {
                         let v = self.text(t, scope, at)?;
+                        self.produce(v.len(), at)?;
                         out.children.push(Out::Text(v));
                     }
                 }
-                Node::Elem(e) if e.xacro => self.xacro(e, scope, out)?,
+                Node::Elem(e) if e.xacro => {
+                    self.count(1, &e.at)?;
+                    self.nest_in(&e.at, "macros and elements")?;
+                    let r = self.xacro(e, scope, out);
+                    self.leave();
+                    r?;
+                }
                 Node::Elem(e) => {
+                    self.count(1, &e.at)?;
                     let mut o = OutElem {
                         name: e.name.clone(),
                         attrs: Vec::new(),
@@ -532,12 +669,27 @@ impl Expander<'_> {
                             o.attrs.push((k.clone(), v));
                         }
                     }
-                    self.process(&e.children, scope, &mut o)?;
+                    self.emitted(&o, &e.at)?;
+                    self.nest_in(&e.at, "elements")?;
+                    let r = self.process(&e.children, scope, &mut o);
+                    self.leave();
+                    r?;
                     out.children.push(Out::Elem(o));
                 }
             }
         }
         Ok(())
+    }
+
+    /// Counts an output element's name and attributes ([`MAX_OUTPUT_BYTES`]).
+    fn emitted(&mut self, o: &OutElem, at: &At) -> Result<(), ModelError> {
+        let n = o.name.len()
+            + 64
+            + o.attrs
+                .iter()
+                .map(|(k, v)| k.len() + v.len() + 4)
+                .sum::<usize>();
+        self.produce(n, at)
     }
 
     fn required<'e>(&self, e: &'e Elem, attr: &str) -> Result<&'e str, ModelError> {
@@ -604,15 +756,22 @@ impl Expander<'_> {
                 } else {
                     e.at.dir.join(&file)
                 };
-                let text = std::fs::read_to_string(&path).map_err(|err| {
-                    fail(
-                        &e.at,
-                        format!(
-                            "<xacro:include filename=\"{file}\">: cannot read {}: {err}",
-                            path.display()
-                        ),
-                    )
-                })?;
+                let text = input::read_file(&path)
+                    .and_then(|bytes| {
+                        crate::urdf::decode(&bytes)
+                            .map_err(|k| ModelError::new(path.display().to_string(), k))
+                    })
+                    .map_err(|err| {
+                        fail(
+                            &e.at,
+                            format!(
+                                "<xacro:include filename=\"{file}\">: cannot read {}: {}",
+                                path.display(),
+                                err.kind
+                            ),
+                        )
+                    })?;
+                let text = crate::urdf::tolerate(&text).into_owned();
                 self.enter(&e.at)?;
                 let root = self.parse(
                     &text,
@@ -663,6 +822,9 @@ impl Expander<'_> {
             }
             "element" => {
                 let name = self.text(self.required(e, "xacro:name")?, scope, &e.at)?;
+                check_name(&name).map_err(|m| {
+                    fail(&e.at, format!("<xacro:element xacro:name=\"{name}\">: {m}"))
+                })?;
                 let mut o = OutElem {
                     name,
                     attrs: Vec::new(),
@@ -679,7 +841,11 @@ impl Expander<'_> {
             }
             "attribute" => {
                 let name = self.text(self.required(e, "name")?, scope, &e.at)?;
+                check_name(&name)
+                    .map_err(|m| fail(&e.at, format!("<xacro:attribute name=\"{name}\">: {m}")))?;
                 let value = self.text(self.required(e, "value")?, scope, &e.at)?;
+                self.produce(name.len() + value.len() + 4, &e.at)?;
+                out.attrs.retain(|(k, _)| *k != name);
                 out.attrs.push((name, value));
             }
             "call" => {
@@ -770,6 +936,19 @@ impl Expander<'_> {
     }
 }
 
+/// An XML name (what `<xacro:element>` and `<xacro:attribute>` may create): a letter or `_`
+/// first, then letters, digits, `_`, `-`, `.` and at most one `:` — never markup.
+fn check_name(name: &str) -> Result<(), String> {
+    let mut cs = name.chars();
+    let first_ok = cs.next().is_some_and(|c| c.is_alphabetic() || c == '_');
+    let rest_ok = cs.all(|c| c.is_alphanumeric() || matches!(c, '_' | '-' | '.' | ':'));
+    if first_ok && rest_ok && name.matches(':').count() <= 1 && !name.ends_with(':') {
+        Ok(())
+    } else {
+        Err("not an XML name".into())
+    }
+}
+
 /// The index of the bracket closing the one opened just before `from`.
 fn matching(s: &str, from: usize, open: char, close: char) -> Option<usize> {
     let mut depth = 1;
@@ -813,62 +992,72 @@ fn declare_xacro(text: &str) -> Option<String> {
     }
 }
 
-fn convert(
-    doc: &roxmltree::Document,
-    n: roxmltree::Node,
-    file: &Rc<str>,
-    dir: &Rc<Path>,
-) -> Rc<Elem> {
-    let xacro = n
-        .tag_name()
-        .namespace()
-        .is_some_and(|ns| XACRO_NAMESPACES.contains(&ns));
-    let attrs = n
-        .attributes()
-        .filter_map(|a| match a.namespace() {
-            None => Some((a.name().to_string(), a.value().to_string())),
-            Some(ns) if XACRO_NAMESPACES.contains(&ns) => {
-                Some((format!("xacro:{}", a.name()), a.value().to_string()))
-            }
-            Some(_) => None,
-        })
-        .collect();
-    let at = At {
-        file: file.clone(),
-        dir: dir.clone(),
-        line: doc.text_pos_at(n.range().start).row,
-    };
-    let children = n
-        .children()
-        .filter_map(|c| {
-            if c.is_element() {
-                match c.tag_name().namespace() {
-                    None => Some(Node::Elem(convert(doc, c, file, dir))),
-                    Some(ns) if XACRO_NAMESPACES.contains(&ns) => {
-                        Some(Node::Elem(convert(doc, c, file, dir)))
-                    }
-                    Some(_) => None,
+/// One parsed file turned into owned nodes (recursion bounded by
+/// [`input::MAX_ELEMENT_DEPTH`], checked when it was parsed).
+struct Convert<'t> {
+    text: &'t str,
+    lines: &'t Lines,
+    file: &'t Rc<str>,
+    dir: &'t Rc<Path>,
+}
+
+impl Convert<'_> {
+    fn elem(&self, n: roxmltree::Node) -> Rc<Elem> {
+        let xacro = n
+            .tag_name()
+            .namespace()
+            .is_some_and(|ns| XACRO_NAMESPACES.contains(&ns));
+        let attrs = n
+            .attributes()
+            .filter_map(|a| match a.namespace() {
+                None => Some((a.name().to_string(), a.value().to_string())),
+                Some(ns) if XACRO_NAMESPACES.contains(&ns) => {
+                    Some((format!("xacro:{}", a.name()), a.value().to_string()))
                 }
-            } else if c.is_text() {
-                c.text().map(|t| Node::Text(t.to_string(), at.clone()))
-            } else {
-                None
-            }
+                Some(_) => None,
+            })
+            .collect();
+        let at = At {
+            file: self.file.clone(),
+            dir: self.dir.clone(),
+            line: self.lines.line(n.range().start),
+        };
+        let children = n
+            .children()
+            .filter_map(|c| {
+                if c.is_element() {
+                    let ns = c.tag_name().namespace();
+                    if ns.is_some_and(|ns| XACRO_NAMESPACES.contains(&ns)) {
+                        Some(Node::Elem(self.elem(c)))
+                    } else if input::is_prefixed(self.text, &c) {
+                        // Another format's element (a Gazebo plugin's): left out.
+                        None
+                    } else {
+                        Some(Node::Elem(self.elem(c)))
+                    }
+                } else if c.is_text() {
+                    c.text().map(|t| Node::Text(t.to_string(), at.clone()))
+                } else {
+                    None
+                }
+            })
+            .collect();
+        Rc::new(Elem {
+            name: n.tag_name().name().to_string(),
+            xacro,
+            attrs,
+            children,
+            at,
         })
-        .collect();
-    Rc::new(Elem {
-        name: n.tag_name().name().to_string(),
-        xacro,
-        attrs,
-        children,
-        at,
-    })
+    }
 }
 
 /// `params="a b:=1 *blk **blks c:=^ d:=^|2"`.
 fn parse_params(s: &str) -> Result<Vec<Param>, String> {
-    s.split_whitespace()
+    split_params(s)?
+        .into_iter()
         .map(|w| {
+            let w = w.as_str();
             let stars = w.chars().take_while(|&c| c == '*').count();
             let w = &w[stars..];
             if stars > 2 || w.is_empty() {
@@ -882,7 +1071,7 @@ fn parse_params(s: &str) -> Result<Vec<Param>, String> {
                 Some(d) if d.starts_with('^') => {
                     (true, d.strip_prefix("^|").map(|x| x.to_string()))
                 }
-                Some(d) => (false, Some(d.trim_matches('\'').to_string())),
+                Some(d) => (false, Some(unquote(d).to_string())),
                 None => (false, None),
             };
             Ok(Param {
@@ -893,6 +1082,50 @@ fn parse_params(s: &str) -> Result<Vec<Param>, String> {
             })
         })
         .collect()
+}
+
+/// Splits a macro's `params` on whitespace outside quotes (`xyz:='0 0 0' rpy:="0 0 0"`, as
+/// in Franka's panda_arm.xacro).
+fn split_params(s: &str) -> Result<Vec<String>, String> {
+    let mut words = Vec::new();
+    let mut word = String::new();
+    let mut quote: Option<char> = None;
+    for c in s.chars() {
+        match quote {
+            Some(q) if c == q => {
+                quote = None;
+                word.push(c);
+            }
+            Some(_) => word.push(c),
+            None if c == '\'' || c == '"' => {
+                quote = Some(c);
+                word.push(c);
+            }
+            None if c.is_whitespace() => {
+                if !word.is_empty() {
+                    words.push(std::mem::take(&mut word));
+                }
+            }
+            None => word.push(c),
+        }
+    }
+    if quote.is_some() {
+        return Err(format!("unclosed quote in params=\"{s}\""));
+    }
+    if !word.is_empty() {
+        words.push(word);
+    }
+    Ok(words)
+}
+
+/// A default written in quotes, without them.
+fn unquote(d: &str) -> &str {
+    for q in ['\'', '"'] {
+        if d.len() >= 2 && d.starts_with(q) && d.ends_with(q) {
+            return &d[1..d.len() - 1];
+        }
+    }
+    d
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -912,21 +1145,7 @@ impl Value {
     fn to_text(&self) -> String {
         match self {
             Value::Int(i) => i.to_string(),
-            Value::Float(x) => {
-                if x.is_finite() && x.fract() == 0.0 && x.abs() < 1e16 {
-                    format!("{x:.1}")
-                } else if x.is_nan() {
-                    "nan".into()
-                } else if x.is_infinite() {
-                    if *x > 0.0 {
-                        "inf".into()
-                    } else {
-                        "-inf".into()
-                    }
-                } else {
-                    format!("{x:?}")
-                }
-            }
+            Value::Float(x) => python_repr(*x),
             Value::Bool(b) => if *b { "True" } else { "False" }.into(),
             Value::Str(s) => s.clone(),
         }
@@ -946,10 +1165,14 @@ impl Value {
             Value::Bool(b) => Ok(*b),
             Value::Int(i) => Ok(*i != 0),
             Value::Float(x) => Ok(*x != 0.0),
+            // xacro's get_boolean_value: true/false words, else an integer's truth.
             Value::Str(s) => match s.trim() {
-                "true" | "True" | "1" => Ok(true),
-                "false" | "False" | "0" => Ok(false),
-                other => Err(format!("\"{other}\" is not a boolean")),
+                "true" | "True" => Ok(true),
+                "false" | "False" => Ok(false),
+                other => other
+                    .parse::<i64>()
+                    .map(|i| i != 0)
+                    .map_err(|_| format!("\"{other}\" is not a boolean")),
             },
         }
     }
@@ -963,17 +1186,15 @@ fn literal(v: Value) -> Value {
     if t.len() >= 2 && t.starts_with('\'') && t.ends_with('\'') {
         return Value::Str(t[1..t.len() - 1].to_string());
     }
+    // As xacro: text with an underscore stays text (Python would read `1_0` as 10).
+    if t.contains('_') {
+        return v;
+    }
     if let Ok(i) = t.parse::<i64>() {
         return Value::Int(i);
     }
-    if !t.is_empty()
-        && !t
-            .chars()
-            .any(|c| c.is_alphabetic() && !matches!(c, 'e' | 'E'))
-    {
-        if let Ok(x) = t.parse::<f64>() {
-            return Value::Float(x);
-        }
+    if let Some(x) = python_float(t) {
+        return Value::Float(x);
     }
     match t {
         "true" | "True" => Value::Bool(true),
@@ -1016,9 +1237,14 @@ fn lex(s: &str) -> Result<Vec<Tok>, String> {
             let t: String = cs[start..i].iter().collect();
             let v = match t.parse::<i64>() {
                 Ok(n) => Value::Int(n),
+                Err(_) if t.chars().all(|c| c.is_ascii_digit()) => {
+                    return Err(format!("integer {t} is beyond 64 bits (Python's unbounded integers are not supported)"));
+                }
                 Err(_) => Value::Float(
                     t.parse::<f64>()
-                        .map_err(|_| format!("bad number \"{t}\""))?,
+                        .ok()
+                        .filter(|_| !t.contains(['i', 'I', 'n', 'N']))
+                        .ok_or_else(|| format!("bad number \"{t}\""))?,
                 ),
             };
             out.push(Tok::Num(v));
@@ -1059,7 +1285,13 @@ struct Parser<'a, 'o> {
     scope: &'a Scope,
     at: &'a At,
     src: &'a str,
+    /// Above zero: parsing only, no evaluation (the branch of `a if c else b`, `and`, `or`
+    /// that Python does not evaluate). Values are placeholders and nothing fails but syntax.
+    skip: u32,
 }
+
+/// The placeholder value of an expression parsed but not evaluated.
+const SKIPPED: Value = Value::Int(0);
 
 impl Parser<'_, '_> {
     fn err(&self, m: impl std::fmt::Display) -> ModelError {
@@ -1088,32 +1320,85 @@ impl Parser<'_, '_> {
         }
     }
 
+    /// Runs `f` one nesting level deeper ([`MAX_NESTING`]).
+    fn nested(
+        &mut self,
+        f: impl FnOnce(&mut Self) -> Result<Value, ModelError>,
+    ) -> Result<Value, ModelError> {
+        self.x.nest_in(self.at, "expressions")?;
+        let r = f(self);
+        self.x.leave();
+        r
+    }
+
+    /// Runs `f` without evaluating (see [`Parser::skip`]).
+    fn skipping(
+        &mut self,
+        f: impl FnOnce(&mut Self) -> Result<Value, ModelError>,
+    ) -> Result<Value, ModelError> {
+        self.skip += 1;
+        let r = f(self);
+        self.skip -= 1;
+        r.map(|_| SKIPPED)
+    }
+
+    /// Python's truth of a value inside an expression: a non-empty string is true.
+    fn truthy(&self, v: &Value) -> bool {
+        match v {
+            Value::Bool(b) => *b,
+            Value::Int(i) => *i != 0,
+            Value::Float(x) => *x != 0.0,
+            Value::Str(s) => !s.is_empty(),
+        }
+    }
+
+    /// `v if c else other`: as Python, only the branch chosen is evaluated (the value side is
+    /// parsed first here, so an error in it counts only when it is chosen).
     fn ternary(&mut self) -> Result<Value, ModelError> {
-        let v = self.or()?;
-        if self.eat_name("if") {
-            let c = self.or()?;
-            if !self.eat_name("else") {
-                return Err(self.err("'if' without 'else'"));
+        self.nested(|p| {
+            let start = p.pos;
+            let v = match p.or() {
+                Ok(v) => Ok(v),
+                Err(e) if p.skip == 0 => {
+                    // Find where the value ends, then decide whether its error matters.
+                    p.pos = start;
+                    p.skipping(Self::or)?;
+                    Err(e)
+                }
+                Err(e) => return Err(e),
+            };
+            if !p.eat_name("if") {
+                return v;
             }
-            let other = self.ternary()?;
-            return Ok(if c.truth().map_err(|m| self.err(m))? {
+            if p.skip > 0 {
+                p.or()?;
+                if !p.eat_name("else") {
+                    return Err(p.err("'if' without 'else'"));
+                }
+                p.ternary()?;
+                return Ok(SKIPPED);
+            }
+            let c = p.or()?;
+            if !p.eat_name("else") {
+                return Err(p.err("'if' without 'else'"));
+            }
+            if p.truthy(&c) {
+                p.skipping(Self::ternary)?;
                 v
             } else {
-                other
-            });
-        }
-        Ok(v)
+                p.ternary()
+            }
+        })
     }
 
     fn or(&mut self) -> Result<Value, ModelError> {
         let mut v = self.and()?;
         while self.eat_name("or") {
-            let r = self.and()?;
-            v = if v.truth().map_err(|m| self.err(m))? {
-                v
+            if self.skip > 0 || self.truthy(&v) {
+                self.skipping(Self::and)?;
             } else {
-                r
-            };
+                v = self.and()?;
+            }
         }
         Ok(v)
     }
@@ -1121,20 +1406,19 @@ impl Parser<'_, '_> {
     fn and(&mut self) -> Result<Value, ModelError> {
         let mut v = self.not()?;
         while self.eat_name("and") {
-            let r = self.not()?;
-            v = if v.truth().map_err(|m| self.err(m))? {
-                r
+            if self.skip > 0 || !self.truthy(&v) {
+                self.skipping(Self::not)?;
             } else {
-                v
-            };
+                v = self.not()?;
+            }
         }
         Ok(v)
     }
 
     fn not(&mut self) -> Result<Value, ModelError> {
         if self.eat_name("not") {
-            let v = self.not()?;
-            return Ok(Value::Bool(!v.truth().map_err(|m| self.err(m))?));
+            let v = self.nested(Self::not)?;
+            return Ok(Value::Bool(!self.truthy(&v)));
         }
         self.cmp()
     }
@@ -1144,6 +1428,9 @@ impl Parser<'_, '_> {
         for op in ["==", "!=", "<=", ">=", "<", ">"] {
             if self.eat_op(op) {
                 let r = self.add()?;
+                if self.skip > 0 {
+                    return Ok(SKIPPED);
+                }
                 // Numbers compare as numbers, anything with a string as text (NaN: unordered).
                 let ord = match (l.num(), r.num()) {
                     (Some(a), Some(b))
@@ -1174,7 +1461,16 @@ impl Parser<'_, '_> {
             if self.eat_op("+") {
                 let r = self.mul()?;
                 v = match (&v, &r) {
-                    (Value::Str(a), Value::Str(b)) => Value::Str(format!("{a}{b}")),
+                    _ if self.skip > 0 => SKIPPED,
+                    (Value::Str(a), Value::Str(b)) => {
+                        if a.len() + b.len() > MAX_OUTPUT_BYTES {
+                            return Err(self.err(format!(
+                                "a string longer than {} MiB",
+                                MAX_OUTPUT_BYTES >> 20
+                            )));
+                        }
+                        Value::Str(format!("{a}{b}"))
+                    }
                     _ => self.arith(&v, &r, "+")?,
                 };
             } else if self.eat_op("-") {
@@ -1202,16 +1498,20 @@ impl Parser<'_, '_> {
 
     fn unary(&mut self) -> Result<Value, ModelError> {
         if self.eat_op("-") {
-            let v = self.unary()?;
+            let v = self.nested(Self::unary)?;
             return match v {
-                Value::Int(i) => Ok(Value::Int(-i)),
+                _ if self.skip > 0 => Ok(SKIPPED),
+                Value::Int(i) => i
+                    .checked_neg()
+                    .map(Value::Int)
+                    .ok_or_else(|| self.overflow()),
                 other => Ok(Value::Float(
                     -other.num().ok_or_else(|| self.err("'-' on a string"))?,
                 )),
             };
         }
         if self.eat_op("+") {
-            return self.unary();
+            return self.nested(Self::unary);
         }
         self.power()
     }
@@ -1219,26 +1519,60 @@ impl Parser<'_, '_> {
     fn power(&mut self) -> Result<Value, ModelError> {
         let base = self.postfix()?;
         if self.eat_op("**") {
-            let e = self.unary()?;
+            let e = self.nested(Self::unary)?;
             return self.arith(&base, &e, "**");
         }
         Ok(base)
     }
 
+    /// An integer result beyond 64 bits: Python's integers have no bound, ours do.
+    fn overflow(&self) -> ModelError {
+        self.err("integer result beyond 64 bits (Python's unbounded integers are not supported)")
+    }
+
     fn arith(&self, a: &Value, b: &Value, op: &str) -> Result<Value, ModelError> {
+        if self.skip > 0 {
+            return Ok(SKIPPED);
+        }
         if let (Value::Int(x), Value::Int(y)) = (a, b) {
             let (x, y) = (*x, *y);
-            let r = match op {
-                "+" => x.checked_add(y),
-                "-" => x.checked_sub(y),
-                "*" => x.checked_mul(y),
-                "//" if y != 0 => Some(x.div_euclid(y) - i64::from(x.rem_euclid(y) != 0 && y < 0)),
-                "%" if y != 0 => Some(((x % y) + y) % y),
-                "**" if (0..64).contains(&y) => x.checked_pow(y as u32),
+            // None: not an integer operation (division by zero, a negative power), handled
+            // below as Python does; Some(None): the integer result overflows.
+            let r: Option<Option<i64>> = match op {
+                "+" => Some(x.checked_add(y)),
+                "-" => Some(x.checked_sub(y)),
+                "*" => Some(x.checked_mul(y)),
+                "//" if y != 0 => Some(if y == -1 {
+                    x.checked_neg()
+                } else {
+                    let q = x / y;
+                    Some(if x % y != 0 && ((x < 0) != (y < 0)) {
+                        q - 1
+                    } else {
+                        q
+                    })
+                }),
+                "%" if y != 0 => Some(if y == -1 {
+                    Some(0)
+                } else {
+                    let r = x % y;
+                    Some(if r != 0 && ((r < 0) != (y < 0)) {
+                        r + y
+                    } else {
+                        r
+                    })
+                }),
+                "**" if y >= 0 => Some(match x {
+                    0 | 1 => Some(if y == 0 { 1 } else { x }),
+                    -1 => Some(if y % 2 == 0 { 1 } else { -1 }),
+                    _ => u32::try_from(y).ok().and_then(|y| x.checked_pow(y)),
+                }),
                 _ => None,
             };
-            if let Some(r) = r {
-                return Ok(Value::Int(r));
+            match r {
+                Some(Some(r)) => return Ok(Value::Int(r)),
+                Some(None) => return Err(self.overflow()),
+                None => {}
             }
         }
         let (x, y) = match (a.num(), b.num()) {
@@ -1307,7 +1641,13 @@ impl Parser<'_, '_> {
                             }
                         }
                     }
+                    if self.skip > 0 {
+                        return Ok(SKIPPED);
+                    }
                     return self.call(&name, &args);
+                }
+                if self.skip > 0 {
+                    return Ok(SKIPPED);
                 }
                 match name.as_str() {
                     "pi" => Ok(Value::Float(std::f64::consts::PI)),
@@ -1323,6 +1663,21 @@ impl Parser<'_, '_> {
         }
     }
 
+    /// A float as a Python int (`int()`, `math.floor`, `round`): NaN, ±inf and values beyond
+    /// 64 bits are errors, as Python's are (or would need unbounded integers).
+    fn to_int(&self, f: &str, x: f64) -> Result<Value, ModelError> {
+        if x.is_nan() {
+            return Err(self.err(format!("{f}(): cannot convert NaN to an integer")));
+        }
+        if x.is_infinite() {
+            return Err(self.err(format!("{f}(): cannot convert infinity to an integer")));
+        }
+        if x.abs() >= 2f64.powi(63) {
+            return Err(self.overflow());
+        }
+        Ok(Value::Int(x as i64))
+    }
+
     fn call(&self, f: &str, args: &[Value]) -> Result<Value, ModelError> {
         let nums = || -> Result<Vec<f64>, ModelError> {
             args.iter()
@@ -1336,6 +1691,12 @@ impl Parser<'_, '_> {
         let one = |g: fn(f64) -> f64| -> Result<Value, ModelError> {
             match nums()?.as_slice() {
                 [x] => Ok(Value::Float(g(*x))),
+                _ => Err(self.err(format!("{f}() takes one argument"))),
+            }
+        };
+        let one_num = || -> Result<f64, ModelError> {
+            match nums()?.as_slice() {
+                [x] => Ok(*x),
                 _ => Err(self.err(format!("{f}() takes one argument"))),
             }
         };
@@ -1355,8 +1716,14 @@ impl Parser<'_, '_> {
             "exp" => one(f64::exp),
             "log10" => one(f64::log10),
             "fabs" => one(f64::abs),
-            "floor" => one(f64::floor).map(|v| Value::Int(v.num().unwrap_or(0.0) as i64)),
-            "ceil" => one(f64::ceil).map(|v| Value::Int(v.num().unwrap_or(0.0) as i64)),
+            "floor" => match args {
+                [Value::Int(i)] => Ok(Value::Int(*i)),
+                _ => self.to_int(f, one_num()?.floor()),
+            },
+            "ceil" => match args {
+                [Value::Int(i)] => Ok(Value::Int(*i)),
+                _ => self.to_int(f, one_num()?.ceil()),
+            },
             "log" => match nums()?.as_slice() {
                 [x] => Ok(Value::Float(x.ln())),
                 [x, b] => Ok(Value::Float(x.ln() / b.ln())),
@@ -1373,7 +1740,10 @@ impl Parser<'_, '_> {
                 _ => Err(self.err(format!("{f}() takes two arguments"))),
             },
             "abs" => match args {
-                [Value::Int(i)] => Ok(Value::Int(i.abs())),
+                [Value::Int(i)] => i
+                    .checked_abs()
+                    .map(Value::Int)
+                    .ok_or_else(|| self.overflow()),
                 _ => one(f64::abs),
             },
             "min" | "max" => {
@@ -1390,30 +1760,40 @@ impl Parser<'_, '_> {
                 Ok(args[i].clone())
             }
             "float" => match args {
-                [Value::Str(s)] => s
-                    .trim()
-                    .parse::<f64>()
+                [Value::Str(s)] => python_float(s)
                     .map(Value::Float)
-                    .map_err(|_| self.err(format!("float(\"{s}\"): not a number"))),
+                    .ok_or_else(|| self.err(format!("float(\"{s}\"): not a number"))),
                 _ => one(|x| x),
             },
             "int" => match args {
-                [Value::Str(s)] => s
-                    .trim()
-                    .parse::<i64>()
-                    .map(Value::Int)
-                    .map_err(|_| self.err(format!("int(\"{s}\"): not an integer"))),
-                _ => match nums()?.as_slice() {
-                    [x] => Ok(Value::Int(x.trunc() as i64)),
-                    _ => Err(self.err("int() takes one argument")),
-                },
+                [Value::Str(s)] => s.trim().parse::<i64>().map(Value::Int).map_err(|_| {
+                    self.err(format!("int(\"{s}\"): not an integer (or beyond 64 bits)"))
+                }),
+                [Value::Int(i)] => Ok(Value::Int(*i)),
+                _ => self.to_int(f, one_num()?.trunc()),
             },
-            "round" => match nums()?.as_slice() {
-                [x] => Ok(Value::Int(round_half_even(*x) as i64)),
-                [x, n] => {
-                    let p = 10f64.powi(*n as i32);
-                    Ok(Value::Float(round_half_even(x * p) / p))
+            "round" => match args {
+                [Value::Int(i)] => Ok(Value::Int(*i)),
+                [Value::Int(i), Value::Int(n)] if *n >= 0 => Ok(Value::Int(*i)),
+                [Value::Int(i), Value::Int(n)] => {
+                    // Python: an int rounded to 10^-n, halves to even.
+                    let p = 10i64.checked_pow(u32::try_from(-*n).unwrap_or(u32::MAX));
+                    match p {
+                        None => Ok(Value::Int(0)),
+                        Some(p) => {
+                            let r = round_half_even(*i as f64 / p as f64) as i64;
+                            r.checked_mul(p)
+                                .map(Value::Int)
+                                .ok_or_else(|| self.overflow())
+                        }
+                    }
                 }
+                [_] => self.to_int(f, round_half_even(one_num()?)),
+                [x, Value::Int(n)] => {
+                    let x = x.num().ok_or_else(|| self.err("round(): not a number"))?;
+                    Ok(Value::Float(python_round(x, *n)))
+                }
+                [_, _] => Err(self.err("round(): the number of digits must be an integer")),
                 _ => Err(self.err("round() takes one or two arguments")),
             },
             "str" => match args {
@@ -1421,7 +1801,7 @@ impl Parser<'_, '_> {
                 _ => Err(self.err("str() takes one argument")),
             },
             "bool" => match args {
-                [v] => Ok(Value::Bool(v.truth().map_err(|m| self.err(m))?)),
+                [v] => Ok(Value::Bool(self.truthy(v))),
                 _ => Err(self.err("bool() takes one argument")),
             },
             _ => Err(self.err(format!("unknown function {f}()"))),
@@ -1436,6 +1816,80 @@ fn round_half_even(x: f64) -> f64 {
         r - x.signum()
     } else {
         r
+    }
+}
+
+/// Python's `round(x, n)` for a float: the exact binary value rounded to n decimals, halves
+/// to even (so `round(2.675, 2)` is 2.67: 2.675 is stored as 2.67499999…).
+fn python_round(x: f64, n: i64) -> f64 {
+    if !x.is_finite() || n > 330 {
+        return x;
+    }
+    if n >= 0 {
+        // Rust's fixed-precision formatting rounds the exact value, ties to even.
+        format!("{x:.prec$}", prec = n as usize)
+            .parse()
+            .unwrap_or(x)
+    } else {
+        let p = 10f64.powi((-n).min(400) as i32);
+        if p.is_infinite() {
+            return 0.0 * x;
+        }
+        round_half_even(x / p) * p
+    }
+}
+
+/// Python's `float(text)`: surrounding whitespace, `inf`/`nan`/`infinity` in any case, no
+/// underscores (PEP 515 digits are not accepted here).
+fn python_float(s: &str) -> Option<f64> {
+    let t = s.trim();
+    if t.contains('_') {
+        return None;
+    }
+    t.parse::<f64>().ok()
+}
+
+/// Python's `repr` of a float (which `str` gives too): the shortest digits that read back
+/// the same, fixed notation for 1e-4 ≤ |x| < 1e16, else `d.ddde±XX` with at least two
+/// exponent digits (`1e-07`, `1.5e+16`).
+fn python_repr(x: f64) -> String {
+    if x.is_nan() {
+        return "nan".into();
+    }
+    if x.is_infinite() {
+        return if x > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    if x == 0.0 {
+        return if x.is_sign_negative() { "-0.0" } else { "0.0" }.into();
+    }
+    // Shortest round-trip digits and the decimal exponent, from Rust's `{:e}`.
+    let sci = format!("{x:e}");
+    let (mantissa, exp) = sci.split_once('e').unwrap_or((&sci, "0"));
+    let exp: i32 = exp.parse().unwrap_or(0);
+    let (sign, mantissa) = match mantissa.strip_prefix('-') {
+        Some(m) => ("-", m),
+        None => ("", mantissa),
+    };
+    let digits: String = mantissa.chars().filter(|c| *c != '.').collect();
+    if (-4..16).contains(&exp) {
+        let n = digits.len() as i32;
+        let s = if exp < 0 {
+            format!("0.{}{}", "0".repeat((-exp - 1) as usize), digits)
+        } else if exp + 1 >= n {
+            format!("{}{}.0", digits, "0".repeat((exp + 1 - n) as usize))
+        } else {
+            let (a, b) = digits.split_at((exp + 1) as usize);
+            format!("{a}.{b}")
+        };
+        format!("{sign}{s}")
+    } else {
+        let m = if digits.len() > 1 {
+            format!("{}.{}", &digits[..1], &digits[1..])
+        } else {
+            digits
+        };
+        let es = if exp < 0 { '-' } else { '+' };
+        format!("{sign}{m}e{es}{:02}", exp.abs())
     }
 }
 
