@@ -248,6 +248,12 @@ pub struct InfoArgs {
     /// sensor-like leaves last) instead of the full description.
     #[arg(long)]
     pub chains: bool,
+    /// Describe the chain from this link (default: the root) — its DoF and IK family.
+    #[arg(long, conflicts_with = "chains")]
+    pub base: Option<String>,
+    /// Describe the chain to this link (default: the only leaf below the base).
+    #[arg(long, conflicts_with = "chains")]
+    pub tip: Option<String>,
 }
 
 /// Parses `space` or `body` (the one [`Frame`] of the library).
@@ -445,8 +451,8 @@ pub struct BenchArgs {
     /// The chain.
     #[command(flatten)]
     pub chain: ChainArgs,
-    /// Number of IK queries.
-    #[arg(long, default_value_t = 10_000)]
+    /// Number of IK queries (1 to 10,000,000).
+    #[arg(long, default_value_t = 10_000, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=10_000_000))]
     pub n: usize,
     /// Seed of the random targets.
     #[arg(long, default_value_t = 42)]

@@ -29,6 +29,51 @@ pub struct Line {
 /// Lines per chunk: enough to keep every core busy, few enough that memory stays small.
 pub const CHUNK: usize = 4096;
 
+/// The longest input line read (1 MiB: a 4 × 4 target with a seed is under 1 KiB); a longer
+/// line is that line's error, its rest skipped.
+pub const MAX_LINE: usize = 1 << 20;
+/// The most bytes skipped while looking for the end of an overlong line: beyond this (64 MiB
+/// without a newline, `--input /dev/zero`) the input is not lines, and the run stops.
+const MAX_SKIP: usize = 64 << 20;
+
+/// One line into `buf` (at most [`MAX_LINE`] bytes kept): `None` at the end of the input,
+/// `Some(true)` when the line was longer (its rest read past and dropped).
+fn read_line(reader: &mut dyn BufRead, buf: &mut Vec<u8>) -> std::io::Result<Option<bool>> {
+    let (mut long, mut skipped, mut any) = (false, 0usize, false);
+    loop {
+        let chunk = match reader.fill_buf() {
+            Ok(c) => c,
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+            Err(e) => return Err(e),
+        };
+        if chunk.is_empty() {
+            return Ok(any.then_some(long));
+        }
+        any = true;
+        let (part, done) = match chunk.iter().position(|&b| b == b'\n') {
+            Some(i) => (&chunk[..=i], true),
+            None => (chunk, false),
+        };
+        let n = part.len();
+        if long || buf.len() + n > MAX_LINE {
+            long = true;
+            skipped += n;
+            if skipped > MAX_SKIP {
+                return Err(std::io::Error::other(format!(
+                    "more than {} MiB without a line break: not JSON lines",
+                    MAX_SKIP >> 20
+                )));
+            }
+        } else {
+            buf.extend_from_slice(part);
+        }
+        reader.consume(n);
+        if done {
+            return Ok(Some(long));
+        }
+    }
+}
+
 /// Reads FILE or stdin (`-`) on a thread and hands out its non-blank lines through a bounded
 /// channel (at most 2 × [`CHUNK`] lines in flight).
 fn spawn_reader(input: &str) -> CliResult<std::sync::mpsc::Receiver<Result<Line, String>>> {
@@ -47,19 +92,29 @@ fn spawn_reader(input: &str) -> CliResult<std::sync::mpsc::Receiver<Result<Line,
         let mut number = 0;
         loop {
             buf.clear();
-            match reader.read_until(b'\n', &mut buf) {
-                Ok(0) => return,
-                Ok(_) => {}
+            let long = match read_line(&mut reader, &mut buf) {
+                Ok(None) => return,
+                Ok(Some(long)) => long,
                 Err(e) => {
                     let _ = tx.send(Err(format!("{name}: line {}: {e}", number + 1)));
                     return;
                 }
-            }
+            };
             number += 1;
             while matches!(buf.last(), Some(b'\n' | b'\r')) {
                 buf.pop();
             }
-            let line = match std::str::from_utf8(&buf) {
+            // A byte-order mark (the first line of a file saved by some editors).
+            let text = buf.strip_prefix("\u{feff}".as_bytes()).unwrap_or(&buf);
+            let line = match std::str::from_utf8(text) {
+                _ if long => Line {
+                    number,
+                    text: String::new(),
+                    bad: Some(format!(
+                        "the line is longer than {} MiB (one JSON object per line)",
+                        MAX_LINE >> 20
+                    )),
+                },
                 Ok(t) if t.trim().is_empty() => continue,
                 Ok(t) => Line {
                     number,
@@ -103,7 +158,7 @@ pub fn stream(
     });
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    let write_err = |e: std::io::Error| Failure(format!("cannot write the output: {e}"));
+    let write_err = crate::output::write_error;
     let (mut total, mut failures) = (0usize, 0usize);
     while let Ok(first) = rx.recv() {
         let mut chunk = vec![first.map_err(Failure)?];

@@ -29,9 +29,9 @@ pub fn run(args: &BenchArgs, format: Format) -> CliResult {
             "median_us": num(r.median_us), "p99_us": num(r.p99_us),
             "mean_iterations": num(r.mean_iterations), "fk_ns": num(r.fk_ns),
             "jacobian_ns": num(r.jacobian_ns),
-        }));
+        }))?;
     } else {
-        print!(
+        crate::output::emit(&format!(
             "IK protocol on `{}` ({} → {}, {} DoF), method {label}, {} targets, seed {}:\n\
              solved             {:.2} % ({} of {}; success = 1e-5 rad / 1e-5 m by independent FK, within limits)\n\
              time per query     mean {:.1} µs, median {:.1} µs, p99 {:.1} µs (5 ms cap, failures included)\n\
@@ -53,7 +53,7 @@ pub fn run(args: &BenchArgs, format: Format) -> CliResult {
             r.mean_iterations,
             r.fk_ns,
             r.jacobian_ns
-        );
+        ))?;
     }
     Ok(())
 }

@@ -14,15 +14,15 @@ pub fn exp(args: &ExpArgs, format: Format) -> CliResult {
     let s = Twist::try_from_slice(&args.twist.0)?;
     let t = Se3::exp(&(s * args.theta));
     if format == Format::Json {
-        print_json(&json!({"pose": pose_json(&t)}));
+        print_json(&json!({"pose": pose_json(&t)}))?;
     } else {
-        print!(
+        crate::output::emit(&format!(
             "e^[S]θ with S = {}, θ = {}:\n{}{}",
             tuple(&args.twist.0),
             args.theta,
             matrix_text(&t),
             pose_summary(&t)
-        );
+        ))?;
     }
     Ok(())
 }
@@ -46,7 +46,7 @@ pub fn log(args: &LogArgs, format: Format) -> CliResult {
             "point": axis.and_then(ScrewAxis::point).map_or(Value::Null, |p| nums(p.as_slice())),
             "direction": axis.map_or(nums(&[0.0; 3]), |a| nums(a.direction().as_slice())),
             "pure_translation": pure,
-        }));
+        }))?;
         return Ok(());
     }
     let mut s = format!("T =\n{}", matrix_text(&t));
@@ -68,6 +68,6 @@ pub fn log(args: &LogArgs, format: Format) -> CliResult {
             a.pitch().unwrap_or(0.0)
         )),
     }
-    print!("{s}");
+    crate::output::emit(&s)?;
     Ok(())
 }

@@ -1,8 +1,6 @@
 //! `screwkit draw` (SVG) and `screwkit view` (interactive HTML): the pictures of
 //! `screwkit-draw`, written to a file or standard output.
 
-use std::io::Write;
-
 use screwkit_draw::{html, svg, Scene, View};
 
 use crate::args::{DrawArgs, ViewArgs};
@@ -11,11 +9,10 @@ use crate::output::{CliResult, Failure};
 /// Writes `text` to `path` (`-`: standard output).
 fn write_out(path: &str, text: &str) -> CliResult {
     if path == "-" {
-        std::io::stdout()
-            .write_all(text.as_bytes())
-            .map_err(|e| Failure(format!("cannot write to standard output: {e}")))
+        crate::output::emit(text)
     } else {
-        std::fs::write(path, text).map_err(|e| Failure(format!("{path}: cannot write: {e}")))
+        screwkit_reach::atomic::write(path, text.as_bytes())
+            .map_err(|e| Failure(format!("{path}: cannot write: {e}")))
     }
 }
 

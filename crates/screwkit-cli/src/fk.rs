@@ -88,7 +88,7 @@ pub fn run(args: &FkArgs, format: Format) -> CliResult {
     };
     if format == Format::Json {
         let link_poses = links.as_ref().map(|ls| ls.iter().map(pose_json).collect());
-        print_json(&fk_json(&kin, q, pose_json(&t), link_poses));
+        print_json(&fk_json(&kin, q, pose_json(&t), link_poses))?;
         return Ok(());
     }
     let mut s = format!(
@@ -114,6 +114,6 @@ pub fn run(args: &FkArgs, format: Format) -> CliResult {
             ));
         }
     }
-    print!("{s}");
+    crate::output::emit(&s)?;
     Ok(())
 }

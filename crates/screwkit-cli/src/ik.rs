@@ -1,6 +1,6 @@
 //! `screwkit ik`: joint values reaching a target pose.
 
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use screwkit_lie::Se3;
 use screwkit_solve::analytic::{AnalyticIk, Solutions};
@@ -14,7 +14,7 @@ use crate::batch;
 use crate::output::{matrix_text, num, nums, print_json, tuple, CliResult, Failure};
 
 /// Tolerance on max |RᵀR − I| for typed target matrices (then re-orthonormalised).
-const TYPED_ROTATION_TOLERANCE: f64 = 1e-3;
+use screwkit_lie::so3::TARGET_ROTATION_TOLERANCE as TYPED_ROTATION_TOLERANCE;
 
 fn options(args: &IkArgs) -> CliResult<IkOptions> {
     let weights = match &args.weights {
@@ -36,7 +36,8 @@ fn options(args: &IkArgs) -> CliResult<IkOptions> {
         tol_pos: args.tol_pos,
         max_iterations: args.max_iter,
         max_restarts: args.restarts,
-        timeout: (args.timeout_ms > 0.0).then(|| Duration::from_secs_f64(args.timeout_ms / 1e3)),
+        timeout: screwkit_solve::ik::timeout_from_ms(args.timeout_ms)
+            .map_err(|e| Failure(format!("--timeout-ms: {e}")))?,
         seed: args.random_seed,
         position_only: args.position_only,
         weights,
@@ -217,6 +218,14 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
 /// converged, iterations, rotation error, position error) to two .npy files, streamed.
 fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> CliResult {
     let started = Instant::now();
+    let status_path = crate::npy::status_path(output);
+    let outputs = [output, status_path.as_str()];
+    let outputs = if status_path == output {
+        &outputs[..1]
+    } else {
+        &outputs[..]
+    };
+    screwkit_reach::atomic::check_distinct(&[input], outputs).map_err(Failure)?;
     let mut r = crate::npy::NpyReader::open(input)?;
     if r.row_len != 16 || r.shape.len() < 2 {
         return Err(Failure(format!(
@@ -225,10 +234,6 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
         )));
     }
     let (rows_total, n) = (r.shape[0], kin.dof());
-    let status_path = match output.strip_suffix(".npy") {
-        Some(stem) => format!("{stem}.status.npy"),
-        None => format!("{output}.status.npy"),
-    };
     let mut wq = crate::npy::NpyWriter::create(output, &[rows_total, n], "<f8")?;
     let mut ws = crate::npy::NpyWriter::create(&status_path, &[rows_total, 4], "<f8")?;
     let (mut buf, mut first, mut failed) = (Vec::new(), 0usize, 0usize);
@@ -372,7 +377,7 @@ fn all_solutions(
     let mut ws = Workspace::new(kin);
     let (sols, values) = all.solve(kin, &mut ws, t, seed)?;
     if format == Format::Json {
-        print_json(&all.json(kin, &sols, &values));
+        print_json(&all.json(kin, &sols, &values))?;
     } else {
         let family = all.solver.family();
         let mut s = format!(
@@ -397,7 +402,7 @@ fn all_solutions(
                 sols.residual(i)
             ));
         }
-        print!("{s}");
+        crate::output::emit(&s)?;
     }
     if sols.is_exact() {
         Ok(())
@@ -488,7 +493,7 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let us = t0.elapsed().as_secs_f64() * 1e6;
     let st = &r.status;
     if format == Format::Json {
-        print_json(&result_json(&r.q, st, us));
+        print_json(&result_json(&r.q, st, us))?;
     } else {
         let mut s = format!(
             "Target pose of `{}` in `{}`:\n{}",
@@ -508,7 +513,7 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
             st.error_pos,
             st.stop.as_str()
         ));
-        print!("{s}");
+        crate::output::emit(&s)?;
     }
     if st.converged {
         Ok(())

@@ -24,10 +24,32 @@ fn limit_json(tree: &Tree, j: usize) -> (Value, Value, Value, Value) {
     }
 }
 
-fn draw(tree: &Tree, link: usize, prefix: &str, out: &mut String) {
-    let kids = &tree.child_joints[link];
-    for (i, &j) in kids.iter().enumerate() {
-        let last = i + 1 == kids.len();
+/// Levels of the tree drawn with their guide lines; deeper links show their depth instead
+/// (so a 30,000-link chain prints in linear size, not quadratic).
+const DRAWN_DEPTH: usize = 32;
+
+/// The tree below `root`, one line per joint, walked with an explicit stack (no recursion:
+/// any depth).
+fn draw(tree: &Tree, root: usize, out: &mut String) {
+    // (link, depth, whether each ancestor level was a last child)
+    let mut stack: Vec<(usize, usize, bool)> = Vec::new();
+    let mut lasts: Vec<bool> = Vec::new();
+    let push_kids = |stack: &mut Vec<(usize, usize, bool)>, link: usize, depth: usize| {
+        let kids = &tree.child_joints[link];
+        for (i, &j) in kids.iter().enumerate().rev() {
+            stack.push((j, depth, i + 1 == kids.len()));
+        }
+    };
+    push_kids(&mut stack, root, 0);
+    while let Some((j, depth, last)) = stack.pop() {
+        lasts.truncate(depth);
+        let mut prefix = String::new();
+        for &l in lasts.iter().take(DRAWN_DEPTH) {
+            prefix.push_str(if l { "    " } else { "│   " });
+        }
+        if depth > DRAWN_DEPTH {
+            prefix.push_str(&format!("⋮ (depth {}) ", depth + 1));
+        }
         let joint = &tree.joints[j];
         out.push_str(&format!(
             "{prefix}{}{} ({}: {})\n",
@@ -36,8 +58,8 @@ fn draw(tree: &Tree, link: usize, prefix: &str, out: &mut String) {
             joint.name,
             joint.kind.as_str()
         ));
-        let next = format!("{prefix}{}", if last { "    " } else { "│   " });
-        draw(tree, joint.child, &next, out);
+        lasts.push(last);
+        push_kids(&mut stack, joint.child, depth + 1);
     }
 }
 
@@ -96,7 +118,7 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
                     Err(e) => json!({"base": tree.links[tree.root], "tip": leaf, "error": e, "sensor_like": sensor_like(leaf)}),
                 })
                 .collect();
-            print_json(&Value::Array(v));
+            print_json(&Value::Array(v))?;
         } else {
             let mut s = format!(
                 "Chains of `{}` from the root `{}` to each leaf (end effectors first, sensor-like leaves last):\n\n| tip | DoF |\n|---|---|\n",
@@ -109,12 +131,19 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
                 };
                 s.push_str(&format!("| {leaf} | {d} |\n"));
             }
-            print!("{s}");
+            crate::output::emit(&s)?;
         }
         return Ok(());
     }
     let leaves = tree.leaves_below(tree.root);
-    let default = Chain::from_tree(&tree, None, None);
+    // The chain asked for (`--base`/`--tip`: an error when it is not one), else the default.
+    let chosen = args.base.is_some() || args.tip.is_some();
+    let default = Chain::from_tree(&tree, args.base.as_deref(), args.tip.as_deref());
+    if chosen {
+        default
+            .as_ref()
+            .map_err(|e| crate::output::Failure(e.to_string()))?;
+    }
     let movable = tree.joints.iter().filter(|j| j.kind.is_movable()).count();
     if format == Format::Json {
         let joints: Vec<Value> = (0..tree.joints.len())
@@ -139,7 +168,7 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
                 "base": c.base, "tip": c.tip, "dof": c.dof(),
                 "ik_family": format!("{:?}", screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c)).family),
             })),
-        }));
+        }))?;
         return Ok(());
     }
     let mut s = format!(
@@ -151,7 +180,7 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
         movable,
         tree.links[tree.root]
     );
-    draw(&tree, tree.root, "", &mut s);
+    draw(&tree, tree.root, &mut s);
     s.push_str("\nJoints:\n\n| joint | type | parent → child | lower | upper | velocity | effort |\n|---|---|---|---|---|---|---|\n");
     let cell = |v: Value| match v {
         Value::Null => "–".to_string(),
@@ -187,7 +216,8 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
     ));
     match &default {
         Ok(c) => s.push_str(&format!(
-            "Default chain: {} → {} ({} DoF: {})\nIK family: {}\n",
+            "{}: {} → {} ({} DoF: {})\nIK family: {}\n",
+            if chosen { "Chain" } else { "Default chain" },
             c.base,
             c.tip,
             c.dof(),
@@ -196,6 +226,6 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
         )),
         Err(e) => s.push_str(&format!("Default chain: none — {}\n", e.kind)),
     }
-    print!("{s}");
+    crate::output::emit(&s)?;
     Ok(())
 }

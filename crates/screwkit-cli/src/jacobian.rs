@@ -167,7 +167,7 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
     let p = *screwkit_solve::fk::fk(&kin, &mut ws, q)?.translation();
     if format == Format::Json {
         let v = value(q, &j, args.frame, args.analyze, &p).map_err(Failure)?;
-        print_json(&v);
+        print_json(&v)?;
         return Ok(());
     }
     let analysis = if args.analyze {
@@ -220,6 +220,6 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         }
         s.push_str(&format!("verdict               {}\n", a.verdict()));
     }
-    print!("{s}");
+    crate::output::emit(&s)?;
     Ok(())
 }

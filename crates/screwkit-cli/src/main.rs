@@ -129,7 +129,7 @@ fn run(cli: &Cli) -> CliResult {
             } else {
                 screwkit_model::xacro::expand_file(&a.file, &a.xacro.options())?
             };
-            print!("{text}");
+            crate::output::emit(&text)?;
             Ok(())
         }
     }
@@ -143,6 +143,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match std::panic::catch_unwind(|| run(&cli)) {
         Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) if e.0 == output::CLOSED_PIPE => ExitCode::SUCCESS,
         Ok(Err(e)) => {
             eprintln!("screwkit: error: {e}");
             ExitCode::from(1)

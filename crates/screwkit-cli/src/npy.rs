@@ -4,7 +4,7 @@
 //! The header (magic, version, Python dict) is `screwkit_reach::npz`'s, which writes the maps'
 //! arrays; the reader here needs only `<f8` C-order arrays and the writer knows N up front.
 
-use std::io::{BufReader, BufWriter, Read, Write};
+use std::io::{BufReader, Read, Seek, Write};
 
 use crate::output::{CliResult, Failure};
 
@@ -43,7 +43,18 @@ impl NpyReader {
         if shape.is_empty() {
             return Err(err("a scalar, not an array of rows".into()));
         }
-        let row_len = shape[1..].iter().product();
+        let row_len: usize = shape[1..].iter().product();
+        // The data must be exactly what the header says, checked before any output exists.
+        let header = file.stream_position().unwrap_or(0);
+        let data = shape.iter().product::<usize>() as u64 * 8;
+        if let Ok(m) = file.get_ref().metadata() {
+            if m.is_file() && m.len() != header + data {
+                return Err(err(format!(
+                    "the header says shape {shape:?} ({data} bytes of data) but the file holds {} bytes after it",
+                    m.len().saturating_sub(header)
+                )));
+            }
+        }
         Ok(Self {
             file,
             path: path.to_string(),
@@ -73,16 +84,18 @@ impl NpyReader {
 
 /// A `.npy` file being written (the shape is known up front).
 pub struct NpyWriter {
-    file: BufWriter<std::fs::File>,
+    file: screwkit_reach::atomic::AtomicFile,
     path: String,
     left: usize,
 }
 
 impl NpyWriter {
-    /// Creates `path` for an array of `shape` with `descr` (`<f8` or `|b1`).
+    /// Starts `path` for an array of `shape` with `descr` (`<f8` or `|b1`): written to a
+    /// temporary file beside it and renamed over it by [`NpyWriter::finish`], so a failed run
+    /// leaves an existing file as it was.
     pub fn create(path: &str, shape: &[usize], descr: &str) -> CliResult<Self> {
         let err = |e: std::io::Error| Failure(format!("{path}: cannot write: {e}"));
-        let mut file = BufWriter::new(std::fs::File::create(path).map_err(err)?);
+        let mut file = screwkit_reach::atomic::AtomicFile::create(path).map_err(err)?;
         file.write_all(&screwkit_reach::npz::npy_header(descr, shape))
             .map_err(err)?;
         let item = if descr == "|b1" { 1 } else { 8 };
@@ -114,16 +127,17 @@ impl NpyWriter {
     }
 
     /// Flushes; an error if fewer values were written than the shape says.
-    pub fn finish(mut self) -> CliResult {
+    pub fn finish(self) -> CliResult {
         if self.left != 0 {
             return Err(Failure(format!(
                 "{}: {} bytes missing",
                 self.path, self.left
             )));
         }
+        let path = self.path;
         self.file
-            .flush()
-            .map_err(|e| Failure(format!("{}: cannot write: {e}", self.path)))
+            .commit()
+            .map_err(|e| Failure(format!("{path}: cannot write: {e}")))
     }
 }
 
@@ -139,6 +153,18 @@ pub fn binary<'a>(input: &str, output: Option<&'a str>) -> CliResult<Option<&'a 
             "--output is for .npy batches (--input FILE.npy); JSON lines go to stdout".into(),
         )),
         (false, None) => Ok(None),
+    }
+}
+
+/// The status file beside an IK batch's solutions: `OUT.status.npy` (`OUT` without its
+/// `.npy`); a special file (`/dev/null`) takes the status too.
+pub fn status_path(output: &str) -> String {
+    if std::fs::metadata(output).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        return output.to_string();
+    }
+    match output.strip_suffix(".npy") {
+        Some(stem) => format!("{stem}.status.npy"),
+        None => format!("{output}.status.npy"),
     }
 }
 
@@ -158,6 +184,7 @@ pub fn run(
     mut solve: impl FnMut(&[f64], usize, &mut [f64]) -> Result<(), screwkit_solve::SolveError>,
 ) -> CliResult {
     let started = std::time::Instant::now();
+    screwkit_reach::atomic::check_distinct(&[input], &[output]).map_err(Failure)?;
     let mut r = NpyReader::open(input)?;
     if r.row_len != row_len || r.shape.len() < 2 {
         return Err(Failure(format!(

@@ -96,6 +96,29 @@ pub fn pose_summary(t: &Se3) -> String {
 }
 
 /// Prints a JSON value on one line.
-pub fn print_json(v: &Value) {
-    println!("{v}");
+pub fn print_json(v: &Value) -> CliResult {
+    emit(&format!("{v}\n"))
+}
+
+/// The failure message of a closed standard output (`screwkit info … | head -1`): `main` ends
+/// quietly with exit code 0 on it, as other Unix tools end quietly.
+pub const CLOSED_PIPE: &str = "standard output closed";
+
+/// A write error on standard output as a failure: a closed pipe is [`CLOSED_PIPE`], anything
+/// else (a full disk: `> /dev/full`) names the error.
+pub fn write_error(e: std::io::Error) -> Failure {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        Failure(CLOSED_PIPE.into())
+    } else {
+        Failure(format!("cannot write the output: {e}"))
+    }
+}
+
+/// Writes `s` to standard output and flushes it (every non-batch result goes through here).
+pub fn emit(s: &str) -> CliResult {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    out.write_all(s.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(write_error)
 }

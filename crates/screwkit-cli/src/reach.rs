@@ -28,22 +28,22 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         let secs = started.elapsed().as_secs_f64();
         let fraction = s.reached as f64 / s.poses.max(1) as f64;
         if format == Format::Json {
-            println!(
-                "{}",
+            crate::output::emit(&format!(
+                "{}\n",
                 serde_json::json!({
                     "voxels": s.voxels, "poses": s.poses, "reached": s.reached,
                     "reached_fraction": fraction, "seconds": secs, "shards": shards.len(),
                 })
-            );
+            ))?;
         } else {
-            println!(
-                "merged {} shards: {} voxels = {} poses, {} reached ({:.1} %), {secs:.2} s → {output}",
+            crate::output::emit(&format!(
+                "merged {} shards: {} voxels = {} poses, {} reached ({:.1} %), {secs:.2} s → {output}\n",
                 shards.len(),
                 s.voxels,
                 s.poses,
                 s.reached,
                 100.0 * fraction
-            );
+            ))?;
         }
         return Ok(());
     }
@@ -158,8 +158,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         Some(plan.rotations.len()),
         secs,
         &what,
-    );
-    Ok(())
+    )
 }
 
 fn write_svg(map: &str, svg: &str) -> CliResult {
@@ -167,7 +166,7 @@ fn write_svg(map: &str, svg: &str) -> CliResult {
     if m.voxels.len() != m.grid.len() {
         return Err(Failure(format!("{map} is a shard: draw the merged map")));
     }
-    std::fs::write(svg, screwkit_reach::slices::svg(&m))
+    screwkit_reach::atomic::write(svg, screwkit_reach::slices::svg(&m).as_bytes())
         .map_err(|e| Failure(format!("cannot write {svg}: {e}")))
 }
 
@@ -178,31 +177,31 @@ fn print_summary(
     k: Option<usize>,
     secs: f64,
     what: &str,
-) {
+) -> CliResult {
     let rate = s.solved as f64 / secs.max(1e-9);
     let threads = rayon::current_num_threads();
     let fraction = s.reached as f64 / s.poses.max(1) as f64;
     if format == Format::Json {
-        println!(
-            "{}",
+        crate::output::emit(&format!(
+            "{}\n",
             serde_json::json!({
                 "voxels": s.voxels, "poses": s.poses, "solved": s.solved, "reached": s.reached,
                 "reached_fraction": fraction, "seconds": secs, "solves_per_second": rate,
                 "threads": threads, "solver": solver,
             })
-        );
-        return;
+        ))?;
+        return Ok(());
     }
     let k = k
         .map(|k| format!(" × {k} orientations"))
         .unwrap_or_default();
-    println!(
-        "{} voxels{k} = {} poses ({} solved in reach), {} reached ({:.1} %), {secs:.2} s, {:.0} solves/s on {threads} threads ({solver} IK) {what}",
+    crate::output::emit(&format!(
+        "{} voxels{k} = {} poses ({} solved in reach), {} reached ({:.1} %), {secs:.2} s, {:.0} solves/s on {threads} threads ({solver} IK) {what}\n",
         s.voxels,
         s.poses,
         s.solved,
         s.reached,
         100.0 * fraction,
         rate
-    );
+    ))
 }

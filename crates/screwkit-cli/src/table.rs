@@ -10,9 +10,9 @@ pub fn run(args: &TableArgs, format: Format) -> CliResult {
     let chain = crate::load_chain(&args.chain)?;
     let frames = &args.frame.0;
     match format {
-        Format::Json => print_json(&table::to_json(&chain)),
-        Format::Csv => print!("{}", table::to_csv(&chain, frames)),
-        Format::Text | Format::Md => print!("{}", table::to_markdown(&chain, frames)),
+        Format::Json => print_json(&table::to_json(&chain))?,
+        Format::Csv => crate::output::emit(&table::to_csv(&chain, frames))?,
+        Format::Text | Format::Md => crate::output::emit(&table::to_markdown(&chain, frames))?,
     }
     Ok(())
 }

@@ -77,9 +77,12 @@ pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
     })
 }
 
-/// The page of `chain` at `q` (default: zeros). Checks q.
+/// The page of `chain` at `q` (default: each joint at 0, or at the limit nearest 0 when 0 is
+/// outside its limits — the Panda's joint 4 is). Checks q.
 pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
-    let zeros = vec![0.0; kin.dof()];
+    let zeros: Vec<f64> = (0..kin.dof())
+        .map(|k| 0f64.clamp(kin.lower()[k], kin.upper()[k]))
+        .collect();
     let q = q.unwrap_or(&zeros);
     kin.check_q(q)?;
     // "</" inside a <script> element would end it: JSON allows "\/" for "/".

@@ -533,6 +533,30 @@ fn legend_rows(width: f64) -> usize {
     rows
 }
 
+/// The width of a caption character at 15 px (Helvetica's average, digits and commas
+/// included, with a margin).
+const CAPTION_CHAR_W: f64 = 8.0;
+/// The distance between two caption lines.
+const CAPTION_LINE: f64 = 18.0;
+
+/// `text` cut into lines of at most `max` characters, at spaces (a word longer than a line
+/// stands alone).
+fn wrap(text: &str, max: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > max.max(1) {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    lines.push(line);
+    lines
+}
+
 /// The SVG document of `scene` in `views` (one panel, or the four of `View::ALL` in a 2 × 2
 /// sheet), with a legend and a caption naming the robot, the chain and q.
 pub fn render(scene: &Scene, views: &[View]) -> String {
@@ -540,7 +564,6 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
     let rows = views.len().div_ceil(cols);
     let width = cols as f64 * PANEL_W + (cols as f64 + 1.0) * 10.0;
     let legend_h = legend_rows(width) as f64 * LEGEND_ROW + 16.0;
-    let height = rows as f64 * PANEL_H + (rows as f64 + 1.0) * 10.0 + 28.0 + legend_h;
     let q: Vec<String> = scene.q.iter().map(|x| num(*x)).collect();
     let caption = format!(
         "{}: chain {} → {}, q = [{}]",
@@ -549,6 +572,10 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
         scene.tip,
         q.join(", ")
     );
+    // The caption wrapped to the sheet's width (a single 580 px panel cut a 7-joint one).
+    let caption_lines = wrap(&caption, ((width - 20.0) / CAPTION_CHAR_W) as usize);
+    let extra = (caption_lines.len() as f64 - 1.0) * CAPTION_LINE;
+    let height = rows as f64 * PANEL_H + (rows as f64 + 1.0) * 10.0 + 28.0 + extra + legend_h;
     let mut out = String::new();
     let _ = writeln!(out, "<?xml version=\"1.0\" encoding=\"UTF-8\"?>");
     let _ = writeln!(
@@ -566,15 +593,18 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
         out,
         "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>"
     );
-    let _ = writeln!(
-        out,
-        "<text x=\"10\" y=\"22\" font-size=\"15\" fill=\"#222222\">{}</text>",
-        escape(&caption)
-    );
+    for (k, l) in caption_lines.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "<text x=\"10\" y=\"{}\" font-size=\"15\" fill=\"#222222\">{}</text>",
+            px(22.0 + k as f64 * CAPTION_LINE),
+            escape(l)
+        );
+    }
     for (i, view) in views.iter().enumerate() {
         let (c, r) = (i % cols, i / cols);
         let x0 = 10.0 + c as f64 * (PANEL_W + 10.0);
-        let y0 = 38.0 + r as f64 * (PANEL_H + 10.0);
+        let y0 = 38.0 + extra + r as f64 * (PANEL_H + 10.0);
         panel(&mut out, scene, *view, x0, y0);
     }
     legend(&mut out, height - legend_h + LEGEND_ROW / 2.0 + 4.0, width);

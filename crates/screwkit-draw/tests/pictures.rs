@@ -261,3 +261,59 @@ fn any_size_is_fitted_to_the_page() {
         }));
     }
 }
+
+/// A single view is 580 px wide: a 7-joint caption wraps onto a second line (it was cut at
+/// the sheet's edge) and the panel moves down to make room; every line fits the width.
+#[test]
+fn long_captions_wrap_within_the_sheet() {
+    let (chain, kin) = load("panda.urdf", None, None);
+    let q = [0.2, -0.4, 0.1, -2.0, 0.1, 1.8, 0.6];
+    let scene = Scene::new(&chain, &kin, Some(&q)).unwrap();
+    let text = svg::render(&scene, &[View::Iso]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let width: f64 = doc
+        .root_element()
+        .attribute("width")
+        .unwrap()
+        .parse()
+        .unwrap();
+    let caption: Vec<roxmltree::Node> = doc
+        .root_element()
+        .children()
+        .filter(|n| n.has_tag_name("text"))
+        .collect();
+    assert_eq!(caption.len(), 2, "{text}");
+    let joined: Vec<&str> = caption.iter().filter_map(|n| n.text()).collect();
+    assert_eq!(
+        joined.join(" "),
+        "panda: chain panda_link0 → panda_hand_tcp, q = [0.200000, -0.400000, 0.100000, -2.000000, 0.100000, 1.800000, 0.600000]"
+    );
+    for l in &joined {
+        // 8 px per character at 15 px is wider than Helvetica's widest digits and letters.
+        assert!(10.0 + 8.0 * l.chars().count() as f64 <= width, "{l}");
+    }
+    let panel = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("iso"))
+        .unwrap();
+    let rect = panel.children().find(|n| n.has_tag_name("rect")).unwrap();
+    assert_eq!(rect.attribute("y"), Some("56.00"));
+}
+
+/// The page starts at each joint's 0, or at the limit nearest 0 when 0 is outside the
+/// limits (the Panda's joint 4: [−3.07, −0.07]).
+#[test]
+fn the_page_starts_within_the_limits() {
+    let (chain, kin) = load("panda.urdf", None, None);
+    let page = html::page(&chain, &kin, None).unwrap();
+    let start = page.find("\"q\":[").expect("the page's q") + 5;
+    let end = start + page[start..].find(']').unwrap();
+    let q: Vec<f64> = page[start..end]
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(q.len(), 7);
+    assert!(kin.within_limits(&q, 0.0), "{q:?}");
+    assert_eq!(q[3], kin.upper()[3]);
+    assert_eq!(q[0], 0.0);
+}

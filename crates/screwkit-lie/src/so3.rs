@@ -10,6 +10,11 @@ use crate::error::LieError;
 /// Default tolerance on max |RᵀR − I| when a rotation is read from user input.
 pub const DEFAULT_ROTATION_TOLERANCE: f64 = 1e-6;
 
+/// Tolerance on max |RᵀR − I| of an IK target's rotation, the same in every front end (the
+/// CLI's typed matrices, JSON lines, .npy batches, Python arrays): a rotation rounded to
+/// four or more decimals is accepted and re-orthonormalised, anything further off refused.
+pub const TARGET_ROTATION_TOLERANCE: f64 = 1e-3;
+
 /// \[ω\]: the skew-symmetric matrix with \[ω\] x = ω × x.
 ///
 /// ```text

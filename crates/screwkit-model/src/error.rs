@@ -110,11 +110,12 @@ pub enum ErrorKind {
     #[error("the joints form a cycle through links {0}")]
     Cycle(String),
     /// A link name that is not in the model.
-    #[error("unknown link \"{link}\" (links: {available})")]
+    #[error("unknown link \"{link}\" ({available})")]
     UnknownLink {
         /// The requested link.
         link: String,
-        /// The links that exist (shortened for large models).
+        /// The links that exist (`links: …`, up to 10), or for larger models the closest
+        /// names (`did you mean "a", "b"? N links in all`).
         available: String,
     },
     /// The base is not an ancestor of the tip.
@@ -129,7 +130,7 @@ pub enum ErrorKind {
     #[error("base and tip are the same link \"{0}\"")]
     SameLink(String),
     /// The tip was not given and there is more than one leaf below the base.
-    #[error("cannot choose a tip link: {count} leaf links below \"{base}\" ({leaves}); pick one as the tip (--tip)")]
+    #[error("cannot choose a tip link: {count} leaf links below \"{base}\" ({leaves}); pick one of them as the tip")]
     AmbiguousTip {
         /// The base.
         base: String,

@@ -160,6 +160,53 @@ pub(crate) fn name_list<'a>(names: impl IntoIterator<Item = &'a str>) -> String 
     s
 }
 
+/// What an unknown-link error offers: every link of a small model, else the three names
+/// closest to `name` (edit distance, ignoring case) and the count.
+fn suggest(name: &str, links: &[String]) -> String {
+    if links.len() <= 10 {
+        return format!("links: {}", name_list(links.iter().map(String::as_str)));
+    }
+    let want: Vec<char> = name.to_lowercase().chars().take(64).collect();
+    let mut scored: Vec<(usize, &str)> = links
+        .iter()
+        .map(|l| {
+            (
+                edit_distance(
+                    &want,
+                    &l.to_lowercase().chars().take(64).collect::<Vec<_>>(),
+                ),
+                l.as_str(),
+            )
+        })
+        .collect();
+    scored.sort_by_key(|&(d, _)| d);
+    let best: Vec<String> = scored
+        .iter()
+        .take(3)
+        .map(|(_, l)| format!("\"{l}\""))
+        .collect();
+    format!(
+        "did you mean {}? {} links in all",
+        best.join(", "),
+        links.len()
+    )
+}
+
+/// Levenshtein distance (insertions, deletions, substitutions), O(|a|·|b|) with one row.
+fn edit_distance(a: &[char], b: &[char]) -> usize {
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut prev = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let cur = row[j + 1];
+            row[j + 1] = (prev + usize::from(ca != cb)).min(row[j] + 1).min(cur + 1);
+            prev = cur;
+        }
+    }
+    row[b.len()]
+}
+
 impl Tree {
     /// Builds and validates the tree: unique names, existing parent/child links, one parent
     /// per link, exactly one root, no cycles.
@@ -274,7 +321,7 @@ impl Tree {
         self.link_index.get(name).copied().ok_or_else(|| {
             self.error(ErrorKind::UnknownLink {
                 link: name.to_string(),
-                available: name_list(self.links.iter().map(String::as_str)),
+                available: suggest(name, &self.links),
             })
         })
     }

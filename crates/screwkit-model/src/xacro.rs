@@ -589,7 +589,7 @@ impl Expander<'_> {
         }
         Err(fail(
             at,
-            format!("$(find {pkg}): package not found (give its parent folder with --package-path, or set ROS_PACKAGE_PATH)"),
+            format!("$(find {pkg}): package not found (add its parent folder to the package paths, or set ROS_PACKAGE_PATH)"),
         ))
     }
 

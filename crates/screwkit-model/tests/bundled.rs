@@ -342,7 +342,7 @@ fn tree_needs_a_tip() {
     }
     let msg = err.to_string();
     assert!(
-        msg.contains("torso_two_arms.urdf") && msg.contains("--tip"),
+        msg.contains("torso_two_arms.urdf") && msg.contains("pick one of them as the tip"),
         "{msg}"
     );
     // A base below a movable joint is fine.

@@ -211,7 +211,7 @@ fn errors_name_file_line_and_construct() {
         ),
         (
             "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n<xacro:include filename=\"$(find no_such_pkg)/x.xacro\"/></robot>",
-            &["bad.xacro:2", "$(find no_such_pkg): package not found", "--package-path"],
+            &["bad.xacro:2", "$(find no_such_pkg): package not found", "package paths"],
         ),
         (
             "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">\n<xacro:include filename=\"missing.xacro\"/></robot>",

@@ -82,7 +82,14 @@ pub fn poses<'py>(
     }
 }
 
-/// A new zero-filled C-contiguous float64 array of `shape` (the output of a batch call).
-pub fn zeros<'py>(py: Python<'py>, shape: &[usize]) -> Bound<'py, PyArrayDyn<f64>> {
-    PyArrayDyn::<f64>::zeros(py, shape, false)
+/// A new zero-filled C-contiguous float64 array of `shape` (the output of a batch call),
+/// made by `numpy.zeros`: an output numpy cannot allocate is numpy's `MemoryError` (or
+/// `ValueError` for a shape beyond any address space), never a crash.
+pub fn zeros<'py>(py: Python<'py>, shape: &[usize]) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let shape = pyo3::types::PyTuple::new(py, shape)?;
+    let a = py
+        .import("numpy")?
+        .getattr("zeros")?
+        .call1((shape, "float64"))?;
+    Ok(a.cast_into::<PyArrayDyn<f64>>()?)
 }

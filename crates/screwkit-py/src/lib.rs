@@ -91,8 +91,7 @@ fn xacro(
 ) -> PyResult<String> {
     let opts = robot::xacro_options(package_paths, args);
     let label = path.display().to_string();
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| errors::io_error(&format!("{label}: cannot read the file"), &e))?;
+    let text = robot::read_robot_file(&path)?;
     let dir = path.parent().unwrap_or(std::path::Path::new("."));
     screwkit_model::xacro::expand_str(&text, &label, dir, &opts).map_err(errors::model_error)
 }

@@ -90,7 +90,7 @@ pub fn reach_build<'py>(
     };
     let started = std::time::Instant::now();
     let s = py
-        .detach(|| pool::run(|| screwkit_reach::build(&plan, kin, shard, &path, |_, _| {})))
+        .detach(|| pool::run(|| screwkit_reach::build(&plan, kin, shard, &path, |_, _| {})))?
         .map_err(reach_error)?;
     let d = summary(py, &s, started.elapsed().as_secs_f64())?;
     d.set_item("solver", plan.solver_name())?;

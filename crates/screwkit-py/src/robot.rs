@@ -3,14 +3,13 @@
 
 use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard};
-use std::time::Duration;
 
 use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods, ToPyArray};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
 use screwkit_draw::{html, svg, Scene, View};
-use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Frame, Se3};
+use screwkit_lie::{so3::TARGET_ROTATION_TOLERANCE, Frame, Se3};
 use screwkit_model::{table, Chain};
 use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
 use screwkit_solve::{analysis, batch, fk, ik, jacobian, Kinematics, SolveError, Workspace};
@@ -135,12 +134,8 @@ impl Robot {
         };
         let timeout = match o.timeout_ms {
             None => None,
-            Some(t) if t.is_finite() && t > 0.0 => Some(Duration::from_secs_f64(t / 1e3)),
-            Some(t) => {
-                return Err(PyValueError::new_err(format!(
-                    "timeout_ms: expected a positive number of milliseconds or None, got {t}"
-                )))
-            }
+            Some(t) => screwkit_solve::ik::timeout_from_ms(t)
+                .map_err(|e| PyValueError::new_err(format!("timeout_ms: {e}")))?,
         };
         let weights = match o.weights {
             None => d.weights,
@@ -205,22 +200,40 @@ struct IkArgs<'a> {
     weights: Option<Vec<f64>>,
 }
 
-/// Runs a batch function into a new zeroed float64 array of `shape` on the batch pool with the
-/// GIL released; bad rows raise `BatchError` carrying the array (every other row computed).
+/// Runs a batch function into a new zeroed float64 array of `shape` (N, …) on the batch pool
+/// with the GIL released, `chunk` rows at a time with a Ctrl-C check between chunks
+/// ([`pool::chunked`]): `f(rows of input, rows of output)` is the library's batch call on
+/// those rows (`input` holds N rows). Bad rows raise `BatchError` carrying the array (every
+/// other row computed).
 fn run_batch<'py>(
     py: Python<'py>,
     shape: &[usize],
-    f: impl FnOnce(&mut [f64]) -> Result<(), SolveError> + Send,
+    input: &[f64],
+    chunk: usize,
+    f: impl Fn(&[f64], &mut [f64]) -> Result<(), SolveError> + Send + Sync,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let out = zeros(py, shape);
+    let out = zeros(py, shape)?;
+    let rows = shape.first().copied().unwrap_or(0);
+    let in_width = input.len() / rows.max(1);
+    let out_width: usize = shape[1..].iter().product();
     let res = {
         let mut w = out.readwrite();
         let o = w.as_slice_mut()?;
-        py.detach(|| pool::run(|| f(o)))
+        pool::chunked(py, rows, chunk, |r| {
+            f(
+                &input[r.start * in_width..r.end * in_width],
+                &mut o[r.start * out_width..r.end * out_width],
+            )
+        })?
     };
     res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
     Ok(out.into_any())
 }
+
+/// Rows per chunk of a batch between two Ctrl-C checks (a few ms of work each).
+const FK_CHUNK: usize = 1 << 15;
+/// Rows per chunk of an IK batch.
+const IK_CHUNK: usize = 256;
 
 /// The library's xacro options from Python's arguments.
 pub fn xacro_options(
@@ -233,10 +246,29 @@ pub fn xacro_options(
     }
 }
 
+/// A robot file's text, read as the CLI reads it: at most 64 MiB
+/// (`screwkit_model::input::read_bounded`), UTF-8 with or without a byte-order mark, or
+/// Latin-1 when its XML declaration says so (`screwkit_model::urdf::decode`). An unreadable
+/// file is the matching `OSError`; too large or not text, `ValueError`.
+pub fn read_robot_file(path: &std::path::Path) -> PyResult<String> {
+    let label = path.display().to_string();
+    let cannot = |e: &std::io::Error| io_error(&format!("{label}: cannot read the file"), e);
+    let file = std::fs::File::open(path).map_err(|e| cannot(&e))?;
+    if file.metadata().is_ok_and(|m| m.is_dir()) {
+        return Err(cannot(&std::io::Error::from(
+            std::io::ErrorKind::IsADirectory,
+        )));
+    }
+    let bytes = screwkit_model::input::read_bounded(file)
+        .map_err(|k| model_error(screwkit_model::ModelError::new(label.clone(), k)))?;
+    screwkit_model::urdf::decode(&bytes)
+        .map_err(|k| model_error(screwkit_model::ModelError::new(label, k)))
+}
+
 /// Writes `text` to `path` when one is given.
 fn write_text(path: Option<PathBuf>, text: &str) -> PyResult<()> {
     match path {
-        Some(p) => std::fs::write(&p, text).map_err(|e| {
+        Some(p) => screwkit_reach::atomic::write(&p, text.as_bytes()).map_err(|e| {
             let label = p.display().to_string();
             crate::errors::io_error(&label, &e)
         }),
@@ -279,8 +311,7 @@ impl Robot {
         xacro_args: Option<std::collections::BTreeMap<String, String>>,
     ) -> PyResult<Self> {
         let label = path.display().to_string();
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| io_error(&format!("{label}: cannot read the file"), &e))?;
+        let text = read_robot_file(&path)?;
         let text = if screwkit_model::xacro::is_xacro(&text) {
             let opts = xacro_options(package_paths, xacro_args);
             let dir = path.parent().unwrap_or(std::path::Path::new("."));
@@ -443,7 +474,9 @@ impl Robot {
                 let t = fk::fk(&self.kin, &mut self.workspace(), qs).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, 4, 4], |o| batch::fk_batch(&self.kin, qs, o)),
+            Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, |qs, o| {
+                batch::fk_batch(&self.kin, qs, o)
+            }),
         }
     }
 
@@ -470,7 +503,7 @@ impl Robot {
                 })?
                 .into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], |o| {
+            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], qs, FK_CHUNK / 16, |qs, o| {
                 batch::fk_all_links_batch(&self.kin, qs, o)
             }),
         }
@@ -512,11 +545,13 @@ impl Robot {
             }
             // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
             // empty rows).
-            Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0]).into_any()),
-            Rows::Many(rows) => run_batch(py, &[rows, 6, n], |o| match frame {
-                Some(f) => batch::jacobian_batch(&self.kin, qs, f, o, None),
-                None => batch::jacobian_world_aligned_batch(&self.kin, qs, o, None),
-            }),
+            Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
+            Rows::Many(rows) => {
+                run_batch(py, &[rows, 6, n], qs, FK_CHUNK / 4, |qs, o| match frame {
+                    Some(f) => batch::jacobian_batch(&self.kin, qs, f, o, None),
+                    None => batch::jacobian_world_aligned_batch(&self.kin, qs, o, None),
+                })
+            }
         }
     }
 
@@ -709,7 +744,7 @@ impl Robot {
         let tv = targets.readonly();
         let flat = tv.as_slice()?;
         if count.is_none() {
-            let t = Se3::from_row_major(flat, DEFAULT_ROTATION_TOLERANCE).map_err(|e| {
+            let t = Se3::from_row_major(flat, TARGET_ROTATION_TOLERANCE).map_err(|e| {
                 PyValueError::new_err(format!("target: not a rigid transform: {e}"))
             })?;
             let mut sols = Solutions::default();
@@ -734,7 +769,7 @@ impl Robot {
                     .map_init(
                         || Workspace::new(kin),
                         |ws, row| {
-                            let t = Se3::from_row_major(row, DEFAULT_ROTATION_TOLERANCE).map_err(
+                            let t = Se3::from_row_major(row, TARGET_ROTATION_TOLERANCE).map_err(
                                 |e| screwkit_solve::SolveError::BadTarget(e.to_string()),
                             )?;
                             let mut sols = Solutions::default();
@@ -745,7 +780,7 @@ impl Robot {
                     )
                     .collect()
             })
-        });
+        })?;
         let list = pyo3::types::PyList::empty(py);
         let mut bad = Vec::new();
         for (k, r) in results.into_iter().enumerate() {
@@ -753,7 +788,7 @@ impl Robot {
                 Ok(sols) if sols.is_exact() => list.append(to_array(py, &sols)?)?,
                 Ok(_) => list.append(to_array(py, &Solutions::default())?)?,
                 Err(error) => {
-                    list.append(zeros(py, &[0, n]))?;
+                    list.append(zeros(py, &[0, n])?)?;
                     bad.push(screwkit_solve::RowError { row: k, error });
                 }
             }
@@ -827,14 +862,19 @@ impl Robot {
                         "seed: one target takes one seed of shape ({n},)"
                     )));
                 }
-                let target = Se3::from_row_major(tv, DEFAULT_ROTATION_TOLERANCE).map_err(|e| {
+                let target = Se3::from_row_major(tv, TARGET_ROTATION_TOLERANCE).map_err(|e| {
                     PyValueError::new_err(format!("target: not a rigid transform: {e}"))
                 })?;
                 let mid = self.kin.midpoint();
                 let seed = seed_values.unwrap_or(&mid);
+                let opts = IkOptions {
+                    interrupt: Some(ik::Interrupt(pool::interrupted)),
+                    ..opts
+                };
                 let r = py
                     .detach(|| ik::solve(&self.kin, &mut self.workspace(), &target, seed, &opts))
                     .map_err(solve_error)?;
+                pool::take_interrupt(py)?;
                 let st = r.status;
                 let res = IkResult {
                     q: r.q.to_pyarray(py).unbind(),
@@ -859,16 +899,25 @@ impl Robot {
                     _ => None,
                 };
                 let seeds = tiled.as_deref().or(seed_values);
-                let q = zeros(py, &[rows, n]);
+                let q = zeros(py, &[rows, n])?;
                 let mut status = vec![IkStatus::unsolved(); rows];
                 let res = {
                     let mut w = q.readwrite();
                     let qo = w.as_slice_mut()?;
-                    py.detach(|| {
-                        pool::run(|| {
-                            batch::ik_batch(&self.kin, tv, seeds, &opts, qo, &mut status, None)
-                        })
-                    })
+                    let st = &mut status;
+                    // Restart seeds by global row: the same answers whatever the chunking.
+                    pool::chunked(py, rows, IK_CHUNK, |r| {
+                        batch::ik_batch_from(
+                            &self.kin,
+                            r.start,
+                            &tv[16 * r.start..16 * r.end],
+                            seeds.map(|s| &s[n * r.start..n * r.end]),
+                            &opts,
+                            &mut qo[n * r.start..n * r.end],
+                            &mut st[r.clone()],
+                            None,
+                        )
+                    })?
                 };
                 let result = Bound::new(py, batch_result(py, q, &status)?)?.into_any();
                 res.map_err(|e| batch_error(py, e, result.clone()))?;

@@ -61,7 +61,8 @@ impl Grid {
 
     /// Number of voxels.
     pub fn len(&self) -> usize {
-        self.shape.iter().product()
+        // Saturating: a grid read from a damaged file never overflows.
+        self.shape.iter().fold(1usize, |n, &d| n.saturating_mul(d))
     }
 
     /// True when the grid has no voxel.

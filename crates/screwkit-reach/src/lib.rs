@@ -16,6 +16,7 @@
 //! only on the spec and the pose's global index (numerical IK restarts from
 //! [`screwkit_solve::batch::row_seed`] of it), never on threads, shards or load.
 
+pub mod atomic;
 pub mod grid;
 pub mod npz;
 pub mod slices;
@@ -170,6 +171,9 @@ pub struct Plan {
     pub reach_radius: f64,
     /// "robot base→tip" for the map's metadata.
     pub label: String,
+    /// [`kinematics_hash`] of the chain: two robots with the same name but other screws,
+    /// home pose, limits, mimic rules or tool never merge.
+    pub kinematics: String,
     solver: Solver,
 }
 
@@ -180,6 +184,12 @@ impl Plan {
             return Err(ReachError::Input(
                 "at least one orientation per voxel is needed".into(),
             ));
+        }
+        if spec.orientations > MAX_ORIENTATIONS {
+            return Err(ReachError::Input(format!(
+                "{} orientations per voxel is more than {MAX_ORIENTATIONS}",
+                spec.orientations
+            )));
         }
         let (reach_centre, reach_radius) = reach_ball(chain);
         let (lo, hi) = spec.bounds.unwrap_or_else(|| {
@@ -194,6 +204,12 @@ impl Plan {
             )
         });
         let grid = Grid::covering(lo, hi, spec.resolution)?;
+        if grid.len() > MAX_VOXELS {
+            return Err(ReachError::Input(format!(
+                "{} voxels is more than a map may have ({MAX_VOXELS}): use a coarser resolution or smaller bounds",
+                grid.len()
+            )));
+        }
         let numerical = || {
             Solver::Numerical(IkOptions {
                 method: IkMethod::LM,
@@ -226,6 +242,7 @@ impl Plan {
             reach_centre,
             reach_radius,
             label: format!("{} {}→{}", chain.robot, chain.base, chain.tip),
+            kinematics: kinematics_hash(chain),
             solver,
         })
     }
@@ -257,6 +274,7 @@ impl Plan {
         serde_json::json!({
             "format": "screwkit reachability map 1",
             "robot": self.label,
+            "kinematics": self.kinematics,
             "solver": self.solver_name(),
             "spec": self.spec,
             "grid": self.grid,
@@ -449,12 +467,50 @@ pub struct Summary {
     pub reached: usize,
 }
 
+/// A 64-bit FNV-1a hash (16 hex digits) of everything that decides a chain's reach: each
+/// joint's kind, space screw S_i and mimic rule, each variable's limits, and the home pose M
+/// (with its tool). The exact bits of every number are hashed.
+pub fn kinematics_hash(chain: &Chain) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for b in bytes {
+            h ^= u64::from(*b);
+            h = h.wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    let num = |x: f64, eat: &mut dyn FnMut(&[u8])| eat(&x.to_bits().to_le_bytes());
+    for j in &chain.joints {
+        eat(j.kind.as_str().as_bytes());
+        for x in j.s_space.twist().to_vector().iter() {
+            num(*x, &mut eat);
+        }
+        eat(&(j.drive.variable as u64).to_le_bytes());
+        num(j.drive.multiplier, &mut eat);
+        num(j.drive.offset, &mut eat);
+    }
+    for v in &chain.variables {
+        num(v.lower, &mut eat);
+        num(v.upper, &mut eat);
+    }
+    for x in chain.home.to_homogeneous().iter() {
+        num(*x, &mut eat);
+    }
+    format!("{h:016x}")
+}
+
 /// Poses solved per step of a build (whole voxels; progress is reported after each). Bounds
 /// memory: the analytic solver returns every 2π representative of every posture (up to 512
 /// for a UR5 with ±2π limits, 24 KB a pose): a step of 8192 poses peaks near 270 MB on the
 /// UR5 (measured; 2048 poses: 83 MB but 1.4× the time, the two parallel phases per step
 /// idling at their ends).
 const CHUNK_POSES: usize = 8192;
+
+/// The most voxels a map may have (at 5 mm over a 2 m cube: 6.4e7).
+pub const MAX_VOXELS: usize = 1_000_000_000;
+/// The most voxels one shard may hold (its per-voxel arrays take 40 bytes each: 2 GB).
+pub const MAX_SHARD_VOXELS: usize = 50_000_000;
+/// The most orientations tested per voxel.
+pub const MAX_ORIENTATIONS: usize = 100_000;
 
 /// Builds shard `shard` of the map of `plan` into the `.npz` file `path`, streaming the
 /// per-pose results: memory holds a chunk of poses and the per-voxel arrays. `progress(done,
@@ -469,6 +525,12 @@ pub fn build(
     let k = plan.rotations.len();
     let range = shard.voxels(plan.grid.len());
     let nv = range.len();
+    if nv > MAX_SHARD_VOXELS {
+        return Err(ReachError::Input(format!(
+            "{nv} voxels in one shard is more than {MAX_SHARD_VOXELS} (40 bytes each are held in memory): cut the map into at least {} shards",
+            plan.grid.len().div_ceil(MAX_SHARD_VOXELS)
+        )));
+    }
     let mut out = NpzWriter::create(path)?;
     out.start("pose_manipulability", "<f8", &[nv, k])?;
     let (mut index, mut best) = (Vec::with_capacity(nv), Vec::with_capacity(nv));
@@ -572,12 +634,23 @@ pub fn read(path: &str) -> Result<MapFile, ReachError> {
     let grid: Grid = serde_json::from_value(meta["grid"].clone())
         .map_err(|e| ReachError::Format(format!("{path}: bad grid: {e}")))?;
     let (_, r) = z.i64_array("voxel_range")?;
-    let voxels = r[0] as usize..r[1] as usize;
+    let voxels = match r.as_slice() {
+        [a, b] if 0 <= *a && a <= b && (*b as u64) <= grid.len() as u64 => *a as usize..*b as usize,
+        _ => {
+            return Err(ReachError::Format(format!(
+                "{path}: voxel_range {r:?} is not a range of the map's {} voxels",
+                grid.len()
+            )))
+        }
+    };
     let (_, index) = z.f64_array("index")?;
     let (_, best) = z.f64_array("best_manipulability")?;
     let (_, centres) = z.f64_array("centres")?;
     let k = meta["spec"]["orientations"].as_u64().unwrap_or(0) as usize;
-    if index.len() != voxels.len() || best.len() != voxels.len() {
+    if index.len() != voxels.len()
+        || best.len() != voxels.len()
+        || centres.len() != 3 * voxels.len()
+    {
         return Err(ReachError::Format(format!(
             "{path}: arrays do not match the voxel range"
         )));
@@ -600,6 +673,8 @@ pub fn merge(paths: &[String], out: &str) -> Result<Summary, ReachError> {
     if paths.is_empty() {
         return Err(ReachError::Input("no shards to merge".into()));
     }
+    let inputs: Vec<&str> = paths.iter().map(String::as_str).collect();
+    atomic::check_distinct(&inputs, &[out]).map_err(ReachError::Input)?;
     let mut shards: Vec<(MapFile, &String)> = paths
         .iter()
         .map(|p| read(p).map(|m| (m, p)))
@@ -692,8 +767,8 @@ pub fn export(npz: &str, out: &str) -> Result<(), ReachError> {
             "{poses} poses is too many for text: keep the .npz (numpy reads it directly)"
         )));
     }
-    let file = std::fs::File::create(out).map_err(|e| ReachError::io(out, e))?;
-    let mut w = std::io::BufWriter::new(file);
+    atomic::check_distinct(&[npz], &[out]).map_err(ReachError::Input)?;
+    let mut w = atomic::AtomicFile::create(out).map_err(|e| ReachError::io(out, e))?;
     let num = |x: f64| -> serde_json::Value {
         if x.is_finite() {
             serde_json::json!(x)
@@ -725,6 +800,11 @@ pub fn export(npz: &str, out: &str) -> Result<(), ReachError> {
     } else if out.ends_with(".json") {
         let mut z = NpzReader::open(npz)?;
         let (_, pose) = z.f64_array("pose_manipulability")?;
+        if pose.len() != m.index.len() * m.k {
+            return Err(ReachError::Format(format!(
+                "{npz}: pose_manipulability does not hold voxels × orientations values"
+            )));
+        }
         let voxels: Vec<serde_json::Value> = (0..m.index.len())
             .map(|i| {
                 serde_json::json!({
@@ -749,6 +829,6 @@ pub fn export(npz: &str, out: &str) -> Result<(), ReachError> {
             "{out}: write a map as .npz, or a small one as .csv or .json"
         )));
     };
-    res.and_then(|()| w.flush())
+    res.and_then(|()| w.commit())
         .map_err(|e| ReachError::io(out, e))
 }

@@ -8,7 +8,7 @@
 //! padded with spaces and a newline to a multiple of 64 bytes.
 
 use std::fs::File;
-use std::io::{BufReader, BufWriter, Read, Write};
+use std::io::{BufReader, Read, Write};
 
 use zip::write::SimpleFileOptions;
 
@@ -42,17 +42,18 @@ pub fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
 
 /// A `.npz` archive being written, one entry at a time.
 pub struct NpzWriter {
-    zip: zip::ZipWriter<BufWriter<File>>,
+    zip: zip::ZipWriter<crate::atomic::AtomicFile>,
     path: String,
     open: Option<(String, usize)>,
 }
 
 impl NpzWriter {
-    /// Creates (or truncates) `path`.
+    /// Starts `path`: written to a temporary file beside it and renamed over it by
+    /// [`NpzWriter::finish`] ([`crate::atomic`]); an existing file is untouched until then.
     pub fn create(path: &str) -> Result<Self, ReachError> {
-        let file = File::create(path).map_err(|e| ReachError::io(path, e))?;
+        let file = crate::atomic::AtomicFile::create(path).map_err(|e| ReachError::io(path, e))?;
         Ok(Self {
-            zip: zip::ZipWriter::new(BufWriter::with_capacity(1 << 20, file)),
+            zip: zip::ZipWriter::new(file),
             path: path.to_string(),
             open: None,
         })
@@ -159,11 +160,11 @@ impl NpzWriter {
     pub fn finish(self) -> Result<(), ReachError> {
         self.check_closed()?;
         let path = self.path.clone();
-        let mut inner = self
+        let inner = self
             .zip
             .finish()
             .map_err(|e| ReachError::Io(format!("{path}: {e}")))?;
-        inner.flush().map_err(|e| ReachError::io(&path, e))
+        inner.commit().map_err(|e| ReachError::io(&path, e))
     }
 }
 
@@ -225,23 +226,25 @@ impl NpzReader {
         })
     }
 
-    /// A whole float64 entry with its shape.
+    /// A whole float64 entry with its shape (its CRC checked).
     pub fn f64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<f64>), ReachError> {
         let mut e = self.entry(name)?;
         e.expect("<f8")?;
         let n: usize = e.shape.iter().product();
-        let mut v = vec![0.0; n];
-        e.read_f64(&mut v)?;
+        let bytes = e.read_all(8 * n)?;
+        let v = bytes
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8])))
+            .collect();
         Ok((e.shape.clone(), v))
     }
 
-    /// A whole int64 entry with its shape.
+    /// A whole int64 entry with its shape (its CRC checked).
     pub fn i64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<i64>), ReachError> {
         let mut e = self.entry(name)?;
         e.expect("<i8")?;
         let n: usize = e.shape.iter().product();
-        let mut bytes = vec![0u8; 8 * n];
-        e.read_bytes(&mut bytes)?;
+        let bytes = e.read_all(8 * n)?;
         let v = bytes
             .chunks_exact(8)
             .map(|b| i64::from_le_bytes(b.try_into().unwrap_or([0; 8])))
@@ -257,8 +260,7 @@ impl NpzReader {
             .strip_prefix("<U")
             .and_then(|d| d.parse::<usize>().ok())
             .ok_or_else(|| ReachError::Format(format!("{}: '{name}' is not text", e.path)))?;
-        let mut bytes = vec![0u8; 4 * n];
-        e.read_bytes(&mut bytes)?;
+        let bytes = e.read_all(n.saturating_mul(4))?;
         Ok(bytes
             .chunks_exact(4)
             .map(|b| u32::from_le_bytes(b.try_into().unwrap_or([0; 4])))
@@ -278,6 +280,42 @@ impl NpyEntry<'_> {
                 "{}: an array of dtype {} where {descr} was expected",
                 self.path, self.descr
             )))
+        }
+    }
+
+    /// All `n` bytes of the data, then the end of the entry (where the zip CRC is checked).
+    /// Memory grows with the bytes that really arrive, not with what a header claims.
+    pub fn read_all(&mut self, n: usize) -> Result<Vec<u8>, ReachError> {
+        let mut bytes = Vec::with_capacity(n.min(1 << 20));
+        (&mut self.data)
+            .take(n as u64)
+            .read_to_end(&mut bytes)
+            .map_err(|e| ReachError::Format(format!("{}: damaged array: {e}", self.path)))?;
+        if bytes.len() != n {
+            return Err(ReachError::Format(format!(
+                "{}: truncated array ({} of {n} bytes)",
+                self.path,
+                bytes.len()
+            )));
+        }
+        self.finish()?;
+        Ok(bytes)
+    }
+
+    /// Reads to the end of the entry: an error if data is left over or the zip CRC does not
+    /// match (a damaged file).
+    pub fn finish(&mut self) -> Result<(), ReachError> {
+        let mut rest = [0u8; 1];
+        match self.data.read(&mut rest) {
+            Ok(0) => Ok(()),
+            Ok(_) => Err(ReachError::Format(format!(
+                "{}: more data than the array's shape",
+                self.path
+            ))),
+            Err(e) => Err(ReachError::Format(format!(
+                "{}: damaged array: {e}",
+                self.path
+            ))),
         }
     }
 
@@ -310,6 +348,12 @@ pub struct NpyHeader {
     pub shape: Vec<usize>,
 }
 
+/// The longest `.npy` header read (numpy's own reader refuses more than 10,000 bytes).
+pub const MAX_NPY_HEADER: usize = 1 << 16;
+/// The most elements a `.npy` shape may declare (2^56: an exabyte of float64), so that byte
+/// counts never overflow; a shape beyond the file's real size is caught when it is read.
+pub const MAX_NPY_ELEMENTS: usize = 1 << 56;
+
 /// Reads a `.npy` header (format 1.0, 2.0 or 3.0) from `r`, leaving it at the data. The error
 /// says what is wrong in a few words ("not a .npy file (no \x93NUMPY magic)", "truncated
 /// header", "bad shape …"); the caller adds the file's name.
@@ -330,6 +374,11 @@ pub fn read_npy_header(r: &mut impl Read) -> Result<NpyHeader, String> {
         }
         v => return Err(format!(".npy version {v} is not supported")),
     };
+    if len > MAX_NPY_HEADER {
+        return Err(format!(
+            "a header of {len} bytes (more than {MAX_NPY_HEADER}: numpy writes a few hundred)"
+        ));
+    }
     let mut dict = vec![0u8; len];
     r.read_exact(&mut dict)
         .map_err(|_| "truncated header".to_string())?;
@@ -355,6 +404,11 @@ pub fn read_npy_header(r: &mut impl Read) -> Result<NpyHeader, String> {
         .map(|s| s.parse::<usize>())
         .collect::<Result<Vec<_>, _>>()
         .map_err(|_| format!("bad shape {shape_text}"))?;
+    shape
+        .iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d))
+        .filter(|&n| n <= MAX_NPY_ELEMENTS)
+        .ok_or_else(|| format!("shape {shape_text} has more elements than any file can hold"))?;
     Ok(NpyHeader {
         descr,
         fortran,
@@ -385,7 +439,12 @@ pub fn copy_entry(
     chunk: usize,
 ) -> Result<Vec<usize>, ReachError> {
     let mut e = from.entry(name)?;
-    let total = e.shape.iter().product::<usize>() * descr_size(&e.descr)?;
+    let total = e
+        .shape
+        .iter()
+        .product::<usize>()
+        .checked_mul(descr_size(&e.descr)?)
+        .ok_or_else(|| ReachError::Format(format!("{}: array '{name}' too large", e.path)))?;
     let shape = e.shape.clone();
     let mut buf = vec![0u8; chunk.max(1)];
     let mut left = total;
@@ -395,5 +454,6 @@ pub fn copy_entry(
         to.write_bytes(&buf[..n])?;
         left -= n;
     }
+    e.finish()?;
     Ok(shape)
 }

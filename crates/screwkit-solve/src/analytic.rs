@@ -414,6 +414,9 @@ pub struct AnalyticIk {
     fixed: Option<Prepared>,
 }
 
+/// The most lock values one sweep may have ([`AnalyticIk::lock_values`]).
+pub const MAX_SWEEP: usize = 100_000;
+
 impl AnalyticIk {
     /// The solver of a 6R chain of a family solved here; an error naming the family
     /// otherwise (a 7R chain: lock a joint with [`AnalyticIk::locked`]).
@@ -759,6 +762,9 @@ impl AnalyticIk {
             (None, Some(0)) => Err(SolveError::InvalidInput(
                 "a sweep needs at least one value".into(),
             )),
+            (None, Some(n)) if n > MAX_SWEEP => Err(SolveError::InvalidInput(format!(
+                "a sweep of {n} values is more than {MAX_SWEEP} (each value gives up to 8 postures and their 2π shifts)"
+            ))),
             (None, Some(n)) => Ok(self.sweep(kin, n)),
             (Some(v), None) => Ok(vec![v]),
             (None, None) => {

@@ -487,7 +487,7 @@ pub fn ik_batch_from(
 /// (a rotation orthonormal to 1e-14, as FK gives, is used exactly as given; a looser one is
 /// projected onto SO(3) first, [`Se3::from_row_major`]).
 pub(crate) fn target_row(v: &[f64]) -> Result<Se3, SolveError> {
-    let t = Se3::from_row_major(v, screwkit_lie::so3::DEFAULT_ROTATION_TOLERANCE)
+    let t = Se3::from_row_major(v, screwkit_lie::so3::TARGET_ROTATION_TOLERANCE)
         .map_err(|e| SolveError::BadTarget(format!(": {e}")))?;
     check_target(&t)?;
     Ok(t)

@@ -76,6 +76,8 @@ pub enum StopReason {
     TimeLimit,
     /// Not solved: the row's input was invalid (batches only; see [`crate::batch::ik_batch`]).
     InvalidInput,
+    /// Stopped by the caller's [`IkOptions::interrupt`] check (Ctrl-C in a front end).
+    Interrupted,
 }
 
 impl StopReason {
@@ -87,6 +89,7 @@ impl StopReason {
             StopReason::RestartLimit => "restart limit",
             StopReason::TimeLimit => "time limit",
             StopReason::InvalidInput => "invalid input",
+            StopReason::Interrupted => "interrupted",
         }
     }
 }
@@ -115,6 +118,37 @@ pub struct IkOptions {
     pub weights: [f64; 6],
     /// Largest change of any joint in one iteration (rad or m).
     pub max_step: f64,
+    /// Called every 64 iterations when set: `true` stops the solve with
+    /// [`StopReason::Interrupted`] (a front end's Ctrl-C check). `None` by default.
+    pub interrupt: Option<Interrupt>,
+}
+
+/// A caller's check for "stop now" ([`IkOptions::interrupt`]): a plain function, so options
+/// stay `Copy`-cheap and `Send`. Two checks compare equal (options are compared by their
+/// settings, not by which function polls for Ctrl-C).
+#[derive(Debug, Clone, Copy)]
+pub struct Interrupt(pub fn() -> bool);
+
+impl PartialEq for Interrupt {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+/// A wall-time budget given in milliseconds, as every front end takes it: 0 is no budget
+/// (the default: answers then depend on iterations and restarts only), a positive number is
+/// the budget (one beyond what a [`Duration`] holds, 1e300 say, is no budget either);
+/// negative, NaN and infinite values are refused.
+pub fn timeout_from_ms(ms: f64) -> Result<Option<Duration>, SolveError> {
+    if !ms.is_finite() || ms < 0.0 {
+        return Err(SolveError::InvalidInput(format!(
+            "expected a finite number of milliseconds ≥ 0 (0: none), got {ms}"
+        )));
+    }
+    if ms == 0.0 {
+        return Ok(None);
+    }
+    Ok(Duration::try_from_secs_f64(ms / 1e3).ok())
 }
 
 impl Default for IkOptions {
@@ -130,6 +164,7 @@ impl Default for IkOptions {
             position_only: false,
             weights: [1.0; 6],
             max_step: 1.0,
+            interrupt: None,
         }
     }
 }
@@ -457,6 +492,11 @@ fn iterate(
         if let Some((t0, budget)) = start {
             if iterations.is_multiple_of(4) && t0.elapsed() >= budget {
                 break StopReason::TimeLimit;
+            }
+        }
+        if let Some(Interrupt(stop)) = opts.interrupt {
+            if iterations.is_multiple_of(64) && stop() {
+                break StopReason::Interrupted;
             }
         }
         // Stall detection and restarts.

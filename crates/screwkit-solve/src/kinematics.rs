@@ -26,6 +26,9 @@ pub struct Kinematics {
     pub(crate) link_columns: Vec<Columns>,
     pub(crate) lower: Vec<f64>,
     pub(crate) upper: Vec<f64>,
+    /// Continuous variables that are periodic in 2π (see `periodic`): IK wraps them to
+    /// (−π, π] and analytic IK lists their 2π shifts; a continuous joint with a prismatic or
+    /// non-integer follower is neither.
     pub(crate) continuous: Vec<bool>,
     pub(crate) names: Vec<String>,
     /// L: the power of ten nearest the chain's reach at home (the farthest link origin from
@@ -69,7 +72,8 @@ impl Kinematics {
             continuous: chain
                 .variables
                 .iter()
-                .map(|v| v.kind == JointKind::Continuous)
+                .enumerate()
+                .map(|(k, v)| v.kind == JointKind::Continuous && periodic(chain, k))
                 .collect(),
             names: chain.variables.iter().map(|v| v.name.clone()).collect(),
             length_scale: length_scale(chain),
@@ -183,4 +187,20 @@ fn length_scale(chain: &Chain) -> f64 {
     } else {
         1.0
     }
+}
+
+/// Whether adding 2π to variable `k` leaves the pose unchanged: every joint it drives is
+/// rotational with an integer multiplier (θ = m q + o turns m whole turns). A continuous
+/// joint with a prismatic follower (a helical joint written as a mimic pair) or a
+/// non-integer multiplier is not periodic, and IK must not wrap it.
+fn periodic(chain: &screwkit_model::Chain, k: usize) -> bool {
+    chain
+        .joints
+        .iter()
+        .filter(|j| j.drive.variable == k)
+        .all(|j| {
+            j.kind != JointKind::Prismatic
+                && j.drive.multiplier.fract() == 0.0
+                && j.drive.multiplier.is_finite()
+        })
 }

@@ -7,11 +7,13 @@
 //!   the independent oracle every product-of-exponentials result is checked against.
 //! - [`protocol`]: the IK benchmark protocol behind `screwkit bench`, the criterion benches
 //!   and BENCHMARKS.md.
+//! - [`fuzz`]: the seeded mutation fuzzer the parsers' fuzz tests run.
 //! - [`BUNDLED_CHAINS`] and [`SHARED_CHAINS`]: the chains every suite runs on.
 //! - [`bundled`]: the path of a robot file in `assets/urdf/`, and [`Sampler`]: random
 //!   configurations within a chain's limits (the library's sampler,
 //!   [`screwkit_solve::sample`], for tests that hold a [`Chain`]).
 
+pub mod fuzz;
 pub mod protocol;
 pub mod reference;
 

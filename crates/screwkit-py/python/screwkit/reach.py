@@ -26,6 +26,10 @@ from ._screwkit import Robot
 Bounds = tuple[float, float, float, float, float, float]
 
 
+MAP_FORMAT = "screwkit reachability map 1"
+"""The ``format`` of every map's ``meta``."""
+
+
 @dataclass(frozen=True)
 class ReachMap:
     """A reachability map read from its ``.npz`` file.
@@ -51,21 +55,43 @@ class ReachMap:
 
     @classmethod
     def load(cls, path: str) -> ReachMap:
-        """Reads a map (or shard) written by :func:`reach`, ``screwkit reach`` or a merge."""
-        with np.load(path) as z:
-            shape = tuple(int(s) for s in z["grid_shape"])
-            return cls(
-                index=z["index"],
-                best_manipulability=z["best_manipulability"],
-                pose_manipulability=z["pose_manipulability"],
-                centres=z["centres"],
-                orientations=z["orientations"],
-                grid_origin=z["grid_origin"],
-                grid_shape=(shape[0], shape[1], shape[2]),
-                resolution=float(z["resolution"]),
-                meta=json.loads(str(z["meta"])),
-                path=path,
-            )
+        """Reads a map (or shard) written by :func:`reach`, ``screwkit reach`` or a merge.
+
+        Raises ``OSError`` when the file cannot be read and ``ValueError`` naming the file
+        when it is not a screwkit map or is damaged (a zip CRC that does not match, a missing
+        or malformed array)."""
+        try:
+            z = np.load(path, allow_pickle=False)
+        except OSError:
+            raise
+        except Exception as e:  # numpy's readers raise many types for a foreign file
+            raise ValueError(f"{path}: not a screwkit reachability map ({e})") from e
+        if not hasattr(z, "files"):
+            raise ValueError(f"{path}: not a screwkit reachability map (a single array)")
+        with z:
+            try:
+                meta = json.loads(str(z["meta"]))
+                if not isinstance(meta, dict) or meta.get("format") != MAP_FORMAT:
+                    raise ValueError("no screwkit map description")
+                shape = tuple(int(s) for s in z["grid_shape"])
+                if len(shape) != 3:
+                    raise ValueError(f"grid_shape {shape} is not 3 numbers")
+                return cls(
+                    index=z["index"],
+                    best_manipulability=z["best_manipulability"],
+                    pose_manipulability=z["pose_manipulability"],
+                    centres=z["centres"],
+                    orientations=z["orientations"],
+                    grid_origin=z["grid_origin"],
+                    grid_shape=(shape[0], shape[1], shape[2]),
+                    resolution=float(z["resolution"]),
+                    meta=meta,
+                    path=path,
+                )
+            except OSError:
+                raise
+            except Exception as e:  # BadZipFile (CRC), EOFError, KeyError, zlib.error, …
+                raise ValueError(f"{path}: not a valid screwkit reachability map ({e})") from e
 
     @property
     def reached_fraction(self) -> float:

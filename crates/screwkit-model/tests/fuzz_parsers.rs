@@ -1,0 +1,199 @@
+//! Fuzz targets of the robot-file parsers — URDF, xacro and xacro's expression language —
+//! by the seeded mutation fuzzer of `screwkit_testkit::fuzz`, starting from the bundled and
+//! shared robot files. Each runs a few seconds here; `SCREWKIT_FUZZ_SECS=600` runs ten
+//! minutes. A crash, an abort or a hang fails the run.
+
+use std::path::{Path, PathBuf};
+
+use screwkit_model::{urdf, xacro, Chain, XacroOptions};
+use screwkit_testkit::fuzz;
+
+fn files(dir: &Path, ext: &str, out: &mut Vec<Vec<u8>>) {
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let mut paths: Vec<PathBuf> = rd.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    paths.sort();
+    for p in paths {
+        if p.is_dir() {
+            files(&p, ext, out);
+        } else if p.extension().is_some_and(|e| e == ext) {
+            if let Ok(b) = std::fs::read(&p) {
+                if b.len() < 400_000 {
+                    out.push(b);
+                }
+            }
+        }
+    }
+}
+
+fn crate_dir() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+const URDF_TOKENS: &[&[u8]] = &[
+    b"<",
+    b">",
+    b"/>",
+    b"\"",
+    b"'",
+    b"&amp;",
+    b"&e;",
+    b"<!--",
+    b"-->",
+    b"<![CDATA[",
+    b"]]>",
+    b"<joint name=\"j\" type=\"revolute\">",
+    b"</joint>",
+    b"<link name=\"l\"/>",
+    b"<mimic joint=\"j\" multiplier=\"-1e308\"/>",
+    b"<limit lower=\"1\" upper=\"-1\"/>",
+    b"type=\"continuous\"",
+    b"type=\"planar\"",
+    b"<axis xyz=\"0 0 0\"/>",
+    b"xmlns:u=\"urn:u\"",
+    b"<u:origin xyz=\"5 5 5\"/>",
+    b"<!DOCTYPE robot [<!ENTITY e \"xxxxxxxx\">]>",
+    b"<parent link=\"l\"/>",
+    b"<child link=\"l\"/>",
+    b"rpy=\"1e300 0 0\"",
+];
+
+const XACRO_TOKENS: &[&[u8]] = &[
+    b"${",
+    b"}",
+    b"$(",
+    b")",
+    b"$(arg x)",
+    b"$(find p)",
+    b"${pi}",
+    b"${1/0}",
+    b"${-(-9223372036854775807-1)}",
+    b"<xacro:property name=\"p\" value=\"${p}\"/>",
+    b"<xacro:macro name=\"m\" params=\"a *b\">",
+    b"</xacro:macro>",
+    b"<xacro:m a=\"1\"><x/></xacro:m>",
+    b"<xacro:if value=\"${1 if x else 0}\">",
+    b"</xacro:if>",
+    b"<xacro:include filename=\"/dev/zero\"/>",
+    b"<xacro:insert_block name=\"b\"/>",
+    b"<xacro:element xacro:name=\"a b\"/>",
+    b"<xacro:attribute name=\"x\" value=\"y\"/>",
+    b"params=\"x:='0 0 0'\"",
+    b"**",
+    b"//",
+    b"%",
+    b" and ",
+    b" or ",
+    b" not ",
+    b"((((((((",
+];
+
+#[test]
+fn fuzz_urdf() {
+    let mut seeds = Vec::new();
+    files(&crate_dir().join("../../assets/urdf"), "urdf", &mut seeds);
+    if let Some(shared) = std::env::var_os("SCREWKIT_SHARED_URDF") {
+        files(Path::new(&shared), "urdf", &mut seeds);
+    }
+    let n = fuzz::run("urdf", 1, 3.0, &seeds, URDF_TOKENS, |input| {
+        let text = String::from_utf8_lossy(input);
+        if let Ok(tree) = urdf::load_str(&text, "fuzz.urdf") {
+            let _ = Chain::from_tree(&tree, None, None);
+            for l in tree.leaves_below(tree.root) {
+                let _ = Chain::from_tree(&tree, None, Some(&tree.links[l]));
+            }
+        }
+    });
+    assert!(n > 0);
+}
+
+#[test]
+fn fuzz_xacro() {
+    let mut seeds = Vec::new();
+    files(&crate_dir().join("tests/xacro_cases"), "xacro", &mut seeds);
+    if let Some(shared) = std::env::var_os("SCREWKIT_SHARED_XACRO") {
+        files(Path::new(&shared), "xacro", &mut seeds);
+    }
+    let opts = XacroOptions {
+        package_paths: vec![crate_dir().join("tests/xacro_cases/pkgs")],
+        args: vec![],
+    };
+    let dir = crate_dir().join("tests/xacro_cases");
+    let n = fuzz::run("xacro", 2, 3.0, &seeds, XACRO_TOKENS, |input| {
+        let text = String::from_utf8_lossy(input);
+        if let Ok(out) = xacro::expand_str(&text, "fuzz.xacro", &dir, &opts) {
+            // What the expander writes is well-formed URDF text (or a clean error).
+            let _ = urdf::load_str(&out, "fuzz.urdf");
+        }
+    });
+    assert!(n > 0);
+}
+
+#[test]
+fn fuzz_expressions() {
+    let exprs: &[&str] = &[
+        "1 + 2 * 3 - 4 / 5",
+        "2 ** -1 ** 2",
+        "-7 // 2 % 3",
+        "(1/b) if b != 0 else 0",
+        "a and b or not c",
+        "round(2.675, 2) + int(3.9) - floor(-1.5)",
+        "max(1, 2.5, -3) if 'x' else min(4, 5)",
+        "radians(90) * sin(pi / 2) + math.atan2(1, 1)",
+        "'link_' + str(7 // 2) + 'x'",
+        "abs(-9223372036854775807 - 1)",
+        "1e308 * 10",
+        "float('nan') == float('nan')",
+        "((((1))))",
+        "not not not True",
+        "3 < 4 and 4 <= 4.0",
+        "log(100, 10) + sqrt(2) ** 2",
+    ];
+    let seeds: Vec<Vec<u8>> = exprs.iter().map(|e| e.as_bytes().to_vec()).collect();
+    let tokens: &[&[u8]] = &[
+        b"(",
+        b")",
+        b"**",
+        b"//",
+        b"%",
+        b" if ",
+        b" else ",
+        b" and ",
+        b" or ",
+        b"not ",
+        b"'",
+        b"\"",
+        b",",
+        b".",
+        b"math.",
+        b"pi",
+        b"e",
+        b"inf",
+        b"nan",
+        b"b",
+        b"a",
+        b"c",
+        b"int(",
+        b"round(",
+        b"9223372036854775807",
+        b"-",
+        b"1e-7",
+        b"str(",
+        b"[",
+        b"{",
+        b":",
+    ];
+    let props = "<xacro:property name=\"a\" value=\"1\"/><xacro:property name=\"b\" value=\"0\"/><xacro:property name=\"c\" value=\"'s'\"/>";
+    let n = fuzz::run("expressions", 3, 3.0, &seeds, tokens, |input| {
+        let e = String::from_utf8_lossy(input)
+            .replace('&', "&amp;")
+            .replace('<', "&lt;")
+            .replace('"', "&quot;");
+        let doc = format!(
+            "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">{props}<link name=\"${{{e}}}\"/></robot>"
+        );
+        let _ = xacro::expand_str(&doc, "fuzz.xacro", Path::new("."), &XacroOptions::default());
+    });
+    assert!(n > 0);
+}

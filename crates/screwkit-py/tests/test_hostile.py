@@ -1,0 +1,156 @@
+"""Hostile input and everyday mistakes from Python: batches in forked children, Ctrl-C in long
+calls, files the CLI reads, absurd sizes and numbers — each the documented exception, never a
+hang, a crash or a PanicException."""
+
+from __future__ import annotations
+
+import multiprocessing
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import screwkit
+
+from conftest import ASSETS
+
+UR5 = ASSETS / "ur5.urdf"
+PANDA = ASSETS / "panda.urdf"
+
+
+def _child_batch(q: np.ndarray, conn: object) -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    conn.send(robot.fk(q))  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("method", ["fork", "spawn"])
+def test_batches_in_a_child_process(method: str) -> None:
+    if method not in multiprocessing.get_all_start_methods():
+        pytest.skip(f"no {method} start method on this platform")
+    robot = screwkit.Robot.from_urdf(UR5)
+    rng = np.random.default_rng(3)
+    q = rng.uniform(-3, 3, size=(5000, 6))
+    expected = robot.fk(q)  # the parent's pool exists now
+    ctx = multiprocessing.get_context(method)
+    parent, child = ctx.Pipe()
+    p = ctx.Process(target=_child_batch, args=(q, child))  # type: ignore[attr-defined]
+    p.start()
+    assert parent.poll(60), "the child's batch never finished (the pool did not survive fork)"
+    got = parent.recv()
+    p.join(10)
+    assert p.exitcode == 0
+    np.testing.assert_array_equal(got, expected)
+
+
+INTERRUPT = """
+import os, signal, threading, time
+import numpy as np
+import screwkit
+robot = screwkit.Robot.from_urdf({panda!r})
+far = np.eye(4); far[:3, 3] = [5.0, 0.0, 0.0]   # out of reach: every solve runs its budget
+def fire():
+    time.sleep(0.5)
+    global t0
+    t0 = time.perf_counter()
+    os.kill(os.getpid(), signal.SIGINT)
+threading.Thread(target=fire, daemon=True).start()
+try:
+    {call}
+    print("finished")
+except KeyboardInterrupt:
+    print("interrupted %.3f" % (time.perf_counter() - t0))
+"""
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        "robot.ik(far, max_iterations=10**9, max_restarts=10**9)",
+        "robot.ik(np.repeat(far[None], 60000, axis=0))",
+    ],
+)
+def test_ctrl_c_interrupts_long_calls(call: str) -> None:
+    script = textwrap.dedent(INTERRUPT.format(panda=str(PANDA), call=call))
+    out = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert out.returncode == 0, out.stderr
+    words = out.stdout.split()
+    assert words[0] == "interrupted", out.stdout + out.stderr
+    # Within a fraction of a second (generous here: the machine is shared).
+    assert float(words[1]) < 2.0, out.stdout
+
+
+def test_latin1_and_bom_files_read_as_the_cli_reads_them(tmp_path: Path) -> None:
+    text = UR5.read_text()
+    latin = tmp_path / "latin.urdf"
+    body = text.split("?>", 1)[1] if text.startswith("<?xml") else text
+    latin.write_bytes(
+        b'<?xml version="1.0" encoding="ISO-8859-1"?>'
+        + body.replace('name="ur5"', 'name="ur5_\xe9"').encode("latin-1")
+    )
+    robot = screwkit.Robot.from_urdf(latin)
+    assert robot.name == "ur5_\u00e9"
+    bom = tmp_path / "bom.urdf"
+    bom.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert screwkit.Robot.from_urdf(bom).dof == 6
+
+
+def test_endless_and_huge_inputs() -> None:
+    with pytest.raises(ValueError, match="too large: more than 64 MiB"):
+        screwkit.Robot.from_urdf("/dev/zero")
+    robot = screwkit.Robot.from_urdf(PANDA)
+    t = robot.fk(robot.midpoint)
+    with pytest.raises(ValueError, match="more than 100000"):
+        robot.ik_all(t, robot.midpoint, lock=6, sweep=10**12)
+
+
+def test_outputs_numpy_cannot_allocate_are_memory_errors() -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    # A (N, dof) view of one row: 2^40 rows need 2^40 × 16 × 8 bytes of output.
+    q = np.lib.stride_tricks.as_strided(np.zeros(6), shape=(1 << 40, 6), strides=(0, 8))
+    with pytest.raises((MemoryError, ValueError)):
+        robot.fk(q)
+
+
+@pytest.mark.parametrize("bad", [float("inf"), float("nan"), -1.0])
+def test_timeouts_as_the_cli_takes_them(bad: float) -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    t = robot.fk(robot.midpoint)
+    with pytest.raises(ValueError, match="timeout_ms: expected a finite number"):
+        robot.ik(t, timeout_ms=bad)
+    assert robot.ik(t, timeout_ms=0).converged  # 0: no budget, as in the CLI
+    assert robot.ik(t, timeout_ms=1e300).converged
+
+
+def test_targets_rounded_like_the_cli_accepts_them() -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    t = np.round(robot.fk(robot.midpoint + 0.1), 4)  # off a rotation by ~1e-4
+    r = robot.ik(t)
+    assert r.converged
+    with pytest.raises(ValueError, match="target"):
+        robot.ik(t + np.diag([0.01, 0, 0, 0]))
+
+
+def test_damaged_maps_are_value_errors(tmp_path: Path) -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    good = tmp_path / "m.npz"
+    screwkit.reach(robot, resolution=0.4, orientations=3, path=str(good))
+    data = good.read_bytes()
+    cases = {
+        "truncated": data[: len(data) // 2],
+        "flipped": data[:300] + bytes([data[300] ^ 0x55]) + data[301:],
+        "not a zip": b"hello",
+        "empty": b"",
+    }
+    for name, bytes_ in cases.items():
+        f = tmp_path / f"{name.replace(' ', '_')}.npz"
+        f.write_bytes(bytes_)
+        with pytest.raises(ValueError, match=str(f.name)):
+            screwkit.ReachMap.load(str(f))
+    with pytest.raises(FileNotFoundError):
+        screwkit.ReachMap.load(str(tmp_path / "missing.npz"))
+    assert screwkit.ReachMap.load(str(good)).index.size > 0
