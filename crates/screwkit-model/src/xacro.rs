@@ -426,11 +426,12 @@ impl Expander<'_> {
         let file: Rc<str> = source.into();
         let dir: Rc<Path> = dir.into();
         let declared;
-        let text = match roxmltree::Document::parse_with_options(text, input::parse_options()) {
-            Err(e) if e.to_string().contains("xacro") => {
+        // Checked (sizes, nesting, entities) before anything else reads it.
+        let text = match input::parse_xml(text) {
+            Err(ErrorKind::Xml(e)) if e.contains("xacro") => {
                 // `xacro:` used without declaring it: declare it on the root element.
                 declared = declare_xacro(text)
-                    .ok_or_else(|| ModelError::new(source, ErrorKind::Xml(e.to_string())))?;
+                    .ok_or_else(|| ModelError::new(source, ErrorKind::Xml(e.clone())))?;
                 declared.as_str()
             }
             _ => text,

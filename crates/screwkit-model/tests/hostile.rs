@@ -425,3 +425,34 @@ fn too_many_attributes_on_one_element() {
     let text = "<!DOCTYPE robot [<!ENTITY n \"a>b\">]><robot name=\"r\"><!-- <x a=1 b=2> --><link name=\"a\"><![CDATA[ <y c=\"=\"> ]]></link></robot>";
     assert_eq!(urdf::load_str(text, "t.urdf").unwrap().links.len(), 1);
 }
+
+#[test]
+fn an_included_file_passes_the_same_checks() {
+    let dir = std::env::temp_dir().join(format!("sk-incl-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let big = "x".repeat(50_000);
+    let uses = "&e;".repeat(50_000);
+    std::fs::write(
+        dir.join("bomb.xacro"),
+        format!("<!DOCTYPE robot [<!ENTITY e \"{big}\">]><robot xmlns:xacro=\"http://www.ros.org/wiki/xacro\"><link name=\"a\">{uses}</link></robot>"),
+    )
+    .unwrap();
+    // An undeclared prefix in the include too (the path that declares it on the fly).
+    let attrs: String = (0..5000).map(|i| format!(" a{i}=\"1\"")).collect();
+    std::fs::write(
+        dir.join("wide.xacro"),
+        format!("<robot><xacro:property name=\"p\" value=\"1\"/><link name=\"b\"{attrs}/></robot>"),
+    )
+    .unwrap();
+    for (file, says) in [
+        ("bomb.xacro", "entities expand"),
+        ("wide.xacro", "more than 1000 attributes"),
+    ] {
+        let main = xacro_doc(&format!("<xacro:include filename=\"{file}\"/>"));
+        let e = xacro::expand_str(&main, "t.xacro", &dir, &XacroOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(says), "{file}: {e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
