@@ -2,7 +2,7 @@
 //! the IK benchmark, in text for people and JSON for scripts.
 //!
 //! Exit codes: 0 success, 1 a failed operation (bad URDF, unknown link, wrong number of joint
-//! values, IK not converged, failed batch lines), 2 bad usage. Errors are one line on stderr.
+//! values, IK not converged, failed batch lines), 2 bad usage, 130 interrupted (Ctrl-C). Errors are one line on stderr.
 
 mod args;
 mod batch;
@@ -140,6 +140,14 @@ fn main() -> ExitCode {
     std::panic::set_hook(Box::new(|info| {
         eprintln!("screwkit: internal error: {info}");
     }));
+    // Ctrl-C (and SIGTERM): remove the temporary files of outputs being written, then exit
+    // 130 as a shell expects; outputs are renamed into place only when complete, so nothing
+    // half-written and no temporary file stays behind.
+    let _ = ctrlc::set_handler(|| {
+        screwkit_reach::atomic::remove_pending();
+        eprintln!("screwkit: interrupted");
+        std::process::exit(130);
+    });
     let cli = Cli::parse();
     match std::panic::catch_unwind(|| run(&cli)) {
         Ok(Ok(())) => ExitCode::SUCCESS,

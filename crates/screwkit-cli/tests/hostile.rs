@@ -412,3 +412,51 @@ fn info_describes_the_chain_asked_for_and_suggests_names() {
         "41 links in all",
     );
 }
+
+#[test]
+#[cfg(unix)]
+fn ctrl_c_leaves_no_file_behind() {
+    let ur5 = asset("ur5.urdf");
+    let out = tmp("interrupted.npz");
+    std::fs::write(&out, b"the previous map").unwrap();
+    let mut child = Command::new(BIN)
+        .args([
+            "reach",
+            &ur5,
+            "--resolution",
+            "0.02",
+            "--orientations",
+            "50",
+            "-o",
+            &s(&out),
+        ])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the temporary file exists (the build has started), then Ctrl-C.
+    let dir = out.parent().unwrap().to_path_buf();
+    let tmp_exists = || {
+        std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .any(|e| {
+                e.file_name()
+                    .to_string_lossy()
+                    .starts_with(".interrupted.npz.")
+            })
+    };
+    let start = std::time::Instant::now();
+    while !tmp_exists() && start.elapsed() < std::time::Duration::from_secs(30) {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert!(tmp_exists(), "the build never started");
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert!(!tmp_exists(), "a temporary file stayed behind");
+    assert_eq!(std::fs::read(&out).unwrap(), b"the previous map");
+}

@@ -7,6 +7,26 @@
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The temporary files being written now, for [`remove_pending`].
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes every temporary file not yet committed or dropped: what a program's Ctrl-C
+/// handler calls before it exits (the CLI's does), so an interrupted run leaves nothing.
+pub fn remove_pending() {
+    let pending = std::mem::take(&mut *PENDING.lock().unwrap_or_else(|e| e.into_inner()));
+    for p in pending {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+fn forget_pending(tmp: &Path) {
+    PENDING
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .retain(|p| p != tmp);
+}
 
 /// A file being written to a temporary name beside `path`; [`AtomicFile::commit`] renames it
 /// into place, dropping it uncommitted removes it.
@@ -43,6 +63,10 @@ impl AtomicFile {
         let tmp_name = format!(".{name}.{}.tmp", std::process::id());
         let tmp = dir.map_or_else(|| PathBuf::from(&tmp_name), |d| d.join(&tmp_name));
         let file = File::create(&tmp)?;
+        PENDING
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(tmp.clone());
         Ok(Self {
             tmp,
             path,
@@ -68,7 +92,12 @@ impl AtomicFile {
         }
         file.sync_all()?;
         drop(file);
-        std::fs::rename(&self.tmp, &self.path)
+        let r = std::fs::rename(&self.tmp, &self.path);
+        if r.is_err() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+        forget_pending(&self.tmp);
+        r
     }
 }
 
@@ -101,6 +130,7 @@ impl Drop for AtomicFile {
     fn drop(&mut self) {
         if self.file.take().is_some() && !self.direct {
             let _ = std::fs::remove_file(&self.tmp);
+            forget_pending(&self.tmp);
         }
     }
 }
