@@ -30,9 +30,8 @@ use output::{CliResult, Failure};
 /// Reads a robot file (URDF or xacro; `-`: standard input) into its tree.
 pub(crate) fn read_tree(path: &std::path::Path, xacro: &args::XacroArgs) -> CliResult<Tree> {
     if path.as_os_str() == "-" {
-        let mut bytes = Vec::new();
-        std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes)
-            .map_err(|e| Failure(format!("cannot read the robot from standard input: {e}")))?;
+        let bytes = screwkit_model::input::read_bounded(std::io::stdin())
+            .map_err(|k| ModelError::new("<stdin>", k))?;
         let text = urdf::decode(&bytes).map_err(|k| ModelError::new("<stdin>", k))?;
         let cwd = std::path::Path::new(".");
         return Ok(urdf::load_str_with(
@@ -120,9 +119,8 @@ fn run(cli: &Cli) -> CliResult {
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {
             let text = if a.file.as_os_str() == "-" {
-                let mut bytes = Vec::new();
-                std::io::Read::read_to_end(&mut std::io::stdin(), &mut bytes)
-                    .map_err(|e| Failure(format!("cannot read standard input: {e}")))?;
+                let bytes = screwkit_model::input::read_bounded(std::io::stdin())
+                    .map_err(|k| ModelError::new("<stdin>", k))?;
                 let text = urdf::decode(&bytes).map_err(|k| ModelError::new("<stdin>", k))?;
                 let cwd = std::path::Path::new(".");
                 screwkit_model::xacro::expand_str(&text, "<stdin>", cwd, &a.xacro.options())?

@@ -460,3 +460,21 @@ fn ctrl_c_leaves_no_file_behind() {
     assert!(!tmp_exists(), "a temporary file stayed behind");
     assert_eq!(std::fs::read(&out).unwrap(), b"the previous map");
 }
+
+#[test]
+#[cfg(unix)]
+fn an_endless_robot_on_standard_input() {
+    for cmd in ["info", "xacro"] {
+        let out = Command::new(BIN)
+            .args([cmd, "-"])
+            .stdin(std::fs::File::open("/dev/zero").unwrap())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{cmd}: {err}");
+        assert!(
+            err.contains("<stdin>: too large: more than 64 MiB"),
+            "{cmd}: {err}"
+        );
+    }
+}
