@@ -36,7 +36,7 @@ pub fn read_bounded(mut reader: impl Read) -> Result<Vec<u8>, ErrorKind> {
     (&mut reader)
         .take(MAX_FILE_BYTES + 1)
         .read_to_end(&mut bytes)
-        .map_err(|e| ErrorKind::Io(e.to_string()))?;
+        .map_err(|e| io_kind(&e))?;
     if bytes.len() as u64 > MAX_FILE_BYTES {
         return Err(ErrorKind::TooLarge(format!(
             "more than {} MiB (a robot file is read up to that size)",

@@ -426,17 +426,18 @@ impl Expander<'_> {
         let file: Rc<str> = source.into();
         let dir: Rc<Path> = dir.into();
         let declared;
-        // Checked (sizes, nesting, entities) before anything else reads it.
-        let text = match input::parse_xml(text) {
+        // Checked (sizes, nesting, entities) before anything else reads it; parsed once, or
+        // twice when `xacro:` is used without being declared (declared on the root, then read).
+        let (text, doc) = match input::parse_xml(text) {
+            Ok(doc) => (text, doc),
             Err(ErrorKind::Xml(e)) if e.contains("xacro") => {
-                // `xacro:` used without declaring it: declare it on the root element.
                 declared = declare_xacro(text)
                     .ok_or_else(|| ModelError::new(source, ErrorKind::Xml(e.clone())))?;
-                declared.as_str()
+                let doc = input::parse_xml(&declared).map_err(|k| ModelError::new(source, k))?;
+                (declared.as_str(), doc)
             }
-            _ => text,
+            Err(k) => return Err(ModelError::new(source, k)),
         };
-        let doc = input::parse_xml(text).map_err(|k| ModelError::new(source, k))?;
         let lines = Lines::new(text);
         let cx = Convert {
             text,
