@@ -64,17 +64,7 @@ fn long_chain(n: usize) -> PathBuf {
 
 /// A float64 .npy of `shape` whose header may lie about its data.
 fn npy(path: &Path, shape_text: &str, data: &[f64]) {
-    let mut h = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape_text}, }}");
-    while (10 + h.len() + 1) % 64 != 0 {
-        h.push(' ');
-    }
-    h.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(h.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(h.as_bytes());
-    for x in data {
-        bytes.extend_from_slice(&x.to_le_bytes());
-    }
+    let bytes = screwkit_testkit::npy_bytes("<f8", false, shape_text, data);
     std::fs::write(path, bytes).unwrap();
 }
 

@@ -20,20 +20,7 @@ fn write_npy(path: &std::path::Path, shape: &[usize], descr: &str, fortran: bool
     } else {
         format!("({})", dims.join(", "))
     };
-    let mut h = format!(
-        "{{'descr': '{descr}', 'fortran_order': {}, 'shape': {dims}, }}",
-        if fortran { "True" } else { "False" }
-    );
-    while (10 + h.len() + 1) % 64 != 0 {
-        h.push(' ');
-    }
-    h.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(h.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(h.as_bytes());
-    for x in data {
-        bytes.extend_from_slice(&x.to_le_bytes());
-    }
+    let bytes = screwkit_testkit::npy_bytes(descr, fortran, &dims, data);
     std::fs::write(path, bytes).unwrap();
 }
 

@@ -103,3 +103,24 @@ pub fn scaled_chain(file: &str, s: f64) -> Chain {
     let tree = screwkit_model::urdf::load_str(&out, file).expect("scaled file loads");
     Chain::from_tree(&tree, None, None).expect("default chain")
 }
+
+/// A float64 `.npy` file's bytes written by hand (format 1.0), independent of the code under
+/// test: `shape` is the header's Python tuple as text (`"(3, 6)"`, `"(7,)"`), so a test can
+/// also write a header that lies about its data.
+pub fn npy_bytes(descr: &str, fortran: bool, shape: &str, data: &[f64]) -> Vec<u8> {
+    let mut h = format!(
+        "{{'descr': '{descr}', 'fortran_order': {}, 'shape': {shape}, }}",
+        if fortran { "True" } else { "False" }
+    );
+    while (10 + h.len() + 1) % 64 != 0 {
+        h.push(' ');
+    }
+    h.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(h.as_bytes());
+    for x in data {
+        bytes.extend_from_slice(&x.to_le_bytes());
+    }
+    bytes
+}
