@@ -114,8 +114,19 @@ fn test_python() -> Result<(), String> {
     run(Command::new(&py)
         .args(["-m", "mypy.stubtest", "screwkit", "--mypy-config-file"])
         .arg(format!("{pkg}/pyproject.toml")))?;
+    // The CLI, for the tests that hold Python and the command line to the same answers.
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    run(Command::new(cargo).args(["build", "-p", "screwkit-cli"]))?;
     let mut pytest = Command::new(&py);
     pytest.args(["-m", "pytest", "-q", "crates/screwkit-py/tests"]);
+    pytest.env(
+        "SCREWKIT_CLI",
+        target.join("debug").join(if cfg!(windows) {
+            "screwkit.exe"
+        } else {
+            "screwkit"
+        }),
+    );
     if std::env::var_os("SCREWKIT_SHARED_URDF").is_none() {
         let shared = root.join("../shared/urdf");
         if shared.is_dir() {

@@ -2,8 +2,35 @@
 
 use std::path::PathBuf;
 
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use screwkit_solve::Frame;
+use screwkit_service::words::{
+    self, JacobianFrame, Method, OrientationMode, SolverChoice, TableFrames, Views, Word,
+};
+use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
+
+/// The value parser of an option word: the floor's words (`--help` lists them, aliases are
+/// accepted and hidden), parsed by the floor.
+fn word<W: Word + Send + Sync + Clone>() -> impl TypedValueParser<Value = W> {
+    let values = W::ALL.iter().flat_map(|w| {
+        std::iter::once(PossibleValue::new(w.as_str())).chain(
+            w.aliases()
+                .iter()
+                .map(|a| PossibleValue::new(*a).hide(true)),
+        )
+    });
+    PossibleValuesParser::new(values).try_map(|s: String| words::parse::<W>(&s))
+}
+
+/// The defaults of numerical IK (the library's, through the floor).
+fn ik() -> IkSettings {
+    IkSettings::default()
+}
+
+/// The defaults of a map.
+fn map() -> ReachSpec {
+    ReachSpec::default()
+}
 
 /// Robot kinematics from URDF with screw theory: screw axes, FK, Jacobians, IK.
 #[derive(Debug, Parser)]
@@ -83,34 +110,34 @@ pub struct ReachArgs {
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub tool: Option<List>,
     /// Voxel edge in metres.
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = map().resolution)]
     pub resolution: f64,
     /// Orientations tested per voxel (K).
-    #[arg(long, default_value_t = 50)]
+    #[arg(long, default_value_t = map().orientations)]
     pub orientations: usize,
     /// free: K rotations spread over SO(3); directions: K approach directions on a sphere,
     /// the tool's z axis pointing at the voxel centre (capability maps).
-    #[arg(long, default_value = "free")]
-    pub mode: String,
+    #[arg(long, value_parser = word::<OrientationMode>(), default_value_t = map().mode)]
+    pub mode: OrientationMode,
     /// The box to map, xmin,ymin,zmin,xmax,ymax,zmax in metres (default: the chain's reach).
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub bounds: Option<List>,
     /// auto (analytic for 6R arms with a closed form, else numerical), analytic, numerical.
-    #[arg(long, default_value = "auto")]
-    pub solver: String,
+    #[arg(long, value_parser = word::<SolverChoice>(), default_value_t = map().solver)]
+    pub solver: SolverChoice,
     /// Seed of numerical IK's restarts.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = map().seed)]
     pub seed: u64,
     /// Numerical IK: restarts per pose.
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = map().restarts)]
     pub restarts: usize,
     /// Numerical IK: iterations per attempt.
-    #[arg(long, default_value_t = 100)]
+    #[arg(long, default_value_t = map().iterations)]
     pub iterations: usize,
     /// Compute part i of N (0-based), a contiguous 1/N of the voxels: `reach merge` joins
     /// the N files into the map the unsharded run writes.
-    #[arg(long, value_name = "i/N")]
-    pub shard: Option<String>,
+    #[arg(long, value_name = "i/N", value_parser = Shard::parse)]
+    pub shard: Option<Shard>,
     /// Also write the SVG slices through the base (xy, xz, yz) to this file (whole maps).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<String>,
@@ -183,6 +210,18 @@ pub struct ChainArgs {
     pub tool: Option<List>,
 }
 
+impl ChainArgs {
+    /// The floor's load options.
+    pub fn options(&self) -> LoadOptions {
+        LoadOptions {
+            xacro: self.xacro.options(),
+            base: self.base.clone(),
+            tip: self.tip.clone(),
+            tool: self.tool.as_ref().map(|t| t.0.clone()),
+        }
+    }
+}
+
 /// A comma-separated list of numbers.
 #[derive(Debug, Clone, PartialEq)]
 pub struct List(pub Vec<f64>);
@@ -207,35 +246,6 @@ pub fn parse_list(s: &str) -> Result<List, String> {
     v.map(List)
 }
 
-/// The Jacobians `screwkit jacobian` gives.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum JacobianFrame {
-    /// J_s or J_b.
-    Screw(Frame),
-    /// The tip-point Jacobian in base axes.
-    WorldAligned,
-}
-
-impl JacobianFrame {
-    /// Its name, as parsed.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            JacobianFrame::Screw(f) => f.as_str(),
-            JacobianFrame::WorldAligned => "world-aligned",
-        }
-    }
-}
-
-/// Parses `space`, `body` or `world-aligned`.
-pub fn parse_jacobian_frame(s: &str) -> Result<JacobianFrame, String> {
-    match s {
-        "world-aligned" => Ok(JacobianFrame::WorldAligned),
-        other => parse_frame(other)
-            .map(JacobianFrame::Screw)
-            .map_err(|e| format!("{e} (or world-aligned)")),
-    }
-}
-
 /// `info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
@@ -256,26 +266,6 @@ pub struct InfoArgs {
     pub tip: Option<String>,
 }
 
-/// Parses `space` or `body` (the one [`Frame`] of the library).
-pub fn parse_frame(s: &str) -> Result<Frame, String> {
-    s.parse::<Frame>().map_err(|e| e.to_string())
-}
-
-/// The frames a table shows: `space`, `body` or `both`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Frames(pub Vec<Frame>);
-
-/// Parses `space`, `body` or `both` (space then body).
-pub fn parse_frames(s: &str) -> Result<Frames, String> {
-    if s == "both" {
-        Ok(Frames(Frame::ALL.to_vec()))
-    } else {
-        parse_frame(s)
-            .map(|f| Frames(vec![f]))
-            .map_err(|_| format!("unknown frame \"{s}\": expected \"space\", \"body\" or \"both\""))
-    }
-}
-
 /// `table`.
 #[derive(Debug, Args)]
 pub struct TableArgs {
@@ -283,8 +273,8 @@ pub struct TableArgs {
     #[command(flatten)]
     pub chain: ChainArgs,
     /// Which axes: space (S_i), body (B_i) or both.
-    #[arg(long, value_parser = parse_frames, default_value = "both", value_name = "space|body|both")]
-    pub frame: Frames,
+    #[arg(long, value_parser = word::<TableFrames>(), default_value_t = TableFrames::Both)]
+    pub frame: TableFrames,
 }
 
 /// `fk`.
@@ -320,7 +310,7 @@ pub struct JacobianArgs {
     /// Which Jacobian: space (J_s: twist of the body at the base origin, base axes), body (J_b:
     /// at the tip, tip axes) or world-aligned (J_wa: angular velocity and tip-point velocity,
     /// base axes; Pinocchio's LOCAL_WORLD_ALIGNED, Robotics Toolbox's jacob0).
-    #[arg(long, value_parser = parse_jacobian_frame, default_value = "space", value_name = "space|body|world-aligned")]
+    #[arg(long, value_parser = word::<JacobianFrame>(), default_value_t = JacobianFrame::Space)]
     pub frame: JacobianFrame,
     /// Add singular values, rank, manipulability, condition number and a verdict.
     #[arg(long)]
@@ -334,15 +324,25 @@ pub struct JacobianArgs {
     pub output: Option<String>,
 }
 
-/// IK method.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Method {
-    /// Newton–Raphson with the SVD pseudo-inverse.
-    Nr,
-    /// Damped least squares (fixed damping).
-    Dls,
-    /// Levenberg–Marquardt (adaptive damping; default).
-    Lm,
+impl IkArgs {
+    /// The floor's IK settings from the flags.
+    pub fn settings(&self) -> IkSettings {
+        IkSettings {
+            method: self.method,
+            damping: self.damping,
+            tol_rot: self.tol_rot,
+            tol_pos: self.tol_pos,
+            max_iterations: self.max_iter,
+            max_restarts: self.restarts,
+            timeout_ms: self.timeout_ms,
+            seed: self.random_seed,
+            position_only: self.position_only,
+            weights: self
+                .weights
+                .as_ref()
+                .map_or_else(|| ik().weights, |w| w.0.clone()),
+        }
+    }
 }
 
 /// `ik`.
@@ -363,24 +363,28 @@ pub struct IkArgs {
     /// Initial guess (default: the midpoint of the limits).
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub seed: Option<List>,
-    /// Method.
-    #[arg(long, value_enum, default_value_t = Method::Lm)]
+    /// Method: lm (Levenberg–Marquardt, adaptive damping), dls (damped least squares, fixed
+    /// damping), nr (Newton–Raphson with the SVD pseudo-inverse).
+    #[arg(long, value_parser = word::<Method>(), default_value_t = ik().method)]
     pub method: Method,
+    /// LM's damping floor or DLS's damping λ (default: the library's).
+    #[arg(long)]
+    pub damping: Option<f64>,
     /// Rotation tolerance (rad).
-    #[arg(long, default_value_t = 1e-9)]
+    #[arg(long, default_value_t = ik().tol_rot)]
     pub tol_rot: f64,
     /// Position tolerance (m).
-    #[arg(long, default_value_t = 1e-9)]
+    #[arg(long, default_value_t = ik().tol_pos)]
     pub tol_pos: f64,
     /// Iteration budget (all attempts).
-    #[arg(long, default_value_t = 2000)]
+    #[arg(long, default_value_t = ik().max_iterations)]
     pub max_iter: usize,
     /// Random restarts allowed.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = ik().max_restarts)]
     pub restarts: usize,
     /// Wall-time budget per target in ms (0, the default: none, so answers do not depend on
     /// the machine's load; the budget is --max-iter and --restarts).
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = ik().timeout_ms)]
     pub timeout_ms: f64,
     /// Solve for the position only.
     #[arg(long)]
@@ -389,7 +393,7 @@ pub struct IkArgs {
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub weights: Option<List>,
     /// Seed of the random restarts.
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = ik().seed)]
     pub random_seed: u64,
     /// The frame the target is given in: any link rigidly attached to the base (e.g. `world`;
     /// default: the base).
@@ -414,11 +418,11 @@ pub struct IkArgs {
     /// locked), nearest to --seed first. With --input: one JSON line per target.
     #[arg(long, conflicts_with_all = ["output", "sequential"])]
     pub all: bool,
-    /// With --all on a 7R arm: the joint to lock, by name or 1-based index, and its value
-    /// (JOINT=VALUE; default value: the seed's; default joint: the last one whose locking
-    /// leaves a family screwkit solves).
-    #[arg(long, requires = "all", value_name = "JOINT[=VALUE]")]
-    pub lock: Option<String>,
+    /// With --all on a 7R arm: the joint to lock, by name or by its index in q (counted from
+    /// 0), and its value (JOINT=VALUE; default value: the seed's; default joint: the last one
+    /// whose locking leaves a family screwkit solves).
+    #[arg(long, requires = "all", value_name = "JOINT[=VALUE]", value_parser = Lock::parse)]
+    pub lock: Option<Lock>,
     /// With --all on a 7R arm: solve with the locked joint at N values evenly spaced over its
     /// limits and list the solutions of all of them.
     #[arg(long, requires = "all", value_name = "N")]
@@ -458,7 +462,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 42)]
     pub seed: u64,
     /// IK method.
-    #[arg(long, value_enum, default_value_t = Method::Lm)]
+    #[arg(long, value_parser = word::<Method>(), default_value_t = ik().method)]
     pub method: Method,
 }
 
@@ -472,8 +476,8 @@ pub struct DrawArgs {
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub q: Option<List>,
     /// The view: iso, front (from +x), side (from -y), top (from +z), or all four on one sheet.
-    #[arg(long, default_value = "iso")]
-    pub view: String,
+    #[arg(long, value_parser = word::<Views>(), default_value_t = Views::Iso)]
+    pub view: Views,
     /// The SVG file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,

@@ -58,37 +58,38 @@ fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
 
 /// Runs `fk`.
 pub fn run(args: &FkArgs, format: Format) -> CliResult {
-    let (chain, kin) = crate::load(&args.chain)?;
+    let robot = crate::load(&args.chain)?;
+    let (chain, kin) = (robot.chain(), robot.kin());
     if let Some(input) = &args.input {
         if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
             let (n, l) = (kin.dof(), kin.links().len());
             return if args.all_links {
                 crate::npy::run(input, output, n, "dof", &[l, 4, 4], |qs, _, out| {
-                    fk_all_links_batch(&kin, qs, out)
+                    fk_all_links_batch(kin, qs, out)
                 })
             } else {
                 crate::npy::run(input, output, n, "dof", &[4, 4], |qs, _, out| {
-                    fk_batch(&kin, qs, out)
+                    fk_batch(kin, qs, out)
                 })
             };
         }
-        return run_batch(&kin, input, args.all_links);
+        return run_batch(kin, input, args.all_links);
     }
     let q = &args
         .q
         .as_ref()
         .expect("clap requires --q without --input")
         .0;
-    let mut ws = Workspace::new(&kin);
-    let t = fk(&kin, &mut ws, q)?;
+    let mut ws = Workspace::new(kin);
+    let t = fk(kin, &mut ws, q)?;
     let links: Option<Vec<Se3>> = if args.all_links {
-        Some(fk_all_links(&kin, &mut ws, q)?.to_vec())
+        Some(fk_all_links(kin, &mut ws, q)?.to_vec())
     } else {
         None
     };
     if format == Format::Json {
         let link_poses = links.as_ref().map(|ls| ls.iter().map(pose_json).collect());
-        print_json(&fk_json(&kin, q, pose_json(&t), link_poses))?;
+        print_json(&fk_json(kin, q, pose_json(&t), link_poses))?;
         return Ok(());
     }
     let mut s = format!(

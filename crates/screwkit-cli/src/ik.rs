@@ -3,47 +3,16 @@
 use std::time::Instant;
 
 use screwkit_lie::Se3;
-use screwkit_solve::analytic::{AnalyticIk, Solutions};
+use screwkit_service::report::{self, IkReport};
+use screwkit_service::{target as targets, AllSolutions};
 use screwkit_solve::batch::{ik_batch_from, ik_path_from};
-use screwkit_solve::ik::{solve, IkMethod, IkOptions, IkStatus};
+use screwkit_solve::ik::{solve, IkOptions, IkStatus};
 use screwkit_solve::{Kinematics, Workspace};
-use serde_json::{json, Value};
+use serde_json::Value;
 
-use crate::args::{Format, IkArgs, Method};
+use crate::args::{Format, IkArgs};
 use crate::batch;
-use crate::output::{matrix_text, num, nums, print_json, tuple, CliResult, Failure};
-
-/// Tolerance on max |RᵀR − I| for typed target matrices (then re-orthonormalised).
-use screwkit_lie::so3::TARGET_ROTATION_TOLERANCE as TYPED_ROTATION_TOLERANCE;
-
-fn options(args: &IkArgs) -> CliResult<IkOptions> {
-    let weights = match &args.weights {
-        None => [1.0; 6],
-        Some(w) => w.0.as_slice().try_into().map_err(|_| {
-            Failure(format!(
-                "--weights needs 6 numbers (ω1, ω2, ω3, v1, v2, v3; 0 masks one out), got {}",
-                w.0.len()
-            ))
-        })?,
-    };
-    Ok(IkOptions {
-        method: match args.method {
-            Method::Nr => IkMethod::NewtonRaphson,
-            Method::Dls => IkMethod::DLS,
-            Method::Lm => IkMethod::LM,
-        },
-        tol_rot: args.tol_rot,
-        tol_pos: args.tol_pos,
-        max_iterations: args.max_iter,
-        max_restarts: args.restarts,
-        timeout: screwkit_solve::ik::timeout_from_ms(args.timeout_ms)
-            .map_err(|e| Failure(format!("--timeout-ms: {e}")))?,
-        seed: args.random_seed,
-        position_only: args.position_only,
-        weights,
-        ..IkOptions::default()
-    })
-}
+use crate::output::{matrix_text, print_json, tuple, CliResult, Failure};
 
 fn target(args: &IkArgs) -> CliResult<Se3> {
     let given = [
@@ -60,51 +29,29 @@ fn target(args: &IkArgs) -> CliResult<Se3> {
                 .into(),
         ));
     }
-    let need = |v: &[f64], n: usize, what: &str| {
-        if v.len() == n {
-            Ok(())
-        } else {
-            Err(Failure(format!(
-                "{what} needs {n} numbers, got {}",
-                v.len()
-            )))
-        }
-    };
     if let Some(l) = &args.target_xyz_quat {
-        need(&l.0, 7, "--target-xyz-quat")?;
-        return Ok(Se3::from_translation_quaternion(
-            [l.0[0], l.0[1], l.0[2]],
-            [l.0[3], l.0[4], l.0[5], l.0[6]],
-        )?);
+        return Ok(targets::from_xyz_quat(&l.0)?);
     }
     if let Some(l) = &args.target_xyz_rpy {
-        need(&l.0, 6, "--target-xyz-rpy")?;
-        return Ok(Se3::from_xyz_rpy(
-            [l.0[0], l.0[1], l.0[2]],
-            [l.0[3], l.0[4], l.0[5]],
-        )?);
+        return Ok(targets::from_xyz_rpy(&l.0)?);
     }
     let l = args.target_matrix.as_ref().expect("counted above");
-    need(&l.0, 16, "--target-matrix")?;
-    Ok(Se3::from_row_major(&l.0, TYPED_ROTATION_TOLERANCE)?)
+    if l.0.len() != 16 {
+        return Err(Failure(format!(
+            "--target-matrix needs 16 numbers, got {}",
+            l.0.len()
+        )));
+    }
+    Ok(targets::from_row_major(&l.0)?)
 }
 
 fn result_json(q: &[f64], r: &IkStatus, time_us: f64) -> Value {
-    json!({
-        "converged": r.converged,
-        "q": nums(q),
-        "iterations": r.iterations,
-        "restarts": r.restarts,
-        "error_rot": num(r.error_rot),
-        "error_pos": num(r.error_pos),
-        "time_us": num(time_us),
-        "stop": r.stop.as_str(),
-    })
+    report::to_value(&IkReport::new(q, r, time_us))
 }
 
 /// One batch line `{"target": [[4x4]], "seed": [n] (optional)}`: the target as 16 row-major
-/// values (typed matrices are accepted to [`TYPED_ROTATION_TOLERANCE`] and re-orthonormalised)
-/// and the seed if given.
+/// values (read once by the floor's [`targets::from_row_major`]: typed matrices accepted and
+/// re-orthonormalised) and the seed if given.
 fn parse_line(kin: &Kinematics, text: &str) -> Result<(Vec<f64>, Option<Vec<f64>>), String> {
     let obj = batch::parse_object(text)?;
     let rows = obj
@@ -123,10 +70,8 @@ fn parse_line(kin: &Kinematics, text: &str) -> Result<(Vec<f64>, Option<Vec<f64>
     if rows.len() != 4 || m.len() != 16 {
         return Err("\"target\" must be 4 rows of 4 numbers".into());
     }
-    let t =
-        Se3::from_row_major(&m, TYPED_ROTATION_TOLERANCE).map_err(|e| format!("target: {e}"))?;
-    let h = t.to_homogeneous();
-    let target = (0..16).map(|i| h[(i / 4, i % 4)]).collect();
+    let t = targets::from_row_major(&m).map_err(|e| format!("target: {e}"))?;
+    let target = targets::row_major(&t).to_vec();
     let seed = if obj.contains_key("seed") {
         let s = batch::numbers(&obj, "seed")?;
         kin.check_q(&s).map_err(|e| format!("seed: {e}"))?;
@@ -160,7 +105,7 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
                         continue;
                     }
                 };
-                let t = Se3::from_row_major(&target, 1e-12).map_err(|e| Failure(e.to_string()))?;
+                let t = targets::from_row_major(&target)?;
                 let start = seed.or_else(|| warm.clone()).unwrap_or_else(|| mid.clone());
                 let t0 = Instant::now();
                 let r = ik_path_from(kin, &mut ws, first_row + k, &[t], &start, opts)?;
@@ -225,7 +170,7 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
     } else {
         &outputs[..]
     };
-    screwkit_reach::atomic::check_distinct(&[input], outputs).map_err(Failure)?;
+    screwkit_service::io::atomic::check_distinct(&[input], outputs).map_err(Failure)?;
     let mut r = crate::npy::NpyReader::open(input)?;
     if r.row_len != 16 || r.shape.len() < 2 {
         return Err(Failure(format!(
@@ -267,101 +212,14 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
         .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
 }
 
-/// The analytic solver of `ik --all` with the lock options (--lock J=V, --sweep N; neither:
-/// the seed's value of the locked joint, per target).
-struct AllSolver {
-    solver: AnalyticIk,
-    family: String,
-    value: Option<f64>,
-    sweep: Option<usize>,
-}
-
-impl AllSolver {
-    fn new(kin: &Kinematics, args: &IkArgs) -> CliResult<Self> {
-        let (joint, value) = match &args.lock {
-            None => (None, None),
-            Some(spec) => {
-                let (name, value) = match spec.split_once('=') {
-                    Some((n, v)) => (
-                        n,
-                        Some(v.trim().parse::<f64>().map_err(|_| {
-                            Failure(format!("--lock {spec}: {v:?} is not a number"))
-                        })?),
-                    ),
-                    None => (spec.as_str(), None),
-                };
-                let names = kin.names();
-                let j = names
-                    .iter()
-                    .position(|n| n == name)
-                    .or_else(|| {
-                        name.parse::<usize>()
-                            .ok()
-                            .filter(|&i| i >= 1 && i <= names.len())
-                            .map(|i| i - 1)
-                    })
-                    .ok_or_else(|| {
-                        Failure(format!(
-                            "--lock {spec}: no joint {name:?} (the chain's: {})",
-                            names.join(", ")
-                        ))
-                    })?;
-                (Some(j), value)
-            }
-        };
-        let solver = match joint {
-            Some(j) => AnalyticIk::locked(kin, j)?,
-            None => AnalyticIk::auto(kin)?,
-        };
-        let mut family = format!("{:?}", solver.family());
-        if solver.reversed() {
-            family.push_str(" (reversed)");
-        }
-        // Checked once here (with the midpoint as a stand-in seed) so a bad --lock/--sweep
-        // fails before any target.
-        solver.lock_values(kin, &kin.midpoint(), value, args.sweep)?;
-        Ok(Self {
-            solver,
-            family,
-            value,
-            sweep: args.sweep,
-        })
+/// The family in words for people: the JSON word, and whether the chain is read tip to base.
+fn family_text(all: &AllSolutions) -> String {
+    let s = all.solver();
+    let mut w = s.family().word().to_string();
+    if s.reversed() {
+        w.push_str(" (reversed)");
     }
-
-    /// Every solution of `t`, nearest to `seed` first, and the lock values used.
-    fn solve(
-        &self,
-        kin: &Kinematics,
-        ws: &mut Workspace,
-        t: &Se3,
-        seed: &[f64],
-    ) -> Result<(Solutions, Vec<f64>), screwkit_solve::SolveError> {
-        let values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
-        let mut sols = Solutions::default();
-        self.solver.solve_swept(kin, ws, t, &values, &mut sols)?;
-        sols.sort_nearest(seed, None);
-        Ok((sols, values))
-    }
-
-    /// The JSON of one target's solutions.
-    fn json(&self, kin: &Kinematics, sols: &Solutions, values: &[f64]) -> Value {
-        let locked = self
-            .solver
-            .locked_joint()
-            .map(|j| json!({"joint": kin.names()[j], "index": j + 1, "values": nums(values)}));
-        json!({
-            "family": self.family,
-            "locked": locked,
-            "exact": sols.is_exact(),
-            "singular": sols.singular,
-            "postures": sols.branches,
-            "solutions": (0..sols.len()).map(|i| json!({
-                "q": nums(sols.q(i)),
-                "exact": sols.exact(i),
-                "residual": sols.residual(i),
-            })).collect::<Vec<_>>(),
-        })
-    }
+    w
 }
 
 /// `ik --all`: every analytic solution, nearest to `seed` first.
@@ -373,20 +231,20 @@ fn all_solutions(
     format: Format,
 ) -> CliResult {
     kin.check_q(seed)?;
-    let all = AllSolver::new(kin, args)?;
+    let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?;
     let mut ws = Workspace::new(kin);
     let (sols, values) = all.solve(kin, &mut ws, t, seed)?;
     if format == Format::Json {
-        print_json(&all.json(kin, &sols, &values))?;
+        print_json(&report::to_value(&all.report(kin, &sols, &values)))?;
     } else {
-        let family = all.solver.family();
+        let family = all.solver().family();
         let mut s = format!(
             "{} ({}): {} solution(s) within the limits, {} posture(s){}{}{}, nearest to the seed first:\n",
-            all.family,
+            family_text(&all),
             family.describe(),
             sols.len(),
             sols.branches,
-            match all.solver.locked_joint() {
+            match all.solver().locked_joint() {
                 Some(j) if values.len() == 1 => format!("; {} locked at {}", kin.names()[j], values[0]),
                 Some(j) => format!("; {} locked at {} values from {} to {}", kin.names()[j], values.len(),
                     values.first().copied().unwrap_or(0.0), values.last().copied().unwrap_or(0.0)),
@@ -411,33 +269,54 @@ fn all_solutions(
     }
 }
 
-/// `ik --all --input FILE`: one JSON line of solutions per target line, in parallel through
-/// the library (each line's seed, or --seed, orders the solutions and gives the lock value).
+/// `ik --all --input FILE`: one JSON line of solutions per target line, each chunk through the
+/// floor's batch (the library's, on all cores; each line's seed, or --seed, orders the
+/// solutions and gives the lock value).
 fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliResult {
-    use rayon::prelude::*;
     kin.check_q(seed)?;
-    let all = AllSolver::new(kin, args)?;
+    let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?;
+    let n = kin.dof();
     batch::stream(input, |lines, _first_row| {
         let parsed = batch::parse_rows(lines, |text| parse_line(kin, text));
-        let results: Vec<Result<(Value, bool), String>> = parsed
-            .into_par_iter()
-            .map_init(
-                || Workspace::new(kin),
-                |ws, row| {
-                    let (target, s) = row?;
-                    let t =
-                        Se3::from_row_major(&target, 1e-6).map_err(|e| format!("target: {e}"))?;
-                    let s = s.unwrap_or_else(|| seed.to_vec());
-                    let (sols, values) = all.solve(kin, ws, &t, &s).map_err(|e| e.to_string())?;
-                    Ok((all.json(kin, &sols, &values), sols.is_exact()))
-                },
-            )
-            .collect();
-        let errors: Vec<Option<String>> =
-            results.iter().map(|r| r.as_ref().err().cloned()).collect();
-        Ok(batch::outputs(lines, &errors, |k| match &results[k] {
-            Ok(v) => v.clone(),
-            Err(_) => (Value::Null, false),
+        let mut errors: Vec<Option<String>> = vec![None; lines.len()];
+        // Good rows only, in order; `at[k]`: the batch row of line k.
+        let (mut targets, mut seeds, mut at) = (Vec::new(), Vec::new(), Vec::new());
+        for (k, row) in parsed.into_iter().enumerate() {
+            match row {
+                Ok((t, s)) => {
+                    at.push(Some(targets.len() / 16));
+                    targets.extend_from_slice(&t);
+                    seeds.extend_from_slice(s.as_deref().unwrap_or(seed));
+                }
+                Err(e) => {
+                    errors[k] = Some(e);
+                    at.push(None);
+                }
+            }
+        }
+        let results = all.solve_batch(
+            kin,
+            &targets,
+            if targets.len() == 16 {
+                &seeds[..n]
+            } else {
+                &seeds
+            },
+        )?;
+        let mut values: Vec<Option<(Value, bool)>> = vec![None; lines.len()];
+        for (k, row) in at.iter().enumerate() {
+            if let Some(r) = row {
+                match &results[*r] {
+                    Ok((sols, v)) => {
+                        values[k] =
+                            Some((report::to_value(&all.report(kin, sols, v)), sols.is_exact()))
+                    }
+                    Err(e) => errors[k] = Some(e.to_string()),
+                }
+            }
+        }
+        Ok(batch::outputs(lines, &errors, |k| {
+            values[k].clone().unwrap_or((Value::Null, false))
         }))
     })
     .map_err(|e| Failure(format!("{} (failed or no exact solution)", e.0)))
@@ -445,12 +324,12 @@ fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliR
 
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
-    let (tree, chain) = crate::load_tree_chain(&args.chain)?;
-    let kin = Kinematics::new(&chain);
-    let opts = options(args)?;
+    let robot = crate::load(&args.chain)?;
+    let (chain, kin) = (robot.chain(), robot.kin());
+    let opts = args.settings().options()?;
     // A target given in another frame of the tree: T_base,target = T_base,frame T_frame,target.
     let frame = match &args.target_frame {
-        Some(link) => Some(tree.fixed_transform(&chain.base, link)?),
+        Some(link) => Some(robot.frame_pose(link)?),
         None => None,
     };
     if let Some(input) = &args.input {
@@ -465,15 +344,15 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
                 Some(s) => s.0.clone(),
                 None => kin.midpoint(),
             };
-            return all_batch(&kin, args, input, &seed);
+            return all_batch(kin, args, input, &seed);
         }
         if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
             if args.sequential {
                 return Err(Failure("--sequential is for JSON lines input".into()));
             }
-            return run_npy(&kin, input, output, &opts);
+            return run_npy(kin, input, output, &opts);
         }
-        return run_batch(&kin, input, &opts, args.sequential);
+        return run_batch(kin, input, &opts, args.sequential);
     }
     let t = target(args)?;
     let t = match &frame {
@@ -485,11 +364,11 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         None => kin.midpoint(),
     };
     if args.all {
-        return all_solutions(&kin, args, &t, &seed, format);
+        return all_solutions(kin, args, &t, &seed, format);
     }
-    let mut ws = Workspace::new(&kin);
+    let mut ws = Workspace::new(kin);
     let t0 = Instant::now();
-    let r = solve(&kin, &mut ws, &t, &seed, &opts)?;
+    let r = solve(kin, &mut ws, &t, &seed, &opts)?;
     let us = t0.elapsed().as_secs_f64() * 1e6;
     let st = &r.status;
     if format == Format::Json {

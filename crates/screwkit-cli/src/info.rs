@@ -166,7 +166,7 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
             "leaves": leaves.iter().map(|&l| tree.links[l].clone()).collect::<Vec<_>>(),
             "default_chain": default.as_ref().ok().map(|c| json!({
                 "base": c.base, "tip": c.tip, "dof": c.dof(),
-                "ik_family": format!("{:?}", screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c)).family),
+                "ik_family": screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c)).family.word(),
             })),
         }))?;
         return Ok(());

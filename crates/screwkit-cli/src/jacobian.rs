@@ -7,12 +7,13 @@ use screwkit_solve::analysis::{
 };
 use screwkit_solve::batch::{jacobian_batch, jacobian_world_aligned_batch};
 use screwkit_solve::jacobian::{jacobian, jacobian_world_aligned};
-use screwkit_solve::{Frame, Kinematics, SolveError, Workspace};
+use screwkit_solve::{Kinematics, SolveError, Workspace};
 use serde_json::{json, Value};
 
-use crate::args::{Format, JacobianArgs, JacobianFrame};
+use crate::args::{Format, JacobianArgs};
 use crate::batch;
 use crate::output::{num, nums, print_json, tuple, CliResult, Failure, PREC};
+use screwkit_service::words::{JacobianFrame, Word};
 
 fn analysis_json(a: &Analysis) -> Value {
     json!({
@@ -46,7 +47,7 @@ fn tip_point_rows(
 ) -> nalgebra::DMatrix<f64> {
     let n = j.ncols();
     nalgebra::DMatrix::from_fn(3, n, |r, c| {
-        if frame == JacobianFrame::Screw(Frame::Space) {
+        if frame == JacobianFrame::Space {
             let mut col = [0.0; 6];
             for (i, x) in col.iter_mut().enumerate() {
                 *x = j[(i, c)];
@@ -106,11 +107,9 @@ fn run_batch(
         let rows = lines.len();
         let mut jac = vec![0.0; rows * 6 * n];
         let mut poses = vec![0.0; rows * 16];
-        let result = match frame {
-            JacobianFrame::Screw(f) => jacobian_batch(kin, &qs, f, &mut jac, Some(&mut poses)),
-            JacobianFrame::WorldAligned => {
-                jacobian_world_aligned_batch(kin, &qs, &mut jac, Some(&mut poses))
-            }
+        let result = match frame.screw() {
+            Some(f) => jacobian_batch(kin, &qs, f, &mut jac, Some(&mut poses)),
+            None => jacobian_world_aligned_batch(kin, &qs, &mut jac, Some(&mut poses)),
         };
         batch::merge_row_errors(result, &mut errors)?;
         Ok(batch::outputs(lines, &errors, |k| {
@@ -132,15 +131,16 @@ fn one(
     q: &[f64],
     frame: JacobianFrame,
 ) -> Result<Matrix6xX<f64>, SolveError> {
-    match frame {
-        JacobianFrame::Screw(f) => jacobian(kin, ws, q, f).cloned(),
-        JacobianFrame::WorldAligned => jacobian_world_aligned(kin, ws, q).cloned(),
+    match frame.screw() {
+        Some(f) => jacobian(kin, ws, q, f).cloned(),
+        None => jacobian_world_aligned(kin, ws, q).cloned(),
     }
 }
 
 /// Runs `jacobian`.
 pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
-    let (chain, kin) = crate::load(&args.chain)?;
+    let robot = crate::load(&args.chain)?;
+    let (chain, kin) = (robot.chain(), robot.kin());
     if let Some(input) = &args.input {
         if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
             if args.analyze {
@@ -150,21 +150,23 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
             }
             let n = kin.dof();
             let frame = args.frame;
-            return crate::npy::run(input, output, n, "dof", &[6, n], |qs, _, out| match frame {
-                JacobianFrame::Screw(f) => jacobian_batch(&kin, qs, f, out, None),
-                JacobianFrame::WorldAligned => jacobian_world_aligned_batch(&kin, qs, out, None),
+            return crate::npy::run(input, output, n, "dof", &[6, n], |qs, _, out| {
+                match frame.screw() {
+                    Some(f) => jacobian_batch(kin, qs, f, out, None),
+                    None => jacobian_world_aligned_batch(kin, qs, out, None),
+                }
             });
         }
-        return run_batch(&kin, input, args.frame, args.analyze);
+        return run_batch(kin, input, args.frame, args.analyze);
     }
     let q = &args
         .q
         .as_ref()
         .expect("clap requires --q without --input")
         .0;
-    let mut ws = Workspace::new(&kin);
-    let j = one(&kin, &mut ws, q, args.frame)?;
-    let p = *screwkit_solve::fk::fk(&kin, &mut ws, q)?.translation();
+    let mut ws = Workspace::new(kin);
+    let j = one(kin, &mut ws, q, args.frame)?;
+    let p = *screwkit_solve::fk::fk(kin, &mut ws, q)?.translation();
     if format == Format::Json {
         let v = value(q, &j, args.frame, args.analyze, &p).map_err(Failure)?;
         print_json(&v)?;
@@ -179,8 +181,8 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         None
     };
     let (name, sym) = match args.frame {
-        JacobianFrame::Screw(Frame::Space) => ("Space", "J_s"),
-        JacobianFrame::Screw(Frame::Body) => ("Body", "J_b"),
+        JacobianFrame::Space => ("Space", "J_s"),
+        JacobianFrame::Body => ("Body", "J_b"),
         JacobianFrame::WorldAligned => ("World-aligned (tip point, base axes)", "J_wa"),
     };
     let mut s = format!(

@@ -21,60 +21,21 @@ mod table;
 use std::process::ExitCode;
 
 use clap::Parser;
-use screwkit_model::{urdf, Chain, ModelError, Tree};
-use screwkit_solve::Kinematics;
+use screwkit_model::Tree;
+use screwkit_service::{Robot, Source};
 
 use args::{ChainArgs, Cli, Command, Format};
 use output::{CliResult, Failure};
 
-/// Reads a robot file (URDF or xacro; `-`: standard input) into its tree.
+/// Reads a robot file (URDF or xacro; `-`: standard input) into its tree (the floor's
+/// loading: one decoding rule for every front end).
 pub(crate) fn read_tree(path: &std::path::Path, xacro: &args::XacroArgs) -> CliResult<Tree> {
-    if path.as_os_str() == "-" {
-        let bytes = screwkit_model::input::read_bounded(std::io::stdin())
-            .map_err(|k| ModelError::new("<stdin>", k))?;
-        let text = urdf::decode(&bytes).map_err(|k| ModelError::new("<stdin>", k))?;
-        let cwd = std::path::Path::new(".");
-        return Ok(urdf::load_str_with(
-            &text,
-            "<stdin>",
-            cwd,
-            &xacro.options(),
-        )?);
-    }
-    Ok(urdf::load_file_with(path, &xacro.options())?)
+    Ok(Source::from_arg(path).tree(&xacro.options())?.0)
 }
 
-/// Loads the tree and the chain named by the arguments (with its tool frame, if given).
-pub(crate) fn load_tree_chain(c: &ChainArgs) -> CliResult<(Tree, Chain)> {
-    let tree = read_tree(&c.urdf, &c.xacro)?;
-    let chain = Chain::from_tree(&tree, c.base.as_deref(), c.tip.as_deref())?;
-    let chain = match &c.tool {
-        None => chain,
-        Some(t) => {
-            let [x, y, z, r, p, w] = t.0.as_slice() else {
-                return Err(Failure(format!(
-                    "--tool needs 6 numbers x,y,z,roll,pitch,yaw, got {}",
-                    t.0.len()
-                )));
-            };
-            let tool = screwkit_lie::Se3::from_xyz_rpy([*x, *y, *z], [*r, *p, *w])
-                .map_err(|e| Failure(format!("--tool: {e}")))?;
-            chain.with_tool(&tool)
-        }
-    };
-    Ok((tree, chain))
-}
-
-/// Loads the chain named by the arguments.
-pub(crate) fn load_chain(c: &ChainArgs) -> CliResult<Chain> {
-    Ok(load_tree_chain(c)?.1)
-}
-
-/// Loads the chain named by the arguments and prepares it for solving.
-pub(crate) fn load(c: &ChainArgs) -> CliResult<(Chain, Kinematics)> {
-    let chain = load_chain(c)?;
-    let kin = Kinematics::new(&chain);
-    Ok((chain, kin))
+/// Loads the robot and the chain named by the arguments (with its tool frame, if given).
+pub(crate) fn load(c: &ChainArgs) -> CliResult<Robot> {
+    Ok(Robot::load(&Source::from_arg(&c.urdf), &c.options())?)
 }
 
 fn run(cli: &Cli) -> CliResult {
@@ -118,19 +79,26 @@ fn run(cli: &Cli) -> CliResult {
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {
-            let text = if a.file.as_os_str() == "-" {
-                let bytes = screwkit_model::input::read_bounded(std::io::stdin())
-                    .map_err(|k| ModelError::new("<stdin>", k))?;
-                let text = urdf::decode(&bytes).map_err(|k| ModelError::new("<stdin>", k))?;
-                let cwd = std::path::Path::new(".");
-                screwkit_model::xacro::expand_str(&text, "<stdin>", cwd, &a.xacro.options())?
-            } else {
-                screwkit_model::xacro::expand_file(&a.file, &a.xacro.options())?
-            };
+            let text = Source::from_arg(&a.file).expand_xacro(&a.xacro.options())?;
             crate::output::emit(&text)?;
             Ok(())
         }
     }
+}
+
+/// A usage error of clap in one line (errors are one line on stderr): its message and the
+/// lines that detail it (the possible values, the missing arguments), without the usage and
+/// help hints.
+fn one_line(rendered: &str) -> String {
+    rendered
+        .lines()
+        .map(str::trim)
+        .filter(|l| {
+            !l.is_empty() && !l.starts_with("Usage:") && !l.starts_with("For more information")
+        })
+        .map(|l| l.strip_prefix("error: ").unwrap_or(l))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn main() -> ExitCode {
@@ -142,11 +110,18 @@ fn main() -> ExitCode {
     // 130 as a shell expects; outputs are renamed into place only when complete, so nothing
     // half-written and no temporary file stays behind.
     let _ = ctrlc::set_handler(|| {
-        screwkit_reach::atomic::remove_pending();
+        screwkit_service::io::atomic::remove_pending();
         eprintln!("screwkit: interrupted");
         std::process::exit(130);
     });
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if !e.use_stderr() => e.exit(), // --help, --version
+        Err(e) => {
+            eprintln!("screwkit: error: {}", one_line(&e.render().to_string()));
+            return ExitCode::from(2);
+        }
+    };
     match std::panic::catch_unwind(|| run(&cli)) {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) if e.0 == output::CLOSED_PIPE => ExitCode::SUCCESS,

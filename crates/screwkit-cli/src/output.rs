@@ -20,28 +20,41 @@ impl fmt::Display for Failure {
     }
 }
 
-impl<E: std::error::Error> From<E> for Failure {
-    fn from(e: E) -> Self {
-        Failure(e.to_string())
+/// Errors shown as their message.
+macro_rules! shown_as_message {
+    ($($t:ty),+) => {
+        $(impl From<$t> for Failure {
+            fn from(e: $t) -> Self {
+                Failure(e.to_string())
+            }
+        })+
+    };
+}
+shown_as_message!(
+    screwkit_model::ModelError,
+    screwkit_solve::SolveError,
+    screwkit_lie::LieError,
+    screwkit_reach::ReachError,
+    screwkit_service::io::FileError,
+    screwkit_service::WordError
+);
+
+impl From<screwkit_service::Error> for Failure {
+    /// The floor's errors, an option named as its flag (`tool` → `--tool`).
+    fn from(e: screwkit_service::Error) -> Self {
+        match e {
+            screwkit_service::Error::Option { name, message } => {
+                Failure(format!("--{}: {message}", name.replace('_', "-")))
+            }
+            e => Failure(e.to_string()),
+        }
     }
 }
 
 /// Result of a subcommand.
 pub type CliResult<T = ()> = Result<T, Failure>;
 
-/// A JSON number; −0 becomes 0 and non-finite values `null`.
-pub fn num(x: f64) -> Value {
-    if x == 0.0 {
-        Value::from(0.0)
-    } else {
-        Value::from(x)
-    }
-}
-
-/// A JSON array of numbers.
-pub fn nums(xs: &[f64]) -> Value {
-    Value::Array(xs.iter().map(|&x| num(x)).collect())
-}
+pub use screwkit_service::io::json::{num, nums};
 
 /// A pose as a JSON 4x4 array of rows.
 pub fn pose_json(t: &Se3) -> Value {
@@ -53,10 +66,7 @@ pub fn pose_json(t: &Se3) -> Value {
     )
 }
 
-/// A row-major 4x4 (16 values) as a JSON array of rows.
-pub fn rows_json(m: &[f64], cols: usize) -> Value {
-    Value::Array(m.chunks(cols.max(1)).map(nums).collect())
-}
+pub use screwkit_service::io::json::rows as rows_json;
 
 /// `(a, b, c)` with [`PREC`] decimals.
 pub fn tuple(xs: &[f64]) -> String {

@@ -7,7 +7,8 @@ use std::io::IsTerminal;
 use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
-use screwkit_reach::{OrientationMode, Plan, ReachSpec, Shard, SolverChoice};
+use screwkit_reach::{Plan, ReachSpec, Shard};
+use screwkit_service::report::{self, MapReport};
 
 use crate::args::{ChainArgs, Format, ReachArgs, ReachCommand};
 use crate::output::{CliResult, Failure};
@@ -28,13 +29,18 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         let secs = started.elapsed().as_secs_f64();
         let fraction = s.reached as f64 / s.poses.max(1) as f64;
         if format == Format::Json {
-            crate::output::emit(&format!(
-                "{}\n",
-                serde_json::json!({
-                    "voxels": s.voxels, "poses": s.poses, "reached": s.reached,
-                    "reached_fraction": fraction, "seconds": secs, "shards": shards.len(),
-                })
-            ))?;
+            crate::output::print_json(&report::to_value(&MapReport {
+                voxels: s.voxels,
+                poses: s.poses,
+                solved: None,
+                reached: s.reached,
+                reached_fraction: fraction,
+                seconds: secs,
+                solves_per_second: None,
+                threads: None,
+                solver: None,
+                shards: Some(shards.len()),
+            }))?;
         } else {
             crate::output::emit(&format!(
                 "merged {} shards: {} voxels = {} poses, {} reached ({:.1} %), {secs:.2} s → {output}\n",
@@ -57,49 +63,28 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         tip: a.tip.clone(),
         tool: a.tool.clone(),
     };
-    let (chain, kin) = crate::load(&chain_args)?;
+    let robot = crate::load(&chain_args)?;
+    let (chain, kin) = (robot.chain(), robot.kin());
     let spec = ReachSpec {
         resolution: a.resolution,
         orientations: a.orientations,
-        mode: match a.mode.as_str() {
-            "free" => OrientationMode::Free,
-            "directions" => OrientationMode::Directions,
-            m => return Err(Failure(format!("--mode {m}: use free or directions"))),
-        },
+        mode: a.mode,
         bounds: match &a.bounds {
             None => None,
-            Some(l) if l.0.len() == 6 => Some(([l.0[0], l.0[1], l.0[2]], [l.0[3], l.0[4], l.0[5]])),
-            Some(l) => {
-                return Err(Failure(format!(
-                    "--bounds wants 6 numbers xmin,ymin,zmin,xmax,ymax,zmax, got {}",
-                    l.0.len()
-                )))
-            }
+            Some(l) => Some(ReachSpec::bounds_from(&l.0)?),
         },
-        solver: match a.solver.as_str() {
-            "auto" => SolverChoice::Auto,
-            "analytic" => SolverChoice::Analytic,
-            "numerical" => SolverChoice::Numerical,
-            s => {
-                return Err(Failure(format!(
-                    "--solver {s}: use auto, analytic or numerical"
-                )))
-            }
-        },
+        solver: a.solver,
         seed: a.seed,
         restarts: a.restarts,
         iterations: a.iterations,
     };
-    let shard = match &a.shard {
-        Some(s) => Shard::parse(s)?,
-        None => Shard::WHOLE,
-    };
+    let shard = a.shard.unwrap_or(Shard::WHOLE);
     if a.svg.is_some() && shard.count > 1 {
         return Err(Failure(
             "--svg needs the whole map: draw it after `reach merge` (which takes --svg too)".into(),
         ));
     }
-    let plan = Plan::new(&chain, &kin, &spec)?;
+    let plan = Plan::new(chain, kin, &spec)?;
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(0);
         if let Ok(style) = ProgressStyle::with_template(
@@ -128,7 +113,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         output.clone()
     };
     let started = Instant::now();
-    let s = screwkit_reach::build(&plan, &kin, shard, &npz, |done, total| {
+    let s = screwkit_reach::build(&plan, kin, shard, &npz, |done, total| {
         if let Some(b) = &bar {
             b.set_length(total as u64);
             b.set_position(done as u64);
@@ -166,13 +151,13 @@ fn write_svg(map: &str, svg: &str) -> CliResult {
     if m.voxels.len() != m.grid.len() {
         return Err(Failure(format!("{map} is a shard: draw the merged map")));
     }
-    screwkit_reach::atomic::write(svg, screwkit_reach::slices::svg(&m).as_bytes())
+    screwkit_service::io::atomic::write(svg, screwkit_reach::slices::svg(&m).as_bytes())
         .map_err(|e| Failure(format!("cannot write {svg}: {e}")))
 }
 
 fn print_summary(
     format: Format,
-    solver: &str,
+    solver: &'static str,
     s: &screwkit_reach::Summary,
     k: Option<usize>,
     secs: f64,
@@ -182,14 +167,18 @@ fn print_summary(
     let threads = rayon::current_num_threads();
     let fraction = s.reached as f64 / s.poses.max(1) as f64;
     if format == Format::Json {
-        crate::output::emit(&format!(
-            "{}\n",
-            serde_json::json!({
-                "voxels": s.voxels, "poses": s.poses, "solved": s.solved, "reached": s.reached,
-                "reached_fraction": fraction, "seconds": secs, "solves_per_second": rate,
-                "threads": threads, "solver": solver,
-            })
-        ))?;
+        crate::output::print_json(&report::to_value(&MapReport {
+            voxels: s.voxels,
+            poses: s.poses,
+            solved: Some(s.solved),
+            reached: s.reached,
+            reached_fraction: fraction,
+            seconds: secs,
+            solves_per_second: Some(rate),
+            threads: Some(threads),
+            solver: Some(solver),
+            shards: None,
+        }))?;
         return Ok(());
     }
     let k = k

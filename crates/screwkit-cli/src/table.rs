@@ -7,12 +7,13 @@ use crate::output::{print_json, CliResult};
 
 /// Runs `table`.
 pub fn run(args: &TableArgs, format: Format) -> CliResult {
-    let chain = crate::load_chain(&args.chain)?;
-    let frames = &args.frame.0;
+    let robot = crate::load(&args.chain)?;
+    let chain = robot.chain();
+    let frames = &args.frame.frames();
     match format {
-        Format::Json => print_json(&table::to_json(&chain))?,
-        Format::Csv => crate::output::emit(&table::to_csv(&chain, frames))?,
-        Format::Text | Format::Md => crate::output::emit(&table::to_markdown(&chain, frames))?,
+        Format::Json => print_json(&table::to_json(chain))?,
+        Format::Csv => crate::output::emit(&table::to_csv(chain, frames))?,
+        Format::Text | Format::Md => crate::output::emit(&table::to_markdown(chain, frames))?,
     }
     Ok(())
 }

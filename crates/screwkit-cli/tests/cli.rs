@@ -678,11 +678,18 @@ fn draw_and_view_outputs_and_errors() {
     let _ = std::fs::remove_file(&file);
     let page = ok(&["view", ur5, "-o", "-"]);
     assert!(page.starts_with("<!DOCTYPE html>"));
+    // An unknown option word is a usage error (exit 2) listing the words, from the floor.
+    let o = run(&["draw", ur5, "--view", "back", "-o", "-"], None);
+    assert_eq!(o.code, 2, "{}", o.stderr);
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    assert!(
+        o.stderr.contains("invalid value 'back'")
+            && o.stderr
+                .contains("[possible values: iso, front, side, top, all]"),
+        "{}",
+        o.stderr
+    );
     for (args, message) in [
-        (
-            vec!["draw", ur5, "--view", "back", "-o", "-"],
-            "unknown view \"back\"",
-        ),
         (
             vec!["draw", ur5, "--q", "1,2", "-o", "-"],
             "expected 6 joint values",
@@ -828,7 +835,7 @@ fn chains_weights_and_the_short_chain_hint() {
         None,
     );
     assert!(
-        bad.stderr.contains("--weights needs 6 numbers"),
+        bad.stderr.contains("--weights: needs 6 numbers"),
         "{}",
         bad.stderr
     );
@@ -1019,7 +1026,8 @@ fn ik_all_lists_every_solution() {
         "--format",
         "json",
     ]);
-    assert_eq!(v["family"], "ThreeParallelTwoIntersecting");
+    assert_eq!(v["family"], "three_parallel_two_intersecting");
+    assert_eq!(v["reversed"], false);
     assert_eq!(v["exact"], true);
     let sols = v["solutions"].as_array().unwrap();
     assert!(sols.len() >= 8, "{}", sols.len());
@@ -1055,7 +1063,9 @@ fn ik_all_lists_every_solution() {
         "ik", &panda, target[0], target[1], "--all", "--format", "json",
     ];
     let v = json(&[&base[..], &["--seed", seed]].concat());
-    assert_eq!(v["family"], "SphericalWristTwoIntersecting (reversed)");
+    assert_eq!(v["family"], "spherical_wrist_two_intersecting");
+    assert_eq!(v["reversed"], true);
+    assert_eq!(v["locked"]["index"], 6);
     assert_eq!(v["locked"]["joint"], "panda_joint7");
     assert_eq!(v["locked"]["values"][0], 0.8);
     let sols = v["solutions"].as_array().unwrap();
@@ -1070,14 +1080,19 @@ fn ik_all_lists_every_solution() {
         .map(|s| s["q"][6].to_string())
         .collect();
     assert!(sevens.len() >= 2, "{sevens:?}");
-    let v = json(&[&base[..], &["--lock", "6=1.5"]].concat());
+    // Joints by name or by their index in q, counted from 0 as everywhere.
+    let v = json(&[&base[..], &["--lock", "5=1.5"]].concat());
     assert_eq!(v["locked"]["joint"], "panda_joint6");
+    assert_eq!(v["locked"]["index"], 5);
+    let by_name = json(&[&base[..], &["--lock", "panda_joint6=1.5"]].concat());
+    assert_eq!(by_name, v);
     for (args, msg) in [
         (&["--lock", "1", "--sweep", "0"][..], "at least one value"),
         (&["--lock", "wrist"][..], "no joint \"wrist\""),
-        (&["--lock", "7=9"][..], "outside its limits"),
+        (&["--lock", "6=9"][..], "outside its limits"),
+        (&["--lock", "7=0.1"][..], "joint index 7 out of range"),
         (
-            &["--lock", "7=0.1", "--sweep", "3"][..],
+            &["--lock", "6=0.1", "--sweep", "3"][..],
             "exclude each other",
         ),
     ] {

@@ -337,10 +337,10 @@ fn a_map_whose_voxel_range_has_one_value() {
     let ur5 = asset("ur5.urdf");
     let good = map(&ur5, "vr.npz", None);
     // Copy every entry but voxel_range, which gets one value.
-    let mut z = screwkit_reach::npz::NpzReader::open(&good).unwrap();
+    let mut z = screwkit_service::io::npz::NpzReader::open(&good).unwrap();
     let meta = z.text("meta").unwrap();
     let path = s(&tmp("vr-bad.npz"));
-    let mut w = screwkit_reach::npz::NpzWriter::create(&path).unwrap();
+    let mut w = screwkit_service::io::npz::NpzWriter::create(&path).unwrap();
     for name in ["index", "best_manipulability", "centres"] {
         let (shape, v) = z.f64_array(name).unwrap();
         w.f64_array(name, &shape, &v).unwrap();
@@ -467,4 +467,35 @@ fn an_endless_robot_on_standard_input() {
             "{cmd}: {err}"
         );
     }
+}
+
+/// A file with a byte-order mark and one declared Latin-1 load as the plain file: the floor's
+/// one decoding rule (Python's `test_floor.py` holds the package to the same answers).
+#[test]
+fn bom_and_latin1_files_load_as_the_plain_file() {
+    let ur5 = asset("ur5.urdf");
+    let text = std::fs::read_to_string(&ur5).unwrap();
+    let body = match text.strip_prefix("<?xml") {
+        Some(rest) => rest.split_once("?>").unwrap().1.to_string(),
+        None => text.clone(),
+    };
+    let bom = tmp("bom.urdf");
+    std::fs::write(&bom, [b"\xef\xbb\xbf".as_slice(), text.as_bytes()].concat()).unwrap();
+    let latin = tmp("latin.urdf");
+    let mut bytes = b"<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>".to_vec();
+    for c in body.replace("name=\"ur5\"", "name=\"ur5_\u{e9}\"").chars() {
+        bytes.push(u8::try_from(u32::from(c)).unwrap());
+    }
+    std::fs::write(&latin, bytes).unwrap();
+    let q = "0.1,-0.5,1,0.2,0.3,-0.4";
+    let fk = |p: &str| run(&["fk", p, "--q", q, "--format", "json"]);
+    let (code, plain, err) = fk(&ur5);
+    assert_eq!(code, Some(0), "{err}");
+    for p in [&bom, &latin] {
+        let (code, out, err) = fk(&s(p));
+        assert_eq!(code, Some(0), "{err}");
+        assert_eq!(out, plain);
+    }
+    let (_, info, _) = run(&["info", &s(&latin), "--format", "json"]);
+    assert!(info.contains("\"robot\":\"ur5_\u{e9}\""), "{info}");
 }

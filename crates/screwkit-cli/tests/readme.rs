@@ -232,3 +232,21 @@ fn every_pasted_output_is_what_the_command_prints() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
 }
+
+/// Every JSON family word the library can print is in the README's JSON contract.
+#[test]
+fn every_family_word_is_in_the_json_contract() {
+    let text = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let contract = text
+        .split("## JSON contract")
+        .nth(1)
+        .and_then(|t| t.split("\n## ").next())
+        .expect("a JSON contract section");
+    for f in screwkit_solve::family::Family::ALL {
+        assert!(
+            contract.contains(&format!("`{}`", f.word())),
+            "{} is not in the README's JSON contract",
+            f.word()
+        );
+    }
+}

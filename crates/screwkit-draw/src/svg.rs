@@ -13,70 +13,30 @@ use screwkit_model::JointKind;
 
 use crate::scene::Scene;
 
-/// A direction to look from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum View {
-    /// From +x (y to the right, z up).
-    Front,
-    /// From −y (x to the right, z up).
-    Side,
-    /// From +z (x to the right, y up).
-    Top,
-    /// From (1, 1, 1) (z up): the isometric view.
-    Iso,
-}
+pub use screwkit_service::words::View;
+use screwkit_service::words::Word;
 
-impl View {
-    /// The four views, in the order `all` places them (left to right, top to bottom).
-    pub const ALL: [View; 4] = [View::Iso, View::Front, View::Side, View::Top];
-
-    /// The view's name (also the `id` of its group in the SVG).
-    pub fn name(self) -> &'static str {
-        match self {
-            View::Front => "front",
-            View::Side => "side",
-            View::Top => "top",
-            View::Iso => "iso",
-        }
-    }
-
-    /// What the view shows, for its caption.
-    fn caption(self) -> &'static str {
-        match self {
-            View::Front => "front: from +x, y right, z up",
-            View::Side => "side: from −y, x right, z up",
-            View::Top => "top: from +z, x right, y up",
-            View::Iso => "isometric: from (1, 1, 1), z up",
-        }
-    }
-
-    /// The screen axes (right, up) in the base frame. Towards the viewer is w; right is ẑ × w
-    /// normalised (x for the top view) and up is w × right.
-    fn axes(self) -> (Vector3<f64>, Vector3<f64>) {
-        let w = match self {
-            View::Front => Vector3::x(),
-            View::Side => -Vector3::y(),
-            View::Top => return (Vector3::x(), Vector3::y()),
-            View::Iso => Vector3::repeat(1.0).normalize(),
-        };
-        let right = Vector3::z().cross(&w).normalize();
-        (right, w.cross(&right))
+/// What the view shows, for its caption.
+fn caption(view: View) -> &'static str {
+    match view {
+        View::Front => "front: from +x, y right, z up",
+        View::Side => "side: from −y, x right, z up",
+        View::Top => "top: from +z, x right, y up",
+        View::Iso => "isometric: from (1, 1, 1), z up",
     }
 }
 
-impl std::str::FromStr for View {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s {
-            "front" => Ok(View::Front),
-            "side" => Ok(View::Side),
-            "top" => Ok(View::Top),
-            "iso" => Ok(View::Iso),
-            other => Err(format!(
-                "unknown view \"{other}\" (expected iso, front, side, top or all)"
-            )),
-        }
-    }
+/// The screen axes (right, up) in the base frame. Towards the viewer is w; right is ẑ × w
+/// normalised (x for the top view) and up is w × right.
+fn axes(view: View) -> (Vector3<f64>, Vector3<f64>) {
+    let w = match view {
+        View::Front => Vector3::x(),
+        View::Side => -Vector3::y(),
+        View::Top => return (Vector3::x(), Vector3::y()),
+        View::Iso => Vector3::repeat(1.0).normalize(),
+    };
+    let right = Vector3::z().cross(&w).normalize();
+    (right, w.cross(&right))
 }
 
 const PANEL_W: f64 = 560.0;
@@ -182,7 +142,7 @@ struct Panel {
 
 impl Panel {
     fn new(scene: &Scene, view: View, x0: f64, y0: f64) -> Self {
-        let (right, up) = view.axes();
+        let (right, up) = axes(view);
         let flat = |p: &Vector3<f64>| Vector2::new(right.dot(p), up.dot(p));
         let mut pts: Vec<Vector2<f64>> = Vec::new();
         let triad = 0.12 * scene.size;
@@ -286,7 +246,7 @@ fn scale_bar(size: f64) -> (f64, String) {
 
 fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
     let p = Panel::new(scene, view, x0, y0);
-    let v = view.name();
+    let v = view.as_str();
     let _ = writeln!(out, "<g id=\"{v}\" class=\"view\">");
     let _ = writeln!(
         out,
@@ -299,7 +259,7 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
         "<text x=\"{}\" y=\"{}\" font-size=\"13\" fill=\"#555555\">{}</text>",
         px(x0 + 10.0),
         px(y0 + 20.0),
-        escape(view.caption())
+        escape(caption(view))
     );
     // Scale bar, bottom left.
     let (len, label) = scale_bar(scene.size);

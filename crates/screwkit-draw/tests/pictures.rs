@@ -6,6 +6,7 @@ use std::collections::HashSet;
 
 use screwkit_draw::{html, svg, Scene, View};
 use screwkit_model::{load_chain, Chain};
+use screwkit_service::words::Word;
 use screwkit_solve::Kinematics;
 use screwkit_testkit::{bundled, Sampler, BUNDLED_CHAINS as CHAINS};
 
@@ -37,10 +38,10 @@ fn every_chain_every_view_is_valid_findable_and_deterministic() {
         let (chain, kin) = load(file, base, tip);
         let q = rng.config(&kin);
         let scene = Scene::new(&chain, &kin, Some(&q)).unwrap();
-        let text = svg::render(&scene, &View::ALL);
+        let text = svg::render(&scene, View::ALL);
         assert_eq!(
             text,
-            svg::render(&Scene::new(&chain, &kin, Some(&q)).unwrap(), &View::ALL)
+            svg::render(&Scene::new(&chain, &kin, Some(&q)).unwrap(), View::ALL)
         );
         let doc = roxmltree::Document::parse(&text).unwrap_or_else(|e| panic!("{file}: {e}"));
         let root = doc.root_element();
@@ -65,8 +66,8 @@ fn every_chain_every_view_is_valid_findable_and_deterministic() {
                 assert!(ids.insert(id.to_string()), "{file}: duplicate id {id}");
             }
         }
-        for view in View::ALL {
-            let v = view.name();
+        for &view in View::ALL {
+            let v = view.as_str();
             for (j, joint) in chain.joints.iter().enumerate() {
                 for what in ["joint", "axis"] {
                     let g = group(&doc, &format!("{v}-{what}-{}", j + 1));

@@ -18,9 +18,16 @@ pub struct ModelError {
 /// What is wrong with a URDF or with a chain request.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ErrorKind {
-    /// The file could not be read.
-    #[error("cannot read the file: {0}")]
-    Io(String),
+    /// The file could not be read: the operating system's reason (`kind`: not found,
+    /// permission denied, a directory, …; `InvalidData` for bytes that are not text).
+    #[error("cannot read the file: {message}")]
+    Io {
+        /// The I/O error's kind, so a front end can raise the matching error (Python's
+        /// `FileNotFoundError`, `PermissionError`, …).
+        kind: std::io::ErrorKind,
+        /// What happened, in words.
+        message: String,
+    },
     /// The file is empty (or only whitespace).
     #[error("the file is empty")]
     Empty,

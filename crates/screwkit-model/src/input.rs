@@ -54,15 +54,21 @@ pub fn read_file(path: &Path) -> Result<Vec<u8>, ModelError> {
     if file.metadata().is_ok_and(|m| m.is_dir()) {
         return Err(ModelError::new(
             label,
-            ErrorKind::Io("is a directory, not a file".into()),
+            ErrorKind::Io {
+                kind: std::io::ErrorKind::IsADirectory,
+                message: "is a directory, not a file".into(),
+            },
         ));
     }
     read_bounded(file).map_err(|k| ModelError::new(label, k))
 }
 
-/// An I/O error as an [`ErrorKind::Io`] message.
+/// An I/O error as an [`ErrorKind::Io`] (its kind kept).
 pub(crate) fn io_kind(e: &std::io::Error) -> ErrorKind {
-    ErrorKind::Io(e.to_string())
+    ErrorKind::Io {
+        kind: e.kind(),
+        message: e.to_string(),
+    }
 }
 
 /// The parsing options every document is read with: a DTD allowed (real files have one),

@@ -56,10 +56,13 @@ pub fn decode(bytes: &[u8]) -> Result<String, ErrorKind> {
             if head.trim_start().starts_with("<?xml") && latin1.iter().any(|l| head.contains(l)) {
                 Ok(bytes.iter().map(|&b| b as char).collect())
             } else {
-                Err(ErrorKind::Io(format!(
-                    "not UTF-8 text (byte {} is invalid; declare encoding=\"ISO-8859-1\" for Latin-1)",
-                    e.valid_up_to()
-                )))
+                Err(ErrorKind::Io {
+                    kind: std::io::ErrorKind::InvalidData,
+                    message: format!(
+                        "not UTF-8 text (byte {} is invalid; declare encoding=\"ISO-8859-1\" for Latin-1)",
+                        e.valid_up_to()
+                    ),
+                })
             }
         }
     }
@@ -96,15 +99,26 @@ pub fn load_str_with(
     dir: &Path,
     opts: &XacroOptions,
 ) -> Result<Tree, ModelError> {
+    parse_urdf(&urdf_text(text, source, dir, opts)?, source)
+}
+
+/// The URDF a robot file's text stands for: the text itself (what urdfdom tolerates
+/// removed: [`tolerate`]), or its xacro expansion ([`xacro::is_xacro`]) with `opts`, relative
+/// includes resolved from `dir`. What [`load_str_with`] parses.
+pub fn urdf_text(
+    text: &str,
+    source: &str,
+    dir: &Path,
+    opts: &XacroOptions,
+) -> Result<String, ModelError> {
     let text = &*tolerate(text);
     if text.trim().is_empty() {
         return Err(ModelError::new(source, ErrorKind::Empty));
     }
     if xacro::is_xacro(text) {
-        let urdf = xacro::expand_str(text, source, dir, opts)?;
-        return parse_urdf(&urdf, source);
+        return xacro::expand_str(text, source, dir, opts);
     }
-    parse_urdf(text, source)
+    Ok(text.to_string())
 }
 
 /// Plain URDF text into a [`Tree`].

@@ -111,7 +111,10 @@ pub fn expand_str(
             .map_err(|e| {
                 ModelError::new(
                     source,
-                    ErrorKind::Io(format!("cannot start the xacro expander: {e}")),
+                    ErrorKind::Io {
+                        kind: e.kind(),
+                        message: format!("cannot start the xacro expander: {e}"),
+                    },
                 )
             })?
             .join()

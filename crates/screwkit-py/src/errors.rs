@@ -38,9 +38,43 @@ pub fn io_error(path: &str, e: &std::io::Error) -> PyErr {
     }
 }
 
-/// A model error (bad file, unknown link, …) as `ValueError` with the library's message.
+/// A floor error: an unreadable file → the matching `OSError` subclass; a bad file, option or
+/// word → `ValueError` (an option named by its keyword); a solver error as [`solve_error`].
+pub fn service_error(e: screwkit_service::Error) -> PyErr {
+    use screwkit_service::io::FileError;
+    use screwkit_service::Error;
+    match e {
+        Error::Io { path, source } => io_error(
+            &format!("{}: cannot read the file", path.display()),
+            &source,
+        ),
+        Error::Model(m) => model_error(m),
+        Error::Solve(s) => solve_error(s),
+        Error::File(FileError::Io {
+            path,
+            doing,
+            source,
+        }) => {
+            let label = if doing.is_empty() {
+                path
+            } else {
+                format!("{path}: {doing}")
+            };
+            io_error(&label, &source)
+        }
+        e => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// A model error (bad file, unknown link, …) as `ValueError` with the library's message (an
+/// unreadable include as the matching `OSError`).
 pub fn model_error(e: ModelError) -> PyErr {
-    PyValueError::new_err(e.to_string())
+    match &e.kind {
+        screwkit_model::ErrorKind::Io { kind, .. } if *kind != std::io::ErrorKind::InvalidData => {
+            io_error(&e.file, &std::io::Error::new(*kind, e.kind.to_string()))
+        }
+        _ => PyValueError::new_err(e.to_string()),
+    }
 }
 
 /// A solver error: `ValueError` for bad input, `RuntimeError` for a numerical failure.

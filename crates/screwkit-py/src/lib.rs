@@ -90,10 +90,68 @@ fn xacro(
     args: Option<std::collections::BTreeMap<String, String>>,
 ) -> PyResult<String> {
     let opts = robot::xacro_options(package_paths, args);
-    let label = path.display().to_string();
-    let text = robot::read_robot_file(&path)?;
-    let dir = path.parent().unwrap_or(std::path::Path::new("."));
-    screwkit_model::xacro::expand_str(&text, &label, dir, &opts).map_err(errors::model_error)
+    screwkit_service::Source::Path(path)
+        .expand_xacro(&opts)
+        .map_err(errors::service_error)
+}
+
+/// The one set of defaults (the floor's), for the suite that checks the signatures and the
+/// stubs against it: {"ik": {keyword: value}, "reach": {keyword: value}}.
+#[pyfunction]
+fn defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    use pyo3::types::PyDict;
+    use screwkit_service::words::Word;
+    let ik = screwkit_service::IkSettings::default();
+    let d = PyDict::new(py);
+    let i = PyDict::new(py);
+    i.set_item("method", ik.method.as_str())?;
+    i.set_item("tol_rot", ik.tol_rot)?;
+    i.set_item("tol_pos", ik.tol_pos)?;
+    i.set_item("position_only", ik.position_only)?;
+    // Python's None is the floor's 0 ms: no time budget.
+    i.set_item(
+        "timeout_ms",
+        (ik.timeout_ms != 0.0).then_some(ik.timeout_ms),
+    )?;
+    i.set_item("seed_rng", ik.seed)?;
+    i.set_item("max_iterations", ik.max_iterations)?;
+    i.set_item("max_restarts", ik.max_restarts)?;
+    i.set_item("damping", ik.damping)?;
+    d.set_item("ik", i)?;
+    let m = screwkit_service::ReachSpec::default();
+    let r = PyDict::new(py);
+    r.set_item("resolution", m.resolution)?;
+    r.set_item("orientations", m.orientations)?;
+    r.set_item("mode", m.mode.as_str())?;
+    r.set_item("solver", m.solver.as_str())?;
+    r.set_item("seed", m.seed)?;
+    r.set_item("restarts", m.restarts)?;
+    r.set_item("iterations", m.iterations)?;
+    d.set_item("reach", r)?;
+    Ok(d)
+}
+
+/// Every option word family and its words (the floor's), for the suite that checks the stubs'
+/// `Literal` types against them.
+#[pyfunction]
+fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
+    use screwkit_service::words::{self as w, Word};
+    fn all<W: Word>() -> Vec<&'static str> {
+        W::ALL
+            .iter()
+            .flat_map(|x| std::iter::once(x.as_str()).chain(x.aliases().iter().copied()))
+            .collect()
+    }
+    let d = pyo3::types::PyDict::new(py);
+    d.set_item("method", all::<w::Method>())?;
+    d.set_item("screw_frame", all::<w::ScrewFrame>())?;
+    d.set_item("jacobian_frame", all::<w::JacobianFrame>())?;
+    d.set_item("table_frames", all::<w::TableFrames>())?;
+    d.set_item("table_format", all::<w::TableFormat>())?;
+    d.set_item("views", all::<w::Views>())?;
+    d.set_item("orientation_mode", all::<w::OrientationMode>())?;
+    d.set_item("solver_choice", all::<w::SolverChoice>())?;
+    Ok(d)
 }
 
 /// The native module.
@@ -109,9 +167,12 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(adjoint, m)?)?;
     m.add_function(wrap_pyfunction!(row_seed, m)?)?;
     m.add_function(wrap_pyfunction!(xacro, m)?)?;
-    m.add_function(wrap_pyfunction!(reach::reach_build, m)?)?;
-    m.add_function(wrap_pyfunction!(reach::reach_merge, m)?)?;
-    m.add_function(wrap_pyfunction!(reach::reach_svg, m)?)?;
+    // Plumbing of the Python layer, not public API: set as attributes (not in `__all__`).
+    m.setattr("_reach_build", wrap_pyfunction!(reach::reach_build, m)?)?;
+    m.setattr("_reach_merge", wrap_pyfunction!(reach::reach_merge, m)?)?;
+    m.setattr("_reach_svg", wrap_pyfunction!(reach::reach_svg, m)?)?;
+    m.setattr("_defaults", wrap_pyfunction!(defaults, m)?)?;
+    m.setattr("_words", wrap_pyfunction!(words, m)?)?;
     m.add_function(wrap_pyfunction!(pool::set_num_threads, m)?)?;
     m.add_function(wrap_pyfunction!(pool::num_threads, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -1,17 +1,30 @@
 //! Reachability maps from Python: `screwkit_reach`'s build, merge and slices, the GIL
 //! released while a map is computed (on the pool of `screwkit.set_num_threads`).
 
-use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use screwkit_reach::{OrientationMode, Plan, ReachError, ReachSpec, Shard, SolverChoice};
+use screwkit_reach::{Plan, ReachError, ReachSpec, Shard};
+use screwkit_service::io::FileError;
+use screwkit_service::words::{OrientationMode, SolverChoice};
 
 use crate::pool;
-use crate::robot::Robot;
+use crate::robot::{word, Robot};
 
 fn reach_error(e: ReachError) -> PyErr {
     match e {
-        ReachError::Io(m) => PyOSError::new_err(m),
+        ReachError::File(FileError::Io {
+            path,
+            doing,
+            source,
+        }) => {
+            let label = if doing.is_empty() {
+                path
+            } else {
+                format!("{path}: {doing}")
+            };
+            crate::errors::io_error(&label, &source)
+        }
         e => PyValueError::new_err(e.to_string()),
     }
 }
@@ -53,41 +66,16 @@ pub fn reach_build<'py>(
     let spec = ReachSpec {
         resolution,
         orientations,
-        mode: match mode {
-            "free" => OrientationMode::Free,
-            "directions" => OrientationMode::Directions,
-            m => {
-                return Err(PyValueError::new_err(format!(
-                    "mode: expected \"free\" or \"directions\", got {m:?}"
-                )))
-            }
-        },
+        mode: word::<OrientationMode>("mode", mode)?,
         bounds: bounds.map(|b| ([b[0], b[1], b[2]], [b[3], b[4], b[5]])),
-        solver: match solver {
-            "auto" => SolverChoice::Auto,
-            "analytic" => SolverChoice::Analytic,
-            "numerical" => SolverChoice::Numerical,
-            s => {
-                return Err(PyValueError::new_err(format!(
-                    "solver: expected \"auto\", \"analytic\" or \"numerical\", got {s:?}"
-                )))
-            }
-        },
+        solver: word::<SolverChoice>("solver", solver)?,
         seed,
         restarts,
         iterations,
     };
-    if shard_count == 0 || shard_index >= shard_count {
-        return Err(PyValueError::new_err(format!(
-            "shard: expected 0 <= index < count, got {shard_index} of {shard_count}"
-        )));
-    }
+    let shard = Shard::new(shard_index, shard_count).map_err(crate::errors::service_error)?;
     let (chain, kin) = robot.parts();
     let plan = Plan::new(chain, kin, &spec).map_err(reach_error)?;
-    let shard = Shard {
-        index: shard_index,
-        count: shard_count,
-    };
     let started = std::time::Instant::now();
     let s = py
         .detach(|| pool::run(|| screwkit_reach::build(&plan, kin, shard, &path, |_, _| {})))?

@@ -26,12 +26,13 @@ pub struct IkResult {
 #[pymethods]
 impl IkResult {
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let q: Vec<f64> = self.q.bind(py).extract()?;
+        let q: Vec<String> = q.iter().map(|x| format!("{x:.4}")).collect();
         Ok(format!(
-            "IkResult(converged={}, q={}, iterations={}, restarts={}, error_rot={:.3e}, error_pos={:.3e}, stop={:?})",
+            "IkResult(converged={}, q=[{}], iterations={}, error_rot={:.1e}, error_pos={:.1e}, stop={:?})",
             if self.converged { "True" } else { "False" },
-            self.q.bind(py).repr()?,
+            q.join(", "),
             self.iterations,
-            self.restarts,
             self.error_rot,
             self.error_pos,
             self.stop

@@ -8,14 +8,17 @@ use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethod
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
-use screwkit_draw::{html, svg, Scene, View};
-use screwkit_lie::{so3::TARGET_ROTATION_TOLERANCE, Frame, Se3};
+use screwkit_draw::{html, svg, Scene};
 use screwkit_model::{table, Chain};
-use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
+use screwkit_service::words::{
+    self, JacobianFrame, Method, ScrewFrame, TableFormat, TableFrames, Views, Word,
+};
+use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
+use screwkit_solve::ik::{IkOptions, IkStatus};
 use screwkit_solve::{analysis, batch, fk, ik, jacobian, Kinematics, SolveError, Workspace};
 
 use crate::array::{f64_array, new_array, poses, shape_str, zeros};
-use crate::errors::{batch_error, io_error, model_error, solve_error};
+use crate::errors::{batch_error, service_error, solve_error};
 use crate::pool;
 use crate::results::{Analysis, IkBatchResult, IkResult};
 
@@ -25,23 +28,19 @@ use crate::results::{Analysis, IkBatchResult, IkResult};
 /// float64; the space frame is the base link, the body frame the tip link.
 #[pyclass(frozen, module = "screwkit")]
 pub struct Robot {
-    chain: Chain,
-    kin: Kinematics,
+    /// The floor's robot: tree, chain, kinematics, URDF text (for pickling).
+    robot: screwkit_service::Robot,
     /// Scratch of single calls (a fresh one is made when another thread holds it).
     ws: Mutex<Workspace>,
-    /// The URDF text, for pickling.
-    text: String,
     /// The default analytic solver (`AnalyticIk::auto`), built on first use.
     analytic: std::sync::OnceLock<
         Result<screwkit_solve::analytic::AnalyticIk, screwkit_solve::SolveError>,
     >,
 }
 
-/// A frame name ("space" or "body").
-fn parse_frame(frame: &str) -> PyResult<Frame> {
-    frame
-        .parse::<Frame>()
-        .map_err(|e| PyValueError::new_err(format!("frame: {e} (expected \"space\" or \"body\")")))
+/// An option word of family `W` from a keyword argument; the error names the keyword.
+pub(crate) fn word<W: Word>(keyword: &str, given: &str) -> PyResult<W> {
+    words::parse::<W>(given).map_err(|e| PyValueError::new_err(format!("{keyword}: {e}")))
 }
 
 /// Whether q is one configuration (dof,) or a stack (N, dof); the error names the joints.
@@ -53,40 +52,44 @@ enum Rows {
 impl Robot {
     /// The chain and its kinematics (for the other modules of the binding).
     pub(crate) fn parts(&self) -> (&Chain, &Kinematics) {
-        (&self.chain, &self.kin)
+        (self.robot.chain(), self.robot.kin())
     }
 
-    fn build(text: String, source: &str, base: Option<&str>, tip: Option<&str>) -> PyResult<Self> {
-        let tree = screwkit_model::urdf::load_str(&text, source).map_err(model_error)?;
-        let chain = Chain::from_tree(&tree, base, tip).map_err(model_error)?;
-        let kin = Kinematics::new(&chain);
-        let ws = Mutex::new(Workspace::new(&kin));
+    fn build(source: &Source, options: &LoadOptions) -> PyResult<Self> {
+        let robot = screwkit_service::Robot::load(source, options).map_err(service_error)?;
+        let ws = Mutex::new(robot.workspace());
         Ok(Self {
-            chain,
-            kin,
+            robot,
             ws,
-            text,
             analytic: std::sync::OnceLock::new(),
         })
+    }
+
+    fn kin(&self) -> &Kinematics {
+        self.robot.kin()
+    }
+
+    fn chain(&self) -> &Chain {
+        self.robot.chain()
     }
 
     /// The shared scratch, or a new one when another thread is using it.
     fn workspace(&self) -> WorkspaceGuard<'_> {
         match self.ws.try_lock() {
             Ok(g) => WorkspaceGuard::Shared(g),
-            Err(_) => WorkspaceGuard::Own(Box::new(Workspace::new(&self.kin))),
+            Err(_) => WorkspaceGuard::Own(Box::new(Workspace::new(self.kin()))),
         }
     }
 
     /// Checks q's shape: (dof,) or (N, dof).
     fn rows_of(&self, a: &Bound<'_, PyArrayDyn<f64>>, what: &str) -> PyResult<Rows> {
-        let n = self.kin.dof();
+        let n = self.kin().dof();
         match a.shape() {
             [m] if *m == n => Ok(Rows::One),
             [rows, m] if *m == n => Ok(Rows::Many(*rows)),
             shape => Err(PyValueError::new_err(format!(
                 "{what}: expected shape ({n},) or (N, {n}) for the joints {}, got {}",
-                self.kin.names().join(", "),
+                self.kin().names().join(", "),
                 shape_str(shape)
             ))),
         }
@@ -105,7 +108,7 @@ impl Robot {
         if let Rows::Many(_) = self.rows_of(&q, "q")? {
             return Err(PyValueError::new_err(format!(
                 "q: expected one configuration of shape ({},), got {}",
-                self.kin.dof(),
+                self.kin().dof(),
                 shape_str(q.shape())
             )));
         }
@@ -114,50 +117,21 @@ impl Robot {
     }
 
     fn ik_options(&self, o: IkArgs) -> PyResult<IkOptions> {
-        let d = IkOptions::default();
-        let method = match (o.method, o.damping) {
-            ("lm", None) => IkMethod::LM,
-            ("lm", Some(f)) => IkMethod::LevenbergMarquardt { damping_floor: f },
-            ("dls", None) => IkMethod::DLS,
-            ("dls", Some(l)) => IkMethod::Dls { lambda: l },
-            ("nr", None) => IkMethod::NewtonRaphson,
-            ("nr", Some(_)) => {
-                return Err(PyValueError::new_err(
-                    "damping: Newton-Raphson (method=\"nr\") takes no damping",
-                ))
-            }
-            (other, _) => {
-                return Err(PyValueError::new_err(format!(
-                    "method: unknown IK method {other:?} (expected \"lm\", \"dls\" or \"nr\")"
-                )))
-            }
-        };
-        let timeout = match o.timeout_ms {
-            None => None,
-            Some(t) => screwkit_solve::ik::timeout_from_ms(t)
-                .map_err(|e| PyValueError::new_err(format!("timeout_ms: {e}")))?,
-        };
-        let weights = match o.weights {
-            None => d.weights,
-            Some(w) => w.try_into().map_err(|w: Vec<f64>| {
-                PyValueError::new_err(format!(
-                    "weights: expected 6 weights (ω1, ω2, ω3, v1, v2, v3), got {}",
-                    w.len()
-                ))
-            })?,
-        };
-        Ok(IkOptions {
-            method,
+        let d = IkSettings::default();
+        IkSettings {
+            method: word::<Method>("method", o.method)?,
+            damping: o.damping,
             tol_rot: o.tol_rot,
             tol_pos: o.tol_pos,
             max_iterations: o.max_iterations,
             max_restarts: o.max_restarts,
-            timeout,
+            timeout_ms: o.timeout_ms.unwrap_or(d.timeout_ms),
             seed: o.seed_rng,
             position_only: o.position_only,
-            weights,
-            ..d
-        })
+            weights: o.weights.unwrap_or(d.weights),
+        }
+        .options()
+        .map_err(service_error)
     }
 }
 
@@ -246,29 +220,10 @@ pub fn xacro_options(
     }
 }
 
-/// A robot file's text, read as the CLI reads it: at most 64 MiB
-/// (`screwkit_model::input::read_bounded`), UTF-8 with or without a byte-order mark, or
-/// Latin-1 when its XML declaration says so (`screwkit_model::urdf::decode`). An unreadable
-/// file is the matching `OSError`; too large or not text, `ValueError`.
-pub fn read_robot_file(path: &std::path::Path) -> PyResult<String> {
-    let label = path.display().to_string();
-    let cannot = |e: &std::io::Error| io_error(&format!("{label}: cannot read the file"), e);
-    let file = std::fs::File::open(path).map_err(|e| cannot(&e))?;
-    if file.metadata().is_ok_and(|m| m.is_dir()) {
-        return Err(cannot(&std::io::Error::from(
-            std::io::ErrorKind::IsADirectory,
-        )));
-    }
-    let bytes = screwkit_model::input::read_bounded(file)
-        .map_err(|k| model_error(screwkit_model::ModelError::new(label.clone(), k)))?;
-    screwkit_model::urdf::decode(&bytes)
-        .map_err(|k| model_error(screwkit_model::ModelError::new(label, k)))
-}
-
 /// Writes `text` to `path` when one is given.
 fn write_text(path: Option<PathBuf>, text: &str) -> PyResult<()> {
     match path {
-        Some(p) => screwkit_reach::atomic::write(&p, text.as_bytes()).map_err(|e| {
+        Some(p) => screwkit_service::io::atomic::write(&p, text.as_bytes()).map_err(|e| {
             let label = p.display().to_string();
             crate::errors::io_error(&label, &e)
         }),
@@ -300,39 +255,51 @@ impl Robot {
     /// default tip: the only leaf below the base). xacro is expanded natively: `package_paths`
     /// are searched for `$(find pkg)` (before ROS_PACKAGE_PATH and AMENT_PREFIX_PATH),
     /// `xacro_args` give `xacro:arg` values.
+    ///
+    /// The file is read as every front end reads it (at most 64 MiB; UTF-8 with or without a
+    /// byte-order mark, or Latin-1 when its XML declaration says so). `tool`: a tool frame
+    /// (TCP) fixed to the tip link, (x, y, z, roll, pitch, yaw) in m and rad (URDF rpy); FK,
+    /// Jacobians, IK and tables are then of the tool frame. An unreadable file raises the
+    /// matching `OSError`; a bad one `ValueError`.
     #[classmethod]
-    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None))]
+    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None))]
     fn from_urdf(
         _cls: &Bound<'_, PyType>,
         path: PathBuf,
-        base: Option<&str>,
-        tip: Option<&str>,
+        base: Option<String>,
+        tip: Option<String>,
         package_paths: Option<Vec<PathBuf>>,
         xacro_args: Option<std::collections::BTreeMap<String, String>>,
+        tool: Option<Vec<f64>>,
     ) -> PyResult<Self> {
-        let label = path.display().to_string();
-        let text = read_robot_file(&path)?;
-        let text = if screwkit_model::xacro::is_xacro(&text) {
-            let opts = xacro_options(package_paths, xacro_args);
-            let dir = path.parent().unwrap_or(std::path::Path::new("."));
-            screwkit_model::xacro::expand_str(&text, &label, dir, &opts).map_err(model_error)?
-        } else {
-            text
+        let options = LoadOptions {
+            xacro: xacro_options(package_paths, xacro_args),
+            base,
+            tip,
+            tool,
         };
-        Self::build(text, &label, base, tip)
+        Self::build(&Source::Path(path), &options)
     }
 
-    /// Loads the chain `base` → `tip` of URDF text; `source` names it in error messages.
+    /// Loads the chain `base` → `tip` of URDF (or xacro) text; `source` names it in error
+    /// messages; `tool` as in `from_urdf`.
     #[classmethod]
-    #[pyo3(signature = (xml, base = None, tip = None, source = "<string>"))]
+    #[pyo3(signature = (xml, base = None, tip = None, source = "<string>", *, tool = None))]
     fn from_string(
         _cls: &Bound<'_, PyType>,
         xml: String,
-        base: Option<&str>,
-        tip: Option<&str>,
+        base: Option<String>,
+        tip: Option<String>,
         source: &str,
+        tool: Option<Vec<f64>>,
     ) -> PyResult<Self> {
-        Self::build(xml, source, base, tip)
+        let options = LoadOptions {
+            base,
+            tip,
+            tool,
+            ..LoadOptions::default()
+        };
+        Self::build(&Source::text(xml, source), &options)
     }
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
@@ -340,102 +307,109 @@ impl Robot {
         let r = slf.get();
         let ctor = py.get_type::<Robot>().getattr("from_string")?;
         let args = (
-            r.text.clone(),
-            r.chain.base.clone(),
-            r.chain.tip.clone(),
-            r.chain.source.clone(),
+            r.robot.urdf().to_string(),
+            r.robot.options().base.clone(),
+            r.robot.options().tip.clone(),
+            r.chain().source.clone(),
         );
-        Ok((ctor, args).into_pyobject(py)?.into_any())
+        let kwargs = pyo3::types::PyDict::new(py);
+        kwargs.set_item("tool", r.robot.options().tool.clone())?;
+        // (callable, args) cannot carry keywords: functools.partial holds them.
+        let partial = py
+            .import("functools")?
+            .getattr("partial")?
+            .call((ctor,), Some(&kwargs))?;
+        Ok((partial, args).into_pyobject(py)?.into_any())
     }
 
     fn __repr__(&self) -> String {
         format!(
             "Robot({:?}, base={:?}, tip={:?}, dof={})",
-            self.chain.source,
-            self.chain.base,
-            self.chain.tip,
-            self.kin.dof()
+            self.chain().source,
+            self.chain().base,
+            self.chain().tip,
+            self.kin().dof()
         )
     }
 
     /// The robot's name (`<robot name=…>`).
     #[getter]
     fn name(&self) -> &str {
-        &self.chain.robot
+        &self.chain().robot
     }
 
     /// The file the robot came from (or the `source` label of `from_string`).
     #[getter]
     fn source(&self) -> &str {
-        &self.chain.source
+        &self.chain().source
     }
 
     /// Base link (the space frame).
     #[getter]
     fn base(&self) -> &str {
-        &self.chain.base
+        &self.chain().base
     }
 
     /// Tip link (the body frame).
     #[getter]
     fn tip(&self) -> &str {
-        &self.chain.tip
+        &self.chain().tip
     }
 
     /// Degrees of freedom: the length of q.
     #[getter]
     fn dof(&self) -> usize {
-        self.kin.dof()
+        self.kin().dof()
     }
 
     /// The joints of q, in order (mimic joints follow their leader and are not in q).
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.kin.names().to_vec()
+        self.kin().names().to_vec()
     }
 
     /// The moving joints base → tip, one per row of `screw_axes` (mimic joints included).
     #[getter]
     fn axis_names(&self) -> Vec<String> {
-        self.chain.joints.iter().map(|j| j.name.clone()).collect()
+        self.chain().joints.iter().map(|j| j.name.clone()).collect()
     }
 
     /// The links base → tip, one per pose of `fk_all_links`.
     #[getter]
     fn link_names(&self) -> Vec<String> {
-        self.kin.links().iter().map(|l| l.name.clone()).collect()
+        self.kin().links().iter().map(|l| l.name.clone()).collect()
     }
 
     /// Lower joint limits, shape (dof,) (−inf for continuous joints).
     #[getter]
     fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.kin.lower().to_pyarray(py)
+        self.kin().lower().to_pyarray(py)
     }
 
     /// Upper joint limits, shape (dof,) (+inf for continuous joints).
     #[getter]
     fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.kin.upper().to_pyarray(py)
+        self.kin().upper().to_pyarray(py)
     }
 
     /// The midpoint of the limits (0 for continuous joints): the default IK seed, shape (dof,).
     #[getter]
     fn midpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.kin.midpoint().to_pyarray(py)
+        self.kin().midpoint().to_pyarray(py)
     }
 
     /// M: the tip pose at q = 0, shape (4, 4).
     #[getter]
     fn home<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        Ok(new_array(py, &[4, 4], |o| self.chain.home.write_row_major(o))?.into_any())
+        Ok(new_array(py, &[4, 4], |o| self.chain().home.write_row_major(o))?.into_any())
     }
 
     /// The screw axes at home, one row (ω, v) per moving joint (`axis_names`): S_i in the
     /// space frame or B_i in the body frame. Shape (joints, 6).
     #[pyo3(signature = (frame = "space"))]
     fn screw_axes<'py>(&self, py: Python<'py>, frame: &str) -> PyResult<Bound<'py, PyAny>> {
-        let frame = parse_frame(frame)?;
-        let joints = &self.chain.joints;
+        let frame: screwkit_lie::Frame = word::<ScrewFrame>("frame", frame)?.into();
+        let joints = &self.chain().joints;
         Ok(new_array(py, &[joints.len(), 6], |o| {
             for (j, row) in joints.iter().zip(o.chunks_mut(6)) {
                 row.copy_from_slice(j.screw(frame).twist().to_vector().as_slice());
@@ -448,18 +422,12 @@ impl Robot {
     /// "body" or "both" (JSON always has both).
     #[pyo3(signature = (fmt = "markdown", frame = "both"))]
     fn table(&self, fmt: &str, frame: &str) -> PyResult<String> {
-        let frames = match frame {
-            "both" => Frame::ALL.to_vec(),
-            f => vec![parse_frame(f)?],
-        };
-        match fmt {
-            "markdown" | "md" => Ok(table::to_markdown(&self.chain, &frames)),
-            "csv" => Ok(table::to_csv(&self.chain, &frames)),
-            "json" => Ok(table::to_json(&self.chain).to_string()),
-            other => Err(PyValueError::new_err(format!(
-                "fmt: unknown table format {other:?} (expected \"markdown\", \"csv\" or \"json\")"
-            ))),
-        }
+        let frames = word::<TableFrames>("frame", frame)?.frames();
+        Ok(match word::<TableFormat>("fmt", fmt)? {
+            TableFormat::Markdown => table::to_markdown(self.chain(), &frames),
+            TableFormat::Csv => table::to_csv(self.chain(), &frames),
+            TableFormat::Json => table::to_json(self.chain()).to_string(),
+        })
     }
 
     /// Forward kinematics T(q) = e^[S1]q1 ⋯ e^[Sn]qn M: q (dof,) → (4, 4); q (N, dof) →
@@ -471,11 +439,11 @@ impl Robot {
         let qs = q.as_slice()?;
         match rows {
             Rows::One => {
-                let t = fk::fk(&self.kin, &mut self.workspace(), qs).map_err(solve_error)?;
+                let t = fk::fk(self.kin(), &mut self.workspace(), qs).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
             Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, |qs, o| {
-                batch::fk_batch(&self.kin, qs, o)
+                batch::fk_batch(self.kin(), qs, o)
             }),
         }
     }
@@ -491,11 +459,11 @@ impl Robot {
         let rows = self.rows_of(&q, "q")?;
         let q = q.readonly();
         let qs = q.as_slice()?;
-        let links = self.kin.links().len();
+        let links = self.kin().links().len();
         match rows {
             Rows::One => {
                 let mut ws = self.workspace();
-                let poses = fk::fk_all_links(&self.kin, &mut ws, qs).map_err(solve_error)?;
+                let poses = fk::fk_all_links(self.kin(), &mut ws, qs).map_err(solve_error)?;
                 Ok(new_array(py, &[links, 4, 4], |o| {
                     for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
                         t.write_row_major(out);
@@ -504,7 +472,7 @@ impl Robot {
                 .into_any())
             }
             Rows::Many(n) => run_batch(py, &[n, links, 4, 4], qs, FK_CHUNK / 16, |qs, o| {
-                batch::fk_all_links_batch(&self.kin, qs, o)
+                batch::fk_all_links_batch(self.kin(), qs, o)
             }),
         }
     }
@@ -519,26 +487,18 @@ impl Robot {
         q: &Bound<'py, PyAny>,
         frame: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let frame = if frame == "world-aligned" {
-            None
-        } else {
-            Some(parse_frame(frame).map_err(|_| {
-                PyValueError::new_err(format!(
-                    "frame: unknown frame {frame:?} (expected \"space\", \"body\" or \"world-aligned\")"
-                ))
-            })?)
-        };
+        let frame = word::<JacobianFrame>("frame", frame)?.screw();
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
         let q = q.readonly();
         let qs = q.as_slice()?;
-        let n = self.kin.dof();
+        let n = self.kin().dof();
         match rows {
             Rows::One => {
                 let mut ws = self.workspace();
                 let j = match frame {
-                    Some(f) => jacobian::jacobian(&self.kin, &mut ws, qs, f),
-                    None => jacobian::jacobian_world_aligned(&self.kin, &mut ws, qs),
+                    Some(f) => jacobian::jacobian(self.kin(), &mut ws, qs, f),
+                    None => jacobian::jacobian_world_aligned(self.kin(), &mut ws, qs),
                 }
                 .map_err(solve_error)?;
                 Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
@@ -548,8 +508,8 @@ impl Robot {
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
             Rows::Many(rows) => {
                 run_batch(py, &[rows, 6, n], qs, FK_CHUNK / 4, |qs, o| match frame {
-                    Some(f) => batch::jacobian_batch(&self.kin, qs, f, o, None),
-                    None => batch::jacobian_world_aligned_batch(&self.kin, qs, o, None),
+                    Some(f) => batch::jacobian_batch(self.kin(), qs, f, o, None),
+                    None => batch::jacobian_world_aligned_batch(self.kin(), qs, o, None),
                 })
             }
         }
@@ -560,25 +520,25 @@ impl Robot {
     #[pyo3(signature = (q, frame = "space"))]
     fn analyze(&self, py: Python<'_>, q: &Bound<'_, PyAny>, frame: &str) -> PyResult<Analysis> {
         let frame_name = frame.to_string();
-        let frame = parse_frame(frame)?;
+        let frame: screwkit_lie::Frame = word::<ScrewFrame>("frame", frame)?.into();
         let q = f64_array(q, "q")?;
         if let Rows::Many(_) = self.rows_of(&q, "q")? {
             return Err(PyValueError::new_err(format!(
                 "q: analyze takes one configuration of shape ({},), got {}",
-                self.kin.dof(),
+                self.kin().dof(),
                 shape_str(q.shape())
             )));
         }
         let q = q.readonly();
         let qs = q.as_slice()?;
         let mut ws = self.workspace();
-        let j = jacobian::jacobian(&self.kin, &mut ws, qs, frame).map_err(solve_error)?;
+        let j = jacobian::jacobian(self.kin(), &mut ws, qs, frame).map_err(solve_error)?;
         let a = analysis::analyze_jacobian(j).map_err(solve_error)?;
-        let n = self.kin.dof();
+        let n = self.kin().dof();
         let jac = new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?
             .cast_into::<PyArray2<f64>>()?;
         // After the last use of `j` (it lives in the workspace).
-        let pos = analysis::analyze_position(&self.kin, &mut ws, qs).map_err(solve_error)?;
+        let pos = analysis::analyze_position(self.kin(), &mut ws, qs).map_err(solve_error)?;
         let rows3 = |axes: &[nalgebra::Vector3<f64>; 3]| {
             PyArray2::from_vec2(
                 py,
@@ -632,15 +592,9 @@ impl Robot {
         path: Option<PathBuf>,
         view: &str,
     ) -> PyResult<String> {
-        let views = if view == "all" {
-            View::ALL.to_vec()
-        } else {
-            vec![view
-                .parse::<View>()
-                .map_err(|e| PyValueError::new_err(format!("view: {e}")))?]
-        };
+        let views = word::<Views>("view", view)?.views();
         let text = self.with_one_q(q, |q| {
-            Scene::new(&self.chain, &self.kin, q).map(|scene| svg::render(&scene, &views))
+            Scene::new(self.chain(), self.kin(), q).map(|scene| svg::render(&scene, &views))
         })?;
         write_text(path, &text)?;
         Ok(text)
@@ -651,7 +605,7 @@ impl Robot {
     /// URL sets the joints. Returns the HTML and writes it to `path` when given.
     #[pyo3(signature = (q = None, path = None))]
     fn viewer(&self, q: Option<&Bound<'_, PyAny>>, path: Option<PathBuf>) -> PyResult<String> {
-        let text = self.with_one_q(q, |q| html::page(&self.chain, &self.kin, q))?;
+        let text = self.with_one_q(q, |q| html::page(self.chain(), self.kin(), q))?;
         write_text(path, &text)?;
         Ok(text)
     }
@@ -677,7 +631,7 @@ impl Robot {
         lock_value: Option<f64>,
         sweep: Option<usize>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        use screwkit_solve::analytic::{AnalyticIk, Solutions};
+        use screwkit_solve::analytic::Solutions;
         let (targets, count) = poses(target, "target")?;
         let seed = match seed {
             Some(s) => {
@@ -685,54 +639,27 @@ impl Robot {
                 let r = a.readonly();
                 r.as_slice()?.to_vec()
             }
-            None => self.kin.midpoint(),
+            None => self.kin().midpoint(),
         };
-        self.kin.check_q(&seed).map_err(solve_error)?;
-        let owned;
-        let solver: &AnalyticIk = match lock {
-            None => self
-                .analytic
-                .get_or_init(|| AnalyticIk::auto(&self.kin))
-                .as_ref()
-                .map_err(|e| solve_error(e.clone()))?,
-            Some(j) => {
-                let index = if let Ok(name) = j.extract::<String>() {
-                    self.kin
-                        .names()
-                        .iter()
-                        .position(|n| *n == name)
-                        .ok_or_else(|| {
-                            PyValueError::new_err(format!(
-                                "lock: no joint {name:?} (the chain's: {})",
-                                self.kin.names().join(", ")
-                            ))
-                        })?
-                } else {
-                    let i: usize = j.extract().map_err(|_| {
-                        PyValueError::new_err("lock: a joint name or a 0-based index")
-                    })?;
-                    if i >= self.kin.dof() {
-                        return Err(PyValueError::new_err(format!(
-                            "lock: index {i} out of range (dof {})",
-                            self.kin.dof()
-                        )));
-                    }
-                    i
-                };
-                match self.analytic.get_or_init(|| AnalyticIk::auto(&self.kin)) {
-                    // The default solver already locks this joint.
-                    Ok(auto) if auto.locked_joint() == Some(index) => auto,
-                    _ => {
-                        owned = AnalyticIk::locked(&self.kin, index).map_err(solve_error)?;
-                        &owned
-                    }
-                }
-            }
+        self.kin().check_q(&seed).map_err(solve_error)?;
+        let joint = match lock {
+            None => None,
+            Some(j) => Some(if let Ok(name) = j.extract::<String>() {
+                JointRef::Name(name)
+            } else {
+                JointRef::Index(j.extract::<usize>().map_err(|_| {
+                    PyValueError::new_err("lock: a joint name or its index in q (from 0)")
+                })?)
+            }),
         };
-        let values = solver
-            .lock_values(&self.kin, &seed, lock_value, sweep)
-            .map_err(solve_error)?;
-        let n = self.kin.dof();
+        let auto = self
+            .analytic
+            .get_or_init(|| screwkit_solve::analytic::AnalyticIk::auto(self.kin()))
+            .as_ref()
+            .ok();
+        let all = AllSolutions::with_default(self.kin(), joint.as_ref(), lock_value, sweep, auto)
+            .map_err(service_error)?;
+        let n = self.kin().dof();
         let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
             Ok(new_array(py, &[sols.len(), n], |o| {
                 for (row, q) in o.chunks_mut(n.max(1)).zip(sols.iter()) {
@@ -744,48 +671,28 @@ impl Robot {
         let tv = targets.readonly();
         let flat = tv.as_slice()?;
         if count.is_none() {
-            let t = Se3::from_row_major(flat, TARGET_ROTATION_TOLERANCE).map_err(|e| {
-                PyValueError::new_err(format!("target: not a rigid transform: {e}"))
-            })?;
-            let mut sols = Solutions::default();
-            let mut ws = Workspace::new(&self.kin);
-            solver
-                .solve_swept(&self.kin, &mut ws, &t, &values, &mut sols)
+            let t = target::from_row_major(flat)
+                .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
+            let mut ws = self.workspace();
+            let (sols, _) = all
+                .solve(self.kin(), &mut ws, &t, &seed)
                 .map_err(solve_error)?;
             if !sols.is_exact() {
                 return Err(PyValueError::new_err(
                     "target: out of reach (no exact solution within the limits)",
                 ));
             }
-            sols.sort_nearest(&seed, None);
             return to_array(py, &sols);
         }
-        let kin = &self.kin;
-        let results: Vec<Result<Solutions, screwkit_solve::SolveError>> = py.detach(|| {
-            pool::run(|| {
-                use rayon::prelude::*;
-                flat.par_chunks(16)
-                    .with_max_len(64)
-                    .map_init(
-                        || Workspace::new(kin),
-                        |ws, row| {
-                            let t = Se3::from_row_major(row, TARGET_ROTATION_TOLERANCE).map_err(
-                                |e| screwkit_solve::SolveError::BadTarget(e.to_string()),
-                            )?;
-                            let mut sols = Solutions::default();
-                            solver.solve_swept(kin, ws, &t, &values, &mut sols)?;
-                            sols.sort_nearest(&seed, None);
-                            Ok(sols)
-                        },
-                    )
-                    .collect()
-            })
-        })?;
+        let kin = self.kin();
+        let results = py
+            .detach(|| pool::run(|| all.solve_batch(kin, flat, &seed)))?
+            .map_err(solve_error)?;
         let list = pyo3::types::PyList::empty(py);
         let mut bad = Vec::new();
         for (k, r) in results.into_iter().enumerate() {
             match r {
-                Ok(sols) if sols.is_exact() => list.append(to_array(py, &sols)?)?,
+                Ok((sols, _)) if sols.is_exact() => list.append(to_array(py, &sols)?)?,
                 Ok(_) => list.append(to_array(py, &Solutions::default())?)?,
                 Err(error) => {
                     list.append(zeros(py, &[0, n])?)?;
@@ -847,7 +754,7 @@ impl Robot {
             position_only,
             weights,
         })?;
-        let n = self.kin.dof();
+        let n = self.kin().dof();
         let (targets, count) = poses(target, "target")?;
         let seed = seed.map(|s| f64_array(s, "seed")).transpose()?;
         let seed_rows = seed.as_ref().map(|s| self.rows_of(s, "seed")).transpose()?;
@@ -862,17 +769,16 @@ impl Robot {
                         "seed: one target takes one seed of shape ({n},)"
                     )));
                 }
-                let target = Se3::from_row_major(tv, TARGET_ROTATION_TOLERANCE).map_err(|e| {
-                    PyValueError::new_err(format!("target: not a rigid transform: {e}"))
-                })?;
-                let mid = self.kin.midpoint();
+                let target = target::from_row_major(tv)
+                    .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
+                let mid = self.kin().midpoint();
                 let seed = seed_values.unwrap_or(&mid);
                 let opts = IkOptions {
                     interrupt: Some(ik::Interrupt(pool::interrupted)),
                     ..opts
                 };
                 let r = py
-                    .detach(|| ik::solve(&self.kin, &mut self.workspace(), &target, seed, &opts))
+                    .detach(|| ik::solve(self.kin(), &mut self.workspace(), &target, seed, &opts))
                     .map_err(solve_error)?;
                 pool::take_interrupt(py)?;
                 let st = r.status;
@@ -908,7 +814,7 @@ impl Robot {
                     // Restart seeds by global row: the same answers whatever the chunking.
                     pool::chunked(py, rows, IK_CHUNK, |r| {
                         batch::ik_batch_from(
-                            &self.kin,
+                            self.kin(),
                             r.start,
                             &tv[16 * r.start..16 * r.end],
                             seeds.map(|s| &s[n * r.start..n * r.end]),

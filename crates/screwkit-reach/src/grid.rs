@@ -88,28 +88,7 @@ impl Grid {
     }
 }
 
-/// How the K orientations of each voxel are chosen.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum OrientationMode {
-    /// K rotations spread evenly over SO(3) (a super-Fibonacci spiral, Alexa, CVPR 2022): the
-    /// reachability index of Zacharias et al. over all orientations.
-    Free,
-    /// K directions spread evenly on the unit sphere (a Fibonacci lattice), the tool's z axis
-    /// pointing from the direction's point on a sphere around the voxel towards its centre, as
-    /// in capability maps; the roll about that axis is fixed (x axis in the plane of z and the
-    /// base's z axis, or the base's x axis when they are parallel).
-    Directions,
-}
-
-impl OrientationMode {
-    /// The name used in map files and on the command line.
-    pub fn name(self) -> &'static str {
-        match self {
-            OrientationMode::Free => "free",
-            OrientationMode::Directions => "directions",
-        }
-    }
-}
+pub use screwkit_service::words::OrientationMode;
 
 /// The K rotations (tool orientation in the base frame) tested in every voxel.
 pub fn orientations(mode: OrientationMode, k: usize) -> Vec<Matrix3<f64>> {

@@ -16,134 +16,46 @@
 //! only on the spec and the pose's global index (numerical IK restarts from
 //! [`screwkit_solve::batch::row_seed`] of it), never on threads, shards or load.
 
-pub mod atomic;
 pub mod grid;
-pub mod npz;
 pub mod slices;
 
-use std::ops::Range;
-
 use nalgebra::Matrix3;
-use serde::{Deserialize, Serialize};
 
 use screwkit_model::{Chain, JointKind};
 use screwkit_solve::analytic::AnalyticIk;
 use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
-use screwkit_solve::{Frame, Kinematics};
+use screwkit_solve::{Frame, Kinematics, SolveError};
 
-pub use grid::{orientations, Grid, OrientationMode};
-use npz::{NpzReader, NpzWriter};
+pub use grid::{orientations, Grid};
+use screwkit_service::io::npz::{self, NpzReader, NpzWriter};
+use screwkit_service::io::{atomic, FileError};
+pub use screwkit_service::request::{ReachSpec, Shard};
+pub use screwkit_service::words::{OrientationMode, SolverChoice};
+use std::ops::Range;
 
 /// What can go wrong building, reading or merging a map.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, thiserror::Error)]
 pub enum ReachError {
     /// A bad spec or argument.
+    #[error("{0}")]
     Input(String),
-    /// A file could not be read or written.
-    Io(String),
+    /// A file could not be read or written (or is not an `.npz`, a damaged one).
+    #[error(transparent)]
+    File(#[from] FileError),
     /// A file is not a map (or not a shard of the same map).
+    #[error("{0}")]
     Format(String),
-    /// The solver refused the chain.
-    Solve(String),
+    /// The solver refused the chain or its input.
+    #[error("IK: {0}")]
+    Solve(#[from] SolveError),
+    /// The analytic solver was asked for and the chain has none.
+    #[error("IK: {0} (maps use the analytic solver for 6R chains; choose numerical IK)")]
+    NoAnalytic(SolveError),
 }
 
 impl ReachError {
     pub(crate) fn io(path: &str, e: std::io::Error) -> Self {
-        ReachError::Io(format!("{path}: {e}"))
-    }
-}
-
-impl std::fmt::Display for ReachError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ReachError::Input(s) | ReachError::Io(s) | ReachError::Format(s) => f.write_str(s),
-            ReachError::Solve(s) => write!(f, "IK: {s}"),
-        }
-    }
-}
-
-impl std::error::Error for ReachError {}
-
-/// Which IK a map uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SolverChoice {
-    /// Analytic when the chain is a 6R arm with a closed form, numerical otherwise.
-    Auto,
-    /// The analytic solver (every solution); an error for chains without a closed form.
-    Analytic,
-    /// Numerical IK (one solution within the limits per pose).
-    Numerical,
-}
-
-/// What to map.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ReachSpec {
-    /// Voxel edge (m).
-    pub resolution: f64,
-    /// Orientations tested per voxel (K).
-    pub orientations: usize,
-    /// How they are spread.
-    pub mode: OrientationMode,
-    /// Box to map (min, max corners in the base frame); `None`: the ball the chain can reach.
-    pub bounds: Option<([f64; 3], [f64; 3])>,
-    /// Which IK.
-    pub solver: SolverChoice,
-    /// Seed of numerical IK's restarts.
-    pub seed: u64,
-    /// Numerical IK: random restarts per pose after the first attempt.
-    pub restarts: usize,
-    /// Numerical IK: iterations per attempt.
-    pub iterations: usize,
-}
-
-impl Default for ReachSpec {
-    /// 5 cm voxels, 50 free orientations, the reachable ball, IK chosen per chain, numerical
-    /// IK with 5 restarts of 100 iterations (an LM solve that converges takes 5–30).
-    fn default() -> Self {
-        Self {
-            resolution: 0.05,
-            orientations: 50,
-            mode: OrientationMode::Free,
-            bounds: None,
-            solver: SolverChoice::Auto,
-            seed: 0,
-            restarts: 5,
-            iterations: 100,
-        }
-    }
-}
-
-/// One part of a map: shard `index` of `count` (0-based).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    /// Which part, 0 ≤ index < count.
-    pub index: usize,
-    /// Into how many parts the voxels are cut.
-    pub count: usize,
-}
-
-impl Shard {
-    /// The whole map.
-    pub const WHOLE: Shard = Shard { index: 0, count: 1 };
-
-    /// Parses `i/N` (0 ≤ i < N).
-    pub fn parse(s: &str) -> Result<Shard, ReachError> {
-        let bad = || ReachError::Input(format!("--shard wants i/N with 0 ≤ i < N, got '{s}'"));
-        let (i, n) = s.split_once('/').ok_or_else(bad)?;
-        let (index, count) = (
-            i.trim().parse().map_err(|_| bad())?,
-            n.trim().parse().map_err(|_| bad())?,
-        );
-        if count == 0 || index >= count {
-            return Err(bad());
-        }
-        Ok(Shard { index, count })
-    }
-
-    /// Its voxels among `total`: the contiguous range [total·i/N, total·(i+1)/N).
-    pub fn voxels(self, total: usize) -> Range<usize> {
-        let at = |i: usize| ((total as u128 * i as u128) / self.count as u128) as usize;
-        at(self.index)..at(self.index + 1)
+        ReachError::File(FileError::io(path, e))
     }
 }
 
@@ -228,11 +140,7 @@ impl Plan {
             },
             SolverChoice::Analytic => match AnalyticIk::new(kin) {
                 Ok(ik) => Solver::Analytic(Box::new(ik)),
-                Err(e) => {
-                    return Err(ReachError::Solve(format!(
-                        "{e} (maps use the analytic solver for 6R chains; choose numerical IK)"
-                    )))
-                }
+                Err(e) => return Err(ReachError::NoAnalytic(e)),
             },
         };
         Ok(Plan {
@@ -336,9 +244,7 @@ impl Plan {
         let base = voxels.start * k;
         match &self.solver {
             Solver::Analytic(ik) => {
-                let results = ik
-                    .solve_batch(kin, &targets, None)
-                    .map_err(|e| ReachError::Solve(e.to_string()))?;
+                let results = ik.solve_batch(kin, &targets, None)?;
                 // One Jacobian per posture: the 2π representatives that joints with limits
                 // wider than ±π add have the same manipulability. Per pose, in parallel.
                 let distinct: Vec<Vec<f64>> = {
@@ -392,8 +298,7 @@ impl Plan {
             return Ok(());
         }
         let mut jac = vec![0.0; owner.len() * 6 * n];
-        screwkit_solve::batch::jacobian_batch(kin, &qs, Frame::Space, &mut jac, None)
-            .map_err(|e| ReachError::Solve(e.to_string()))?;
+        screwkit_solve::batch::jacobian_batch(kin, &qs, Frame::Space, &mut jac, None)?;
         let w: Vec<f64> = {
             use rayon::prelude::*;
             jac.par_chunks(6 * n)
@@ -599,7 +504,7 @@ fn write_description(
     out.i64_array("grid_shape", &[3], &grid.shape.map(|s| s as i64))?;
     out.f64_array("resolution", &[], &[grid.resolution])?;
     out.i64_array("voxel_range", &[2], &[range.start as i64, range.end as i64])?;
-    out.text("meta", &meta)
+    Ok(out.text("meta", &meta)?)
 }
 
 /// A map read back (the per-voxel arrays; `pose_manipulability` stays on disk unless asked).
@@ -769,13 +674,7 @@ pub fn export(npz: &str, out: &str) -> Result<(), ReachError> {
     }
     atomic::check_distinct(&[npz], &[out]).map_err(ReachError::Input)?;
     let mut w = atomic::AtomicFile::create(out).map_err(|e| ReachError::io(out, e))?;
-    let num = |x: f64| -> serde_json::Value {
-        if x.is_finite() {
-            serde_json::json!(x)
-        } else {
-            serde_json::Value::Null
-        }
-    };
+    let num = screwkit_service::io::json::num;
     let res = if out.ends_with(".csv") {
         let mut r = writeln!(w, "x,y,z,index,best_manipulability");
         for (i, c) in m.centres.chunks(3).enumerate() {

@@ -4,7 +4,8 @@
 //! `SCREWKIT_FUZZ_SECS=600` runs ten minutes.
 
 use screwkit_model::load_chain;
-use screwkit_reach::{npz, Plan, ReachSpec, Shard};
+use screwkit_reach::{Plan, ReachSpec, Shard};
+use screwkit_service::io::npz;
 use screwkit_solve::Kinematics;
 use screwkit_testkit::{bundled, fuzz};
 

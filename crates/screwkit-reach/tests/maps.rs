@@ -2,8 +2,8 @@
 //! independent IK (numerical, checked by FK) pose by pose, and errors that name the file.
 
 use screwkit_lie::Se3;
-use screwkit_reach::npz::NpzReader;
 use screwkit_reach::{build, merge, OrientationMode, Plan, ReachSpec, Shard, SolverChoice};
+use screwkit_service::io::npz::NpzReader;
 use screwkit_solve::fk::fk;
 use screwkit_solve::ik::{solve, IkOptions};
 use screwkit_solve::jacobian::jacobian;

@@ -686,7 +686,7 @@ impl AnalyticIk {
             )));
         }
         if !target.is_finite() {
-            return Err(SolveError::BadTarget(String::new()));
+            return Err(SolveError::BadTarget(crate::BadTarget::NonFinite));
         }
         if let Some(l) = self.lock {
             let (lo, hi) = (kin.lower[l.joint], kin.upper[l.joint]);
@@ -796,6 +796,66 @@ impl AnalyticIk {
                     .collect()
             }
         }
+    }
+
+    /// Every solution of every row of `targets` (N × 16, row-major 4 × 4), ordered nearest
+    /// that row's seed, in parallel on rayon's pool: row k's lock values are
+    /// [`AnalyticIk::lock_values`] of its seed (`seeds`: N × dof, one seed per row, or dof: one
+    /// for all), `value` and `sweep`; its solutions [`AnalyticIk::solve_swept`] over them,
+    /// sorted by [`Solutions::sort_nearest`]. Row k's result (solutions and lock values) equals
+    /// those calls on row k whatever the thread count; a bad row is its own error and every
+    /// other row is solved. An error only for buffers of the wrong length.
+    #[allow(clippy::type_complexity)]
+    pub fn solve_nearest_batch(
+        &self,
+        kin: &Kinematics,
+        targets: &[f64],
+        seeds: &[f64],
+        value: Option<f64>,
+        sweep: Option<usize>,
+    ) -> Result<Vec<Result<(Solutions, Vec<f64>), SolveError>>, SolveError> {
+        use rayon::prelude::*;
+        let rows = targets.len() / 16;
+        if !targets.len().is_multiple_of(16) {
+            return Err(SolveError::WrongLength {
+                what: "target values (N × 16)",
+                expected: rows * 16,
+                got: targets.len(),
+                names: "a multiple of 16".into(),
+            });
+        }
+        let n = kin.dof();
+        let one_seed = seeds.len() == n;
+        if !one_seed && seeds.len() != rows * n {
+            return Err(SolveError::WrongLength {
+                what: "seed values",
+                expected: rows * n,
+                got: seeds.len(),
+                names: "one seed (dof) or one per target (N × dof)".into(),
+            });
+        }
+        Ok(targets
+            .par_chunks(16)
+            .enumerate()
+            .with_max_len(64)
+            .map_init(
+                || Workspace::new(kin),
+                |ws, (k, row)| {
+                    let seed = if one_seed {
+                        seeds
+                    } else {
+                        &seeds[k * n..(k + 1) * n]
+                    };
+                    let t = crate::batch::target_row(row)?;
+                    kin.check_q(seed)?;
+                    let values = self.lock_values(kin, seed, value, sweep)?;
+                    let mut out = Solutions::default();
+                    self.solve_swept(kin, ws, &t, &values, &mut out)?;
+                    out.sort_nearest(seed, None);
+                    Ok((out, values))
+                },
+            )
+            .collect())
     }
 
     /// [`AnalyticIk::solve`] for every row of `targets` (N × 16, row-major 4 × 4), in parallel
@@ -945,7 +1005,7 @@ impl AnalyticIk {
 
 /// What analytic IK screwkit offers for a chain, in words: the family and, for a 6R chain of
 /// a closed-form family in an arrangement not solved here, that it falls back to numerical IK;
-/// for a 7R chain, which joints can be locked (1-based).
+/// for a 7R chain, which joints can be locked (by name).
 pub fn describe(kin: &Kinematics) -> String {
     let c = classify(kin);
     match c.family {
@@ -958,21 +1018,15 @@ pub fn describe(kin: &Kinematics) -> String {
                     } else {
                         &mut closed
                     };
-                    list.push((j + 1).to_string());
+                    list.push(kin.names()[j].clone());
                 }
             }
             let mut parts = Vec::new();
             if !closed.is_empty() {
-                parts.push(format!(
-                    "closed form with joint {} locked",
-                    closed.join(", ")
-                ));
+                parts.push(format!("closed form with {} locked", closed.join(", ")));
             }
             if !search.is_empty() {
-                parts.push(format!(
-                    "a 1D search with joint {} locked",
-                    search.join(", ")
-                ));
+                parts.push(format!("a 1D search with {} locked", search.join(", ")));
             }
             if parts.is_empty() {
                 "7R (redundant): no joint whose locking leaves a family screwkit solves: \

@@ -488,7 +488,7 @@ pub fn ik_batch_from(
 /// projected onto SO(3) first, [`Se3::from_row_major`]).
 pub(crate) fn target_row(v: &[f64]) -> Result<Se3, SolveError> {
     let t = Se3::from_row_major(v, screwkit_lie::so3::TARGET_ROTATION_TOLERANCE)
-        .map_err(|e| SolveError::BadTarget(format!(": {e}")))?;
+        .map_err(|e| SolveError::BadTarget(e.into()))?;
     check_target(&t)?;
     Ok(t)
 }

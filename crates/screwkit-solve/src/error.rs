@@ -34,8 +34,8 @@ pub enum SolveError {
         value: f64,
     },
     /// A target pose that is not a finite rigid transform.
-    #[error("the target pose is not a finite rigid transform{0}")]
-    BadTarget(String),
+    #[error("the target pose is not a finite rigid transform: {0}")]
+    BadTarget(BadTarget),
     /// Any other input the call cannot take (a non-square Jacobian for an exact solve, a
     /// damping that is not positive, …), said in words.
     #[error("{0}")]
@@ -47,6 +47,18 @@ pub enum SolveError {
     /// Rows of a batch that failed, in row order (0-based); every other row was computed.
     #[error("{}", rows_message(.0))]
     Rows(Vec<RowError>),
+}
+
+/// Why a target pose is refused ([`SolveError::BadTarget`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BadTarget {
+    /// It holds NaN or infinity.
+    #[error("it holds NaN or infinity")]
+    NonFinite,
+    /// Its numbers are not a rigid transform (the checked constructor's reason: not a rotation
+    /// within the tolerance, a last row other than (0, 0, 0, 1), a wrong count).
+    #[error("{0}")]
+    NotRigid(#[from] screwkit_lie::LieError),
 }
 
 /// One failed row of a batch.

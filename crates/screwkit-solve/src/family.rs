@@ -54,6 +54,37 @@ pub enum Family {
 }
 
 impl Family {
+    /// Every family, in the order of the enum (most specialised first).
+    pub const ALL: [Family; 10] = [
+        Family::SphericalWristTwoParallel,
+        Family::SphericalWristTwoIntersecting,
+        Family::ThreeParallelTwoIntersecting,
+        Family::SphericalWrist,
+        Family::ThreeParallel,
+        Family::TwoIntersecting,
+        Family::TwoParallel,
+        Family::General6R,
+        Family::Redundant7R,
+        Family::NotAnalytic,
+    ];
+
+    /// The family's word in the JSON contract (`"family"` of `screwkit ik --all`, `info`): a
+    /// lower-case identifier that stays when the enum is renamed. Listed in the README.
+    pub fn word(self) -> &'static str {
+        match self {
+            Family::SphericalWristTwoParallel => "spherical_wrist_two_parallel",
+            Family::SphericalWristTwoIntersecting => "spherical_wrist_two_intersecting",
+            Family::ThreeParallelTwoIntersecting => "three_parallel_two_intersecting",
+            Family::SphericalWrist => "spherical_wrist",
+            Family::ThreeParallel => "three_parallel",
+            Family::TwoIntersecting => "two_intersecting",
+            Family::TwoParallel => "two_parallel",
+            Family::General6R => "general_6r",
+            Family::Redundant7R => "redundant_7r",
+            Family::NotAnalytic => "not_analytic",
+        }
+    }
+
     /// The family in words, with what it means for IK (and what screwkit does with it:
     /// [`crate::analytic`] solves the first five, and the sixth when the intersecting axes
     /// are 5–6 or 1–2; the others use numerical IK).

@@ -357,7 +357,7 @@ pub(crate) fn check_target(target: &Se3) -> Result<(), SolveError> {
     if target.is_finite() {
         Ok(())
     } else {
-        Err(SolveError::BadTarget(": it holds NaN or infinity".into()))
+        Err(SolveError::BadTarget(crate::BadTarget::NonFinite))
     }
 }
 

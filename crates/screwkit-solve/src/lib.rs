@@ -62,7 +62,7 @@ pub mod subproblem;
 pub mod velocity;
 mod workspace;
 
-pub use error::{RowError, SolveError};
+pub use error::{BadTarget, RowError, SolveError};
 pub use kinematics::Kinematics;
 pub use screwkit_lie::Frame;
 pub use workspace::Workspace;

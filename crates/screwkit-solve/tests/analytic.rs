@@ -168,8 +168,8 @@ fn other_families_are_refused_by_name() {
     let (_, _, kin) = common::load("panda.urdf", None, None);
     assert_eq!(
         screwkit_solve::analytic::describe(&kin),
-        "7R (redundant): analytic, closed form with joint 4, 5, 6, 7 locked; a 1D search with \
-         joint 1, 2, 3 locked"
+        "7R (redundant): analytic, closed form with panda_joint4, panda_joint5, panda_joint6, \
+         panda_joint7 locked; a 1D search with panda_joint1, panda_joint2, panda_joint3 locked"
     );
     // A locked value outside the joint's limits.
     let s = AnalyticIk::locked(&kin, 6).unwrap();

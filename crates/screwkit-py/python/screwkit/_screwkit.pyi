@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any, Literal, final
+from typing import Any, Literal, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -22,15 +22,23 @@ __all__ = [
     "set_num_threads",
     "num_threads",
     "xacro",
-    "reach_build",
-    "reach_merge",
-    "reach_svg",
     "__version__",
 ]
 
+# The option words (the floor's `screwkit_service::words`; the suite checks these against
+# `_words()`).
 _Frame: TypeAlias = Literal["space", "body"]
+_JacobianFrame: TypeAlias = Literal["space", "body", "world-aligned", "world_aligned"]
+_TableFormat: TypeAlias = Literal["markdown", "md", "text", "csv", "json"]
+_TableFrames: TypeAlias = Literal["space", "body", "both"]
+_Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
+_Method: TypeAlias = Literal["lm", "dls", "nr"]
 _F64: TypeAlias = npt.NDArray[np.float64]
 _ArrayLike: TypeAlias = npt.ArrayLike
+# Arrays whose number of dimensions decides the result (one configuration or target, or N).
+_Vector: TypeAlias = np.ndarray[tuple[int], np.dtype[np.float64]]
+_Rows: TypeAlias = np.ndarray[tuple[int, int], np.dtype[np.float64]]
+_Stack: TypeAlias = np.ndarray[tuple[int, int, int], np.dtype[np.float64]]
 
 class BatchError(ValueError):
     """Some rows of a batch had bad input; every other row was computed.
@@ -143,6 +151,7 @@ class Robot:
         *,
         package_paths: Sequence[str | os.PathLike[str]] | None = None,
         xacro_args: Mapping[str, str] | None = None,
+        tool: Sequence[float] | None = None,
     ) -> Robot: ...
     @classmethod
     def from_string(
@@ -151,6 +160,8 @@ class Robot:
         base: str | None = None,
         tip: str | None = None,
         source: str = "<string>",
+        *,
+        tool: Sequence[float] | None = None,
     ) -> Robot: ...
     def __reduce__(self) -> Any: ...
     @property
@@ -178,29 +189,61 @@ class Robot:
     @property
     def home(self) -> _F64: ...
     def screw_axes(self, frame: _Frame = "space") -> _F64: ...
-    def table(
-        self,
-        fmt: Literal["markdown", "md", "csv", "json"] = "markdown",
-        frame: Literal["space", "body", "both"] = "both",
-    ) -> str: ...
+    def table(self, fmt: _TableFormat = "markdown", frame: _TableFrames = "both") -> str: ...
+    @overload
+    def fk(self, q: _Vector) -> _Rows:
+        """q (dof,) -> the pose (4, 4)."""
+    @overload
+    def fk(self, q: _Rows) -> _Stack:
+        """q (N, dof) -> N poses (N, 4, 4)."""
+    @overload
     def fk(self, q: _ArrayLike) -> _F64: ...
+    @overload
+    def fk_all_links(self, q: _Vector) -> _Stack: ...
+    @overload
     def fk_all_links(self, q: _ArrayLike) -> _F64: ...
-    def jacobian(
-        self, q: _ArrayLike, frame: Literal["space", "body", "world-aligned"] = "space"
-    ) -> _F64: ...
+    @overload
+    def jacobian(self, q: _Vector, frame: _JacobianFrame = "space") -> _Rows: ...
+    @overload
+    def jacobian(self, q: _Rows, frame: _JacobianFrame = "space") -> _Stack: ...
+    @overload
+    def jacobian(self, q: _ArrayLike, frame: _JacobianFrame = "space") -> _F64: ...
     def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
     def draw(
         self,
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
         *,
-        view: Literal["iso", "front", "side", "top", "all"] = "iso",
+        view: _Views = "iso",
     ) -> str: ...
     def viewer(
         self,
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
     ) -> str: ...
+    @overload
+    def ik_all(
+        self,
+        target: _Rows,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+    ) -> _F64:
+        """One target (4, 4) -> its solutions (K, dof)."""
+    @overload
+    def ik_all(
+        self,
+        target: _Stack,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+    ) -> list[_F64]:
+        """N targets (N, 4, 4) -> N arrays of solutions."""
+    @overload
     def ik_all(
         self,
         target: _ArrayLike,
@@ -210,12 +253,49 @@ class Robot:
         lock_value: float | None = None,
         sweep: int | None = None,
     ) -> _F64 | list[_F64]: ...
+    @overload
+    def ik(
+        self,
+        target: _Rows,
+        seed: _ArrayLike | None = None,
+        *,
+        method: _Method = "lm",
+        tol_rot: float = 1e-9,
+        tol_pos: float = 1e-9,
+        position_only: bool = False,
+        timeout_ms: float | None = None,
+        seed_rng: int = 0,
+        max_iterations: int = 2000,
+        max_restarts: int = 200,
+        damping: float | None = None,
+        weights: Sequence[float] | None = None,
+    ) -> IkResult:
+        """One target (4, 4) -> IkResult."""
+    @overload
+    def ik(
+        self,
+        target: _Stack,
+        seed: _ArrayLike | None = None,
+        *,
+        method: _Method = "lm",
+        tol_rot: float = 1e-9,
+        tol_pos: float = 1e-9,
+        position_only: bool = False,
+        timeout_ms: float | None = None,
+        seed_rng: int = 0,
+        max_iterations: int = 2000,
+        max_restarts: int = 200,
+        damping: float | None = None,
+        weights: Sequence[float] | None = None,
+    ) -> IkBatchResult:
+        """N targets (N, 4, 4) -> IkBatchResult."""
+    @overload
     def ik(
         self,
         target: _ArrayLike,
         seed: _ArrayLike | None = None,
         *,
-        method: Literal["lm", "dls", "nr"] = "lm",
+        method: _Method = "lm",
         tol_rot: float = 1e-9,
         tol_pos: float = 1e-9,
         position_only: bool = False,
@@ -238,7 +318,8 @@ def xacro(
     package_paths: Sequence[str | os.PathLike[str]] | None = None,
     args: Mapping[str, str] | None = None,
 ) -> str: ...
-def reach_build(
+# Plumbing of the Python layer (not in __all__, not public API).
+def _reach_build(
     robot: Robot,
     path: str,
     *,
@@ -256,8 +337,14 @@ def reach_build(
     """Builds shard `shard_index` of `shard_count` of a reachability map into the .npz `path`
     (the GIL released); a summary dict. Use `screwkit.reach`."""
 
-def reach_merge(shards: list[str], path: str) -> dict[str, Any]:
+def _reach_merge(shards: list[str], path: str) -> dict[str, Any]:
     """Joins map shards into `path`. Use `screwkit.merge`."""
 
-def reach_svg(path: str) -> str:
+def _reach_svg(path: str) -> str:
     """The SVG slices through the base of the whole map `path`."""
+
+def _defaults() -> dict[str, dict[str, Any]]:
+    """The one set of defaults (IK, maps), as the floor holds them."""
+
+def _words() -> dict[str, list[str]]:
+    """Every option word family and its words."""

@@ -24,7 +24,7 @@ def _shard_task(
     fd, path = tempfile.mkstemp(suffix=".npz", prefix=f"screwkit-shard{index}-")
     os.close(fd)
     try:
-        _screwkit.reach_build(robot, path, shard_index=index, shard_count=count, **spec)
+        _screwkit._reach_build(robot, path, shard_index=index, shard_count=count, **spec)
         with open(path, "rb") as f:
             return f.read()
     finally:

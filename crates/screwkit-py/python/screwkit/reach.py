@@ -15,7 +15,7 @@ import json
 import os
 import tempfile
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 import numpy.typing as npt
@@ -30,7 +30,7 @@ MAP_FORMAT = "screwkit reachability map 1"
 """The ``format`` of every map's ``meta``."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ReachMap:
     """A reachability map read from its ``.npz`` file.
 
@@ -93,6 +93,14 @@ class ReachMap:
             except Exception as e:  # BadZipFile (CRC), EOFError, KeyError, zlib.error, …
                 raise ValueError(f"{path}: not a valid screwkit reachability map ({e})") from e
 
+    def __repr__(self) -> str:
+        k = self.orientations.shape[0]
+        where = f", path={self.path!r}" if self.path is not None else ""
+        return (
+            f"ReachMap(voxels={self.index.shape[0]}, orientations={k}, "
+            f"resolution={self.resolution}, reached={100 * self.reached_fraction:.1f}%{where})"
+        )
+
     @property
     def reached_fraction(self) -> float:
         """Reached poses over all poses of the map."""
@@ -102,7 +110,7 @@ class ReachMap:
         """The SVG slices of the index through the base (xy, xz, yz) of a saved, whole map."""
         if self.path is None:
             raise ValueError("the map was not saved: compute it with path=... to draw it")
-        return _screwkit.reach_svg(self.path)
+        return _screwkit._reach_svg(self.path)
 
 
 def _check(resolution: float, orientations: int) -> None:
@@ -117,9 +125,9 @@ def reach(
     resolution: float = 0.05,
     orientations: int = 50,
     *,
-    mode: str = "free",
+    mode: Literal["free", "directions"] = "free",
     bounds: Bounds | None = None,
-    solver: str = "auto",
+    solver: Literal["auto", "analytic", "numerical"] = "auto",
     seed: int = 0,
     restarts: int = 5,
     iterations: int = 100,
@@ -143,7 +151,7 @@ def reach(
     keep = path is not None
     target = path if path is not None else _temp_path()
     try:
-        _screwkit.reach_build(
+        _screwkit._reach_build(
             robot,
             target,
             resolution=resolution,
@@ -168,7 +176,7 @@ def merge(shards: list[str], path: str) -> ReachMap:
     """Joins shard files (any order) into the map ``path``: the file the unsharded run writes,
     byte for byte. Raises ``ValueError`` naming the file when a shard belongs to another map,
     is missing or appears twice."""
-    _screwkit.reach_merge(list(shards), path)
+    _screwkit._reach_merge(list(shards), path)
     return ReachMap.load(path)
 
 

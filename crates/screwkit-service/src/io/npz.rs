@@ -12,7 +12,7 @@ use std::io::{BufReader, Read, Write};
 
 use zip::write::SimpleFileOptions;
 
-use crate::ReachError;
+use super::FileError;
 
 const MAGIC: &[u8] = b"\x93NUMPY";
 
@@ -42,16 +42,16 @@ pub fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
 
 /// A `.npz` archive being written, one entry at a time.
 pub struct NpzWriter {
-    zip: zip::ZipWriter<crate::atomic::AtomicFile>,
+    zip: zip::ZipWriter<super::atomic::AtomicFile>,
     path: String,
     open: Option<(String, usize)>,
 }
 
 impl NpzWriter {
     /// Starts `path`: written to a temporary file beside it and renamed over it by
-    /// [`NpzWriter::finish`] ([`crate::atomic`]); an existing file is untouched until then.
-    pub fn create(path: &str) -> Result<Self, ReachError> {
-        let file = crate::atomic::AtomicFile::create(path).map_err(|e| ReachError::io(path, e))?;
+    /// [`NpzWriter::finish`] ([`super::atomic`]); an existing file is untouched until then.
+    pub fn create(path: &str) -> Result<Self, FileError> {
+        let file = super::atomic::AtomicFile::create(path).map_err(|e| FileError::io(path, e))?;
         Ok(Self {
             zip: zip::ZipWriter::new(file),
             path: path.to_string(),
@@ -59,13 +59,13 @@ impl NpzWriter {
         })
     }
 
-    fn zip_err(&self, e: zip::result::ZipError) -> ReachError {
-        ReachError::Io(format!("{}: {e}", self.path))
+    fn zip_err(&self, e: zip::result::ZipError) -> FileError {
+        FileError::io(&self.path, std::io::Error::other(e))
     }
 
     /// Starts entry `name.npy` holding an array of `descr` and `shape`; its data follows with
     /// [`NpzWriter::write_f64`] / [`NpzWriter::write_bytes`] and must add up to the shape.
-    pub fn start(&mut self, name: &str, descr: &str, shape: &[usize]) -> Result<(), ReachError> {
+    pub fn start(&mut self, name: &str, descr: &str, shape: &[usize]) -> Result<(), FileError> {
         self.check_closed()?;
         let options = SimpleFileOptions::default()
             .compression_method(zip::CompressionMethod::Stored)
@@ -81,9 +81,9 @@ impl NpzWriter {
         Ok(())
     }
 
-    fn check_closed(&self) -> Result<(), ReachError> {
+    fn check_closed(&self) -> Result<(), FileError> {
         match &self.open {
-            Some((name, left)) if *left > 0 => Err(ReachError::Io(format!(
+            Some((name, left)) if *left > 0 => Err(FileError::Format(format!(
                 "{}: entry {name} is {left} bytes short",
                 self.path
             ))),
@@ -91,19 +91,19 @@ impl NpzWriter {
         }
     }
 
-    fn write_raw(&mut self, bytes: &[u8]) -> Result<(), ReachError> {
+    fn write_raw(&mut self, bytes: &[u8]) -> Result<(), FileError> {
         let path = self.path.clone();
         self.zip
             .write_all(bytes)
-            .map_err(|e| ReachError::io(&path, e))
+            .map_err(|e| FileError::io(&path, e))
     }
 
     /// Raw little-endian data of the open entry.
-    pub fn write_bytes(&mut self, bytes: &[u8]) -> Result<(), ReachError> {
+    pub fn write_bytes(&mut self, bytes: &[u8]) -> Result<(), FileError> {
         match &mut self.open {
             Some((_, left)) if *left >= bytes.len() => *left -= bytes.len(),
             _ => {
-                return Err(ReachError::Io(format!(
+                return Err(FileError::Format(format!(
                     "{}: more data than the entry's shape",
                     self.path
                 )))
@@ -113,7 +113,7 @@ impl NpzWriter {
     }
 
     /// float64 values of the open entry.
-    pub fn write_f64(&mut self, values: &[f64]) -> Result<(), ReachError> {
+    pub fn write_f64(&mut self, values: &[f64]) -> Result<(), FileError> {
         let mut bytes = Vec::with_capacity(values.len() * 8);
         for v in values {
             bytes.extend_from_slice(&v.to_le_bytes());
@@ -122,7 +122,7 @@ impl NpzWriter {
     }
 
     /// int64 values of the open entry.
-    pub fn write_i64(&mut self, values: &[i64]) -> Result<(), ReachError> {
+    pub fn write_i64(&mut self, values: &[i64]) -> Result<(), FileError> {
         let mut bytes = Vec::with_capacity(values.len() * 8);
         for v in values {
             bytes.extend_from_slice(&v.to_le_bytes());
@@ -131,19 +131,19 @@ impl NpzWriter {
     }
 
     /// A whole float64 entry.
-    pub fn f64_array(&mut self, name: &str, shape: &[usize], v: &[f64]) -> Result<(), ReachError> {
+    pub fn f64_array(&mut self, name: &str, shape: &[usize], v: &[f64]) -> Result<(), FileError> {
         self.start(name, "<f8", shape)?;
         self.write_f64(v)
     }
 
     /// A whole int64 entry.
-    pub fn i64_array(&mut self, name: &str, shape: &[usize], v: &[i64]) -> Result<(), ReachError> {
+    pub fn i64_array(&mut self, name: &str, shape: &[usize], v: &[i64]) -> Result<(), FileError> {
         self.start(name, "<i8", shape)?;
         self.write_i64(v)
     }
 
     /// A 0-d unicode entry (numpy `str`): UTF-32LE code points.
-    pub fn text(&mut self, name: &str, s: &str) -> Result<(), ReachError> {
+    pub fn text(&mut self, name: &str, s: &str) -> Result<(), FileError> {
         let chars: Vec<char> = s.chars().collect();
         self.start(name, &format!("<U{}", chars.len().max(1)), &[])?;
         let mut bytes = Vec::with_capacity(4 * chars.len().max(1));
@@ -157,19 +157,19 @@ impl NpzWriter {
     }
 
     /// Closes the last entry and writes the archive's directory.
-    pub fn finish(self) -> Result<(), ReachError> {
+    pub fn finish(self) -> Result<(), FileError> {
         self.check_closed()?;
         let path = self.path.clone();
         let inner = self
             .zip
             .finish()
-            .map_err(|e| ReachError::Io(format!("{path}: {e}")))?;
-        inner.commit().map_err(|e| ReachError::io(&path, e))
+            .map_err(|e| FileError::io(&path, std::io::Error::other(e)))?;
+        inner.commit().map_err(|e| FileError::io(&path, e))
     }
 }
 
 /// The size in bytes of one element of `descr`.
-fn descr_size(descr: &str) -> Result<usize, ReachError> {
+fn descr_size(descr: &str) -> Result<usize, FileError> {
     match descr {
         "<f8" | "<i8" => Ok(8),
         "<i4" | "<f4" => Ok(4),
@@ -177,8 +177,8 @@ fn descr_size(descr: &str) -> Result<usize, ReachError> {
         d if d.starts_with("<U") => d[2..]
             .parse::<usize>()
             .map(|n| 4 * n)
-            .map_err(|_| ReachError::Io(format!("unknown dtype {d}"))),
-        d => Err(ReachError::Io(format!("unknown dtype {d}"))),
+            .map_err(|_| FileError::Format(format!("unknown dtype {d}"))),
+        d => Err(FileError::Format(format!("unknown dtype {d}"))),
     }
 }
 
@@ -200,10 +200,10 @@ pub struct NpyEntry<'a> {
 
 impl NpzReader {
     /// Opens `path`.
-    pub fn open(path: &str) -> Result<Self, ReachError> {
-        let file = File::open(path).map_err(|e| ReachError::io(path, e))?;
+    pub fn open(path: &str) -> Result<Self, FileError> {
+        let file = File::open(path).map_err(|e| FileError::io(path, e))?;
         let zip = zip::ZipArchive::new(BufReader::with_capacity(1 << 20, file))
-            .map_err(|e| ReachError::Format(format!("{path}: not an .npz archive: {e}")))?;
+            .map_err(|e| FileError::Format(format!("{path}: not an .npz archive: {e}")))?;
         Ok(Self {
             zip,
             path: path.to_string(),
@@ -211,12 +211,12 @@ impl NpzReader {
     }
 
     /// Entry `name` (without `.npy`).
-    pub fn entry(&mut self, name: &str) -> Result<NpyEntry<'_>, ReachError> {
+    pub fn entry(&mut self, name: &str) -> Result<NpyEntry<'_>, FileError> {
         let path = self.path.clone();
         let mut file = self
             .zip
             .by_name(&format!("{name}.npy"))
-            .map_err(|_| ReachError::Format(format!("{path}: no array '{name}' in the map")))?;
+            .map_err(|_| FileError::Format(format!("{path}: no array '{name}' in the map")))?;
         let (descr, shape) = read_header(&mut file, &path, name)?;
         Ok(NpyEntry {
             descr,
@@ -227,7 +227,7 @@ impl NpzReader {
     }
 
     /// A whole float64 entry with its shape (its CRC checked).
-    pub fn f64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<f64>), ReachError> {
+    pub fn f64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<f64>), FileError> {
         let mut e = self.entry(name)?;
         e.expect("<f8")?;
         let n: usize = e.shape.iter().product();
@@ -240,7 +240,7 @@ impl NpzReader {
     }
 
     /// A whole int64 entry with its shape (its CRC checked).
-    pub fn i64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<i64>), ReachError> {
+    pub fn i64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<i64>), FileError> {
         let mut e = self.entry(name)?;
         e.expect("<i8")?;
         let n: usize = e.shape.iter().product();
@@ -253,13 +253,13 @@ impl NpzReader {
     }
 
     /// A 0-d unicode entry as a string.
-    pub fn text(&mut self, name: &str) -> Result<String, ReachError> {
+    pub fn text(&mut self, name: &str) -> Result<String, FileError> {
         let mut e = self.entry(name)?;
         let n = e
             .descr
             .strip_prefix("<U")
             .and_then(|d| d.parse::<usize>().ok())
-            .ok_or_else(|| ReachError::Format(format!("{}: '{name}' is not text", e.path)))?;
+            .ok_or_else(|| FileError::Format(format!("{}: '{name}' is not text", e.path)))?;
         let bytes = e.read_all(n.saturating_mul(4))?;
         Ok(bytes
             .chunks_exact(4)
@@ -272,11 +272,11 @@ impl NpzReader {
 
 impl NpyEntry<'_> {
     /// An error unless the entry's dtype is `descr`.
-    pub fn expect(&self, descr: &str) -> Result<(), ReachError> {
+    pub fn expect(&self, descr: &str) -> Result<(), FileError> {
         if self.descr == descr {
             Ok(())
         } else {
-            Err(ReachError::Format(format!(
+            Err(FileError::Format(format!(
                 "{}: an array of dtype {} where {descr} was expected",
                 self.path, self.descr
             )))
@@ -285,14 +285,14 @@ impl NpyEntry<'_> {
 
     /// All `n` bytes of the data, then the end of the entry (where the zip CRC is checked).
     /// Memory grows with the bytes that really arrive, not with what a header claims.
-    pub fn read_all(&mut self, n: usize) -> Result<Vec<u8>, ReachError> {
+    pub fn read_all(&mut self, n: usize) -> Result<Vec<u8>, FileError> {
         let mut bytes = Vec::with_capacity(n.min(1 << 20));
         (&mut self.data)
             .take(n as u64)
             .read_to_end(&mut bytes)
-            .map_err(|e| ReachError::Format(format!("{}: damaged array: {e}", self.path)))?;
+            .map_err(|e| FileError::Format(format!("{}: damaged array: {e}", self.path)))?;
         if bytes.len() != n {
-            return Err(ReachError::Format(format!(
+            return Err(FileError::Format(format!(
                 "{}: truncated array ({} of {n} bytes)",
                 self.path,
                 bytes.len()
@@ -304,15 +304,15 @@ impl NpyEntry<'_> {
 
     /// Reads to the end of the entry: an error if data is left over or the zip CRC does not
     /// match (a damaged file).
-    pub fn finish(&mut self) -> Result<(), ReachError> {
+    pub fn finish(&mut self) -> Result<(), FileError> {
         let mut rest = [0u8; 1];
         match self.data.read(&mut rest) {
             Ok(0) => Ok(()),
-            Ok(_) => Err(ReachError::Format(format!(
+            Ok(_) => Err(FileError::Format(format!(
                 "{}: more data than the array's shape",
                 self.path
             ))),
-            Err(e) => Err(ReachError::Format(format!(
+            Err(e) => Err(FileError::Format(format!(
                 "{}: damaged array: {e}",
                 self.path
             ))),
@@ -320,14 +320,14 @@ impl NpyEntry<'_> {
     }
 
     /// The next `out.len()` bytes of data.
-    pub fn read_bytes(&mut self, out: &mut [u8]) -> Result<(), ReachError> {
+    pub fn read_bytes(&mut self, out: &mut [u8]) -> Result<(), FileError> {
         self.data
             .read_exact(out)
-            .map_err(|e| ReachError::Format(format!("{}: truncated array: {e}", self.path)))
+            .map_err(|e| FileError::Format(format!("{}: truncated array: {e}", self.path)))
     }
 
     /// The next `out.len()` float64 values.
-    pub fn read_f64(&mut self, out: &mut [f64]) -> Result<(), ReachError> {
+    pub fn read_f64(&mut self, out: &mut [f64]) -> Result<(), FileError> {
         let mut bytes = vec![0u8; 8 * out.len()];
         self.read_bytes(&mut bytes)?;
         for (o, b) in out.iter_mut().zip(bytes.chunks_exact(8)) {
@@ -421,8 +421,8 @@ fn read_header(
     r: &mut impl Read,
     path: &str,
     name: &str,
-) -> Result<(String, Vec<usize>), ReachError> {
-    let bad = |why: &str| ReachError::Format(format!("{path}: array '{name}': {why}"));
+) -> Result<(String, Vec<usize>), FileError> {
+    let bad = |why: &str| FileError::Format(format!("{path}: array '{name}': {why}"));
     let h = read_npy_header(r).map_err(|e| bad(&e))?;
     if h.fortran {
         return Err(bad("Fortran order is not read"));
@@ -437,14 +437,14 @@ pub fn copy_entry(
     name: &str,
     to: &mut NpzWriter,
     chunk: usize,
-) -> Result<Vec<usize>, ReachError> {
+) -> Result<Vec<usize>, FileError> {
     let mut e = from.entry(name)?;
     let total = e
         .shape
         .iter()
         .product::<usize>()
         .checked_mul(descr_size(&e.descr)?)
-        .ok_or_else(|| ReachError::Format(format!("{}: array '{name}' too large", e.path)))?;
+        .ok_or_else(|| FileError::Format(format!("{}: array '{name}' too large", e.path)))?;
     let shape = e.shape.clone();
     let mut buf = vec![0u8; chunk.max(1)];
     let mut left = total;

@@ -1,0 +1,156 @@
+"""One floor for every front end: the same file, option words, defaults and joints give the same
+answers from Python and from the command line, and the stubs show the floor's words and
+defaults."""
+
+from __future__ import annotations
+
+import ast
+import inspect
+import json
+import os
+import subprocess
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+import screwkit
+from screwkit import _screwkit
+
+from conftest import ASSETS
+
+UR5 = ASSETS / "ur5.urdf"
+PANDA = ASSETS / "panda.urdf"
+STUB = Path(screwkit.__file__).with_name("_screwkit.pyi")
+
+
+def cli(*args: str) -> Any:
+    """The CLI's JSON answer (SCREWKIT_CLI: the binary `cargo xtask test` builds)."""
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    out = subprocess.run([exe, *args, "--format", "json"], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+def encodings(tmp_path: Path) -> list[Path]:
+    """The UR5 as UTF-8 with a byte-order mark and as declared Latin-1 with a non-ASCII name."""
+    text = UR5.read_text()
+    body = text.split("?>", 1)[1] if text.startswith("<?xml") else text
+    bom = tmp_path / "bom.urdf"
+    bom.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    latin = tmp_path / "latin.urdf"
+    latin.write_bytes(
+        b'<?xml version="1.0" encoding="ISO-8859-1"?>'
+        + body.replace('name="ur5"', 'name="ur5_\xe9"').encode("latin-1")
+    )
+    return [bom, latin]
+
+
+def test_bom_and_latin1_files_load_the_same_from_python_and_the_cli(tmp_path: Path) -> None:
+    q = [0.1, -0.5, 1.0, 0.2, 0.3, -0.4]
+    plain = screwkit.Robot.from_urdf(UR5).fk(np.array(q))
+    want = cli("fk", str(UR5), "--q", ",".join(map(str, q)))["pose"]
+    np.testing.assert_array_equal(plain, np.array(want))
+    for path in encodings(tmp_path):
+        np.testing.assert_array_equal(screwkit.Robot.from_urdf(path).fk(np.array(q)), plain)
+        got = cli("fk", str(path), "--q", ",".join(map(str, q)))["pose"]
+        np.testing.assert_array_equal(np.array(got), plain)
+
+
+def test_a_lock_by_name_or_index_gives_the_same_solutions_everywhere() -> None:
+    panda = screwkit.Robot.from_urdf(PANDA)
+    q = np.array([0.1, -0.5, 0.2, -2.0, 0.3, 1.6, 0.8])
+    t = panda.fk(q)
+    by_name = panda.ik_all(t, q, lock="panda_joint6", lock_value=1.5)
+    by_index = panda.ik_all(t, q, lock=5, lock_value=1.5)
+    assert isinstance(by_name, np.ndarray) and len(by_name) > 0
+    np.testing.assert_array_equal(by_name, by_index)
+    assert np.all(by_name[:, 5] == 1.5)
+    seed = ",".join(repr(float(x)) for x in q)
+    target = ",".join(repr(float(x)) for x in t.ravel())
+    for lock in ["panda_joint6=1.5", "5=1.5"]:
+        v = cli("ik", str(PANDA), "--target-matrix", target, "--all", "--seed", seed, "--lock", lock)
+        assert v["locked"] == {"joint": "panda_joint6", "index": 5, "values": [1.5]}
+        np.testing.assert_array_equal(np.array([s["q"] for s in v["solutions"]]), by_name)
+
+
+def test_signature_defaults_are_the_floors() -> None:
+    d = _screwkit._defaults()
+    ik = inspect.signature(screwkit.Robot.ik).parameters
+    for name, value in d["ik"].items():
+        assert ik[name].default == value, name
+    reach = inspect.signature(screwkit.reach).parameters
+    for name, value in d["reach"].items():
+        assert reach[name].default == value, name
+    # The numbers behind them are the library's (IkOptions::default, ReachSpec::default).
+    assert d["ik"]["tol_rot"] == 1e-9 and d["ik"]["max_restarts"] == 200
+    assert d["reach"]["resolution"] == 0.05 and d["reach"]["orientations"] == 50
+
+
+def stub_literals() -> dict[str, list[str]]:
+    """The `_Name: TypeAlias = Literal[...]` aliases of the stub."""
+    out: dict[str, list[str]] = {}
+    for node in ast.parse(STUB.read_text()).body:
+        if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name):
+            v = node.value
+            if isinstance(v, ast.Subscript) and getattr(v.value, "id", "") == "Literal":
+                elts = v.slice.elts if isinstance(v.slice, ast.Tuple) else [v.slice]
+                out[node.target.id] = [e.value for e in elts if isinstance(e, ast.Constant)]
+    return out
+
+
+def test_stub_words_are_the_floors() -> None:
+    words = _screwkit._words()
+    lit = stub_literals()
+    for alias, family in [
+        ("_Frame", "screw_frame"),
+        ("_JacobianFrame", "jacobian_frame"),
+        ("_TableFormat", "table_format"),
+        ("_TableFrames", "table_frames"),
+        ("_Views", "views"),
+        ("_Method", "method"),
+    ]:
+        assert sorted(lit[alias]) == sorted(words[family]), alias
+    for family in ["orientation_mode", "solver_choice"]:
+        for w in words[family]:
+            assert f'"{w}"' in inspect.getsource(screwkit.reach), (family, w)
+
+
+def test_an_unknown_word_lists_the_floors_words() -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    with pytest.raises(ValueError, match='method: unknown IK method "newton": expected "lm"'):
+        robot.ik(robot.home, method="newton")  # type: ignore[call-overload]
+    with pytest.raises(ValueError, match='view: unknown view "back"'):
+        robot.draw(view="back")  # type: ignore[arg-type]
+
+
+def test_the_tool_frame_reaches_python(tmp_path: Path) -> None:
+    tool = [0.0, 0.0, 0.1, 0.0, 0.0, 0.0]
+    robot = screwkit.Robot.from_urdf(UR5, tool=tool)
+    q = np.array([0.1, -0.5, 1.0, 0.2, 0.3, -0.4])
+    want = cli("fk", str(UR5), "--q", ",".join(map(str, q)), "--tool", "0,0,0.1,0,0,0")["pose"]
+    np.testing.assert_array_equal(robot.fk(q), np.array(want))
+    import pickle
+
+    again = pickle.loads(pickle.dumps(robot))
+    np.testing.assert_array_equal(again.fk(q), robot.fk(q))
+    with pytest.raises(ValueError, match="tool: needs 6 numbers"):
+        screwkit.Robot.from_urdf(UR5, tool=[0.0, 0.1])
+
+
+def test_reprs_are_one_short_line(tmp_path: Path) -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    t = robot.fk(robot.midpoint)
+    results: list[object] = [
+        robot.ik(t),
+        robot.ik(np.stack([t, t])),
+        robot.analyze(robot.midpoint),
+        screwkit.reach(robot, resolution=0.4, orientations=4),
+        robot,
+    ]
+    for r in results:
+        text = repr(r)
+        assert "\n" not in text and len(text) < 200, text

@@ -1,0 +1,132 @@
+//! The reports front ends print or return: serde structs that ARE the JSON contract (the field
+//! names are decided here, once; the README lists them). Numbers follow [`crate::io::json`]'s
+//! rule. [`to_value`] gives the JSON value the CLI prints (keys in alphabetical order, as
+//! every screwkit JSON object has had them).
+
+use serde::Serialize;
+use serde_json::Value;
+
+use crate::io::json::{number, numbers};
+use screwkit_solve::ik::IkStatus;
+
+/// A report as a JSON value.
+pub fn to_value(report: &impl Serialize) -> Value {
+    serde_json::to_value(report).unwrap_or(Value::Null)
+}
+
+/// One numerical IK answer (`screwkit ik --format json`, a line of an IK batch).
+#[derive(Debug, Clone, Serialize)]
+pub struct IkReport {
+    /// True when the tolerances were met.
+    pub converged: bool,
+    /// The joint values (the best found when not converged).
+    #[serde(serialize_with = "numbers")]
+    pub q: Vec<f64>,
+    /// Iterations used (all attempts).
+    pub iterations: usize,
+    /// Random restarts used.
+    pub restarts: usize,
+    /// ‖ω‖ of the final body twist error (rad).
+    #[serde(serialize_with = "number")]
+    pub error_rot: f64,
+    /// ‖v‖ of the final body twist error (m).
+    #[serde(serialize_with = "number")]
+    pub error_pos: f64,
+    /// Wall time of the solve (µs).
+    #[serde(serialize_with = "number")]
+    pub time_us: f64,
+    /// Why it stopped ([`screwkit_solve::ik::StopReason::as_str`]).
+    pub stop: &'static str,
+}
+
+impl IkReport {
+    /// The report of a solve's status and answer.
+    pub fn new(q: &[f64], status: &IkStatus, time_us: f64) -> IkReport {
+        IkReport {
+            converged: status.converged,
+            q: q.to_vec(),
+            iterations: status.iterations,
+            restarts: status.restarts,
+            error_rot: status.error_rot,
+            error_pos: status.error_pos,
+            time_us,
+            stop: status.stop.as_str(),
+        }
+    }
+}
+
+/// The locked joint of a 7R arm's analytic solve.
+#[derive(Debug, Clone, Serialize)]
+pub struct LockedReport {
+    /// The joint's name.
+    pub joint: String,
+    /// Its position in q (0-based, like every joint index screwkit prints or takes).
+    pub index: usize,
+    /// The values it was locked at.
+    #[serde(serialize_with = "numbers")]
+    pub values: Vec<f64>,
+}
+
+/// One analytic solution.
+#[derive(Debug, Clone, Serialize)]
+pub struct SolutionReport {
+    /// The joint values.
+    #[serde(serialize_with = "numbers")]
+    pub q: Vec<f64>,
+    /// True when it reaches the target (else a least-squares configuration).
+    pub exact: bool,
+    /// Its FK residual.
+    #[serde(serialize_with = "number")]
+    pub residual: f64,
+}
+
+/// Every analytic solution of one target (`screwkit ik --all --format json`).
+#[derive(Debug, Clone, Serialize)]
+pub struct AllSolutionsReport {
+    /// The chain's family: [`screwkit_solve::family::Family::word`].
+    pub family: &'static str,
+    /// True when the chain is solved tip to base (its reversed order is the family's).
+    pub reversed: bool,
+    /// The locked joint of a 7R arm.
+    pub locked: Option<LockedReport>,
+    /// True when every solution is exact (the target is reached).
+    pub exact: bool,
+    /// True when a free angle was chosen (a singular target).
+    pub singular: bool,
+    /// The postures found (before the 2π shifts within the limits).
+    pub postures: usize,
+    /// The solutions within the limits, nearest to the seed first.
+    pub solutions: Vec<SolutionReport>,
+}
+
+/// A map build's or merge's summary (`screwkit reach --format json`, Python's dict).
+#[derive(Debug, Clone, Serialize)]
+pub struct MapReport {
+    /// Voxels of the file written.
+    pub voxels: usize,
+    /// Poses (voxels × orientations).
+    pub poses: usize,
+    /// Poses solved (inside the reachable ball); None for a merge.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solved: Option<usize>,
+    /// Poses reached.
+    pub reached: usize,
+    /// reached ÷ poses.
+    #[serde(serialize_with = "number")]
+    pub reached_fraction: f64,
+    /// Wall time (s).
+    #[serde(serialize_with = "number")]
+    pub seconds: f64,
+    /// Solves per second; None for a merge.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solves_per_second: Option<f64>,
+    /// Threads used; None for a merge.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub threads: Option<usize>,
+    /// "analytic" or "numerical"; None for a merge.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub solver: Option<&'static str>,
+    /// Shards joined; None for a build.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shards: Option<usize>,
+}

@@ -1,0 +1,124 @@
+//! Every analytic IK solution as front ends ask for it (`screwkit ik --all`,
+//! `Robot.ik_all`): the solver chosen once (the default one, or with a joint locked), the lock
+//! options checked before any target, one target or a batch through the library's
+//! [`AnalyticIk::solve_nearest_batch`], and the report.
+
+use screwkit_lie::Se3;
+use screwkit_solve::analytic::{AnalyticIk, Solutions};
+use screwkit_solve::{Kinematics, SolveError, Workspace};
+
+use crate::error::Result;
+use crate::joint::{JointRef, Lock};
+use crate::report::{AllSolutionsReport, LockedReport, SolutionReport};
+
+/// The analytic solver with its lock options.
+#[derive(Debug, Clone)]
+pub struct AllSolutions {
+    solver: AnalyticIk,
+    value: Option<f64>,
+    sweep: Option<usize>,
+}
+
+impl AllSolutions {
+    /// The default solver ([`AnalyticIk::auto`]) or, with `lock`, the one with that joint
+    /// locked (its value, or the seed's per target; `sweep`: that many values over its
+    /// limits). The options are checked here, before any target.
+    pub fn new(kin: &Kinematics, lock: Option<&Lock>, sweep: Option<usize>) -> Result<Self> {
+        Self::with_default(
+            kin,
+            lock.map(|l| &l.joint),
+            lock.and_then(|l| l.value),
+            sweep,
+            None,
+        )
+    }
+
+    /// The solver with `joint` locked (None: the default solver, which for a 7R arm locks a
+    /// joint of its own choice) at `value` (None: the seed's per target) or swept over `sweep`
+    /// values; `auto`, a prepared [`AnalyticIk::auto`], is reused when it fits.
+    pub fn with_default(
+        kin: &Kinematics,
+        joint: Option<&JointRef>,
+        value: Option<f64>,
+        sweep: Option<usize>,
+        auto: Option<&AnalyticIk>,
+    ) -> Result<Self> {
+        let solver = match joint {
+            None => match auto {
+                Some(a) => a.clone(),
+                None => AnalyticIk::auto(kin)?,
+            },
+            Some(joint) => {
+                let j = joint.resolve(kin, "lock")?;
+                match auto {
+                    Some(a) if a.locked_joint() == Some(j) => a.clone(),
+                    _ => AnalyticIk::locked(kin, j)?,
+                }
+            }
+        };
+        solver.lock_values(kin, &kin.midpoint(), value, sweep)?;
+        Ok(Self {
+            solver,
+            value,
+            sweep,
+        })
+    }
+
+    /// The solver.
+    pub fn solver(&self) -> &AnalyticIk {
+        &self.solver
+    }
+
+    /// Every solution of `target`, nearest to `seed` first, and the lock values used.
+    pub fn solve(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        target: &Se3,
+        seed: &[f64],
+    ) -> Result<(Solutions, Vec<f64>), SolveError> {
+        kin.check_q(seed)?;
+        let values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
+        let mut sols = Solutions::default();
+        self.solver
+            .solve_swept(kin, ws, target, &values, &mut sols)?;
+        sols.sort_nearest(seed, None);
+        Ok((sols, values))
+    }
+
+    /// [`AllSolutions::solve`] of every row of `targets` (N × 16) with `seeds` (one dof row
+    /// for all, or N × dof), on all cores; each row's own result.
+    #[allow(clippy::type_complexity)]
+    pub fn solve_batch(
+        &self,
+        kin: &Kinematics,
+        targets: &[f64],
+        seeds: &[f64],
+    ) -> Result<Vec<Result<(Solutions, Vec<f64>), SolveError>>, SolveError> {
+        self.solver
+            .solve_nearest_batch(kin, targets, seeds, self.value, self.sweep)
+    }
+
+    /// The report of one target's solutions (`values`: the lock values used).
+    pub fn report(&self, kin: &Kinematics, sols: &Solutions, values: &[f64]) -> AllSolutionsReport {
+        AllSolutionsReport {
+            family: self.solver.family().word(),
+            reversed: self.solver.reversed(),
+            locked: self.solver.locked_joint().map(|j| LockedReport {
+                joint: kin.names()[j].clone(),
+                index: j,
+                values: values.to_vec(),
+            }),
+            exact: sols.is_exact(),
+            singular: sols.singular,
+            postures: sols.branches,
+            solutions: (0..sols.len())
+                .map(|i| SolutionReport {
+                    q: sols.q(i).to_vec(),
+                    exact: sols.exact(i),
+                    residual: sols.residual(i),
+                })
+                .collect(),
+        }
+    }
+}

@@ -1,0 +1,381 @@
+//! The option words every front end takes: one enum per word family, each with one spelling
+//! list ([`Word::ALL`] and [`Word::as_str`]), parsed by [`FromStr`](std::str::FromStr) (or
+//! [`parse`]) and printed by `Display`. The CLI's value parsers, the Python keyword arguments
+//! and the stubs' literal types all come from here; an error lists the accepted words.
+//!
+//! **Adding a word**: add the variant and its spelling to its `words!` block below; the CLI's
+//! `--help`, the Python argument check and the error messages pick it up (the stubs' `Literal`
+//! is checked against [`Word::ALL`] by the Python suite).
+
+use std::fmt;
+
+use screwkit_lie::Frame;
+
+/// An option word family: every spelling, and how to print one.
+pub trait Word: Copy + Sized + 'static {
+    /// What the word names, for messages ("IK method", "frame", …).
+    const KIND: &'static str;
+    /// Every word, in the order help texts list them.
+    const ALL: &'static [Self];
+    /// Its spelling.
+    fn as_str(self) -> &'static str;
+    /// Other accepted spellings (`md` for `markdown`), never printed.
+    fn aliases(self) -> &'static [&'static str] {
+        &[]
+    }
+}
+
+/// A word that is not one of its family's.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown {kind} \"{given}\": expected {}", expected(.accepted))]
+pub struct WordError {
+    /// The family ([`Word::KIND`]).
+    pub kind: &'static str,
+    /// What was given.
+    pub given: String,
+    /// The accepted words.
+    pub accepted: Vec<&'static str>,
+}
+
+fn expected(words: &[&'static str]) -> String {
+    let quoted: Vec<String> = words.iter().map(|w| format!("\"{w}\"")).collect();
+    match quoted.as_slice() {
+        [] => String::new(),
+        [one] => one.clone(),
+        [init @ .., last] => format!("{} or {last}", init.join(", ")),
+    }
+}
+
+/// Parses a word of family `W` (exact spelling or alias).
+pub fn parse<W: Word>(s: &str) -> Result<W, WordError> {
+    W::ALL
+        .iter()
+        .copied()
+        .find(|w| w.as_str() == s || w.aliases().contains(&s))
+        .ok_or_else(|| WordError {
+            kind: W::KIND,
+            given: s.to_string(),
+            accepted: names::<W>(),
+        })
+}
+
+/// Every spelling of family `W`, in [`Word::ALL`] order.
+pub fn names<W: Word>() -> Vec<&'static str> {
+    W::ALL.iter().map(|w| w.as_str()).collect()
+}
+
+/// Defines a word enum: variants with their spellings, `Word`, `FromStr`, `Display`.
+macro_rules! words {
+    ($(#[$meta:meta])* $name:ident, $kind:literal {
+        $($(#[$vmeta:meta])* $variant:ident = $word:literal $(| $alias:literal)*),+ $(,)?
+    }) => {
+        $(#[$meta])*
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum $name {
+            $($(#[$vmeta])* $variant),+
+        }
+
+        impl Word for $name {
+            const KIND: &'static str = $kind;
+            const ALL: &'static [Self] = &[$($name::$variant),+];
+            fn as_str(self) -> &'static str {
+                match self {
+                    $($name::$variant => $word),+
+                }
+            }
+            fn aliases(self) -> &'static [&'static str] {
+                match self {
+                    $($name::$variant => &[$($alias),*]),+
+                }
+            }
+        }
+
+        impl std::str::FromStr for $name {
+            type Err = WordError;
+            fn from_str(s: &str) -> Result<Self, WordError> {
+                parse(s)
+            }
+        }
+
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.as_str())
+            }
+        }
+    };
+}
+
+words! {
+    /// The numerical IK method (`screwkit ik --method`, `Robot.ik(method=…)`).
+    Method, "IK method" {
+        /// Levenberg–Marquardt (adaptive damping; the default).
+        Lm = "lm",
+        /// Damped least squares (fixed damping).
+        Dls = "dls",
+        /// Newton–Raphson with the SVD pseudo-inverse.
+        Nr = "nr",
+    }
+}
+
+impl Method {
+    /// The library's method, with `damping` (LM's floor μ̄, DLS's λ; None: the library's
+    /// default). Newton–Raphson takes no damping.
+    pub fn with_damping(
+        self,
+        damping: Option<f64>,
+    ) -> Result<screwkit_solve::ik::IkMethod, crate::Error> {
+        use screwkit_solve::ik::IkMethod;
+        Ok(match (self, damping) {
+            (Method::Lm, None) => IkMethod::LM,
+            (Method::Lm, Some(f)) => IkMethod::LevenbergMarquardt { damping_floor: f },
+            (Method::Dls, None) => IkMethod::DLS,
+            (Method::Dls, Some(l)) => IkMethod::Dls { lambda: l },
+            (Method::Nr, None) => IkMethod::NewtonRaphson,
+            (Method::Nr, Some(_)) => {
+                return Err(crate::Error::option(
+                    "damping",
+                    "Newton-Raphson (method \"nr\") takes no damping",
+                ))
+            }
+        })
+    }
+
+    /// The word of a library method.
+    pub fn of(m: &screwkit_solve::ik::IkMethod) -> Method {
+        use screwkit_solve::ik::IkMethod;
+        match m {
+            IkMethod::LevenbergMarquardt { .. } => Method::Lm,
+            IkMethod::Dls { .. } => Method::Dls,
+            IkMethod::NewtonRaphson => Method::Nr,
+        }
+    }
+}
+
+words! {
+    /// The frame of a screw axis or a twist: the library's [`Frame`] as a word.
+    ScrewFrame, "frame" {
+        /// The space frame (the base).
+        Space = "space",
+        /// The body frame (the tip).
+        Body = "body",
+    }
+}
+
+impl From<ScrewFrame> for Frame {
+    fn from(f: ScrewFrame) -> Frame {
+        match f {
+            ScrewFrame::Space => Frame::Space,
+            ScrewFrame::Body => Frame::Body,
+        }
+    }
+}
+
+words! {
+    /// Which Jacobian (`screwkit jacobian --frame`, `Robot.jacobian(frame=…)`).
+    JacobianFrame, "frame" {
+        /// J_s: the twist of the body at the base origin, base axes.
+        Space = "space",
+        /// J_b: at the tip, tip axes.
+        Body = "body",
+        /// J_wa: angular velocity and the tip point's velocity, base axes (Pinocchio's
+        /// `LOCAL_WORLD_ALIGNED`).
+        WorldAligned = "world-aligned" | "world_aligned",
+    }
+}
+
+impl JacobianFrame {
+    /// The library frame of J_s / J_b; None for the world-aligned Jacobian.
+    pub fn screw(self) -> Option<Frame> {
+        match self {
+            JacobianFrame::Space => Some(Frame::Space),
+            JacobianFrame::Body => Some(Frame::Body),
+            JacobianFrame::WorldAligned => None,
+        }
+    }
+}
+
+words! {
+    /// The screw axes a table shows.
+    TableFrames, "frame" {
+        /// S_i.
+        Space = "space",
+        /// B_i.
+        Body = "body",
+        /// Both, space first.
+        Both = "both",
+    }
+}
+
+impl TableFrames {
+    /// The library frames, in table order.
+    pub fn frames(self) -> Vec<Frame> {
+        match self {
+            TableFrames::Space => vec![Frame::Space],
+            TableFrames::Body => vec![Frame::Body],
+            TableFrames::Both => Frame::ALL.to_vec(),
+        }
+    }
+}
+
+words! {
+    /// The text form of a screw table.
+    TableFormat, "table format" {
+        /// A Markdown table.
+        Markdown = "markdown" | "md" | "text",
+        /// Comma-separated values.
+        Csv = "csv",
+        /// One JSON object.
+        Json = "json",
+    }
+}
+
+words! {
+    /// A direction to look at the robot from (pictures).
+    View, "view" {
+        /// From (1, 1, 1), z up: the isometric view.
+        Iso = "iso",
+        /// From +x (y to the right, z up).
+        Front = "front",
+        /// From −y (x to the right, z up).
+        Side = "side",
+        /// From +z (x to the right, y up).
+        Top = "top",
+    }
+}
+
+words! {
+    /// The views of a picture: one of them, or all four on one sheet.
+    Views, "view" {
+        /// Isometric.
+        Iso = "iso",
+        /// From +x.
+        Front = "front",
+        /// From −y.
+        Side = "side",
+        /// From +z.
+        Top = "top",
+        /// The four, in [`View::ALL`] order.
+        All = "all",
+    }
+}
+
+impl Views {
+    /// The views drawn.
+    pub fn views(self) -> Vec<View> {
+        match self {
+            Views::Iso => vec![View::Iso],
+            Views::Front => vec![View::Front],
+            Views::Side => vec![View::Side],
+            Views::Top => vec![View::Top],
+            Views::All => View::ALL.to_vec(),
+        }
+    }
+}
+
+words! {
+    /// How the K orientations of each voxel of a map are chosen.
+    OrientationMode, "orientation mode" {
+        /// K rotations spread evenly over SO(3) (a super-Fibonacci spiral, Alexa, CVPR 2022):
+        /// the reachability index of Zacharias et al. over all orientations.
+        Free = "free",
+        /// K directions spread evenly on the unit sphere (a Fibonacci lattice), the tool's z
+        /// axis pointing from the direction's point on a sphere around the voxel towards its
+        /// centre, as in capability maps; the roll about that axis is fixed (x axis in the
+        /// plane of z and the base's z axis, or the base's x axis when they are parallel).
+        Directions = "directions",
+    }
+}
+
+words! {
+    /// Which IK a map uses.
+    SolverChoice, "map solver" {
+        /// Analytic when the chain is a 6R arm with a closed form, numerical otherwise.
+        Auto = "auto",
+        /// The analytic solver (every solution); an error for chains without a closed form.
+        Analytic = "analytic",
+        /// Numerical IK (one solution within the limits per pose).
+        Numerical = "numerical",
+    }
+}
+
+/// The words of the map file format: how a mode and a solver choice are spelt in a map's
+/// metadata (kept as the first maps wrote them: `"Free"`, `"Auto"`, …, so that every map
+/// written so far still reads and merges).
+mod map_spelling {
+    use super::{OrientationMode, SolverChoice};
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    fn title(w: &str) -> String {
+        let mut c = w.chars();
+        c.next()
+            .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+            .unwrap_or_default()
+    }
+
+    macro_rules! serde_title {
+        ($t:ty) => {
+            impl Serialize for $t {
+                fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+                    s.serialize_str(&title(super::Word::as_str(*self)))
+                }
+            }
+            impl<'de> Deserialize<'de> for $t {
+                fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+                    let s = String::deserialize(d)?;
+                    super::parse::<$t>(&s.to_ascii_lowercase()).map_err(serde::de::Error::custom)
+                }
+            }
+        };
+    }
+    serde_title!(OrientationMode);
+    serde_title!(SolverChoice);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_word_parses_back_and_unknown_words_list_the_family() {
+        fn check<W: Word + PartialEq + std::fmt::Debug + std::str::FromStr<Err = WordError>>() {
+            for &w in W::ALL {
+                assert_eq!(w.as_str().parse::<W>().unwrap(), w);
+                for a in w.aliases() {
+                    assert_eq!(a.parse::<W>().unwrap(), w);
+                }
+            }
+            let e = "nonsense".parse::<W>().unwrap_err();
+            for &w in W::ALL {
+                assert!(
+                    e.to_string().contains(&format!("\"{}\"", w.as_str())),
+                    "{e}"
+                );
+            }
+        }
+        check::<Method>();
+        check::<ScrewFrame>();
+        check::<JacobianFrame>();
+        check::<TableFrames>();
+        check::<TableFormat>();
+        check::<View>();
+        check::<Views>();
+        check::<OrientationMode>();
+        check::<SolverChoice>();
+        assert_eq!(
+            "x".parse::<Method>().unwrap_err().to_string(),
+            "unknown IK method \"x\": expected \"lm\", \"dls\" or \"nr\""
+        );
+    }
+
+    #[test]
+    fn map_files_keep_their_spelling() {
+        assert_eq!(
+            serde_json::to_string(&OrientationMode::Directions).unwrap(),
+            "\"Directions\""
+        );
+        assert_eq!(
+            serde_json::from_str::<SolverChoice>("\"Auto\"").unwrap(),
+            SolverChoice::Auto
+        );
+    }
+}
