@@ -72,21 +72,8 @@ fn vec3(v: &Vector3<f64>) -> String {
     format!("({}, {}, {})", num(v.x), num(v.y), num(v.z))
 }
 
-/// Escapes text for XML content and attribute values.
-pub(crate) fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
-}
+/// Escapes text for XML content and attribute values (the workspace's one XML escape).
+pub(crate) use screwkit_model::input::escape_xml as escape;
 
 /// A name made safe for an `id` (letters, digits, `-`, `_`, `.`; anything else `_`).
 fn id_part(s: &str) -> String {

@@ -29,6 +29,7 @@
 //! assert!((back.to_vector() - xi.to_vector()).norm() < 1e-14);
 //! ```
 
+pub mod angle;
 pub mod display;
 pub mod error;
 pub mod fma;

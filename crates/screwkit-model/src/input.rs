@@ -71,6 +71,69 @@ pub(crate) fn io_kind(e: &std::io::Error) -> ErrorKind {
     }
 }
 
+/// Appends `s` escaped for XML text and double-quoted attribute values (`&`, `<`, `>`, `"`),
+/// as ROS's xacro writes them. The one XML escape of the workspace: URDF pre-pass, xacro
+/// output, pictures.
+pub fn push_escaped(s: &str, out: &mut String) {
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            c => out.push(c),
+        }
+    }
+}
+
+/// `s` escaped for XML ([`push_escaped`]).
+pub fn escape_xml(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    push_escaped(s, &mut out);
+    out
+}
+
+/// A robot file's bytes as text: UTF-8 (a byte-order mark dropped), or Latin-1 when the XML
+/// declaration says so (ISO-8859-1, latin1, …), as urdfdom reads them.
+pub fn decode(bytes: &[u8]) -> Result<String, ErrorKind> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    match std::str::from_utf8(bytes) {
+        Ok(s) => Ok(s.to_string()),
+        Err(e) => {
+            let head = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).to_ascii_lowercase();
+            let latin1 = ["iso-8859-1", "iso8859-1", "latin-1", "latin1"];
+            if head.trim_start().starts_with("<?xml") && latin1.iter().any(|l| head.contains(l)) {
+                Ok(bytes.iter().map(|&b| b as char).collect())
+            } else {
+                Err(ErrorKind::Io {
+                    kind: std::io::ErrorKind::InvalidData,
+                    message: format!(
+                        "not UTF-8 text (byte {} is invalid; declare encoding=\"ISO-8859-1\" for Latin-1)",
+                        e.valid_up_to()
+                    ),
+                })
+            }
+        }
+    }
+}
+
+/// What urdfdom tolerates and a strict XML parser does not: whitespace before the XML
+/// declaration, NUL bytes at the end (C strings written whole), and an encoding named in the
+/// declaration (the text is already decoded: [`decode`]).
+pub fn tolerate(text: &str) -> std::borrow::Cow<'_, str> {
+    let t = text
+        .trim_start()
+        .trim_end_matches(['\0', ' ', '\n', '\r', '\t']);
+    if let Some(rest) = t.strip_prefix("<?xml") {
+        if let Some(end) = rest.find("?>") {
+            if rest[..end].contains("encoding") {
+                return format!("<?xml version=\"1.0\"?>{}", &rest[end + 2..]).into();
+            }
+        }
+    }
+    t.into()
+}
+
 /// The parsing options every document is read with: a DTD allowed (real files have one),
 /// [`MAX_NODES`].
 pub(crate) fn parse_options<'a>() -> roxmltree::ParsingOptions<'a> {

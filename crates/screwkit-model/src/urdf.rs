@@ -19,7 +19,8 @@
 //! meshes, materials, inertia, collision, `<transmission>` and `<gazebo>` blocks (which may
 //! hold their own `<joint>` elements) can never make a file fail. xacro files are detected
 //! (`<xacro:…>` elements, `${…}`/`$(…)` in attribute values; not the mere `xmlns:xacro`
-//! declaration, which xacro leaves in its output) and refused with advice.
+//! declaration, which xacro leaves in its output: [`xacro::is_xacro`]) and expanded natively
+//! first ([`crate::xacro`], ROS's xacro semantics) by [`load_str_with`] / [`urdf_text`].
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -44,46 +45,8 @@ pub fn load_file_with(path: impl AsRef<Path>, opts: &XacroOptions) -> Result<Tre
     load_str_with(&text, &label, path.parent().unwrap_or(Path::new(".")), opts)
 }
 
-/// A robot file's bytes as text: UTF-8 (a byte-order mark dropped), or Latin-1 when the XML
-/// declaration says so (ISO-8859-1, latin1, …), as urdfdom reads them.
-pub fn decode(bytes: &[u8]) -> Result<String, ErrorKind> {
-    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    match std::str::from_utf8(bytes) {
-        Ok(s) => Ok(s.to_string()),
-        Err(e) => {
-            let head = String::from_utf8_lossy(&bytes[..bytes.len().min(200)]).to_ascii_lowercase();
-            let latin1 = ["iso-8859-1", "iso8859-1", "latin-1", "latin1"];
-            if head.trim_start().starts_with("<?xml") && latin1.iter().any(|l| head.contains(l)) {
-                Ok(bytes.iter().map(|&b| b as char).collect())
-            } else {
-                Err(ErrorKind::Io {
-                    kind: std::io::ErrorKind::InvalidData,
-                    message: format!(
-                        "not UTF-8 text (byte {} is invalid; declare encoding=\"ISO-8859-1\" for Latin-1)",
-                        e.valid_up_to()
-                    ),
-                })
-            }
-        }
-    }
-}
-
-/// What urdfdom tolerates and a strict XML parser does not: whitespace before the XML
-/// declaration, NUL bytes at the end (C strings written whole), and an encoding named in the
-/// declaration (the text is already decoded: [`decode`]).
-pub(crate) fn tolerate(text: &str) -> std::borrow::Cow<'_, str> {
-    let t = text
-        .trim_start()
-        .trim_end_matches(['\0', ' ', '\n', '\r', '\t']);
-    if let Some(rest) = t.strip_prefix("<?xml") {
-        if let Some(end) = rest.find("?>") {
-            if rest[..end].contains("encoding") {
-                return format!("<?xml version=\"1.0\"?>{}", &rest[end + 2..]).into();
-            }
-        }
-    }
-    t.into()
-}
+pub use crate::input::decode;
+use crate::input::tolerate;
 
 /// Loads URDF (or xacro) text into a [`Tree`]; `source` names it in error messages.
 /// Relative xacro includes are resolved from the current directory.
@@ -190,7 +153,7 @@ fn pre_pass(
     out.push_str("<robot");
     for attr in ["name", "version"] {
         if let Some(v) = robot.attribute(attr) {
-            out.push_str(&format!(" {attr}=\"{}\"", escape(v)));
+            out.push_str(&format!(" {attr}=\"{}\"", input::escape_xml(v)));
         }
     }
     out.push_str(">\n");
@@ -204,7 +167,9 @@ fn pre_pass(
             "link" => {
                 // urdf-rs requires the name; let it report a missing one.
                 match node.attribute("name") {
-                    Some(n) => out.push_str(&format!("<link name=\"{}\"/>\n", escape(n))),
+                    Some(n) => {
+                        out.push_str(&format!("<link name=\"{}\"/>\n", input::escape_xml(n)))
+                    }
                     None => out.push_str("<link/>\n"),
                 }
             }
@@ -231,7 +196,7 @@ fn joint_for_urdf_rs(
     let mut out = String::from("<joint");
     for attr in ["name", "type"] {
         if let Some(v) = node.attribute(attr) {
-            out.push_str(&format!(" {attr}=\"{}\"", escape(v)));
+            out.push_str(&format!(" {attr}=\"{}\"", input::escape_xml(v)));
         }
     }
     out.push('>');
@@ -259,7 +224,11 @@ fn joint_for_urdf_rs(
         out.push('<');
         out.push_str(tag);
         for a in child.attributes().filter(|a| a.namespace().is_none()) {
-            out.push_str(&format!(" {}=\"{}\"", a.name(), escape(a.value())));
+            out.push_str(&format!(
+                " {}=\"{}\"",
+                a.name(),
+                input::escape_xml(a.value())
+            ));
         }
         if tag == "limit" {
             fact.has_limit = true;
@@ -304,10 +273,4 @@ fn check_numbers(
         )));
     }
     Ok(())
-}
-
-fn escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('"', "&quot;")
 }

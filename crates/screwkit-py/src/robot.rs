@@ -38,6 +38,18 @@ pub struct Robot {
     >,
 }
 
+/// A refused target as `ValueError` naming the argument and the reason (a typed
+/// [`screwkit_solve::BadTarget`], not a glued message).
+fn bad_target(e: SolveError) -> PyErr {
+    match e {
+        SolveError::BadTarget(screwkit_solve::BadTarget::NotRigid(r)) => {
+            PyValueError::new_err(format!("target: not a rigid transform: {r}"))
+        }
+        SolveError::BadTarget(r) => PyValueError::new_err(format!("target: {r}")),
+        e => solve_error(e),
+    }
+}
+
 /// An option word of family `W` from a keyword argument; the error names the keyword.
 pub(crate) fn word<W: Word>(keyword: &str, given: &str) -> PyResult<W> {
     words::parse::<W>(given).map_err(|e| PyValueError::new_err(format!("{keyword}: {e}")))
@@ -671,8 +683,7 @@ impl Robot {
         let tv = targets.readonly();
         let flat = tv.as_slice()?;
         if count.is_none() {
-            let t = target::from_row_major(flat)
-                .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
+            let t = target::from_row_major(flat).map_err(bad_target)?;
             let mut ws = self.workspace();
             let (sols, _) = all
                 .solve(self.kin(), &mut ws, &t, &seed)
@@ -769,8 +780,7 @@ impl Robot {
                         "seed: one target takes one seed of shape ({n},)"
                     )));
                 }
-                let target = target::from_row_major(tv)
-                    .map_err(|e| PyValueError::new_err(format!("target: {e}")))?;
+                let target = target::from_row_major(tv).map_err(bad_target)?;
                 let mid = self.kin().midpoint();
                 let seed = seed_values.unwrap_or(&mid);
                 let opts = IkOptions {

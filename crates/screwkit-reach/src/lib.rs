@@ -332,10 +332,7 @@ fn postures(sol: &screwkit_solve::analytic::Solutions, n: usize) -> Vec<f64> {
     kept
 }
 
-/// x moved by a multiple of 2π into [−π, π].
-fn wrap(x: f64) -> f64 {
-    x - std::f64::consts::TAU * (x / std::f64::consts::TAU).round()
-}
+use screwkit_lie::angle::wrap;
 
 /// The reachable ball of a chain: centre at the first joint's origin (which no joint moves),
 /// radius Σ |o_{j+1} − o_j| + |tip − o_last| over the joint origins at home (each distance is

@@ -65,7 +65,7 @@ impl Source {
 
     /// The description's text, read by the one rule: at most [`input::MAX_FILE_BYTES`],
     /// UTF-8 with or without a byte-order mark, or Latin-1 when the XML declaration says so
-    /// ([`urdf::decode`]). A file that cannot be opened is [`Error::Io`] with the operating
+    /// ([`input::decode`]). A file that cannot be opened is [`Error::Io`] with the operating
     /// system's error (a folder too).
     pub fn read(&self) -> Result<String> {
         let label = self.label();
@@ -88,7 +88,7 @@ impl Source {
                 input::read_bounded(file).map_err(|k| ModelError::new(label.clone(), k))?
             }
         };
-        Ok(urdf::decode(&bytes).map_err(|k| ModelError::new(label, k))?)
+        Ok(input::decode(&bytes).map_err(|k| ModelError::new(label, k))?)
     }
 
     /// The folder relative xacro includes resolve from.

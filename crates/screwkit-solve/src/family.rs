@@ -86,8 +86,9 @@ impl Family {
     }
 
     /// The family in words, with what it means for IK (and what screwkit does with it:
-    /// [`crate::analytic`] solves the first five, and the sixth when the intersecting axes
-    /// are 5–6 or 1–2; the others use numerical IK).
+    /// [`crate::analytic`] solves the five closed forms, two intersecting axes 5–6 (or 1–2,
+    /// read from the tip) and two parallel axes 2 ∥ 3 (or 4 ∥ 5, read from the tip) by a 1D
+    /// search; the others use numerical IK: [`crate::analytic::describe`] says which).
     pub fn describe(self) -> &'static str {
         match self {
             Family::SphericalWristTwoParallel => {
@@ -110,8 +111,7 @@ impl Family {
                 "two intersecting axes: 1D search (sampled, then polished), up to 16 solutions"
             }
             Family::TwoParallel => {
-                "two parallel axes: 1D search, up to 16 solutions; not solved by screwkit yet: \
-                 numerical IK only"
+                "two parallel axes: 1D search (sampled, then polished), up to 16 solutions"
             }
             Family::General6R => "general 6R: no analytic solver, numerical IK only",
             Family::Redundant7R => "7R (redundant): analytic with one joint locked",

@@ -220,14 +220,9 @@ pub struct IkResult {
 
 /// Projects q into the limits; continuous variables are wrapped to (−π, π].
 fn project(kin: &Kinematics, q: &mut [f64]) {
-    use std::f64::consts::PI;
     for (k, x) in q.iter_mut().enumerate() {
         if kin.continuous[k] {
-            let mut y = (*x + PI).rem_euclid(2.0 * PI) - PI;
-            if y <= -PI {
-                y += 2.0 * PI;
-            }
-            *x = y;
+            *x = screwkit_lie::angle::wrap(*x);
         } else {
             *x = x.clamp(kin.lower[k], kin.upper[k]);
         }

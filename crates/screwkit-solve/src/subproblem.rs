@@ -149,32 +149,8 @@ pub fn trig(a: f64, b: f64, c: f64, scale: f64) -> Angles {
     Angles::Exact(Few::two(wrap(phi + d), wrap(phi - d)))
 }
 
-/// An angle in (−π, π].
-pub fn wrap(x: f64) -> f64 {
-    use std::f64::consts::PI;
-    // The common cases without a division: already in range, or one turn off.
-    if x > -PI && x <= PI {
-        return x;
-    }
-    if x > PI && x <= 3.0 * PI {
-        let y = x - 2.0 * PI;
-        if y > -PI && y <= PI {
-            return y;
-        }
-    }
-    if x <= -PI && x > -3.0 * PI {
-        let y = x + 2.0 * PI;
-        if y > -PI && y <= PI {
-            return y;
-        }
-    }
-    let y = (x + PI).rem_euclid(2.0 * PI) - PI;
-    if y <= -PI {
-        y + 2.0 * PI
-    } else {
-        y
-    }
-}
+/// An angle in (−π, π] ([`screwkit_lie::angle::wrap`], the one angle wrap).
+pub use screwkit_lie::angle::wrap;
 
 /// Subproblem 1, rotation of a point onto a point: θ with R(k, θ) p1 = p2,
 /// θ = atan2(p2·(k × p1), p2·p1⊥). Exact when p1 and p2 lie on the same circle about k

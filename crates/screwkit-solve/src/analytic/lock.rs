@@ -1,0 +1,128 @@
+//! A 7R chain with one joint locked: the solver of the other six ([`AnalyticIk::locked`]), the
+//! default choice of joint ([`AnalyticIk::auto`]), and the six lines at a locked value.
+
+use super::*;
+
+/// A locked joint of a 7R chain.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Lock {
+    pub(super) joint: usize,
+    pub(super) line: AxisLine,
+}
+
+impl AnalyticIk {
+    /// The solver of a 7R chain with joint `joint` (0-based) locked: the other six must form
+    /// a family solved here whatever the locked value (checked at two generic values).
+    pub fn locked(kin: &Kinematics, joint: usize) -> Result<Self, SolveError> {
+        let c = classify(kin);
+        if c.family != Family::Redundant7R {
+            return Err(SolveError::InvalidInput(format!(
+                "locking a joint is for 7R chains; this one is: {}",
+                c.family.describe()
+            )));
+        }
+        if joint >= 7 {
+            return Err(SolveError::InvalidInput(format!(
+                "joint index {joint} out of range (the chain has 7 joints)"
+            )));
+        }
+        let mut solver = Self {
+            family: Family::Redundant7R,
+            method: Method::WristParallel,
+            reversed: false,
+            lock: Some(Lock {
+                joint,
+                line: c.axes[joint],
+            }),
+            free: [0; 6],
+            dof: 7,
+            lines: c.axes,
+            home: kin.home,
+            fixed: None,
+        };
+        for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
+            solver.free[slot] = j;
+        }
+        let l = kin.length_scale;
+        let (a, _) = solver.locked_lines(0.7);
+        let (b, _) = solver.locked_lines(2.1);
+        if shoulder_and_wrist(&a, l) {
+            return Err(SolveError::InvalidInput(format!(
+                "locking {} (index {}) leaves a spherical shoulder and a spherical wrist: \
+                 the other six joints still have a self-motion (lock another joint)",
+                kin.names[joint], joint
+            )));
+        }
+        match (method_either(&a, l), method_either(&b, l)) {
+            (Some(x), Some(y)) if x == y => {
+                if x.0 == Method::Search56 {
+                    search_guard(&a, x.1, l).map_err(|e| {
+                        SolveError::InvalidInput(format!(
+                            "locking {} (index {}): {}",
+                            kin.names[joint],
+                            joint,
+                            e.to_string().trim_start_matches("invalid input: ")
+                        ))
+                    })?;
+                }
+                solver.method = x.0;
+                solver.reversed = x.1;
+                solver.family = classify_axes(a.to_vec(), true, l).family;
+                Ok(solver)
+            }
+            _ => Err(SolveError::InvalidInput(format!(
+                "locking {} (index {}) does not leave a 6R chain that screwkit solves \
+                 analytically ({})",
+                kin.names[joint],
+                joint,
+                classify_axes(a.to_vec(), true, l).family.describe()
+            ))),
+        }
+    }
+
+    /// The solver of any chain screwkit solves analytically: a 6R chain as
+    /// [`AnalyticIk::new`], a 7R chain with the last joint whose locking leaves a closed-form
+    /// family (joint 7 first, then 6, …), else the last one that leaves a 1D search.
+    pub fn auto(kin: &Kinematics) -> Result<Self, SolveError> {
+        if kin.dof() != 7 {
+            return Self::new(kin);
+        }
+        let mut last = None;
+        let mut search = None;
+        for j in (0..7).rev() {
+            match Self::locked(kin, j) {
+                Ok(s) if s.closed_form() => return Ok(s),
+                Ok(s) => {
+                    search.get_or_insert(s);
+                }
+                Err(e) => last = Some(e),
+            }
+        }
+        if let Some(s) = search {
+            return Ok(s);
+        }
+        Err(last.unwrap_or_else(|| SolveError::InvalidInput("no joint to lock".into())))
+    }
+
+    /// The six free lines and the home of the 6R chain with the lock at `value`.
+    pub(super) fn locked_lines(&self, value: f64) -> ([AxisLine; 6], Se3) {
+        let lock = self.lock.expect("a locked solver");
+        let (kj, rj) = (lock.line.direction, lock.line.point);
+        let e = rotation(&kj, value);
+        let mv = |p: &V3| rj + e * (p - rj);
+        let mut out = [lock.line; 6];
+        for (slot, &j) in self.free.iter().enumerate() {
+            let l = self.lines[j];
+            out[slot] = if j > lock.joint {
+                AxisLine {
+                    direction: e * l.direction,
+                    point: mv(&l.point),
+                }
+            } else {
+                l
+            };
+        }
+        let home = Se3::from_parts_unchecked(e * self.home.rotation(), mv(self.home.translation()));
+        (out, home)
+    }
+}

@@ -1,0 +1,56 @@
+//! A 6R problem ready to solve: the lines in the order solved and the points its
+//! decomposition needs ([`Prepared`]).
+
+use super::*;
+
+/// A 6R problem ready to solve: lines in the order solved, the home of the 6R chain (chain
+/// order), the method's points.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Prepared {
+    pub(super) k: [V3; 6],
+    pub(super) r: [V3; 6],
+    pub(super) home: Se3,
+    /// The wrist center or p₅₆.
+    pub(super) center: V3,
+    /// Where the intersecting pair meets (wrist families with two intersecting axes).
+    pub(super) meet: V3,
+    /// A unit vector ⊥ k₂ (three-parallel family).
+    pub(super) perp: V3,
+}
+
+impl Prepared {
+    /// From six lines in chain order and their home; reversed: solve tip to base.
+    pub(super) fn new(method: Method, lines: &[AxisLine; 6], home: Se3, reversed: bool) -> Self {
+        let mut k = [V3::zeros(); 6];
+        let mut r = [V3::zeros(); 6];
+        for i in 0..6 {
+            let l = if reversed { &lines[5 - i] } else { &lines[i] };
+            k[i] = if reversed { -l.direction } else { l.direction };
+            r[i] = l.point;
+        }
+        let line = |i: usize| AxisLine {
+            direction: k[i],
+            point: r[i],
+        };
+        let meet = |i: usize| closest_points(&line(i), &line(i + 1)).0;
+        let center = match method {
+            Method::ThreeParallel | Method::Search56 => meet(4),
+            Method::ThreeParallelGeneral => V3::zeros(),
+            _ => (meet(3) + meet(4)) / 2.0,
+        };
+        let pair = match method {
+            Method::WristIntersecting12 => meet(0),
+            Method::WristIntersecting23 => meet(1),
+            _ => V3::zeros(),
+        };
+        let a = if k[1].x.abs() < 0.9 { V3::x() } else { V3::y() };
+        Self {
+            k,
+            r,
+            home,
+            center,
+            meet: pair,
+            perp: (a - k[1] * k[1].dot(&a)).normalize(),
+        }
+    }
+}
