@@ -72,7 +72,9 @@ def test_a_lock_by_name_or_index_gives_the_same_solutions_everywhere() -> None:
     seed = ",".join(repr(float(x)) for x in q)
     target = ",".join(repr(float(x)) for x in t.ravel())
     for lock in ["panda_joint6=1.5", "5=1.5"]:
-        v = cli("ik", str(PANDA), "--target-matrix", target, "--all", "--seed", seed, "--lock", lock)
+        v = cli(
+            "ik", str(PANDA), "--target-matrix", target, "--all", "--seed", seed, "--lock", lock
+        )
         assert v["locked"] == {"joint": "panda_joint6", "index": 5, "values": [1.5]}
         np.testing.assert_array_equal(np.array([s["q"] for s in v["solutions"]]), by_name)
 
@@ -82,9 +84,12 @@ def test_signature_defaults_are_the_floors() -> None:
     ik = inspect.signature(screwkit.Robot.ik).parameters
     for name, value in d["ik"].items():
         assert ik[name].default == value, name
-    reach = inspect.signature(screwkit.reach).parameters
-    for name, value in d["reach"].items():
-        assert reach[name].default == value, name
+    import screwkit.distributed
+
+    for fn in [screwkit.reach, screwkit.distributed.reach]:
+        reach = inspect.signature(fn).parameters
+        for name, value in d["reach"].items():
+            assert reach[name].default == value, (fn, name)
     # The numbers behind them are the library's (IkOptions::default, ReachSpec::default).
     assert d["ik"]["tol_rot"] == 1e-9 and d["ik"]["max_restarts"] == 200
     assert d["reach"]["resolution"] == 0.05 and d["reach"]["orientations"] == 50
@@ -98,7 +103,11 @@ def stub_literals() -> dict[str, list[str]]:
             v = node.value
             if isinstance(v, ast.Subscript) and getattr(v.value, "id", "") == "Literal":
                 elts = v.slice.elts if isinstance(v.slice, ast.Tuple) else [v.slice]
-                out[node.target.id] = [e.value for e in elts if isinstance(e, ast.Constant)]
+                out[node.target.id] = [
+                    e.value
+                    for e in elts
+                    if isinstance(e, ast.Constant) and isinstance(e.value, str)
+                ]
     return out
 
 
@@ -122,7 +131,7 @@ def test_stub_words_are_the_floors() -> None:
 def test_an_unknown_word_lists_the_floors_words() -> None:
     robot = screwkit.Robot.from_urdf(UR5)
     with pytest.raises(ValueError, match='method: unknown IK method "newton": expected "lm"'):
-        robot.ik(robot.home, method="newton")  # type: ignore[call-overload]
+        robot.ik(robot.home, method="newton")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match='view: unknown view "back"'):
         robot.draw(view="back")  # type: ignore[arg-type]
 

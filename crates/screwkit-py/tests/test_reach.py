@@ -81,7 +81,7 @@ def test_errors(ur5: screwkit.Robot, panda: screwkit.Robot, tmp_path: Path) -> N
     with pytest.raises(ValueError, match="orientations"):
         screwkit.reach(ur5, 0.1, 0)
     with pytest.raises(ValueError, match="mode"):
-        screwkit.reach(ur5, 0.3, 5, mode="sideways")
+        screwkit.reach(ur5, 0.3, 5, mode="sideways")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="numerical"):
         screwkit.reach(panda, 0.3, 5, solver="analytic")
     with pytest.raises(ValueError, match="shard"):

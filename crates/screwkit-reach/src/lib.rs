@@ -31,6 +31,7 @@ use screwkit_service::io::npz::{self, NpzReader, NpzWriter};
 use screwkit_service::io::{atomic, FileError};
 pub use screwkit_service::request::{ReachSpec, Shard};
 pub use screwkit_service::words::{OrientationMode, SolverChoice};
+use screwkit_service::words::Word;
 use std::ops::Range;
 
 /// What can go wrong building, reading or merging a map.
@@ -158,8 +159,8 @@ impl Plan {
     /// "analytic" or "numerical".
     pub fn solver_name(&self) -> &'static str {
         match self.solver {
-            Solver::Analytic(_) => "analytic",
-            Solver::Numerical(_) => "numerical",
+            Solver::Analytic(_) => SolverChoice::Analytic.as_str(),
+            Solver::Numerical(_) => SolverChoice::Numerical.as_str(),
         }
     }
 

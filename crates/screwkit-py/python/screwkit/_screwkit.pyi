@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any, Literal, final, overload
+from typing import Any, Literal, final
 
 import numpy as np
 import numpy.typing as npt
@@ -35,10 +35,6 @@ _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
 _F64: TypeAlias = npt.NDArray[np.float64]
 _ArrayLike: TypeAlias = npt.ArrayLike
-# Arrays whose number of dimensions decides the result (one configuration or target, or N).
-_Vector: TypeAlias = np.ndarray[tuple[int], np.dtype[np.float64]]
-_Rows: TypeAlias = np.ndarray[tuple[int, int], np.dtype[np.float64]]
-_Stack: TypeAlias = np.ndarray[tuple[int, int, int], np.dtype[np.float64]]
 
 class BatchError(ValueError):
     """Some rows of a batch had bad input; every other row was computed.
@@ -190,24 +186,12 @@ class Robot:
     def home(self) -> _F64: ...
     def screw_axes(self, frame: _Frame = "space") -> _F64: ...
     def table(self, fmt: _TableFormat = "markdown", frame: _TableFrames = "both") -> str: ...
-    @overload
-    def fk(self, q: _Vector) -> _Rows:
-        """q (dof,) -> the pose (4, 4)."""
-    @overload
-    def fk(self, q: _Rows) -> _Stack:
-        """q (N, dof) -> N poses (N, 4, 4)."""
-    @overload
-    def fk(self, q: _ArrayLike) -> _F64: ...
-    @overload
-    def fk_all_links(self, q: _Vector) -> _Stack: ...
-    @overload
-    def fk_all_links(self, q: _ArrayLike) -> _F64: ...
-    @overload
-    def jacobian(self, q: _Vector, frame: _JacobianFrame = "space") -> _Rows: ...
-    @overload
-    def jacobian(self, q: _Rows, frame: _JacobianFrame = "space") -> _Stack: ...
-    @overload
-    def jacobian(self, q: _ArrayLike, frame: _JacobianFrame = "space") -> _F64: ...
+    def fk(self, q: _ArrayLike) -> _F64:
+        """q (dof,) -> the pose (4, 4); q (N, dof) -> N poses (N, 4, 4)."""
+    def fk_all_links(self, q: _ArrayLike) -> _F64:
+        """q (dof,) -> (links, 4, 4); q (N, dof) -> (N, links, 4, 4)."""
+    def jacobian(self, q: _ArrayLike, frame: _JacobianFrame = "space") -> _F64:
+        """q (dof,) -> (6, dof); q (N, dof) -> (N, 6, dof)."""
     def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
     def draw(
         self,
@@ -221,29 +205,6 @@ class Robot:
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
     ) -> str: ...
-    @overload
-    def ik_all(
-        self,
-        target: _Rows,
-        seed: _ArrayLike | None = None,
-        *,
-        lock: str | int | None = None,
-        lock_value: float | None = None,
-        sweep: int | None = None,
-    ) -> _F64:
-        """One target (4, 4) -> its solutions (K, dof)."""
-    @overload
-    def ik_all(
-        self,
-        target: _Stack,
-        seed: _ArrayLike | None = None,
-        *,
-        lock: str | int | None = None,
-        lock_value: float | None = None,
-        sweep: int | None = None,
-    ) -> list[_F64]:
-        """N targets (N, 4, 4) -> N arrays of solutions."""
-    @overload
     def ik_all(
         self,
         target: _ArrayLike,
@@ -252,44 +213,8 @@ class Robot:
         lock: str | int | None = None,
         lock_value: float | None = None,
         sweep: int | None = None,
-    ) -> _F64 | list[_F64]: ...
-    @overload
-    def ik(
-        self,
-        target: _Rows,
-        seed: _ArrayLike | None = None,
-        *,
-        method: _Method = "lm",
-        tol_rot: float = 1e-9,
-        tol_pos: float = 1e-9,
-        position_only: bool = False,
-        timeout_ms: float | None = None,
-        seed_rng: int = 0,
-        max_iterations: int = 2000,
-        max_restarts: int = 200,
-        damping: float | None = None,
-        weights: Sequence[float] | None = None,
-    ) -> IkResult:
-        """One target (4, 4) -> IkResult."""
-    @overload
-    def ik(
-        self,
-        target: _Stack,
-        seed: _ArrayLike | None = None,
-        *,
-        method: _Method = "lm",
-        tol_rot: float = 1e-9,
-        tol_pos: float = 1e-9,
-        position_only: bool = False,
-        timeout_ms: float | None = None,
-        seed_rng: int = 0,
-        max_iterations: int = 2000,
-        max_restarts: int = 200,
-        damping: float | None = None,
-        weights: Sequence[float] | None = None,
-    ) -> IkBatchResult:
-        """N targets (N, 4, 4) -> IkBatchResult."""
-    @overload
+    ) -> _F64 | list[_F64]:
+        """One target (4, 4) -> its solutions (K, dof); N targets (N, 4, 4) -> a list of N."""
     def ik(
         self,
         target: _ArrayLike,
@@ -305,7 +230,8 @@ class Robot:
         max_restarts: int = 200,
         damping: float | None = None,
         weights: Sequence[float] | None = None,
-    ) -> IkResult | IkBatchResult: ...
+    ) -> IkResult | IkBatchResult:
+        """One target (4, 4) -> IkResult; N targets (N, 4, 4) -> IkBatchResult."""
 
 def exp(twist: _ArrayLike, theta: float = 1.0) -> _F64: ...
 def log(t: _ArrayLike) -> _F64: ...
@@ -318,6 +244,7 @@ def xacro(
     package_paths: Sequence[str | os.PathLike[str]] | None = None,
     args: Mapping[str, str] | None = None,
 ) -> str: ...
+
 # Plumbing of the Python layer (not in __all__, not public API).
 def _reach_build(
     robot: Robot,

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 import tempfile
-from typing import Any
+from typing import Any, Literal
 
 from . import _screwkit
 from ._screwkit import Robot
@@ -38,9 +38,9 @@ def reach(
     *,
     base: str | None = None,
     tip: str | None = None,
-    mode: str = "free",
+    mode: Literal["free", "directions"] = "free",
     bounds: Bounds | None = None,
-    solver: str = "auto",
+    solver: Literal["auto", "analytic", "numerical"] = "auto",
     seed: int = 0,
     restarts: int = 5,
     iterations: int = 100,
