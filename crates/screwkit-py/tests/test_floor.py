@@ -10,13 +10,14 @@ import json
 import os
 import subprocess
 from pathlib import Path
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 import pytest
 
 import screwkit
-from screwkit import _screwkit
+from screwkit import _screwkit, distributed
 
 from conftest import ASSETS
 
@@ -84,9 +85,8 @@ def test_signature_defaults_are_the_floors() -> None:
     ik = inspect.signature(screwkit.Robot.ik).parameters
     for name, value in d["ik"].items():
         assert ik[name].default == value, name
-    import screwkit.distributed
-
-    for fn in [screwkit.reach, screwkit.distributed.reach]:
+    fns: list[Callable[..., object]] = [screwkit.reach, distributed.reach]
+    for fn in fns:
         reach = inspect.signature(fn).parameters
         for name, value in d["reach"].items():
             assert reach[name].default == value, (fn, name)
