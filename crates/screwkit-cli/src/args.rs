@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, JacobianFrame, Method, OrientationMode, SolverChoice, TableFrames, Views, Word,
+    self, JacobianFrame, Method, OrientationMode, SolverChoice, TableFrames, View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
 
@@ -277,18 +277,12 @@ pub struct TableArgs {
     pub frame: TableFrames,
 }
 
-/// `fk`.
+/// Joint values, one configuration or a batch of them (`fk`, `jacobian`).
 #[derive(Debug, Args)]
-pub struct FkArgs {
-    /// The chain.
-    #[command(flatten)]
-    pub chain: ChainArgs,
+pub struct Configurations {
     /// Joint values q1,q2,... (rad or m), one per variable.
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
     pub q: Option<List>,
-    /// Give the pose of every link on the chain.
-    #[arg(long)]
-    pub all_links: bool,
     /// Batch mode: JSON lines {"q": [...]} from FILE or - (stdin).
     #[arg(long, conflicts_with = "q")]
     pub input: Option<String>,
@@ -298,15 +292,29 @@ pub struct FkArgs {
     pub output: Option<String>,
 }
 
+/// `fk`.
+#[derive(Debug, Args)]
+pub struct FkArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// The configurations.
+    #[command(flatten)]
+    pub at: Configurations,
+    /// Give the pose of every link on the chain.
+    #[arg(long)]
+    pub all_links: bool,
+}
+
 /// `jacobian`.
 #[derive(Debug, Args)]
 pub struct JacobianArgs {
     /// The chain.
     #[command(flatten)]
     pub chain: ChainArgs,
-    /// Joint values q1,q2,...
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
-    pub q: Option<List>,
+    /// The configurations.
+    #[command(flatten)]
+    pub at: Configurations,
     /// Which Jacobian: space (J_s: twist of the body at the base origin, base axes), body (J_b:
     /// at the tip, tip axes) or world-aligned (J_wa: angular velocity and tip-point velocity,
     /// base axes; Pinocchio's LOCAL_WORLD_ALIGNED, Robotics Toolbox's jacob0).
@@ -315,13 +323,6 @@ pub struct JacobianArgs {
     /// Add singular values, rank, manipulability, condition number and a verdict.
     #[arg(long)]
     pub analyze: bool,
-    /// Batch mode: JSON lines {"q": [...]} from FILE or - (stdin).
-    #[arg(long, conflicts_with = "q")]
-    pub input: Option<String>,
-    /// With --input FILE.npy (N × dof float64): write the results to this .npy file instead
-    /// of JSON lines (binary, streamed, for large batches).
-    #[arg(long, requires = "input")]
-    pub output: Option<String>,
 }
 
 impl IkArgs {
@@ -476,7 +477,7 @@ pub struct DrawArgs {
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub q: Option<List>,
     /// The view: iso, front (from +x), side (from -y), top (from +z), or all four on one sheet.
-    #[arg(long, value_parser = word::<Views>(), default_value_t = Views::Iso)]
+    #[arg(long, value_parser = word::<Views>(), default_value_t = Views::One(View::Iso))]
     pub view: Views,
     /// The SVG file to write (- for standard output).
     #[arg(short, long)]

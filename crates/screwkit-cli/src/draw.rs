@@ -16,24 +16,31 @@ fn write_out(path: &str, text: &str) -> CliResult {
     }
 }
 
+/// Loads the chain, makes the picture at q (`make`: the library's picture of chain, kinematics
+/// and q) and writes it to `output`.
+fn picture(
+    chain: &crate::args::ChainArgs,
+    q: Option<&crate::args::List>,
+    output: &str,
+    make: impl FnOnce(
+        &screwkit_model::Chain,
+        &screwkit_solve::Kinematics,
+        Option<&[f64]>,
+    ) -> Result<String, screwkit_solve::SolveError>,
+) -> CliResult {
+    let robot = crate::load(chain)?;
+    let text = make(robot.chain(), robot.kin(), q.map(|l| l.0.as_slice()))?;
+    write_out(output, &text)
+}
+
 /// `screwkit draw`.
 pub fn draw(a: &DrawArgs) -> CliResult {
-    let robot = crate::load(&a.chain)?;
-    let scene = Scene::new(
-        robot.chain(),
-        robot.kin(),
-        a.q.as_ref().map(|l| l.0.as_slice()),
-    )?;
-    write_out(&a.output, &svg::render(&scene, &a.view.views()))
+    picture(&a.chain, a.q.as_ref(), &a.output, |c, k, q| {
+        Ok(svg::render(&Scene::new(c, k, q)?, &a.view.views()))
+    })
 }
 
 /// `screwkit view`.
 pub fn view(a: &ViewArgs) -> CliResult {
-    let robot = crate::load(&a.chain)?;
-    let page = html::page(
-        robot.chain(),
-        robot.kin(),
-        a.q.as_ref().map(|l| l.0.as_slice()),
-    )?;
-    write_out(&a.output, &page)
+    picture(&a.chain, a.q.as_ref(), &a.output, html::page)
 }

@@ -60,8 +60,8 @@ fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
 pub fn run(args: &FkArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
     let (chain, kin) = (robot.chain(), robot.kin());
-    if let Some(input) = &args.input {
-        if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
+    if let Some(input) = &args.at.input {
+        if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {
             let (n, l) = (kin.dof(), kin.links().len());
             return if args.all_links {
                 crate::npy::run(input, output, n, "dof", &[l, 4, 4], |qs, _, out| {
@@ -76,6 +76,7 @@ pub fn run(args: &FkArgs, format: Format) -> CliResult {
         return run_batch(kin, input, args.all_links);
     }
     let q = &args
+        .at
         .q
         .as_ref()
         .expect("clap requires --q without --input")

@@ -141,8 +141,8 @@ fn one(
 pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
     let (chain, kin) = (robot.chain(), robot.kin());
-    if let Some(input) = &args.input {
-        if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
+    if let Some(input) = &args.at.input {
+        if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {
             if args.analyze {
                 return Err(Failure(
                     "--analyze is for JSON output (not with --output .npy)".into(),
@@ -160,6 +160,7 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
         return run_batch(kin, input, args.frame, args.analyze);
     }
     let q = &args
+        .at
         .q
         .as_ref()
         .expect("clap requires --q without --input")

@@ -51,8 +51,8 @@ fn run(cli: &Cli) -> CliResult {
         ));
     }
     let batch_from_stdin = match &cli.command {
-        Command::Fk(a) => Some((&a.chain, &a.input)),
-        Command::Jacobian(a) => Some((&a.chain, &a.input)),
+        Command::Fk(a) => Some((&a.chain, &a.at.input)),
+        Command::Jacobian(a) => Some((&a.chain, &a.at.input)),
         Command::Ik(a) => Some((&a.chain, &a.input)),
         _ => None,
     };

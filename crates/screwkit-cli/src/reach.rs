@@ -26,29 +26,22 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         if let Some(svg) = svg {
             write_svg(output, svg)?;
         }
-        let secs = started.elapsed().as_secs_f64();
-        let fraction = s.reached as f64 / s.poses.max(1) as f64;
+        let r = MapReport::merged(
+            (s.voxels, s.poses, s.reached),
+            started.elapsed().as_secs_f64(),
+            shards.len(),
+        );
         if format == Format::Json {
-            crate::output::print_json(&report::to_value(&MapReport {
-                voxels: s.voxels,
-                poses: s.poses,
-                solved: None,
-                reached: s.reached,
-                reached_fraction: fraction,
-                seconds: secs,
-                solves_per_second: None,
-                threads: None,
-                solver: None,
-                shards: Some(shards.len()),
-            }))?;
+            crate::output::print_json(&report::to_value(&r))?;
         } else {
             crate::output::emit(&format!(
-                "merged {} shards: {} voxels = {} poses, {} reached ({:.1} %), {secs:.2} s → {output}\n",
+                "merged {} shards: {} voxels = {} poses, {} reached ({:.1} %), {:.2} s → {output}\n",
                 shards.len(),
-                s.voxels,
-                s.poses,
-                s.reached,
-                100.0 * fraction
+                r.voxels,
+                r.poses,
+                r.reached,
+                100.0 * r.reached_fraction,
+                r.seconds,
             ))?;
         }
         return Ok(());
@@ -163,34 +156,26 @@ fn print_summary(
     secs: f64,
     what: &str,
 ) -> CliResult {
-    let rate = s.solved as f64 / secs.max(1e-9);
     let threads = rayon::current_num_threads();
-    let fraction = s.reached as f64 / s.poses.max(1) as f64;
+    let r = MapReport::built(
+        (s.voxels, s.poses, s.solved, s.reached),
+        secs,
+        threads,
+        solver,
+    );
     if format == Format::Json {
-        crate::output::print_json(&report::to_value(&MapReport {
-            voxels: s.voxels,
-            poses: s.poses,
-            solved: Some(s.solved),
-            reached: s.reached,
-            reached_fraction: fraction,
-            seconds: secs,
-            solves_per_second: Some(rate),
-            threads: Some(threads),
-            solver: Some(solver),
-            shards: None,
-        }))?;
-        return Ok(());
+        return crate::output::print_json(&report::to_value(&r));
     }
     let k = k
         .map(|k| format!(" × {k} orientations"))
         .unwrap_or_default();
     crate::output::emit(&format!(
         "{} voxels{k} = {} poses ({} solved in reach), {} reached ({:.1} %), {secs:.2} s, {:.0} solves/s on {threads} threads ({solver} IK) {what}\n",
-        s.voxels,
-        s.poses,
+        r.voxels,
+        r.poses,
         s.solved,
-        s.reached,
-        100.0 * fraction,
-        rate
+        r.reached,
+        100.0 * r.reached_fraction,
+        r.solves_per_second.unwrap_or(0.0)
     ))
 }

@@ -41,7 +41,6 @@ pub fn io_error(path: &str, e: &std::io::Error) -> PyErr {
 /// A floor error: an unreadable file → the matching `OSError` subclass; a bad file, option or
 /// word → `ValueError` (an option named by its keyword); a solver error as [`solve_error`].
 pub fn service_error(e: screwkit_service::Error) -> PyErr {
-    use screwkit_service::io::FileError;
     use screwkit_service::Error;
     match e {
         Error::Io { path, source } => io_error(
@@ -50,11 +49,21 @@ pub fn service_error(e: screwkit_service::Error) -> PyErr {
         ),
         Error::Model(m) => model_error(m),
         Error::Solve(s) => solve_error(s),
-        Error::File(FileError::Io {
+        Error::File(f) => file_error(f),
+        e => PyValueError::new_err(e.to_string()),
+    }
+}
+
+/// A file that could not be read or written (the matching `OSError`), or is not what it should
+/// be (`ValueError`).
+pub fn file_error(e: screwkit_service::io::FileError) -> PyErr {
+    use screwkit_service::io::FileError;
+    match e {
+        FileError::Io {
             path,
             doing,
             source,
-        }) => {
+        } => {
             let label = if doing.is_empty() {
                 path
             } else {

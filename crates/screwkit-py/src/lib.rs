@@ -98,37 +98,26 @@ fn xacro(
 /// The one set of defaults (the floor's), for the suite that checks the signatures and the
 /// stubs against it: {"ik": {keyword: value}, "reach": {keyword: value}}.
 #[pyfunction]
-fn defaults(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
-    use pyo3::types::PyDict;
+fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
     use screwkit_service::words::Word;
     let ik = screwkit_service::IkSettings::default();
-    let d = PyDict::new(py);
-    let i = PyDict::new(py);
-    i.set_item("method", ik.method.as_str())?;
-    i.set_item("tol_rot", ik.tol_rot)?;
-    i.set_item("tol_pos", ik.tol_pos)?;
-    i.set_item("position_only", ik.position_only)?;
-    // Python's None is the floor's 0 ms: no time budget.
-    i.set_item(
-        "timeout_ms",
-        (ik.timeout_ms != 0.0).then_some(ik.timeout_ms),
-    )?;
-    i.set_item("seed_rng", ik.seed)?;
-    i.set_item("max_iterations", ik.max_iterations)?;
-    i.set_item("max_restarts", ik.max_restarts)?;
-    i.set_item("damping", ik.damping)?;
-    d.set_item("ik", i)?;
     let m = screwkit_service::ReachSpec::default();
-    let r = PyDict::new(py);
-    r.set_item("resolution", m.resolution)?;
-    r.set_item("orientations", m.orientations)?;
-    r.set_item("mode", m.mode.as_str())?;
-    r.set_item("solver", m.solver.as_str())?;
-    r.set_item("seed", m.seed)?;
-    r.set_item("restarts", m.restarts)?;
-    r.set_item("iterations", m.iterations)?;
-    d.set_item("reach", r)?;
-    Ok(d)
+    let d = serde_json::json!({
+        "ik": {
+            "method": ik.method.as_str(), "tol_rot": ik.tol_rot, "tol_pos": ik.tol_pos,
+            "position_only": ik.position_only,
+            // Python's None is the floor's 0 ms: no time budget.
+            "timeout_ms": (ik.timeout_ms != 0.0).then_some(ik.timeout_ms),
+            "seed_rng": ik.seed, "max_iterations": ik.max_iterations,
+            "max_restarts": ik.max_restarts, "damping": ik.damping,
+        },
+        "reach": {
+            "resolution": m.resolution, "orientations": m.orientations,
+            "mode": m.mode.as_str(), "solver": m.solver.as_str(), "seed": m.seed,
+            "restarts": m.restarts, "iterations": m.iterations,
+        },
+    });
+    reach::report_dict(py, &d)
 }
 
 /// Every option word family and its words (the floor's), for the suite that checks the stubs'

@@ -3,9 +3,8 @@
 
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 use screwkit_reach::{Plan, ReachError, ReachSpec, Shard};
-use screwkit_service::io::FileError;
+use screwkit_service::report::MapReport;
 use screwkit_service::words::{OrientationMode, SolverChoice};
 
 use crate::pool;
@@ -13,38 +12,23 @@ use crate::robot::{word, Robot};
 
 fn reach_error(e: ReachError) -> PyErr {
     match e {
-        ReachError::File(FileError::Io {
-            path,
-            doing,
-            source,
-        }) => {
-            let label = if doing.is_empty() {
-                path
-            } else {
-                format!("{path}: {doing}")
-            };
-            crate::errors::io_error(&label, &source)
-        }
+        ReachError::File(f) => crate::errors::file_error(f),
         e => PyValueError::new_err(e.to_string()),
     }
 }
 
-fn summary<'py>(
+/// A report of the floor as a Python dict (its JSON, read by `json.loads`: the same field names
+/// as the CLI's `--format json`).
+pub(crate) fn report_dict<'py>(
     py: Python<'py>,
-    s: &screwkit_reach::Summary,
-    secs: f64,
-) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("voxels", s.voxels)?;
-    d.set_item("poses", s.poses)?;
-    d.set_item("solved", s.solved)?;
-    d.set_item("reached", s.reached)?;
-    d.set_item("seconds", secs)?;
-    Ok(d)
+    report: &impl serde::Serialize,
+) -> PyResult<Bound<'py, PyAny>> {
+    let text = screwkit_service::report::to_value(report).to_string();
+    py.import("json")?.call_method1("loads", (text,))
 }
 
 /// Builds shard `shard_index` of `shard_count` of the map of `robot` into the .npz `path`;
-/// returns a summary dict (voxels, poses, solved, reached, seconds).
+/// returns its report as a dict (the fields of `screwkit reach --format json`).
 #[pyfunction]
 #[pyo3(signature = (robot, path, *, resolution, orientations, mode, bounds, solver, seed, restarts, iterations, shard_index, shard_count))]
 #[allow(clippy::too_many_arguments)]
@@ -62,7 +46,7 @@ pub fn reach_build<'py>(
     iterations: usize,
     shard_index: usize,
     shard_count: usize,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let spec = ReachSpec {
         resolution,
         orientations,
@@ -80,9 +64,15 @@ pub fn reach_build<'py>(
     let s = py
         .detach(|| pool::run(|| screwkit_reach::build(&plan, kin, shard, &path, |_, _| {})))?
         .map_err(reach_error)?;
-    let d = summary(py, &s, started.elapsed().as_secs_f64())?;
-    d.set_item("solver", plan.solver_name())?;
-    Ok(d)
+    report_dict(
+        py,
+        &MapReport::built(
+            (s.voxels, s.poses, s.solved, s.reached),
+            started.elapsed().as_secs_f64(),
+            pool::num_threads()?,
+            plan.solver_name(),
+        ),
+    )
 }
 
 /// Joins shard files into the map `path` (the file the unsharded build writes).
@@ -91,12 +81,19 @@ pub fn reach_merge<'py>(
     py: Python<'py>,
     shards: Vec<String>,
     path: String,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<Bound<'py, PyAny>> {
     let started = std::time::Instant::now();
     let s = py
         .detach(|| screwkit_reach::merge(&shards, &path))
         .map_err(reach_error)?;
-    summary(py, &s, started.elapsed().as_secs_f64())
+    report_dict(
+        py,
+        &MapReport::merged(
+            (s.voxels, s.poses, s.reached),
+            started.elapsed().as_secs_f64(),
+            shards.len(),
+        ),
+    )
 }
 
 /// The SVG slices through the base of the (whole) map `path`.

@@ -30,8 +30,8 @@ pub use grid::{orientations, Grid};
 use screwkit_service::io::npz::{self, NpzReader, NpzWriter};
 use screwkit_service::io::{atomic, FileError};
 pub use screwkit_service::request::{ReachSpec, Shard};
-pub use screwkit_service::words::{OrientationMode, SolverChoice};
 use screwkit_service::words::Word;
+pub use screwkit_service::words::{OrientationMode, SolverChoice};
 use std::ops::Range;
 
 /// What can go wrong building, reading or merging a map.

@@ -130,3 +130,46 @@ pub struct MapReport {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shards: Option<usize>,
 }
+
+impl MapReport {
+    /// The report of a build: `solved` poses in `seconds` on `threads` threads.
+    pub fn built(
+        (voxels, poses, solved, reached): (usize, usize, usize, usize),
+        seconds: f64,
+        threads: usize,
+        solver: &'static str,
+    ) -> MapReport {
+        MapReport {
+            voxels,
+            poses,
+            solved: Some(solved),
+            reached,
+            reached_fraction: reached as f64 / poses.max(1) as f64,
+            seconds,
+            solves_per_second: Some(solved as f64 / seconds.max(1e-9)),
+            threads: Some(threads),
+            solver: Some(solver),
+            shards: None,
+        }
+    }
+
+    /// The report of a merge of `shards` files.
+    pub fn merged(
+        (voxels, poses, reached): (usize, usize, usize),
+        seconds: f64,
+        shards: usize,
+    ) -> MapReport {
+        MapReport {
+            voxels,
+            poses,
+            solved: None,
+            reached,
+            reached_fraction: reached as f64 / poses.max(1) as f64,
+            seconds,
+            solves_per_second: None,
+            threads: None,
+            solver: None,
+            shards: Some(shards),
+        }
+    }
+}

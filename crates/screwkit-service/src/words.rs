@@ -243,19 +243,42 @@ words! {
     }
 }
 
-words! {
-    /// The views of a picture: one of them, or all four on one sheet.
-    Views, "view" {
-        /// Isometric.
-        Iso = "iso",
-        /// From +x.
-        Front = "front",
-        /// From −y.
-        Side = "side",
-        /// From +z.
-        Top = "top",
-        /// The four, in [`View::ALL`] order.
-        All = "all",
+/// The views of a picture: one of them, or all four on one sheet (`all`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Views {
+    /// One view.
+    One(View),
+    /// The four, in [`View`]'s `ALL` order.
+    All,
+}
+
+impl Word for Views {
+    const KIND: &'static str = "view";
+    const ALL: &'static [Self] = &[
+        Views::One(View::Iso),
+        Views::One(View::Front),
+        Views::One(View::Side),
+        Views::One(View::Top),
+        Views::All,
+    ];
+    fn as_str(self) -> &'static str {
+        match self {
+            Views::One(v) => v.as_str(),
+            Views::All => "all",
+        }
+    }
+}
+
+impl std::str::FromStr for Views {
+    type Err = WordError;
+    fn from_str(s: &str) -> Result<Self, WordError> {
+        parse(s)
+    }
+}
+
+impl fmt::Display for Views {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
     }
 }
 
@@ -263,10 +286,7 @@ impl Views {
     /// The views drawn.
     pub fn views(self) -> Vec<View> {
         match self {
-            Views::Iso => vec![View::Iso],
-            Views::Front => vec![View::Front],
-            Views::Side => vec![View::Side],
-            Views::Top => vec![View::Top],
+            Views::One(v) => vec![v],
             Views::All => View::ALL.to_vec(),
         }
     }

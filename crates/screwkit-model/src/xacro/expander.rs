@@ -332,17 +332,7 @@ impl Expander<'_> {
                 }
                 Node::Elem(e) => {
                     self.count(1, &e.at)?;
-                    let mut o = OutElem {
-                        name: e.name.clone(),
-                        attrs: Vec::new(),
-                        children: Vec::new(),
-                    };
-                    for (k, v) in &e.attrs {
-                        if !k.starts_with("xacro:") {
-                            let v = self.text(v, scope, &e.at)?;
-                            o.attrs.push((k.clone(), v));
-                        }
-                    }
+                    let mut o = self.out_elem(e.name.clone(), e, scope)?;
                     self.emitted(&o, &e.at)?;
                     self.nest_in(&e.at, "elements")?;
                     let r = self.process(&e.children, scope, &mut o);
@@ -353,6 +343,27 @@ impl Expander<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The output element `name` with `e`'s attributes expanded (the `xacro:` ones left out).
+    pub(super) fn out_elem(
+        &mut self,
+        name: String,
+        e: &Elem,
+        scope: &Scope,
+    ) -> Result<OutElem, ModelError> {
+        let mut o = OutElem {
+            name,
+            attrs: Vec::new(),
+            children: Vec::new(),
+        };
+        for (k, v) in &e.attrs {
+            if !k.starts_with("xacro:") {
+                let v = self.text(v, scope, &e.at)?;
+                o.attrs.push((k.clone(), v));
+            }
+        }
+        Ok(o)
     }
 
     /// Counts an output element's name and attributes ([`MAX_OUTPUT_BYTES`]).
@@ -504,17 +515,7 @@ impl Expander<'_> {
                 check_name(&name).map_err(|m| {
                     fail(&e.at, format!("<xacro:element xacro:name=\"{name}\">: {m}"))
                 })?;
-                let mut o = OutElem {
-                    name,
-                    attrs: Vec::new(),
-                    children: Vec::new(),
-                };
-                for (k, v) in &e.attrs {
-                    if !k.starts_with("xacro:") {
-                        let v = self.text(v, scope, &e.at)?;
-                        o.attrs.push((k.clone(), v));
-                    }
-                }
+                let mut o = self.out_elem(name, e, scope)?;
                 self.process(&e.children, scope, &mut o)?;
                 out.children.push(Out::Elem(o));
             }

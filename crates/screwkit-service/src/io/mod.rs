@@ -27,6 +27,26 @@ pub enum FileError {
     Format(String),
 }
 
+/// Values as their little-endian bytes (the `.npy` data of `<f8` / `<i8`).
+pub(crate) fn le_bytes<const N: usize, T: Copy>(
+    values: &[T],
+    to: impl Fn(T) -> [u8; N],
+) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(values.len() * N);
+    for &v in values {
+        bytes.extend_from_slice(&to(v));
+    }
+    bytes
+}
+
+/// Little-endian 8-byte values from bytes (a trailing partial value is dropped).
+pub(crate) fn from_le8<T>(bytes: &[u8], from: impl Fn([u8; 8]) -> T) -> Vec<T> {
+    bytes
+        .chunks_exact(8)
+        .map(|b| from(b.try_into().unwrap_or([0; 8])))
+        .collect()
+}
+
 impl FileError {
     /// An I/O error on `path`.
     pub fn io(path: &str, source: std::io::Error) -> FileError {

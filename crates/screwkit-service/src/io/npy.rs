@@ -73,11 +73,7 @@ impl NpyReader {
             .read_exact(&mut bytes)
             .map_err(|e| FileError::io_doing(&self.path, "the data ends early", e))?;
         out.clear();
-        out.extend(
-            bytes
-                .chunks_exact(8)
-                .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes"))),
-        );
+        out.extend(super::from_le8(&bytes, f64::from_le_bytes));
         self.remaining -= rows;
         Ok(rows)
     }
@@ -108,11 +104,7 @@ impl NpyWriter {
 
     /// Appends float64 values.
     pub fn write_f64(&mut self, values: &[f64]) -> Result<(), FileError> {
-        let mut bytes = Vec::with_capacity(values.len() * 8);
-        for v in values {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-        self.write_bytes(&bytes)
+        self.write_bytes(&super::le_bytes(values, f64::to_le_bytes))
     }
 
     /// Appends raw bytes (booleans as 0/1).

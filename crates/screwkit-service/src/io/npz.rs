@@ -114,20 +114,12 @@ impl NpzWriter {
 
     /// float64 values of the open entry.
     pub fn write_f64(&mut self, values: &[f64]) -> Result<(), FileError> {
-        let mut bytes = Vec::with_capacity(values.len() * 8);
-        for v in values {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-        self.write_bytes(&bytes)
+        self.write_bytes(&super::le_bytes(values, f64::to_le_bytes))
     }
 
     /// int64 values of the open entry.
     pub fn write_i64(&mut self, values: &[i64]) -> Result<(), FileError> {
-        let mut bytes = Vec::with_capacity(values.len() * 8);
-        for v in values {
-            bytes.extend_from_slice(&v.to_le_bytes());
-        }
-        self.write_bytes(&bytes)
+        self.write_bytes(&super::le_bytes(values, i64::to_le_bytes))
     }
 
     /// A whole float64 entry.
@@ -228,28 +220,26 @@ impl NpzReader {
 
     /// A whole float64 entry with its shape (its CRC checked).
     pub fn f64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<f64>), FileError> {
-        let mut e = self.entry(name)?;
-        e.expect("<f8")?;
-        let n: usize = e.shape.iter().product();
-        let bytes = e.read_all(8 * n)?;
-        let v = bytes
-            .chunks_exact(8)
-            .map(|b| f64::from_le_bytes(b.try_into().unwrap_or([0; 8])))
-            .collect();
-        Ok((e.shape.clone(), v))
+        self.array8(name, "<f8", f64::from_le_bytes)
     }
 
     /// A whole int64 entry with its shape (its CRC checked).
     pub fn i64_array(&mut self, name: &str) -> Result<(Vec<usize>, Vec<i64>), FileError> {
+        self.array8(name, "<i8", i64::from_le_bytes)
+    }
+
+    /// A whole entry of 8-byte values of `descr` with its shape (its CRC checked).
+    fn array8<T>(
+        &mut self,
+        name: &str,
+        descr: &str,
+        from: impl Fn([u8; 8]) -> T,
+    ) -> Result<(Vec<usize>, Vec<T>), FileError> {
         let mut e = self.entry(name)?;
-        e.expect("<i8")?;
+        e.expect(descr)?;
         let n: usize = e.shape.iter().product();
         let bytes = e.read_all(8 * n)?;
-        let v = bytes
-            .chunks_exact(8)
-            .map(|b| i64::from_le_bytes(b.try_into().unwrap_or([0; 8])))
-            .collect();
-        Ok((e.shape.clone(), v))
+        Ok((e.shape.clone(), super::from_le8(&bytes, from)))
     }
 
     /// A 0-d unicode entry as a string.

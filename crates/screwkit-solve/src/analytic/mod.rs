@@ -19,7 +19,7 @@
 //! | two intersecting axes 5–6: 1D search over θ₄ | `two_intersecting` | `two_intersecting.rs`, `search.rs` |
 //! | two parallel axes 2 ∥ 3: 1D search over θ₁ | `two_parallel` | `two_parallel.rs`, `search.rs` |
 //!
-//! Each has up to 8 postures (solutions modulo 2π). A chain whose *reversed*
+//! A closed form has up to 8 postures (solutions modulo 2π), a search up to 16. A chain whose *reversed*
 //! order is of one of these (a spherical shoulder is a spherical wrist seen from the tip) is
 //! solved as M T_d⁻¹ = e^\[−S₆\]θ₆ ⋯ e^\[−S₁\]θ₁: the lines in reverse order, directions
 //! negated. A 7R chain with joint j locked at v is the 6R chain of the other joints with the

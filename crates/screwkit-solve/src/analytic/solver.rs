@@ -297,16 +297,7 @@ impl AnalyticIk {
         value: Option<f64>,
         sweep: Option<usize>,
     ) -> Result<Vec<Result<(Solutions, Vec<f64>), SolveError>>, SolveError> {
-        use rayon::prelude::*;
-        let rows = targets.len() / 16;
-        if !targets.len().is_multiple_of(16) {
-            return Err(SolveError::WrongLength {
-                what: "target values (N × 16)",
-                expected: rows * 16,
-                got: targets.len(),
-                names: "a multiple of 16".into(),
-            });
-        }
+        let rows = target_rows(targets)?;
         let n = kin.dof();
         let one_seed = seeds.len() == n;
         if !one_seed && seeds.len() != rows * n {
@@ -317,28 +308,19 @@ impl AnalyticIk {
                 names: "one seed (dof) or one per target (N × dof)".into(),
             });
         }
-        Ok(targets
-            .par_chunks(16)
-            .enumerate()
-            .with_max_len(64)
-            .map_init(
-                || Workspace::new(kin),
-                |ws, (k, row)| {
-                    let seed = if one_seed {
-                        seeds
-                    } else {
-                        &seeds[k * n..(k + 1) * n]
-                    };
-                    let t = crate::batch::target_row(row)?;
-                    kin.check_q(seed)?;
-                    let values = self.lock_values(kin, seed, value, sweep)?;
-                    let mut out = Solutions::default();
-                    self.solve_swept(kin, ws, &t, &values, &mut out)?;
-                    out.sort_nearest(seed, None);
-                    Ok((out, values))
-                },
-            )
-            .collect())
+        per_target(kin, targets, |ws, k, t| {
+            let seed = if one_seed {
+                seeds
+            } else {
+                &seeds[k * n..(k + 1) * n]
+            };
+            kin.check_q(seed)?;
+            let values = self.lock_values(kin, seed, value, sweep)?;
+            let mut out = Solutions::default();
+            self.solve_swept(kin, ws, t, &values, &mut out)?;
+            out.sort_nearest(seed, None);
+            Ok((out, values))
+        })
     }
 
     /// [`AnalyticIk::solve`] for every row of `targets` (N × 16, row-major 4 × 4), in parallel
@@ -353,16 +335,7 @@ impl AnalyticIk {
         targets: &[f64],
         lock_values: Option<&[f64]>,
     ) -> Result<Vec<Result<Solutions, SolveError>>, SolveError> {
-        use rayon::prelude::*;
-        if !targets.len().is_multiple_of(16) {
-            return Err(SolveError::WrongLength {
-                what: "target values (N × 16)",
-                expected: targets.len() / 16 * 16,
-                got: targets.len(),
-                names: "a multiple of 16".into(),
-            });
-        }
-        let rows = targets.len() / 16;
+        let rows = target_rows(targets)?;
         if let Some(v) = lock_values {
             if v.len() != rows {
                 return Err(SolveError::WrongLength {
@@ -373,20 +346,11 @@ impl AnalyticIk {
                 });
             }
         }
-        Ok(targets
-            .par_chunks(16)
-            .enumerate()
-            .with_max_len(64)
-            .map_init(
-                || Workspace::new(kin),
-                |ws, (k, row)| {
-                    let t = crate::batch::target_row(row)?;
-                    let mut out = Solutions::default();
-                    self.solve(kin, ws, &t, lock_values.map_or(0.0, |v| v[k]), &mut out)?;
-                    Ok(out)
-                },
-            )
-            .collect())
+        per_target(kin, targets, |ws, k, t| {
+            let mut out = Solutions::default();
+            self.solve(kin, ws, t, lock_values.map_or(0.0, |v| v[k]), &mut out)?;
+            Ok(out)
+        })
     }
 
     /// Newton steps on the free joints, q ← q + J_b⁻¹ log(T(q)⁻¹ T_d) (body Jacobian, the
@@ -484,4 +448,38 @@ impl AnalyticIk {
             }
         }
     }
+}
+
+/// The rows of an N × 16 target buffer; an error for a length that is not a multiple of 16.
+fn target_rows(targets: &[f64]) -> Result<usize, SolveError> {
+    if !targets.len().is_multiple_of(16) {
+        return Err(SolveError::WrongLength {
+            what: "target values (N × 16)",
+            expected: targets.len() / 16 * 16,
+            got: targets.len(),
+            names: "a multiple of 16".into(),
+        });
+    }
+    Ok(targets.len() / 16)
+}
+
+/// `f(ws, k, target k)` for every row k of `targets` (checked by [`target_rows`]; a row that is
+/// not a finite rigid transform is its own error), in parallel on rayon's pool with one
+/// workspace per worker; results in row order, whatever the thread count.
+fn per_target<T: Send>(
+    kin: &Kinematics,
+    targets: &[f64],
+    f: impl Fn(&mut Workspace, usize, &Se3) -> Result<T, SolveError> + Sync + Send,
+) -> Result<Vec<Result<T, SolveError>>, SolveError> {
+    use rayon::prelude::*;
+    target_rows(targets)?;
+    Ok(targets
+        .par_chunks(16)
+        .enumerate()
+        .with_max_len(64)
+        .map_init(
+            || Workspace::new(kin),
+            |ws, (k, row)| f(ws, k, &crate::batch::target_row(row)?),
+        )
+        .collect())
 }

@@ -1,17 +1,16 @@
-//!   R₆ (R_gᵀ R₁ k₂) = R(k₅, −θ₅) k₂ gives θ₆ (subproblem 1). Then h = e₁⁻¹ g e₆⁻¹ e₅⁻¹ =
-//! e₂ e₃ e₄ is planar: with p₄ on axis 4, ‖e₃ p₄ − r₂‖ = ‖h p₄ − r₂‖ gives θ₃
-//! (subproblem 3), e₂ (e₃ p₄) = h p₄ gives θ₂ (subproblem 1) and θ₄ is the rotation of h
-//! about k₂ minus θ₂ + θ₃.
+//! Three parallel axes 2 ∥ 3 ∥ 4 (g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes,
+//! r_i points on them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i), as in every decomposition).
 //!
-//! * **Spherical wrist only**: R(k₁, −θ₁)(y − r₁) + r₁ − r₂ = R₂ ((r₃ − r₂) + R₃ (p_w − r₃))
+//! **Axes 5 and 6 meeting at p₅₆** (UR-type): k₂ · e₁⁻¹ g p₅₆ = k₂ · p₅₆ gives θ₁
+//! (subproblem 4); k₂ᵀ R₁ᵀ R_g k₆ = k₂ᵀ R₅ k₆ gives θ₅ (subproblem 4); R₆ (R_gᵀ R₁ k₂) =
+//! R(k₅, −θ₅) k₂ gives θ₆ (subproblem 1). Then h = e₁⁻¹ g e₆⁻¹ e₅⁻¹ = e₂ e₃ e₄ is planar:
+//! with p₄ on axis 4, ‖e₃ p₄ − r₂‖ = ‖h p₄ − r₂‖ gives θ₃ (subproblem 3), e₂ (e₃ p₄) = h p₄
+//! gives θ₂ (subproblem 1) and θ₄ is the rotation of h about k₂ minus θ₂ + θ₃.
 //!
-//!   and k₂ᵀ R(k₁, −θ₁) R_g k₆ − k₂ᵀ R₅ k₆ = 0: subproblem 6 in (θ₁, θ₅) (up to 4 pairs); then
-//! θ₆ and the planar problem as for the UR type.
-//!
-//! Each has up to 8 postures (solutions modulo 2π). A chain whose *reversed*
-//!
-//! g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on them, e_i =
-//! e^\[S_i\]θ_i, R_i = R(k_i, θ_i) (as in every decomposition).
+//! **Only the three parallel axes** (`general`): the k₂ components of e₁⁻¹ g r₆ = e₂ e₃ e₄ e₅
+//! r₆ and of R₁ᵀ R_g k₆ = R₂₃₄ R₅ k₆ give k₂ᵀ R(k₁, −θ₁)(g r₆ − r₁) − k₂ᵀ R₅ (r₆ − r₅) =
+//! k₂·(r₅ − r₁) and k₂ᵀ R(k₁, −θ₁) R_g k₆ − k₂ᵀ R₅ k₆ = 0: subproblem 6 in (θ₁, θ₅) (up to 4
+//! pairs); then θ₆ and the planar problem as for the UR type.
 
 use super::*;
 
