@@ -3,6 +3,7 @@
 
 /// `x` moved by a multiple of 2π into (−π, π] (exactly `x` when it is in range; non-finite
 /// input gives NaN).
+#[inline]
 pub fn wrap(x: f64) -> f64 {
     use std::f64::consts::PI;
     // The common cases without a division: already in range, or one turn off.

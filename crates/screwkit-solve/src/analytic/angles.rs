@@ -5,6 +5,7 @@ use super::*;
 
 /// R(k, θ) as a matrix for a unit k: the library's Rodrigues form
 /// ([`screwkit_lie::so3::rotation_from_coefficients`] with φ = k, A = sin θ, B = 1 − cos θ).
+#[inline]
 pub(super) fn rotation(k: &V3, theta: f64) -> M3 {
     let (s, c) = theta.sin_cos();
     screwkit_lie::so3::rotation_from_coefficients(k, 1.0, s, 1.0 - c)
@@ -12,6 +13,7 @@ pub(super) fn rotation(k: &V3, theta: f64) -> M3 {
 
 /// The angles of a subproblem with their exactness: an exact double root where two are
 /// expected (`two`), or a free angle (set to 0), marks the configuration singular.
+#[inline]
 pub(super) fn roots(a: Angles, two: bool, singular: &mut bool) -> Few<(f64, bool)> {
     match a {
         Angles::Exact(v) => {
@@ -37,6 +39,7 @@ pub(super) fn roots(a: Angles, two: bool, singular: &mut bool) -> Few<(f64, bool
 /// The pairs of subproblem 2 with their exactness; a point on an axis (degenerate) sets the
 /// first angle to 0 and solves the second by subproblem 1, marking the configuration
 /// singular.
+#[inline]
 pub(super) fn pairs(
     a: AnglePairs,
     p1: &V3,

@@ -20,6 +20,7 @@ pub(super) struct Prepared {
 
 impl Prepared {
     /// From six lines in chain order and their home; reversed: solve tip to base.
+    #[inline]
     pub(super) fn new(method: Method, lines: &[AxisLine; 6], home: Se3, reversed: bool) -> Self {
         let mut k = [V3::zeros(); 6];
         let mut r = [V3::zeros(); 6];

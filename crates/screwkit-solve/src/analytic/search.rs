@@ -13,6 +13,7 @@ use super::*;
 /// on existence) — is bisected to machine precision. A root where e only touches zero (a
 /// double root) is missed, as by any sampled search; a sign change across a branch jump is
 /// rejected (|e| must vanish). Returns the states at the roots.
+#[inline]
 pub(super) fn search_1d(at: impl Fn(f64) -> Few<([f64; 4], f64), 4>) -> Vec<[f64; 4]> {
     use std::f64::consts::{PI, TAU};
     let theta = |i: usize| -PI + TAU * i as f64 / SEARCH_SAMPLES as f64;
@@ -110,6 +111,7 @@ pub(super) fn search_1d(at: impl Fn(f64) -> Few<([f64; 4], f64), 4>) -> Vec<[f64
 /// 1.5708 for π/2 misses by 1e-6 m — the 3R position problem inside the search has solutions
 /// only in θ₄ windows narrower than any sampling, so the search would silently find nothing:
 /// an error naming the miss instead.
+#[inline]
 pub(super) fn search_guard(
     lines: &[AxisLine],
     reversed: bool,

@@ -25,6 +25,7 @@ pub struct Postures {
 }
 
 impl Default for Postures {
+    #[inline]
     fn default() -> Self {
         Self {
             items: [Posture {
@@ -40,15 +41,18 @@ impl Default for Postures {
 
 impl Postures {
     /// The postures found.
+    #[inline]
     pub fn as_slice(&self) -> &[Posture] {
         &self.items[..self.len]
     }
 
     /// The number of variables of each posture.
+    #[inline]
     pub fn dof(&self) -> usize {
         self.dof
     }
 
+    #[inline]
     pub(super) fn push(&mut self, q: [f64; MAX_DOF], exact: bool) {
         if self.len < MAX_POSTURES {
             self.items[self.len] = Posture { q, exact };
@@ -76,49 +80,58 @@ pub struct Solutions {
 
 impl Solutions {
     /// The number of solutions.
+    #[inline]
     pub fn len(&self) -> usize {
         self.exact.len()
     }
 
     /// True when there is none (every posture is outside the joint limits).
+    #[inline]
     pub fn is_empty(&self) -> bool {
         self.exact.is_empty()
     }
 
     /// Solution i's joint values.
+    #[inline]
     pub fn q(&self, i: usize) -> &[f64] {
         &self.q[i * self.dof..(i + 1) * self.dof]
     }
 
     /// The solutions' joint values, in order.
+    #[inline]
     pub fn iter(&self) -> impl Iterator<Item = &[f64]> + '_ {
         (0..self.len()).map(|i| self.q(i))
     }
 
     /// Whether solution i is exact (false: least squares, the pose is out of reach).
+    #[inline]
     pub fn exact(&self, i: usize) -> bool {
         self.exact[i]
     }
 
     /// Solution i's residual: the largest entry of |T(q) − T_d| (rotation entries and
     /// translations in the file's length unit), by forward kinematics.
+    #[inline]
     pub fn residual(&self, i: usize) -> f64 {
         self.residual[i]
     }
 
     /// True when there are solutions and all are exact (they are either all exact or all
     /// least squares: exact ones are preferred).
+    #[inline]
     pub fn is_exact(&self) -> bool {
         !self.exact.is_empty() && self.exact.iter().all(|&e| e)
     }
 
     /// The solutions as owned rows.
+    #[inline]
     pub fn to_vecs(&self) -> Vec<Vec<f64>> {
         self.iter().map(<[f64]>::to_vec).collect()
     }
 
     /// The weighted joint-space distance Σ w_j (q_j − seed_j)² from solution i to `seed`
     /// (w = 1 when `weights` is None).
+    #[inline]
     pub fn distance(&self, i: usize, seed: &[f64], weights: Option<&[f64]>) -> f64 {
         self.q(i)
             .iter()
@@ -129,6 +142,7 @@ impl Solutions {
     }
 
     /// The index of the solution nearest to `seed` ([`Solutions::distance`]), if any.
+    #[inline]
     pub fn nearest(&self, seed: &[f64], weights: Option<&[f64]>) -> Option<usize> {
         (0..self.len()).min_by(|&a, &b| {
             self.distance(a, seed, weights)
@@ -139,6 +153,7 @@ impl Solutions {
     /// Orders the solutions nearest to `seed` first ([`Solutions::distance`]): the first is
     /// the one that moves the arm least from where it is (branch-stable tracking). Ties keep
     /// their order.
+    #[inline]
     pub fn sort_nearest(&mut self, seed: &[f64], weights: Option<&[f64]>) {
         let mut order: Vec<usize> = (0..self.len()).collect();
         let d: Vec<f64> = order
@@ -156,6 +171,7 @@ impl Solutions {
         self.residual = order.iter().map(|&i| self.residual[i]).collect();
     }
 
+    #[inline]
     pub(super) fn clear(&mut self, dof: usize) {
         self.dof = dof;
         self.q.clear();

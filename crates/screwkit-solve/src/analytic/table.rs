@@ -39,9 +39,11 @@ pub(super) struct Arrangement {
 }
 
 impl Arrangement {
+    #[inline]
     fn par(&self, i: usize) -> bool {
         self.parallel.contains(&i)
     }
+    #[inline]
     fn int(&self, i: usize) -> bool {
         self.intersecting.contains(&i)
     }
@@ -149,6 +151,7 @@ pub(super) const TABLE: &[Decomposition] = &[
 ];
 
 /// The row of `method`.
+#[inline]
 pub(super) fn row(method: Method) -> &'static Decomposition {
     TABLE
         .iter()
@@ -157,6 +160,7 @@ pub(super) fn row(method: Method) -> &'static Decomposition {
 }
 
 /// What a chain of `family` gets when no row's arrangement holds (the last row's fallback).
+#[inline]
 pub(super) fn fallback(family: Family) -> &'static str {
     TABLE
         .iter()
@@ -165,12 +169,14 @@ pub(super) fn fallback(family: Family) -> &'static str {
 }
 
 /// True when some row solves `family` (in some arrangement).
+#[inline]
 pub(super) fn has_row(family: Family) -> bool {
     TABLE.iter().any(|d| d.families.contains(&family))
 }
 
 /// The decomposition the relations of six lines (in the order given) allow, if any: the
 /// first row of [`TABLE`] for their family whose arrangement holds.
+#[inline]
 pub(super) fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Method)> {
     let (family, parallel, intersecting, _) = relations(lines, true, length);
     let a = Arrangement {
@@ -186,6 +192,7 @@ pub(super) fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Meth
 /// True when the first three lines and the last three each meet in a point: a 6R chain
 /// with a spherical shoulder and a spherical wrist, whose reachable poses come with a
 /// one-parameter self-motion (the iiwa with its elbow locked).
+#[inline]
 pub(super) fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
     let mut back = lines.to_vec();
     back.reverse();
@@ -194,6 +201,7 @@ pub(super) fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
 
 /// The method for six lines in chain order, read forward or reversed (true): the more
 /// specialised family of the two (a closed form before a search), forward on a tie.
+#[inline]
 pub(super) fn method_either(lines: &[AxisLine], length: f64) -> Option<(Method, bool)> {
     let mut back = lines.to_vec();
     back.reverse();

@@ -5,6 +5,7 @@
 use super::*;
 
 /// The spherical wrist: (θ₄, θ₅, θ₆) with R₄ R₅ R₆ = `rw`.
+#[inline]
 pub(super) fn wrist(
     p: &Prepared,
     rw: &M3,
