@@ -179,14 +179,14 @@ pub fn classify(kin: &Kinematics) -> Classification {
 /// or, when that of the reversed order is more specialised, the reversed one's.
 pub fn classify_axes(axes: Vec<AxisLine>, all_revolute: bool, length: f64) -> Classification {
     let forward = relations(&axes, all_revolute, length);
-    if forward.0 == Family::SphericalWristTwoParallel || axes.len() != 6 || !all_revolute {
+    if forward.family == Family::SphericalWristTwoParallel || axes.len() != 6 || !all_revolute {
         return classification(axes, forward, false);
     }
     let mut back = axes.clone();
     back.reverse();
     let backward = relations(&back, all_revolute, length);
-    if backward.0 < forward.0 {
-        let family = backward.0;
+    if backward.family < forward.family {
+        let family = backward.family;
         let mut c = classification(axes, forward, true);
         c.family = family;
         c
@@ -195,20 +195,26 @@ pub fn classify_axes(axes: Vec<AxisLine>, all_revolute: bool, length: f64) -> Cl
     }
 }
 
-pub(crate) type Relations = (
-    Family,
-    Vec<usize>,
-    Vec<(usize, Vector3<f64>)>,
-    Option<Vector3<f64>>,
-);
+/// What [`relations`] finds in lines taken in one order.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Relations {
+    /// Their family.
+    pub(crate) family: Family,
+    /// i where lines i and i+1 are parallel (0-based).
+    pub(crate) parallel: Vec<usize>,
+    /// i where lines i and i+1 meet, and where.
+    pub(crate) intersecting: Vec<(usize, Vector3<f64>)>,
+    /// Where the last three meet, if they do.
+    pub(crate) wrist_center: Option<Vector3<f64>>,
+}
 
 fn classification(axes: Vec<AxisLine>, r: Relations, reversed: bool) -> Classification {
     Classification {
-        family: r.0,
+        family: r.family,
         axes,
-        parallel: r.1,
-        intersecting: r.2,
-        wrist_center: r.3,
+        parallel: r.parallel,
+        intersecting: r.intersecting,
+        wrist_center: r.wrist_center,
         reversed,
     }
 }
@@ -269,5 +275,10 @@ pub(crate) fn relations(axes: &[AxisLine], all_revolute: bool, l: f64) -> Relati
         (true, 7) => Family::Redundant7R,
         _ => Family::NotAnalytic,
     };
-    (family, parallel, intersecting, wrist_center)
+    Relations {
+        family,
+        parallel,
+        intersecting,
+        wrist_center,
+    }
 }

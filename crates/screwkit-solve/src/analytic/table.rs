@@ -178,10 +178,11 @@ pub(super) fn has_row(family: Family) -> bool {
 /// first row of [`TABLE`] for their family whose arrangement holds.
 #[inline]
 pub(super) fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Method)> {
-    let (family, parallel, intersecting, _) = relations(lines, true, length);
+    let r = relations(lines, true, length);
+    let family = r.family;
     let a = Arrangement {
-        parallel,
-        intersecting: intersecting.iter().map(|&(j, _)| j).collect(),
+        parallel: r.parallel,
+        intersecting: r.intersecting.iter().map(|&(j, _)| j).collect(),
     };
     TABLE
         .iter()
@@ -196,7 +197,8 @@ pub(super) fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Meth
 pub(super) fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
     let mut back = lines.to_vec();
     back.reverse();
-    relations(lines, true, length).3.is_some() && relations(&back, true, length).3.is_some()
+    relations(lines, true, length).wrist_center.is_some()
+        && relations(&back, true, length).wrist_center.is_some()
 }
 
 /// The method for six lines in chain order, read forward or reversed (true): the more
