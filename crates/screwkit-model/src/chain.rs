@@ -252,7 +252,7 @@ fn build(tree: &Tree, base: usize, tip: usize, path: &[usize]) -> Result<Chain, 
 }
 
 /// Follows `<mimic>` links to the independent joint: θ_j = m q_leader + o.
-fn resolve_mimic(tree: &Tree, j: usize) -> Result<(usize, f64, f64), ErrorKind> {
+pub(crate) fn resolve_mimic(tree: &Tree, j: usize) -> Result<(usize, f64, f64), ErrorKind> {
     let name = &tree.joints[j].name;
     let (mut cur, mut m, mut o) = (j, 1.0, 0.0);
     let mut steps = 0;
@@ -287,7 +287,7 @@ fn resolve_mimic(tree: &Tree, j: usize) -> Result<(usize, f64, f64), ErrorKind> 
 }
 
 /// The variable of an independent joint, with its limits checked.
-fn variable_of(joint: &TreeJoint) -> Result<Variable, ErrorKind> {
+pub(crate) fn variable_of(joint: &TreeJoint) -> Result<Variable, ErrorKind> {
     let (lower, upper) = match joint.kind {
         JointKind::Continuous => (f64::NEG_INFINITY, f64::INFINITY),
         _ => {

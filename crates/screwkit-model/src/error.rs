@@ -136,6 +136,17 @@ pub enum ErrorKind {
     /// Base and tip are the same link.
     #[error("base and tip are the same link \"{0}\"")]
     SameLink(String),
+    /// A frame name that is neither a link nor an added frame.
+    #[error("unknown frame \"{frame}\" ({available})")]
+    UnknownFrame {
+        /// The requested frame.
+        frame: String,
+        /// The frames that exist, or the closest names (as for [`ErrorKind::UnknownLink`]).
+        available: String,
+    },
+    /// A frame that cannot be added (no name, …).
+    #[error("frame: {0}")]
+    BadFrame(String),
     /// The tip was not given and there is more than one leaf below the base.
     #[error("cannot choose a tip link: {count} leaf links below \"{base}\" ({leaves}); pick one of them as the tip")]
     AmbiguousTip {

@@ -6,6 +6,8 @@
 //! - [`input`]: bounded reads and the XML checks every robot file passes (the stated limits).
 //! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
 //! - [`tree`]: links, joints, paths between links.
+//! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
+//!   the variable order, the floating base.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
 //! - [`table`]: screw-axis tables (Markdown, CSV, JSON).
 //!
@@ -24,6 +26,7 @@
 pub mod chain;
 pub mod error;
 pub mod input;
+pub mod kinematic_tree;
 pub mod table;
 pub mod tree;
 pub mod urdf;
@@ -31,6 +34,7 @@ pub mod xacro;
 
 pub use chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 pub use error::{ErrorKind, ModelError};
+pub use kinematic_tree::{KinematicTree, TreeFrame, TreeLink, TreeScrew};
 pub use tree::{JointKind, Limit, Mimic, Tree, TreeJoint};
 pub use xacro::XacroOptions;
 

@@ -163,8 +163,13 @@ pub(crate) fn name_list<'a>(names: impl IntoIterator<Item = &'a str>) -> String 
 /// What an unknown-link error offers: every link of a small model, else the three names
 /// closest to `name` (edit distance, ignoring case) and the count.
 fn suggest(name: &str, links: &[String]) -> String {
+    suggest_named(name, links, "links")
+}
+
+/// [`suggest`] for any list of names (`what`: "links", "frames").
+pub(crate) fn suggest_named(name: &str, links: &[String], what: &str) -> String {
     if links.len() <= 10 {
-        return format!("links: {}", name_list(links.iter().map(String::as_str)));
+        return format!("{what}: {}", name_list(links.iter().map(String::as_str)));
     }
     let want: Vec<char> = name.to_lowercase().chars().take(64).collect();
     let mut scored: Vec<(usize, &str)> = links
@@ -186,7 +191,7 @@ fn suggest(name: &str, links: &[String]) -> String {
         .map(|(_, l)| format!("\"{l}\""))
         .collect();
     format!(
-        "did you mean {}? {} links in all",
+        "did you mean {}? {} {what} in all",
         best.join(", "),
         links.len()
     )

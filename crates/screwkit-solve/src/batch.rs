@@ -35,10 +35,10 @@ use crate::workspace::Workspace;
 
 /// Rows per rayon task for the cheap kernels: large enough to amortise scheduling, small
 /// enough to balance.
-const CHUNK: usize = 256;
+pub(crate) const CHUNK: usize = 256;
 
 /// The number of rows of a flat buffer of `len` values with `width` per row.
-fn rows_of(len: usize, width: usize, what: &'static str) -> Result<usize, SolveError> {
+pub(crate) fn rows_of(len: usize, width: usize, what: &'static str) -> Result<usize, SolveError> {
     if width == 0 || !len.is_multiple_of(width) {
         return Err(SolveError::WrongLength {
             what,
@@ -73,7 +73,12 @@ fn batch_rows(
 }
 
 /// An output buffer must hold `rows` × `width` values.
-fn check_out(len: usize, rows: usize, width: usize, what: &'static str) -> Result<(), SolveError> {
+pub(crate) fn check_out(
+    len: usize,
+    rows: usize,
+    width: usize,
+    what: &'static str,
+) -> Result<(), SolveError> {
     if len == rows * width {
         Ok(())
     } else {
@@ -87,7 +92,7 @@ fn check_out(len: usize, rows: usize, width: usize, what: &'static str) -> Resul
 }
 
 /// Collects the rows that failed (in row order) into [`SolveError::Rows`].
-fn finish(errors: Vec<RowError>) -> Result<(), SolveError> {
+pub(crate) fn finish(errors: Vec<RowError>) -> Result<(), SolveError> {
     if errors.is_empty() {
         Ok(())
     } else {

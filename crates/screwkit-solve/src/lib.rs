@@ -28,6 +28,10 @@
 //! | [`ik::solve`], [`ik::solve_into`] | q with T(q) = T_sd, and how the solve ended |
 //! | [`batch::fk_batch`], [`batch::jacobian_batch`], [`batch::ik_batch`] | the same for N rows |
 //!
+//! The whole robot (a tree of frames, a floating base) is [`tree`]: [`TreeKinematics`] +
+//! [`TreeWorkspace`], every frame's pose in one sweep, any frame's Jacobian in three forms,
+//! relative poses and Jacobians, configurations on SE(3) × ℝⁿ.
+//!
 //! Errors are [`SolveError`]: bad input (wrong length, NaN, a bad target, bad options) or a
 //! numerical failure, told apart by [`SolveError::is_invalid_input`].
 //!
@@ -59,12 +63,14 @@ mod kinematics;
 mod poe;
 pub mod sample;
 pub mod subproblem;
+pub mod tree;
 pub mod velocity;
 mod workspace;
 
 pub use error::{BadTarget, RowError, SolveError};
 pub use kinematics::Kinematics;
 pub use screwkit_lie::Frame;
+pub use tree::{Form, TreeKinematics, TreeWorkspace};
 pub use workspace::Workspace;
 
 /// The bundled chains the unit tests run every kernel on: (file, prepared chain).

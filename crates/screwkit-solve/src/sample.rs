@@ -27,7 +27,7 @@ impl SplitMix64 {
 /// The interval a variable is sampled from: its limits, or [−π, π] when unbounded (continuous
 /// joints).
 #[inline]
-fn range(lower: f64, upper: f64) -> (f64, f64) {
+pub(crate) fn range(lower: f64, upper: f64) -> (f64, f64) {
     if lower.is_finite() && upper.is_finite() {
         (lower, upper)
     } else {

@@ -109,3 +109,62 @@ pub fn poe_body(chain: &Chain, q: &[f64]) -> Se3 {
     }
     t
 }
+
+/// Every link's pose (4x4, in the root link's frame, in `tree.links` order) for joint
+/// positions given by name (`position(joint) -> θ` for every movable joint, mimic followers
+/// included), composing the URDF transforms of `tree` from the root down: T_child =
+/// T_parent · origin_j · motion_j(θ_j). The independent oracle for the whole-tree FK.
+pub fn tree_fk_by_composition(tree: &Tree, position: &dyn Fn(&str) -> f64) -> Vec<Matrix4<f64>> {
+    let mut out = vec![Matrix4::identity(); tree.links.len()];
+    let mut stack = vec![tree.root];
+    while let Some(l) = stack.pop() {
+        for &j in &tree.child_joints[l] {
+            let joint = &tree.joints[j];
+            let origin = Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous()
+                * Rotation3::from_euler_angles(
+                    joint.origin_rpy[0],
+                    joint.origin_rpy[1],
+                    joint.origin_rpy[2],
+                )
+                .to_homogeneous();
+            let mut t = out[l] * origin;
+            if joint.kind.is_movable() {
+                let theta = position(&joint.name);
+                let axis = Unit::new_normalize(Vector3::from(joint.axis));
+                t *= if joint.kind == JointKind::Prismatic {
+                    Translation3::from(axis.into_inner() * theta).to_homogeneous()
+                } else {
+                    Rotation3::from_axis_angle(&axis, theta).to_homogeneous()
+                };
+            }
+            out[joint.child] = t;
+            stack.push(joint.child);
+        }
+    }
+    out
+}
+
+/// The position of every movable joint of `tree` (by name) for the tree's variables
+/// `q_joints` (named `variables`, the mimic rule followed from `<mimic>` as written):
+/// θ = multiplier · θ_leader + offset.
+pub fn tree_joint_positions(
+    tree: &Tree,
+    variables: &[String],
+    q_joints: &[f64],
+) -> std::collections::HashMap<String, f64> {
+    let mut out = std::collections::HashMap::new();
+    for joint in tree.joints.iter().filter(|j| j.kind.is_movable()) {
+        let (mut cur, mut m, mut o) = (joint, 1.0, 0.0);
+        while let Some(mimic) = &cur.mimic {
+            o += m * mimic.offset;
+            m *= mimic.multiplier;
+            cur = &tree.joints[tree.joint(&mimic.leader).expect("a mimic leader")];
+        }
+        let k = variables
+            .iter()
+            .position(|v| *v == cur.name)
+            .expect("the leader is a variable");
+        out.insert(joint.name.clone(), m * q_joints[k] + o);
+    }
+    out
+}

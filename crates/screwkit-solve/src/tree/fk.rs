@@ -1,0 +1,185 @@
+//! Forward kinematics of a tree's frames: T_F(q) = T_base · Π_{j on the path to F}
+//! e^{[S_j]θ_j} · M_F (the formula of [`screwkit_model::kinematic_tree`]).
+
+use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
+use screwkit_lie::{trig, Se3};
+
+use super::{TreeKinematics, TreeWorkspace, View, NONE};
+use crate::columns::Columns;
+use crate::error::SolveError;
+use crate::fk::fk_unchecked;
+
+/// Every frame's pose in one sweep, in frame order (the links in the file's order, then the
+/// extra frames), written into the workspace. Checks q.
+///
+/// Per joint, parents first: G_k = G_parent(k) · e^{[S_k]θ_k} (G of "no parent" = T_base); per
+/// frame: T_F = G_support(F) · M_F. Pinocchio's `forwardKinematics` + `updateFramePlacements`.
+pub fn fk_frames<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut TreeWorkspace,
+    q: &[f64],
+) -> Result<&'w [Se3], SolveError> {
+    let base = kin.check_q(q)?;
+    ws.fit(kin);
+    frames_unchecked(kin, ws, q, &base);
+    Ok(&ws.frames)
+}
+
+/// [`fk_frames`] without the checks (q has nq finite values; `base` is its base pose).
+pub(crate) fn frames_unchecked(
+    kin: &TreeKinematics,
+    ws: &mut TreeWorkspace,
+    q: &[f64],
+    base: &Se3,
+) {
+    let TreeWorkspace {
+        joint_poses,
+        theta,
+        sin,
+        cos,
+        frame_columns,
+        frames,
+        ..
+    } = ws;
+    dispatch(AllFrames {
+        kin,
+        q: &q[kin.q_offset()..],
+        base: Columns::from_se3(base),
+        joint_poses,
+        theta,
+        sin,
+        cos,
+        out: frame_columns,
+    });
+    // Converted outside the AVX2 clone (see `crate::fk::fk_unchecked`).
+    for (o, c) in frames.iter_mut().zip(frame_columns.iter()) {
+        *o = c.to_se3();
+    }
+}
+
+/// The sweep kernel of [`fk_frames`].
+struct AllFrames<'a> {
+    kin: &'a TreeKinematics,
+    /// The joint variables.
+    q: &'a [f64],
+    base: Columns,
+    joint_poses: &'a mut [Columns],
+    theta: &'a mut [f64],
+    sin: &'a mut [f64],
+    cos: &'a mut [f64],
+    out: &'a mut [Columns],
+}
+
+impl Kernel for AllFrames<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<A: MulAdd>(self) {
+        const L: usize = trig::LANES;
+        let kin = self.kin;
+        for (t, j) in self.theta.iter_mut().zip(&kin.joints) {
+            *t = j.drive.theta(self.q);
+        }
+        for ((t, s), c) in self
+            .theta
+            .chunks_exact(L)
+            .zip(self.sin.chunks_exact_mut(L))
+            .zip(self.cos.chunks_exact_mut(L))
+        {
+            let (mut ls, mut lc) = ([0.0; L], [0.0; L]);
+            let lt: &[f64; L] = t.try_into().expect("whole lanes");
+            trig::sin_cos_lanes_with::<A>(lt, &mut ls, &mut lc);
+            s.copy_from_slice(&ls);
+            c.copy_from_slice(&lc);
+        }
+        for k in 0..kin.joints.len() {
+            let p = kin.parent[k];
+            let mut g = if p == NONE {
+                self.base
+            } else {
+                self.joint_poses[p]
+            };
+            kin.joints[k].apply::<A>(&mut g, self.theta[k], self.sin[k], self.cos[k]);
+            self.joint_poses[k] = g;
+        }
+        for (o, f) in self.out.iter_mut().zip(&kin.frames) {
+            let g = if f.support == NONE {
+                &self.base
+            } else {
+                &self.joint_poses[f.support]
+            };
+            *o = g.compose::<A>(f.home.rotation(), &(*f.home.translation()).into());
+        }
+    }
+}
+
+/// One frame's pose T_F(q) (frame index from [`TreeKinematics::frame`]). Checks q and the
+/// index. Runs the chain kernel of the frame's path ([`crate::fk::fk`]) on its variables.
+pub fn fk_frame(
+    kin: &TreeKinematics,
+    ws: &mut TreeWorkspace,
+    q: &[f64],
+    frame: usize,
+) -> Result<Se3, SolveError> {
+    kin.check_frame(frame)?;
+    let base = kin.check_q(q)?;
+    ws.fit(kin);
+    Ok(frame_unchecked(kin, ws, q, &base, frame))
+}
+
+/// [`fk_frame`] without the checks.
+#[inline]
+pub(crate) fn frame_unchecked(
+    kin: &TreeKinematics,
+    ws: &mut TreeWorkspace,
+    q: &[f64],
+    base: &Se3,
+    frame: usize,
+) -> Se3 {
+    let f = &kin.frames[frame];
+    let local = match &f.view {
+        None => f.home,
+        Some(view) => {
+            let vq = gather(kin, view, q, &mut ws.view_q);
+            fk_unchecked(&view.kin, vq)
+        }
+    };
+    if kin.floating {
+        base.compose(&local)
+    } else {
+        local
+    }
+}
+
+/// The chain's variables of `view` gathered from q into `buf`.
+#[inline(always)]
+pub(crate) fn gather<'b>(
+    kin: &TreeKinematics,
+    view: &View,
+    q: &[f64],
+    buf: &'b mut [f64],
+) -> &'b [f64] {
+    let joints = &q[kin.q_offset()..];
+    let out = &mut buf[..view.variables.len()];
+    for (o, &v) in out.iter_mut().zip(&view.variables) {
+        *o = joints[v];
+    }
+    out
+}
+
+/// The pose of frame `a` in frame `b`: T_B⁻¹ T_A (a hand relative to the head, one hand
+/// relative to the other). Checks q and the indices.
+pub fn relative_pose(
+    kin: &TreeKinematics,
+    ws: &mut TreeWorkspace,
+    q: &[f64],
+    a: usize,
+    b: usize,
+) -> Result<Se3, SolveError> {
+    kin.check_frame(a)?;
+    kin.check_frame(b)?;
+    let base = kin.check_q(q)?;
+    ws.fit(kin);
+    let ta = frame_unchecked(kin, ws, q, &base, a);
+    let tb = frame_unchecked(kin, ws, q, &base, b);
+    Ok(tb.inverse_compose(&ta))
+}

@@ -1,0 +1,199 @@
+//! Jacobians of a tree's frames, one column per velocity entry (nv: the floating base's six,
+//! then one per joint variable), rows (ω, v).
+//!
+//! - **Space** (world): column of joint j on the path to F = \[Ad_{T_base G_{j−1}}\] S_j with
+//!   G_{j−1} the product of the joints above j (*Modern Robotics* eq. 5.11 along the path);
+//!   joints off the path: zero; a variable driving several joints (mimic): Σ m_j · column j.
+//!   The base's six columns: \[Ad_{T_base}\] (the base's body twist seen in the world).
+//! - **Body**: J_b = \[Ad_{T_F⁻¹}\] J_s; the joint columns do not depend on the base's pose,
+//!   the base's columns are \[Ad_{(T_base⁻¹ T_F)⁻¹}\].
+//! - **World-aligned**: (ω, v_s + ω × p_F): the frame's angular velocity and its origin's
+//!   velocity in world axes (Pinocchio's `LOCAL_WORLD_ALIGNED`).
+//!
+//! **Relative** (frame A seen from frame B, T_BA = T_B⁻¹ T_A): the twist of T_BA is
+//! V = \[Ad_{T_B⁻¹}\](J_s,A − J_s,B) v in B's frame (space form, B as the base), \[Ad_{T_A⁻¹}\]
+//! (J_s,A − J_s,B) v in A's frame (body form), and (ω, v + ω × p_BA) in B's axes at A's origin
+//! (world-aligned). When B is an ancestor of A this is the chain B → A's Jacobian.
+
+use nalgebra::Matrix6xX;
+use screwkit_lie::{Frame, Se3, Twist};
+
+use super::fk::gather;
+use super::{Form, TreeKinematics, TreeWorkspace};
+use crate::error::SolveError;
+use crate::jacobian::{fk_jacobian_into, space_to_world_aligned, PoseJacobian};
+
+/// The Jacobian of `frame` in `form` (6 × nv), in the workspace. Checks q and the index.
+pub fn frame_jacobian<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut TreeWorkspace,
+    q: &[f64],
+    frame: usize,
+    form: Form,
+) -> Result<&'w Matrix6xX<f64>, SolveError> {
+    Ok(frame_pose_jacobian(kin, ws, q, frame, form)?.jacobian)
+}
+
+/// The pose and the Jacobian of `frame` from one pass. Checks q and the index.
+pub fn frame_pose_jacobian<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut TreeWorkspace,
+    q: &[f64],
+    frame: usize,
+    form: Form,
+) -> Result<PoseJacobian<'w>, SolveError> {
+    kin.check_frame(frame)?;
+    let base = kin.check_q(q)?;
+    ws.fit(kin);
+    let pose = pose_jacobian_unchecked(kin, ws, q, &base, frame, form, false);
+    Ok(PoseJacobian {
+        pose,
+        jacobian: &ws.jacobian,
+    })
+}
+
+/// Pose and Jacobian of one frame into `ws.jacobian` (or `ws.other` when `other`), unchecked.
+pub(crate) fn pose_jacobian_unchecked(
+    kin: &TreeKinematics,
+    ws: &mut TreeWorkspace,
+    q: &[f64],
+    base: &Se3,
+    frame: usize,
+    form: Form,
+    other: bool,
+) -> Se3 {
+    let TreeWorkspace {
+        view_q,
+        views,
+        jacobian,
+        other: second,
+        ..
+    } = ws;
+    let jac = if other { second } else { jacobian };
+    jac.fill(0.0);
+    let f = &kin.frames[frame];
+    let vo = kin.v_offset();
+    let chain_frame = if form == Form::Body {
+        Frame::Body
+    } else {
+        Frame::Space
+    };
+    let space_base = kin.floating && chain_frame == Frame::Space;
+    let local = match (&f.view, views[frame].as_mut()) {
+        (Some(view), Some(vws)) => {
+            let vq = gather(kin, view, q, view_q);
+            vws.fit(&view.kin);
+            let local = fk_jacobian_into(&view.kin, &mut vws.jacobian, vq, chain_frame);
+            for (k, &var) in view.variables.iter().enumerate() {
+                let src = vws.jacobian.column(k);
+                let mut dst = jac.column_mut(vo + var);
+                if space_base {
+                    let t = base.adjoint_apply(&Twist::new(
+                        src.fixed_rows::<3>(0).into(),
+                        src.fixed_rows::<3>(3).into(),
+                    ));
+                    dst.fixed_rows_mut::<3>(0).copy_from(&t.w);
+                    dst.fixed_rows_mut::<3>(3).copy_from(&t.v);
+                } else {
+                    dst.copy_from(&src);
+                }
+            }
+            local
+        }
+        _ => f.home,
+    };
+    let pose = if kin.floating {
+        base.compose(&local)
+    } else {
+        local
+    };
+    if kin.floating {
+        let ad = if chain_frame == Frame::Space {
+            base.adjoint()
+        } else {
+            local.inverse().adjoint()
+        };
+        for i in 0..6 {
+            jac.column_mut(i).copy_from(&ad.column(i));
+        }
+    }
+    if form == Form::WorldAligned {
+        world_aligned(jac, pose.translation());
+    }
+    pose
+}
+
+/// Every column made world-aligned at p ([`space_to_world_aligned`]).
+fn world_aligned(jac: &mut Matrix6xX<f64>, p: &nalgebra::Vector3<f64>) {
+    for c in 0..jac.ncols() {
+        let mut col = [0.0; 6];
+        for (r, x) in col.iter_mut().enumerate() {
+            *x = jac[(r, c)];
+        }
+        space_to_world_aligned(&mut col, p);
+        for (r, x) in col.iter().enumerate() {
+            jac[(r, c)] = *x;
+        }
+    }
+}
+
+/// Applies \[Ad_T\] to every column.
+fn adjoint_columns(jac: &mut Matrix6xX<f64>, t: &Se3) {
+    for c in 0..jac.ncols() {
+        let col = jac.column(c);
+        let tw = t.adjoint_apply(&Twist::new(
+            col.fixed_rows::<3>(0).into(),
+            col.fixed_rows::<3>(3).into(),
+        ));
+        let mut dst = jac.column_mut(c);
+        dst.fixed_rows_mut::<3>(0).copy_from(&tw.w);
+        dst.fixed_rows_mut::<3>(3).copy_from(&tw.v);
+    }
+}
+
+/// The pose of frame `a` in frame `b` (T_B⁻¹ T_A) and the Jacobian of that relative motion in
+/// `form` (module documentation), 6 × nv, in the workspace. Checks q and the indices.
+pub fn relative_jacobian<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut TreeWorkspace,
+    q: &[f64],
+    a: usize,
+    b: usize,
+    form: Form,
+) -> Result<PoseJacobian<'w>, SolveError> {
+    kin.check_frame(a)?;
+    kin.check_frame(b)?;
+    let base = kin.check_q(q)?;
+    ws.fit(kin);
+    let pose = relative_unchecked(kin, ws, q, &base, a, b, form);
+    Ok(PoseJacobian {
+        pose,
+        jacobian: &ws.jacobian,
+    })
+}
+
+/// [`relative_jacobian`] without the checks; the Jacobian in `ws.jacobian`.
+pub(crate) fn relative_unchecked(
+    kin: &TreeKinematics,
+    ws: &mut TreeWorkspace,
+    q: &[f64],
+    base: &Se3,
+    a: usize,
+    b: usize,
+    form: Form,
+) -> Se3 {
+    let ta = pose_jacobian_unchecked(kin, ws, q, base, a, Form::Space, false);
+    let tb = pose_jacobian_unchecked(kin, ws, q, base, b, Form::Space, true);
+    ws.jacobian -= &ws.other;
+    let rel = tb.inverse_compose(&ta);
+    match form {
+        Form::Space | Form::WorldAligned => {
+            adjoint_columns(&mut ws.jacobian, &tb.inverse());
+            if form == Form::WorldAligned {
+                world_aligned(&mut ws.jacobian, rel.translation());
+            }
+        }
+        Form::Body => adjoint_columns(&mut ws.jacobian, &ta.inverse()),
+    }
+    rel
+}

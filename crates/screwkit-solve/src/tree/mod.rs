@@ -1,0 +1,378 @@
+//! The whole robot: kinematics of every frame of a tree ([`screwkit_model::KinematicTree`]), with
+//! an optional floating base (Pinocchio's model with frames: `forwardKinematics` +
+//! `updateFramePlacements`, `computeFrameJacobian`).
+//!
+//! [`TreeKinematics`] is the immutable model, [`TreeWorkspace`] one thread's scratch; every
+//! algorithm is `algorithm(&kin, &mut ws, inputs)`:
+//!
+//! | algorithm | what |
+//! |---|---|
+//! | [`fk::fk_frames`] | every frame's pose in one sweep (links first, then the extra frames) |
+//! | [`fk::fk_frame`], [`fk::relative_pose`] | one frame's pose; frame A in frame B (T_B⁻¹ T_A) |
+//! | [`jacobian::frame_jacobian`] | a frame's Jacobian (space, body, world-aligned), one column per velocity entry |
+//! | [`jacobian::relative_jacobian`] | the Jacobian of frame A's motion relative to frame B |
+//! | [`configuration`] | `integrate`, `difference`, `neutral`, `random` on SE(3) × joints |
+//! | [`batch`] | N configurations of each, on all cores |
+//!
+//! The conventions (variable order, the floating base's q and v) are those of
+//! [`screwkit_model::kinematic_tree`]: q = (x, y, z, qx, qy, qz, qw, joints…),
+//! v = (ω, v_b of the base in its own frame, joint rates…).
+//!
+//! **Fast paths.** The path root → F of a frame is a serial chain ([`KinematicTree::chain_to`]);
+//! one frame's pose and Jacobian run the chain's kernels ([`crate::fk`], [`crate::jacobian`]) on
+//! that chain's variables gathered from q, then put the columns in place (and, with a floating
+//! base, compose with the base's pose). Every frame at once is one sweep over the tree
+//! ([`fk::fk_frames`]): G_k = G_parent(k) e^{[S_k]θ_k} per joint, parents first, and
+//! T_F = G_support(F) M_F per frame. The tests hold both equal to the URDF composed joint by
+//! joint.
+
+pub mod batch;
+pub mod configuration;
+pub mod fk;
+pub mod jacobian;
+
+use nalgebra::Matrix6xX;
+use screwkit_lie::{Frame, Se3};
+use screwkit_model::{KinematicTree, ModelError};
+
+use crate::columns::Columns;
+use crate::error::SolveError;
+use crate::kinematics::Kinematics;
+use crate::poe::PoeJoint;
+use crate::workspace::Workspace;
+
+/// "No joint": a frame or joint with only fixed joints above it.
+pub(crate) const NONE: usize = usize::MAX;
+
+/// How far the floating base's quaternion may be from unit length (|‖quat‖ − 1|) before it is
+/// refused; within it, the quaternion is normalised. Single precision (1e-7) passes.
+pub const QUATERNION_TOLERANCE: f64 = 1e-6;
+
+/// Which form a frame Jacobian takes (the rows are (ω, v) in each).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Form {
+    /// J_s: the frame's spatial twist, in the world (base) frame: V_s = J_s v.
+    Space,
+    /// J_b = \[Ad_{T_F⁻¹}\] J_s: the frame's body twist, in the frame itself.
+    Body,
+    /// The frame's angular velocity and its origin's linear velocity, both in the world's
+    /// axes (Pinocchio's `LOCAL_WORLD_ALIGNED`): (ω, v_s + ω × p_F).
+    WorldAligned,
+}
+
+impl From<Frame> for Form {
+    fn from(f: Frame) -> Form {
+        match f {
+            Frame::Space => Form::Space,
+            Frame::Body => Form::Body,
+        }
+    }
+}
+
+/// The chain root → a frame, prepared: its [`Kinematics`] and, for each of its variables, the
+/// index of the tree's joint variable.
+#[derive(Debug, Clone)]
+pub(crate) struct View {
+    pub(crate) kin: Kinematics,
+    pub(crate) variables: Vec<usize>,
+}
+
+/// The per-frame constants.
+#[derive(Debug, Clone)]
+pub(crate) struct FrameData {
+    /// The nearest movable joint above the frame (index into the joints), or [`NONE`].
+    pub(crate) support: usize,
+    pub(crate) home: Se3,
+    /// The chain root → frame, `None` for a frame on the root link.
+    pub(crate) view: Option<View>,
+}
+
+/// The immutable kinematic model of a whole tree, prepared for the algorithms. Build once with
+/// [`TreeKinematics::new`]; share freely (`Send + Sync`).
+#[derive(Debug, Clone)]
+pub struct TreeKinematics {
+    pub(crate) model: KinematicTree,
+    /// The space screws, parents first (the order of [`KinematicTree::joints`]).
+    pub(crate) joints: Vec<PoeJoint>,
+    /// Each joint's parent joint (index) or [`NONE`].
+    pub(crate) parent: Vec<usize>,
+    pub(crate) frames: Vec<FrameData>,
+    pub(crate) floating: bool,
+    /// The joint variables' limits (without the floating base).
+    pub(crate) lower: Vec<f64>,
+    pub(crate) upper: Vec<f64>,
+    pub(crate) q_names: Vec<String>,
+    pub(crate) v_names: Vec<String>,
+    /// The most variables of any frame's chain (the size of the gathered q).
+    pub(crate) max_view_dof: usize,
+}
+
+impl TreeKinematics {
+    /// Prepares a tree (with its floating base, if it has one) for the algorithms.
+    pub fn new(model: &KinematicTree) -> Result<Self, ModelError> {
+        let joints = model
+            .joints
+            .iter()
+            .map(|j| {
+                PoeJoint::new(
+                    *j.s_space.twist(),
+                    j.kind == screwkit_model::JointKind::Prismatic,
+                    j.drive,
+                )
+            })
+            .collect();
+        let parent = model
+            .joints
+            .iter()
+            .map(|j| j.parent.unwrap_or(NONE))
+            .collect();
+        let mut frames = Vec::with_capacity(model.frames.len());
+        let mut max_view_dof = 0;
+        for (i, f) in model.frames.iter().enumerate() {
+            let view = match model.chain_to(i)? {
+                None => None,
+                Some(chain) => {
+                    let variables = chain
+                        .variables
+                        .iter()
+                        .map(|v| {
+                            model
+                                .variables
+                                .iter()
+                                .position(|w| w.name == v.name)
+                                .expect("a chain's variables are variables of its tree")
+                        })
+                        .collect::<Vec<_>>();
+                    max_view_dof = max_view_dof.max(variables.len());
+                    Some(View {
+                        kin: Kinematics::new(&chain),
+                        variables,
+                    })
+                }
+            };
+            frames.push(FrameData {
+                support: model.links[f.link].support.unwrap_or(NONE),
+                home: f.home,
+                view,
+            });
+        }
+        Ok(Self {
+            joints,
+            parent,
+            frames,
+            floating: model.floating_base,
+            lower: model.variables.iter().map(|v| v.lower).collect(),
+            upper: model.variables.iter().map(|v| v.upper).collect(),
+            q_names: model.q_names(),
+            v_names: model.v_names(),
+            max_view_dof,
+            model: model.clone(),
+        })
+    }
+
+    /// The model it was built from.
+    pub fn model(&self) -> &KinematicTree {
+        &self.model
+    }
+
+    /// nq: the configuration's length (7 + joint variables with a floating base).
+    pub fn nq(&self) -> usize {
+        self.q_names.len()
+    }
+
+    /// nv: the velocity's length and the Jacobian's column count (6 + joint variables with a
+    /// floating base).
+    pub fn nv(&self) -> usize {
+        self.v_names.len()
+    }
+
+    /// True with a floating base.
+    pub fn floating_base(&self) -> bool {
+        self.floating
+    }
+
+    /// The number of frames (links, then extra frames).
+    pub fn frame_count(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// A frame's index by name (a link or an extra frame).
+    pub fn frame(&self, name: &str) -> Result<usize, ModelError> {
+        self.model.frame(name)
+    }
+
+    /// A frame's name.
+    pub fn frame_name(&self, frame: usize) -> &str {
+        &self.model.frames[frame].name
+    }
+
+    /// The lower limits of q (−∞ for the base's position, −1 for its quaternion).
+    pub fn lower(&self) -> Vec<f64> {
+        self.bounds(&self.lower, f64::NEG_INFINITY, -1.0)
+    }
+
+    /// The upper limits of q (+∞ for the base's position, 1 for its quaternion).
+    pub fn upper(&self) -> Vec<f64> {
+        self.bounds(&self.upper, f64::INFINITY, 1.0)
+    }
+
+    fn bounds(&self, joints: &[f64], position: f64, quaternion: f64) -> Vec<f64> {
+        let base = [
+            position, position, position, quaternion, quaternion, quaternion, quaternion,
+        ];
+        base.iter()
+            .filter(|_| self.floating)
+            .copied()
+            .chain(joints.iter().copied())
+            .collect()
+    }
+
+    /// The q labels (`floating_base.x` …, then the joint variables).
+    pub fn q_names(&self) -> &[String] {
+        &self.q_names
+    }
+
+    /// The v labels (`floating_base.wx` …, then the joint variables).
+    pub fn v_names(&self) -> &[String] {
+        &self.v_names
+    }
+
+    /// The offset of the joint variables in q (7 with a floating base).
+    pub(crate) fn q_offset(&self) -> usize {
+        if self.floating {
+            7
+        } else {
+            0
+        }
+    }
+
+    /// The offset of the joint variables in v (6 with a floating base).
+    pub(crate) fn v_offset(&self) -> usize {
+        if self.floating {
+            6
+        } else {
+            0
+        }
+    }
+
+    /// Checks a frame index.
+    pub(crate) fn check_frame(&self, frame: usize) -> Result<(), SolveError> {
+        if frame < self.frames.len() {
+            Ok(())
+        } else {
+            Err(SolveError::InvalidInput(format!(
+                "frame index {frame} is out of range: the model has {} frames",
+                self.frames.len()
+            )))
+        }
+    }
+
+    /// Checks a configuration (nq values, finite, the base's quaternion of unit length within
+    /// [`QUATERNION_TOLERANCE`]) and returns the base's pose (the identity for a fixed base).
+    pub fn check_q(&self, q: &[f64]) -> Result<Se3, SolveError> {
+        if q.len() != self.nq() {
+            return Err(SolveError::WrongLength {
+                what: "configuration values",
+                expected: self.nq(),
+                got: q.len(),
+                names: short_names(&self.q_names),
+            });
+        }
+        if let Some(i) = q.iter().position(|x| !x.is_finite()) {
+            return Err(SolveError::NonFinite {
+                what: "configuration value",
+                index: i,
+                name: self.q_names[i].clone(),
+                value: q[i],
+            });
+        }
+        if !self.floating {
+            return Ok(Se3::identity());
+        }
+        base_pose(q)
+    }
+}
+
+/// The floating base's pose from q\[0..7\] = (x, y, z, qx, qy, qz, qw), the quaternion checked
+/// within [`QUATERNION_TOLERANCE`] of unit length and normalised.
+pub(crate) fn base_pose(q: &[f64]) -> Result<Se3, SolveError> {
+    let quat = [q[3], q[4], q[5], q[6]];
+    let norm = quat.iter().map(|x| x * x).sum::<f64>().sqrt();
+    if (norm - 1.0).abs() > QUATERNION_TOLERANCE {
+        return Err(SolveError::InvalidInput(format!(
+            "the floating base's quaternion q[3..7] = (qx, qy, qz, qw) = ({}, {}, {}, {}) has norm {norm}, not 1",
+            quat[0], quat[1], quat[2], quat[3]
+        )));
+    }
+    Se3::from_translation_quaternion([q[0], q[1], q[2]], quat)
+        .map_err(|e| SolveError::InvalidInput(format!("the floating base's pose: {e}")))
+}
+
+/// A long list of names shortened for a message.
+fn short_names(names: &[String]) -> String {
+    if names.len() <= 12 {
+        names.join(", ")
+    } else {
+        format!("{}, … {} in all", names[..10].join(", "), names.len())
+    }
+}
+
+/// Reusable scratch for one thread, sized for one [`TreeKinematics`].
+#[derive(Debug, Clone)]
+pub struct TreeWorkspace {
+    /// G_k per joint (the sweep's products).
+    pub(crate) joint_poses: Vec<Columns>,
+    /// θ, sin θ, cos θ per joint (length rounded up to whole lanes).
+    pub(crate) theta: Vec<f64>,
+    pub(crate) sin: Vec<f64>,
+    pub(crate) cos: Vec<f64>,
+    pub(crate) frame_columns: Vec<Columns>,
+    pub(crate) frames: Vec<Se3>,
+    /// The gathered q of one frame's chain.
+    pub(crate) view_q: Vec<f64>,
+    /// The chains' scratch (one per frame with a chain; sized for it).
+    pub(crate) views: Vec<Option<Workspace>>,
+    pub(crate) jacobian: Matrix6xX<f64>,
+    pub(crate) other: Matrix6xX<f64>,
+    /// Checked by [`TreeWorkspace::fit`].
+    frames_len: usize,
+    nv: usize,
+}
+
+impl TreeWorkspace {
+    /// Scratch sized for `kin`.
+    pub fn new(kin: &TreeKinematics) -> Self {
+        let lanes =
+            kin.joints.len().div_ceil(screwkit_lie::trig::LANES) * screwkit_lie::trig::LANES;
+        Self {
+            joint_poses: vec![Columns::identity(); kin.joints.len()],
+            theta: vec![0.0; lanes],
+            sin: vec![0.0; lanes],
+            cos: vec![0.0; lanes],
+            frame_columns: vec![Columns::identity(); kin.frames.len()],
+            frames: vec![Se3::identity(); kin.frames.len()],
+            view_q: vec![0.0; kin.max_view_dof],
+            views: kin
+                .frames
+                .iter()
+                .map(|f| f.view.as_ref().map(|v| Workspace::new(&v.kin)))
+                .collect(),
+            jacobian: Matrix6xX::zeros(kin.nv()),
+            other: Matrix6xX::zeros(kin.nv()),
+            frames_len: kin.frames.len(),
+            nv: kin.nv(),
+        }
+    }
+
+    /// Makes the workspace fit `kin` (rebuilt if it was made for another model).
+    #[inline(always)]
+    pub(crate) fn fit(&mut self, kin: &TreeKinematics) {
+        if self.frames_len != kin.frames.len()
+            || self.nv != kin.nv()
+            || self.joint_poses.len() != kin.joints.len()
+            || self.view_q.len() != kin.max_view_dof
+        {
+            *self = TreeWorkspace::new(kin);
+        }
+    }
+}
