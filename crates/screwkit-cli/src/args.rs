@@ -208,6 +208,11 @@ pub struct ChainArgs {
     /// FK, Jacobians, IK and tables are then of the tool frame.
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub tool: Option<List>,
+    /// Put a free joint (6 DoF) between the world and the root link: q starts with the base's
+    /// x,y,z and quaternion qx,qy,qz,qw, the Jacobians with the base's six columns (its
+    /// twist (ω, v) in its own frame). Whole-tree commands only (fk --frames, jacobian --of).
+    #[arg(long)]
+    pub floating_base: bool,
 }
 
 impl ChainArgs {
@@ -218,6 +223,7 @@ impl ChainArgs {
             base: self.base.clone(),
             tip: self.tip.clone(),
             tool: self.tool.as_ref().map(|t| t.0.clone()),
+            floating_base: self.floating_base,
         }
     }
 }
@@ -301,9 +307,15 @@ pub struct FkArgs {
     /// The configurations.
     #[command(flatten)]
     pub at: Configurations,
-    /// Give the pose of every link on the chain.
+    /// Give the pose of every link on the chain (on a file with several leaves and no tip:
+    /// every link and frame of the tree).
     #[arg(long)]
     pub all_links: bool,
+    /// The frames (links) to give, comma-separated, in the whole tree (q: the tree's
+    /// variables in the file's joint order; `info --format json` lists them). Without it, a
+    /// file with several leaves and no tip gives every leaf.
+    #[arg(long, value_delimiter = ',', value_name = "FRAME,…")]
+    pub frames: Vec<String>,
 }
 
 /// `jacobian`.
@@ -323,6 +335,14 @@ pub struct JacobianArgs {
     /// Add singular values, rank, manipulability, condition number and a verdict.
     #[arg(long)]
     pub analyze: bool,
+    /// The frame (link) whose Jacobian to give, in the whole tree: one column per variable of
+    /// the tree (zeros for joints not on its path).
+    #[arg(long, value_name = "FRAME")]
+    pub of: Option<String>,
+    /// Give the motion of --of relative to this frame (its pose T_B⁻¹ T_A; space: in this
+    /// frame, body: in --of's frame, world-aligned: this frame's axes at --of's origin).
+    #[arg(long, value_name = "FRAME", requires = "of")]
+    pub relative_to: Option<String>,
 }
 
 impl IkArgs {

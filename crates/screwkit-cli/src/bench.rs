@@ -11,7 +11,7 @@ use crate::output::{num, print_json, CliResult};
 /// Runs `bench`.
 pub fn run(args: &BenchArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
-    let (chain, kin) = (robot.chain(), robot.kin());
+    let (chain, kin) = robot.chain_parts()?;
     let label = args.method.as_str();
     let opts = IkOptions {
         method: args.method.with_damping(None)?,

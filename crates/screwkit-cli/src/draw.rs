@@ -29,7 +29,7 @@ fn picture(
     ) -> Result<String, screwkit_solve::SolveError>,
 ) -> CliResult {
     let robot = crate::load(chain)?;
-    let text = make(robot.chain(), robot.kin(), q.map(|l| l.0.as_slice()))?;
+    let text = make(robot.chain()?, robot.kin()?, q.map(|l| l.0.as_slice()))?;
     write_out(output, &text)
 }
 

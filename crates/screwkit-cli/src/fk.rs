@@ -1,6 +1,7 @@
-//! `screwkit fk`: tip pose or every link's pose.
+//! `screwkit fk`: tip pose or every link's pose; on the whole tree, the chosen frames' poses.
 
 use screwkit_lie::Se3;
+use screwkit_service::{whole, Robot};
 use screwkit_solve::batch::{fk_all_links_batch, fk_batch};
 use screwkit_solve::fk::{fk, fk_all_links};
 use screwkit_solve::{Kinematics, Workspace};
@@ -9,7 +10,7 @@ use serde_json::{json, Value};
 use crate::args::{FkArgs, Format};
 use crate::batch;
 use crate::output::{
-    matrix_text, nums, pose_json, pose_summary, print_json, rows_json, tuple, CliResult,
+    matrix_text, nums, pose_json, pose_summary, print_json, rows_json, tuple, CliResult, Failure,
 };
 
 /// The JSON object of one configuration: `{"q", "pose"}` (+ `"links"`).
@@ -56,10 +57,66 @@ fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
     })
 }
 
+/// `fk` on the whole tree: the chosen frames' poses in the root link's frame (the world with
+/// a floating base), q the tree's configuration.
+fn run_tree(robot: &Robot, args: &FkArgs, format: Format) -> CliResult {
+    let kin = robot.whole()?;
+    if args.at.input.is_some() {
+        return Err(Failure(
+            "fk --input on the whole tree (--frames, --floating-base or a file with several leaves) is not supported yet: give --q, or --tip for a chain".into(),
+        ));
+    }
+    let frames = whole::select_frames(kin, &args.frames, args.all_links)?;
+    let q = &args
+        .at
+        .q
+        .as_ref()
+        .expect("clap requires --q without --input")
+        .0;
+    let mut ws = robot.tree_workspace()?;
+    let poses = screwkit_solve::tree::fk::fk_frames(kin, &mut ws, q)?;
+    let chosen: Vec<(&str, &Se3)> = frames
+        .iter()
+        .map(|&f| (kin.frame_name(f), &poses[f]))
+        .collect();
+    if format == Format::Json {
+        let v = json!({
+            "q": nums(q),
+            "frames": chosen
+                .iter()
+                .map(|(name, t)| json!({"name": name, "pose": pose_json(t)}))
+                .collect::<Vec<_>>(),
+        });
+        print_json(&v)?;
+        return Ok(());
+    }
+    let root = kin.model().root();
+    let within = if kin.floating_base() {
+        format!("the world (floating base under `{root}`)")
+    } else {
+        format!("`{root}`")
+    };
+    let mut s = format!("Poses in {within} at q = {}:\n", tuple(q));
+    let w = chosen.iter().map(|(n, _)| n.len()).max().unwrap_or(4);
+    for (name, p) in &chosen {
+        s.push_str(&format!(
+            "{:<w$}  position {}  rpy {}\n",
+            name,
+            tuple(p.translation().as_slice()),
+            tuple(&p.rpy())
+        ));
+    }
+    crate::output::emit(&s)?;
+    Ok(())
+}
+
 /// Runs `fk`.
 pub fn run(args: &FkArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
-    let (chain, kin) = (robot.chain(), robot.kin());
+    if whole::wants_tree(&robot, !args.frames.is_empty()) {
+        return run_tree(&robot, args, format);
+    }
+    let (chain, kin) = robot.chain_parts()?;
     if let Some(input) = &args.at.input {
         if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {
             let (n, l) = (kin.dof(), kin.links().len());

@@ -325,7 +325,7 @@ fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliR
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
-    let (chain, kin) = (robot.chain(), robot.kin());
+    let (chain, kin) = robot.chain_parts()?;
     let opts = args.settings().options()?;
     // A target given in another frame of the tree: T_base,target = T_base,frame T_frame,target.
     let frame = match &args.target_frame {

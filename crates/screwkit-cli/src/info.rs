@@ -145,7 +145,39 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
             .map_err(|e| crate::output::Failure(e.to_string()))?;
     }
     let movable = tree.joints.iter().filter(|j| j.kind.is_movable()).count();
+    let whole = screwkit_model::KinematicTree::from_tree(&tree);
     if format == Format::Json {
+        // The whole tree's variables (the file's joint order, mimic followers excluded) and
+        // frames (every link, with its home pose in the root link's frame).
+        let (variables, frames) = match &whole {
+            Ok(m) => (
+                Value::Array(
+                    m.variables
+                        .iter()
+                        .enumerate()
+                        .map(|(k, v)| {
+                            json!({
+                                "index": k, "name": v.name, "type": v.kind.as_str(),
+                                "lower": num(v.lower), "upper": num(v.upper),
+                                "velocity": v.velocity.map_or(Value::Null, num), "effort": v.effort.map_or(Value::Null, num),
+                            })
+                        })
+                        .collect(),
+                ),
+                Value::Array(
+                    m.frames
+                        .iter()
+                        .map(|f| {
+                            json!({
+                                "name": f.name, "link": m.links[f.link].name,
+                                "home": crate::output::pose_json(&f.home),
+                            })
+                        })
+                        .collect(),
+                ),
+            ),
+            Err(_) => (Value::Null, Value::Null),
+        };
         let joints: Vec<Value> = (0..tree.joints.len())
             .map(|j| {
                 let jt = &tree.joints[j];
@@ -164,6 +196,9 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
             "links": tree.links,
             "joints": joints,
             "leaves": leaves.iter().map(|&l| tree.links[l].clone()).collect::<Vec<_>>(),
+            "variables": variables,
+            "frames": frames,
+            "whole_tree_error": whole.as_ref().err().map(|e| e.kind.to_string()),
             "default_chain": default.as_ref().ok().map(|c| json!({
                 "base": c.base, "tip": c.tip, "dof": c.dof(),
                 "ik_family": screwkit_solve::family::classify(&screwkit_solve::Kinematics::new(c)).family.word(),
@@ -225,6 +260,18 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
             screwkit_solve::analytic::describe(&screwkit_solve::Kinematics::new(c))
         )),
         Err(e) => s.push_str(&format!("Default chain: none — {}\n", e.kind)),
+    }
+    match &whole {
+        Ok(m) => s.push_str(&format!(
+            "Whole tree: {} variables (file order; fk --frames, jacobian --of): {}\n",
+            m.variables.len(),
+            m.variables
+                .iter()
+                .map(|v| v.name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )),
+        Err(e) => s.push_str(&format!("Whole tree: none — {}\n", e.kind)),
     }
     crate::output::emit(&s)?;
     Ok(())

@@ -137,10 +137,82 @@ fn one(
     }
 }
 
+/// `jacobian` on the whole tree: the Jacobian of `--of` (or of it relative to
+/// `--relative-to`), 6 × nv, one column per entry of the tree's velocity.
+fn run_tree(robot: &screwkit_service::Robot, args: &JacobianArgs, format: Format) -> CliResult {
+    let kin = robot.whole()?;
+    let Some(of) = &args.of else {
+        return Err(Failure(
+            "this robot has no single chain: name the frame with --of FRAME (or pick a chain with --tip)".into(),
+        ));
+    };
+    if args.at.input.is_some() || args.analyze {
+        return Err(Failure(
+            "jacobian --of: --input and --analyze are not supported on the whole tree yet (use --tip for a chain)".into(),
+        ));
+    }
+    let a = kin.frame(of)?;
+    let b = args
+        .relative_to
+        .as_deref()
+        .map(|r| kin.frame(r))
+        .transpose()?;
+    let q = &args
+        .at
+        .q
+        .as_ref()
+        .expect("clap requires --q without --input")
+        .0;
+    let mut ws = robot.tree_workspace()?;
+    let form = args.frame.form();
+    let pj = match b {
+        Some(b) => screwkit_solve::tree::jacobian::relative_jacobian(kin, &mut ws, q, a, b, form)?,
+        None => screwkit_solve::tree::jacobian::frame_pose_jacobian(kin, &mut ws, q, a, form)?,
+    };
+    let j = pj.jacobian;
+    let reference = match &args.relative_to {
+        Some(r) => r.clone(),
+        None if kin.floating_base() => "world".to_string(),
+        None => kin.model().root().to_string(),
+    };
+    if format == Format::Json {
+        let rows: Vec<Value> = (0..6)
+            .map(|r| nums(&j.row(r).iter().copied().collect::<Vec<_>>()))
+            .collect();
+        let v = json!({
+            "q": nums(q),
+            "frame": args.frame.as_str(),
+            "of": of,
+            "relative_to": reference,
+            "columns": kin.v_names(),
+            "jacobian": rows,
+        });
+        print_json(&v)?;
+        return Ok(());
+    }
+    let mut s = format!(
+        "{} Jacobian (6 × {}) of `{of}` in `{reference}` at q = {}; rows ω then v:\n\n|    | {} |\n|---|{}\n",
+        args.frame.as_str(),
+        j.ncols(),
+        tuple(q),
+        kin.v_names().join(" | "),
+        "---|".repeat(j.ncols())
+    );
+    for (r, label) in ["ωx", "ωy", "ωz", "vx", "vy", "vz"].iter().enumerate() {
+        let cells: Vec<String> = j.row(r).iter().map(|&x| fixed(x, PREC)).collect();
+        s.push_str(&format!("| {label} | {} |\n", cells.join(" | ")));
+    }
+    crate::output::emit(&s)?;
+    Ok(())
+}
+
 /// Runs `jacobian`.
 pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
-    let (chain, kin) = (robot.chain(), robot.kin());
+    if screwkit_service::whole::wants_tree(&robot, args.of.is_some()) {
+        return run_tree(&robot, args, format);
+    }
+    let (chain, kin) = robot.chain_parts()?;
     if let Some(input) = &args.at.input {
         if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {
             if args.analyze {

@@ -55,9 +55,10 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         base: a.base.clone(),
         tip: a.tip.clone(),
         tool: a.tool.clone(),
+        floating_base: false,
     };
     let robot = crate::load(&chain_args)?;
-    let (chain, kin) = (robot.chain(), robot.kin());
+    let (chain, kin) = robot.chain_parts()?;
     let spec = ReachSpec {
         resolution: a.resolution,
         orientations: a.orientations,

@@ -8,7 +8,7 @@ use crate::output::{print_json, CliResult};
 /// Runs `table`.
 pub fn run(args: &TableArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
-    let chain = robot.chain();
+    let chain = robot.chain()?;
     let frames = &args.frame.frames();
     match format {
         Format::Json => print_json(&table::to_json(chain))?,

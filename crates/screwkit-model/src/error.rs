@@ -6,7 +6,7 @@ use thiserror::Error;
 ///
 /// Displayed as `FILE: what is wrong`, e.g.
 /// `arm.urdf: joint "elbow" has a zero axis`.
-#[derive(Debug, Error)]
+#[derive(Debug, Clone, Error)]
 #[error("{file}: {kind}")]
 pub struct ModelError {
     /// The file path, or a label such as `<string>` for text loaded from memory.

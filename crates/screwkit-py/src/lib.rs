@@ -20,7 +20,7 @@ use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Se3, Twist};
 use array::{f64_array, new_array, shape_str};
 
 /// A rigid transform from a (4, 4) array-like (rotation orthonormal to 1e-6, then projected).
-fn se3_arg(t: &Bound<'_, PyAny>, what: &str) -> PyResult<Se3> {
+pub(crate) fn se3_arg(t: &Bound<'_, PyAny>, what: &str) -> PyResult<Se3> {
     let a = f64_array(t, what)?;
     if a.shape() != [4, 4] {
         return Err(PyValueError::new_err(format!(

@@ -58,7 +58,7 @@ pub fn reach_build<'py>(
         iterations,
     };
     let shard = Shard::new(shard_index, shard_count).map_err(crate::errors::service_error)?;
-    let (chain, kin) = robot.parts();
+    let (chain, kin) = robot.parts()?;
     let plan = Plan::new(chain, kin, &spec).map_err(reach_error)?;
     let started = std::time::Instant::now();
     let s = py

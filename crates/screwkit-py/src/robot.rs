@@ -2,7 +2,7 @@
 //! one configuration or on N at once (all cores, GIL released).
 
 use std::path::PathBuf;
-use std::sync::{Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard, RwLock};
 
 use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethods, ToPyArray};
 use pyo3::exceptions::PyValueError;
@@ -15,10 +15,13 @@ use screwkit_service::words::{
 };
 use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
 use screwkit_solve::ik::{IkOptions, IkStatus};
-use screwkit_solve::{analysis, batch, fk, ik, jacobian, Kinematics, SolveError, Workspace};
+use screwkit_solve::{
+    analysis, batch, fk, ik, jacobian, tree, Kinematics, SolveError, TreeKinematics, TreeWorkspace,
+    Workspace,
+};
 
 use crate::array::{f64_array, new_array, poses, shape_str, zeros};
-use crate::errors::{batch_error, service_error, solve_error};
+use crate::errors::{batch_error, model_error, service_error, solve_error};
 use crate::pool;
 use crate::results::{Analysis, IkBatchResult, IkResult};
 
@@ -32,6 +35,11 @@ pub struct Robot {
     robot: screwkit_service::Robot,
     /// Scratch of single calls (a fresh one is made when another thread holds it).
     ws: Mutex<Workspace>,
+    /// The whole tree (`None` when the file's tree cannot be one: see `Robot::whole`); replaced
+    /// by `add_frame`.
+    whole: RwLock<Option<Arc<TreeKinematics>>>,
+    /// Scratch of single whole-tree calls.
+    tree_ws: Mutex<Option<TreeWorkspace>>,
     /// The default analytic solver (`AnalyticIk::auto`), built on first use.
     analytic: std::sync::OnceLock<
         Result<screwkit_solve::analytic::AnalyticIk, screwkit_solve::SolveError>,
@@ -63,45 +71,187 @@ enum Rows {
 
 impl Robot {
     /// The chain and its kinematics (for the other modules of the binding).
-    pub(crate) fn parts(&self) -> (&Chain, &Kinematics) {
-        (self.robot.chain(), self.robot.kin())
+    pub(crate) fn parts(&self) -> PyResult<(&Chain, &Kinematics)> {
+        self.robot.chain_parts().map_err(service_error)
     }
 
     fn build(source: &Source, options: &LoadOptions) -> PyResult<Self> {
         let robot = screwkit_service::Robot::load(source, options).map_err(service_error)?;
-        let ws = Mutex::new(robot.workspace());
+        let ws = Mutex::new(
+            robot
+                .kin()
+                .map_or_else(|_| Workspace::default(), Workspace::new),
+        );
+        let whole = RwLock::new(robot.whole().ok().cloned().map(Arc::new));
         Ok(Self {
             robot,
             ws,
+            whole,
+            tree_ws: Mutex::new(None),
             analytic: std::sync::OnceLock::new(),
         })
     }
 
-    fn kin(&self) -> &Kinematics {
-        self.robot.kin()
+    /// True when calls without `link=` go to the whole tree: no chain, or a floating base
+    /// (the floor's rule, `screwkit_service::whole::wants_tree`).
+    fn tree_mode(&self) -> bool {
+        screwkit_service::whole::wants_tree(&self.robot, false)
     }
 
-    fn chain(&self) -> &Chain {
-        self.robot.chain()
+    /// The whole tree as it is now (frames added included).
+    fn tree_model(&self) -> PyResult<Arc<TreeKinematics>> {
+        match &*self.whole.read().expect("the tree lock") {
+            Some(k) => Ok(k.clone()),
+            None => Err(service_error(
+                self.robot.whole().expect_err("no tree means an error"),
+            )),
+        }
+    }
+
+    /// Runs `f` with the shared whole-tree scratch (or a new one when another thread holds
+    /// it).
+    fn with_tree_ws<T>(&self, kin: &TreeKinematics, f: impl FnOnce(&mut TreeWorkspace) -> T) -> T {
+        match self.tree_ws.try_lock() {
+            Ok(mut g) => f(g.get_or_insert_with(|| TreeWorkspace::new(kin))),
+            Err(_) => f(&mut TreeWorkspace::new(kin)),
+        }
+    }
+
+    /// Adds a frame to the whole tree.
+    fn add_frame_pose(&self, name: &str, link: &str, pose: screwkit_lie::Se3) -> PyResult<()> {
+        let mut guard = self.whole.write().expect("the tree lock");
+        let Some(kin) = guard.as_ref() else {
+            return Err(service_error(self.robot.whole().expect_err("no tree")));
+        };
+        let mut model = kin.model().clone();
+        model.add_frame(name, link, pose).map_err(model_error)?;
+        *guard = Some(Arc::new(TreeKinematics::new(&model).map_err(model_error)?));
+        Ok(())
+    }
+
+    /// A frame index by name.
+    fn frame_index(kin: &TreeKinematics, name: &str) -> PyResult<usize> {
+        kin.frame(name).map_err(model_error)
+    }
+
+    /// The frame `link` names, or an error saying a frame is needed.
+    fn frame_of(kin: &TreeKinematics, link: Option<&str>, what: &str) -> PyResult<usize> {
+        match link {
+            Some(l) => Self::frame_index(kin, l),
+            None => Err(PyValueError::new_err(format!(
+                "{what}: this robot is a whole tree (no chain: several leaves, or a floating base): name the frame with link=…, one of the frame_names"
+            ))),
+        }
+    }
+
+    /// Checks q's shape for the whole tree: (nq,) or (N, nq).
+    fn tree_rows_of(
+        kin: &TreeKinematics,
+        a: &Bound<'_, PyArrayDyn<f64>>,
+        what: &str,
+    ) -> PyResult<Rows> {
+        let n = kin.nq();
+        match a.shape() {
+            [m] if *m == n => Ok(Rows::One),
+            [rows, m] if *m == n => Ok(Rows::Many(*rows)),
+            shape => Err(PyValueError::new_err(format!(
+                "{what}: expected shape ({n},) or (N, {n}) for the whole tree's configuration (q_names), got {}",
+                shape_str(shape)
+            ))),
+        }
+    }
+
+    /// One tree vector of `len` values (q or v) from Python.
+    fn tree_vector(a: &Bound<'_, PyAny>, len: usize, what: &str) -> PyResult<Vec<f64>> {
+        let arr = f64_array(a, what)?;
+        if arr.shape() != [len] {
+            return Err(PyValueError::new_err(format!(
+                "{what}: expected shape ({len},), got {}",
+                shape_str(arr.shape())
+            )));
+        }
+        Ok(arr.readonly().as_slice()?.to_vec())
+    }
+
+    /// Every link's (`links_only`) or every frame's pose of the whole tree in one sweep.
+    fn tree_frames<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        links_only: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let kin = self.tree_model()?;
+        let q = f64_array(q, "q")?;
+        let rows = Self::tree_rows_of(&kin, &q, "q")?;
+        let q = q.readonly();
+        let qs = q.as_slice()?;
+        let frames = kin.frame_count();
+        let keep = if links_only {
+            kin.model().links.len()
+        } else {
+            frames
+        };
+        match rows {
+            Rows::One => {
+                let poses = self
+                    .with_tree_ws(&kin, |ws| {
+                        tree::fk::fk_frames(&kin, ws, qs).map(|p| p[..keep].to_vec())
+                    })
+                    .map_err(solve_error)?;
+                Ok(new_array(py, &[keep, 4, 4], |o| {
+                    for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
+                        t.write_row_major(out);
+                    }
+                })?
+                .into_any())
+            }
+            Rows::Many(n) if keep == frames => {
+                run_batch(py, &[n, frames, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
+                    tree::batch::fk_frames_batch(&kin, qs, o)
+                })
+            }
+            Rows::Many(n) => {
+                // The links are the first frames: computed with the added ones, copied out.
+                run_batch(py, &[n, keep, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
+                    // A tree has at least its root link: keep ≥ 1.
+                    let rows = o.len() / (16 * keep);
+                    let mut all = vec![0.0; rows * frames * 16];
+                    let r = tree::batch::fk_frames_batch(&kin, qs, &mut all);
+                    for (dst, src) in o.chunks_mut(16 * keep).zip(all.chunks(16 * frames)) {
+                        dst.copy_from_slice(&src[..16 * keep]);
+                    }
+                    r
+                })
+            }
+        }
+    }
+
+    fn kin(&self) -> PyResult<&Kinematics> {
+        self.robot.kin().map_err(service_error)
+    }
+
+    fn chain(&self) -> PyResult<&Chain> {
+        self.robot.chain().map_err(service_error)
     }
 
     /// The shared scratch, or a new one when another thread is using it.
-    fn workspace(&self) -> WorkspaceGuard<'_> {
-        match self.ws.try_lock() {
+    fn workspace(&self) -> PyResult<WorkspaceGuard<'_>> {
+        let kin = self.kin()?;
+        Ok(match self.ws.try_lock() {
             Ok(g) => WorkspaceGuard::Shared(g),
-            Err(_) => WorkspaceGuard::Own(Box::new(Workspace::new(self.kin()))),
-        }
+            Err(_) => WorkspaceGuard::Own(Box::new(Workspace::new(kin))),
+        })
     }
 
     /// Checks q's shape: (dof,) or (N, dof).
     fn rows_of(&self, a: &Bound<'_, PyArrayDyn<f64>>, what: &str) -> PyResult<Rows> {
-        let n = self.kin().dof();
+        let n = self.kin()?.dof();
         match a.shape() {
             [m] if *m == n => Ok(Rows::One),
             [rows, m] if *m == n => Ok(Rows::Many(*rows)),
             shape => Err(PyValueError::new_err(format!(
                 "{what}: expected shape ({n},) or (N, {n}) for the joints {}, got {}",
-                self.kin().names().join(", "),
+                self.kin()?.names().join(", "),
                 shape_str(shape)
             ))),
         }
@@ -120,7 +270,7 @@ impl Robot {
         if let Rows::Many(_) = self.rows_of(&q, "q")? {
             return Err(PyValueError::new_err(format!(
                 "q: expected one configuration of shape ({},), got {}",
-                self.kin().dof(),
+                self.kin()?.dof(),
                 shape_str(q.shape())
             )));
         }
@@ -274,7 +424,8 @@ impl Robot {
     /// Jacobians, IK and tables are then of the tool frame. An unreadable file raises the
     /// matching `OSError`; a bad one `ValueError`.
     #[classmethod]
-    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None))]
+    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None, floating_base = false))]
+    #[allow(clippy::too_many_arguments)]
     fn from_urdf(
         _cls: &Bound<'_, PyType>,
         path: PathBuf,
@@ -283,12 +434,14 @@ impl Robot {
         package_paths: Option<Vec<PathBuf>>,
         xacro_args: Option<std::collections::BTreeMap<String, String>>,
         tool: Option<Vec<f64>>,
+        floating_base: bool,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             xacro: xacro_options(package_paths, xacro_args),
             base,
             tip,
             tool,
+            floating_base,
         };
         Self::build(&Source::Path(path), &options)
     }
@@ -296,7 +449,7 @@ impl Robot {
     /// Loads the chain `base` → `tip` of URDF (or xacro) text; `source` names it in error
     /// messages; `tool` as in `from_urdf`.
     #[classmethod]
-    #[pyo3(signature = (xml, base = None, tip = None, source = "<string>", *, tool = None))]
+    #[pyo3(signature = (xml, base = None, tip = None, source = "<string>", *, tool = None, floating_base = false))]
     fn from_string(
         _cls: &Bound<'_, PyType>,
         xml: String,
@@ -304,11 +457,13 @@ impl Robot {
         tip: Option<String>,
         source: &str,
         tool: Option<Vec<f64>>,
+        floating_base: bool,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             base,
             tip,
             tool,
+            floating_base,
             ..LoadOptions::default()
         };
         Self::build(&Source::text(xml, source), &options)
@@ -317,103 +472,187 @@ impl Robot {
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
         let py = slf.py();
         let r = slf.get();
-        let ctor = py.get_type::<Robot>().getattr("from_string")?;
+        let ctor = py.get_type::<Robot>().getattr("_restore")?;
+        let frames: Vec<(String, String, Vec<f64>)> = match r.tree_model() {
+            Ok(kin) => {
+                let m = kin.model();
+                m.frames[m.links.len()..]
+                    .iter()
+                    .map(|f| {
+                        let mut pose = vec![0.0; 16];
+                        f.placement.write_row_major(&mut pose);
+                        (f.name.clone(), m.links[f.link].name.clone(), pose)
+                    })
+                    .collect()
+            }
+            Err(_) => Vec::new(),
+        };
+        let o = r.robot.options();
         let args = (
             r.robot.urdf().to_string(),
-            r.robot.options().base.clone(),
-            r.robot.options().tip.clone(),
-            r.chain().source.clone(),
+            o.base.clone(),
+            o.tip.clone(),
+            r.robot.tree().source.clone(),
+            o.tool.clone(),
+            o.floating_base,
+            frames,
         );
-        let kwargs = pyo3::types::PyDict::new(py);
-        kwargs.set_item("tool", r.robot.options().tool.clone())?;
-        // (callable, args) cannot carry keywords: functools.partial holds them.
-        let partial = py
-            .import("functools")?
-            .getattr("partial")?
-            .call((ctor,), Some(&kwargs))?;
-        Ok((partial, args).into_pyobject(py)?.into_any())
+        Ok((ctor, args).into_pyobject(py)?.into_any())
+    }
+
+    /// Pickling's constructor: the URDF text, the load options and the added frames.
+    #[classmethod]
+    #[allow(clippy::too_many_arguments)]
+    fn _restore(
+        _cls: &Bound<'_, PyType>,
+        xml: String,
+        base: Option<String>,
+        tip: Option<String>,
+        source: &str,
+        tool: Option<Vec<f64>>,
+        floating_base: bool,
+        frames: Vec<(String, String, Vec<f64>)>,
+    ) -> PyResult<Self> {
+        let options = LoadOptions {
+            base,
+            tip,
+            tool,
+            floating_base,
+            ..LoadOptions::default()
+        };
+        let r = Self::build(&Source::text(xml, source), &options)?;
+        for (name, link, pose) in frames {
+            let t = screwkit_lie::Se3::from_row_major(&pose, 1e-9)
+                .map_err(|e| PyValueError::new_err(format!("frame {name}: {e}")))?;
+            r.add_frame_pose(&name, &link, t)?;
+        }
+        Ok(r)
     }
 
     fn __repr__(&self) -> String {
-        format!(
-            "Robot({:?}, base={:?}, tip={:?}, dof={})",
-            self.chain().source,
-            self.chain().base,
-            self.chain().tip,
-            self.kin().dof()
-        )
+        match self.robot.chain() {
+            Ok(c) if !self.tree_mode() => format!(
+                "Robot({:?}, base={:?}, tip={:?}, dof={})",
+                c.source,
+                c.base,
+                c.tip,
+                c.dof()
+            ),
+            _ => match self.tree_model() {
+                Ok(k) => format!(
+                    "Robot({:?}, whole tree: {} links, {} frames, nq={}, nv={}{})",
+                    self.robot.tree().source,
+                    k.model().links.len(),
+                    k.frame_count(),
+                    k.nq(),
+                    k.nv(),
+                    if k.floating_base() {
+                        ", floating base"
+                    } else {
+                        ""
+                    }
+                ),
+                Err(_) => format!("Robot({:?})", self.robot.tree().source),
+            },
+        }
     }
 
     /// The robot's name (`<robot name=…>`).
     #[getter]
     fn name(&self) -> &str {
-        &self.chain().robot
+        &self.robot.tree().name
     }
 
     /// The file the robot came from (or the `source` label of `from_string`).
     #[getter]
     fn source(&self) -> &str {
-        &self.chain().source
+        &self.robot.tree().source
     }
 
-    /// Base link (the space frame).
+    /// Base link of the chain (the space frame); `ValueError` when there is no chain.
     #[getter]
-    fn base(&self) -> &str {
-        &self.chain().base
+    fn base(&self) -> PyResult<String> {
+        Ok(self.chain()?.base.clone())
     }
 
-    /// Tip link (the body frame).
+    /// Tip link of the chain (the body frame); `ValueError` when there is no chain.
     #[getter]
-    fn tip(&self) -> &str {
-        &self.chain().tip
+    fn tip(&self) -> PyResult<String> {
+        Ok(self.chain()?.tip.clone())
     }
 
-    /// Degrees of freedom: the length of q.
+    /// Degrees of freedom: the length of the chain's q; for the whole tree (no chain, or a
+    /// floating base) the length of v (`nv`).
     #[getter]
-    fn dof(&self) -> usize {
-        self.kin().dof()
+    fn dof(&self) -> PyResult<usize> {
+        if self.tree_mode() {
+            return Ok(self.tree_model()?.nv());
+        }
+        Ok(self.kin()?.dof())
     }
 
-    /// The joints of q, in order (mimic joints follow their leader and are not in q).
+    /// The joints of the chain's q, in order (mimic joints follow their leader and are not in
+    /// q); for the whole tree, `variable_names`.
     #[getter]
-    fn joint_names(&self) -> Vec<String> {
-        self.kin().names().to_vec()
+    fn joint_names(&self) -> PyResult<Vec<String>> {
+        if self.tree_mode() {
+            return self.variable_names();
+        }
+        Ok(self.kin()?.names().to_vec())
     }
 
     /// The moving joints base → tip, one per row of `screw_axes` (mimic joints included).
     #[getter]
-    fn axis_names(&self) -> Vec<String> {
-        self.chain().joints.iter().map(|j| j.name.clone()).collect()
+    fn axis_names(&self) -> PyResult<Vec<String>> {
+        Ok(self
+            .chain()?
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect())
     }
 
-    /// The links base → tip, one per pose of `fk_all_links`.
+    /// The links base → tip of the chain, one per pose of `fk_all_links`; for the whole tree
+    /// every link in the file's order.
     #[getter]
-    fn link_names(&self) -> Vec<String> {
-        self.kin().links().iter().map(|l| l.name.clone()).collect()
+    fn link_names(&self) -> PyResult<Vec<String>> {
+        if self.tree_mode() {
+            let k = self.tree_model()?;
+            return Ok(k.model().links.iter().map(|l| l.name.clone()).collect());
+        }
+        Ok(self.kin()?.links().iter().map(|l| l.name.clone()).collect())
     }
 
-    /// Lower joint limits, shape (dof,) (−inf for continuous joints).
+    /// Lower limits of q, shape (dof,) (−inf for continuous joints; for the whole tree with a
+    /// floating base, −inf for its position and −1 for its quaternion).
     #[getter]
-    fn lower<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.kin().lower().to_pyarray(py)
+    fn lower<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if self.tree_mode() {
+            return Ok(self.tree_model()?.lower().to_pyarray(py));
+        }
+        Ok(self.kin()?.lower().to_pyarray(py))
     }
 
-    /// Upper joint limits, shape (dof,) (+inf for continuous joints).
+    /// Upper limits of q, shape (dof,) (+inf for continuous joints; see `lower`).
     #[getter]
-    fn upper<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.kin().upper().to_pyarray(py)
+    fn upper<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        if self.tree_mode() {
+            return Ok(self.tree_model()?.upper().to_pyarray(py));
+        }
+        Ok(self.kin()?.upper().to_pyarray(py))
     }
 
     /// The midpoint of the limits (0 for continuous joints): the default IK seed, shape (dof,).
     #[getter]
-    fn midpoint<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        self.kin().midpoint().to_pyarray(py)
+    fn midpoint<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(self.kin()?.midpoint().to_pyarray(py))
     }
 
     /// M: the tip pose at q = 0, shape (4, 4).
     #[getter]
     fn home<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        Ok(new_array(py, &[4, 4], |o| self.chain().home.write_row_major(o))?.into_any())
+        let home = self.chain()?.home;
+        Ok(new_array(py, &[4, 4], |o| home.write_row_major(o))?.into_any())
     }
 
     /// The screw axes at home, one row (ω, v) per moving joint (`axis_names`): S_i in the
@@ -421,7 +660,7 @@ impl Robot {
     #[pyo3(signature = (frame = "space"))]
     fn screw_axes<'py>(&self, py: Python<'py>, frame: &str) -> PyResult<Bound<'py, PyAny>> {
         let frame: screwkit_lie::Frame = word::<ScrewFrame>("frame", frame)?.into();
-        let joints = &self.chain().joints;
+        let joints = &self.chain()?.joints;
         Ok(new_array(py, &[joints.len(), 6], |o| {
             for (j, row) in joints.iter().zip(o.chunks_mut(6)) {
                 row.copy_from_slice(j.screw(frame).twist().to_vector().as_slice());
@@ -436,46 +675,89 @@ impl Robot {
     fn table(&self, fmt: &str, frame: &str) -> PyResult<String> {
         let frames = word::<TableFrames>("frame", frame)?.frames();
         Ok(match word::<TableFormat>("fmt", fmt)? {
-            TableFormat::Markdown => table::to_markdown(self.chain(), &frames),
-            TableFormat::Csv => table::to_csv(self.chain(), &frames),
-            TableFormat::Json => table::to_json(self.chain()).to_string(),
+            TableFormat::Markdown => table::to_markdown(self.chain()?, &frames),
+            TableFormat::Csv => table::to_csv(self.chain()?, &frames),
+            TableFormat::Json => table::to_json(self.chain()?).to_string(),
         })
     }
 
     /// Forward kinematics T(q) = e^[S1]q1 ⋯ e^[Sn]qn M: q (dof,) → (4, 4); q (N, dof) →
     /// (N, 4, 4), computed on all cores with the GIL released.
-    fn fk<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+    ///
+    /// With `link` (any frame: a link or an added frame), the pose of that frame of the whole
+    /// tree, q the tree's configuration (`q_names`: the file's joint order, after the floating
+    /// base's x, y, z, qx, qy, qz, qw); with `relative_to`, its pose in that frame
+    /// (T_B⁻¹ T_A). A robot without a chain (several leaves, or a floating base) needs `link`.
+    #[pyo3(signature = (q, link = None, *, relative_to = None))]
+    fn fk<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        link: Option<&str>,
+        relative_to: Option<&str>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        if link.is_some() || relative_to.is_some() || self.tree_mode() {
+            let kin = self.tree_model()?;
+            let a = Self::frame_of(&kin, link, "fk")?;
+            let b = relative_to
+                .map(|r| Self::frame_index(&kin, r))
+                .transpose()?;
+            let q = f64_array(q, "q")?;
+            let rows = Self::tree_rows_of(&kin, &q, "q")?;
+            let q = q.readonly();
+            let qs = q.as_slice()?;
+            return match rows {
+                Rows::One => {
+                    let t = self
+                        .with_tree_ws(&kin, |ws| match b {
+                            Some(b) => tree::fk::relative_pose(&kin, ws, qs, a, b),
+                            None => tree::fk::fk_frame(&kin, ws, qs, a),
+                        })
+                        .map_err(solve_error)?;
+                    Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
+                }
+                Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK / 4, |qs, o| match b {
+                    Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
+                    None => tree::batch::fk_frame_batch(&kin, a, qs, o),
+                }),
+            };
+        }
+        let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
         let q = q.readonly();
         let qs = q.as_slice()?;
         match rows {
             Rows::One => {
-                let t = fk::fk(self.kin(), &mut self.workspace(), qs).map_err(solve_error)?;
+                let t = fk::fk(kin, &mut *self.workspace()?, qs).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
             Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, |qs, o| {
-                batch::fk_batch(self.kin(), qs, o)
+                batch::fk_batch(kin, qs, o)
             }),
         }
     }
 
     /// Every link's pose (`link_names` order): q (dof,) → (links, 4, 4); q (N, dof) →
-    /// (N, links, 4, 4).
+    /// (N, links, 4, 4). For the whole tree: every link of the file in one sweep, q (nq,).
     fn fk_all_links<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        if self.tree_mode() {
+            return self.tree_frames(py, q, true);
+        }
+        let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
         let q = q.readonly();
         let qs = q.as_slice()?;
-        let links = self.kin().links().len();
+        let links = kin.links().len();
         match rows {
             Rows::One => {
-                let mut ws = self.workspace();
-                let poses = fk::fk_all_links(self.kin(), &mut ws, qs).map_err(solve_error)?;
+                let mut ws = self.workspace()?;
+                let poses = fk::fk_all_links(kin, &mut ws, qs).map_err(solve_error)?;
                 Ok(new_array(py, &[links, 4, 4], |o| {
                     for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
                         t.write_row_major(out);
@@ -484,33 +766,88 @@ impl Robot {
                 .into_any())
             }
             Rows::Many(n) => run_batch(py, &[n, links, 4, 4], qs, FK_CHUNK / 16, |qs, o| {
-                batch::fk_all_links_batch(self.kin(), qs, o)
+                batch::fk_all_links_batch(kin, qs, o)
             }),
         }
+    }
+
+    /// Every frame's pose of the whole tree (`frame_names` order: the links, then the added
+    /// frames) in one sweep: q (nq,) → (frames, 4, 4); q (N, nq) → (N, frames, 4, 4).
+    fn fk_all_frames<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.tree_frames(py, q, false)
     }
 
     /// The Jacobian in `frame` — "space" (J_s), "body" (J_b) or "world-aligned" (J_wa: the
     /// angular velocity and the tip point's velocity in base axes; Pinocchio's
     /// LOCAL_WORLD_ALIGNED) — rows (ω, v): q (dof,) → (6, dof); q (N, dof) → (N, 6, dof).
-    #[pyo3(signature = (q, frame = "space"))]
+    ///
+    /// With `link`, the Jacobian of that frame of the whole tree, one column per entry of v
+    /// (`v_names`: the floating base's twist (ω, v) in its own frame, then the joint
+    /// variables; zeros for joints off the frame's path); with `relative_to`, of its motion
+    /// relative to that frame (space: in that frame; body: in `link`'s frame; world-aligned:
+    /// that frame's axes at `link`'s origin).
+    #[pyo3(signature = (q, frame = "space", link = None, *, relative_to = None))]
     fn jacobian<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         frame: &str,
+        link: Option<&str>,
+        relative_to: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let frame = word::<JacobianFrame>("frame", frame)?.screw();
+        let which = word::<JacobianFrame>("frame", frame)?;
+        if link.is_some() || relative_to.is_some() || self.tree_mode() {
+            let kin = self.tree_model()?;
+            let a = Self::frame_of(&kin, link, "jacobian")?;
+            let b = relative_to
+                .map(|r| Self::frame_index(&kin, r))
+                .transpose()?;
+            let form = which.form();
+            let q = f64_array(q, "q")?;
+            let rows = Self::tree_rows_of(&kin, &q, "q")?;
+            let q = q.readonly();
+            let qs = q.as_slice()?;
+            let nv = kin.nv();
+            return match rows {
+                Rows::One => {
+                    let out = self.with_tree_ws(&kin, |ws| {
+                        let pj = match b {
+                            Some(b) => tree::jacobian::relative_jacobian(&kin, ws, qs, a, b, form),
+                            None => tree::jacobian::frame_pose_jacobian(&kin, ws, qs, a, form),
+                        }?;
+                        let mut out = vec![0.0; 6 * nv];
+                        batch::write_jacobian(pj.jacobian, &mut out);
+                        Ok::<_, SolveError>(out)
+                    });
+                    let out = out.map_err(solve_error)?;
+                    Ok(new_array(py, &[6, nv], |o| o.copy_from_slice(&out))?.into_any())
+                }
+                Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
+                Rows::Many(n) => run_batch(py, &[n, 6, nv], qs, FK_CHUNK / 16, |qs, o| match b {
+                    Some(b) => {
+                        tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
+                    }
+                    None => tree::batch::frame_jacobian_batch(&kin, a, form, qs, o, None),
+                }),
+            };
+        }
+        let frame = which.screw();
+        let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
         let q = q.readonly();
         let qs = q.as_slice()?;
-        let n = self.kin().dof();
+        let n = kin.dof();
         match rows {
             Rows::One => {
-                let mut ws = self.workspace();
+                let mut ws = self.workspace()?;
                 let j = match frame {
-                    Some(f) => jacobian::jacobian(self.kin(), &mut ws, qs, f),
-                    None => jacobian::jacobian_world_aligned(self.kin(), &mut ws, qs),
+                    Some(f) => jacobian::jacobian(kin, &mut ws, qs, f),
+                    None => jacobian::jacobian_world_aligned(kin, &mut ws, qs),
                 }
                 .map_err(solve_error)?;
                 Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
@@ -520,11 +857,124 @@ impl Robot {
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
             Rows::Many(rows) => {
                 run_batch(py, &[rows, 6, n], qs, FK_CHUNK / 4, |qs, o| match frame {
-                    Some(f) => batch::jacobian_batch(self.kin(), qs, f, o, None),
-                    None => batch::jacobian_world_aligned_batch(self.kin(), qs, o, None),
+                    Some(f) => batch::jacobian_batch(kin, qs, f, o, None),
+                    None => batch::jacobian_world_aligned_batch(kin, qs, o, None),
                 })
             }
         }
+    }
+
+    /// The whole tree's independent joint variables, in the file's joint order (mimic
+    /// followers excluded; without the floating base).
+    #[getter]
+    fn variable_names(&self) -> PyResult<Vec<String>> {
+        let kin = self.tree_model()?;
+        Ok(kin
+            .model()
+            .variables
+            .iter()
+            .map(|v| v.name.clone())
+            .collect())
+    }
+
+    /// One label per entry of the whole tree's q: `floating_base.x` … `floating_base.qw`
+    /// (with a floating base), then `variable_names`.
+    #[getter]
+    fn q_names(&self) -> PyResult<Vec<String>> {
+        Ok(self.tree_model()?.q_names().to_vec())
+    }
+
+    /// One label per entry of v and per Jacobian column: `floating_base.wx` …
+    /// `floating_base.vz` (the base's twist (ω, v) in its own frame), then `variable_names`.
+    #[getter]
+    fn v_names(&self) -> PyResult<Vec<String>> {
+        Ok(self.tree_model()?.v_names().to_vec())
+    }
+
+    /// The length of the whole tree's q (7 + joint variables with a floating base).
+    #[getter]
+    fn nq(&self) -> PyResult<usize> {
+        Ok(self.tree_model()?.nq())
+    }
+
+    /// The length of the whole tree's v (6 + joint variables with a floating base).
+    #[getter]
+    fn nv(&self) -> PyResult<usize> {
+        Ok(self.tree_model()?.nv())
+    }
+
+    /// True when a free joint joins the world to the root link.
+    #[getter]
+    fn floating_base(&self) -> bool {
+        self.robot.options().floating_base
+    }
+
+    /// Every frame of the whole tree: the links (file order), then the added frames.
+    #[getter]
+    fn frame_names(&self) -> PyResult<Vec<String>> {
+        let kin = self.tree_model()?;
+        Ok((0..kin.frame_count())
+            .map(|f| kin.frame_name(f).to_string())
+            .collect())
+    }
+
+    /// Adds a frame fixed to `parent_link` at `pose` ((4, 4): its pose in the link's frame): a
+    /// tool frame, a sensor, a site. Its name must be new among links and frames.
+    fn add_frame(&self, name: &str, parent_link: &str, pose: &Bound<'_, PyAny>) -> PyResult<()> {
+        let t = crate::se3_arg(pose, "pose")?;
+        self.add_frame_pose(name, parent_link, t)
+    }
+
+    /// q ⊕ v·dt on SE(3) × joints: the floating base moves by the exponential map
+    /// (T ← T e^[V dt], V its twist in its own frame; its quaternion is composed, never added
+    /// to), the joints by q + v dt. q (nq,), v (nv,) → (nq,).
+    fn integrate<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        dt: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let v = Self::tree_vector(v, kin.nv(), "v")?;
+        let out = tree::configuration::integrate(&kin, &q, &v, dt).map_err(solve_error)?;
+        Ok(out.to_pyarray(py))
+    }
+
+    /// The v (nv,) with `integrate(q0, v, 1) = q1`: the base's log(T0⁻¹ T1), the joints
+    /// q1 − q0.
+    fn difference<'py>(
+        &self,
+        py: Python<'py>,
+        q0: &Bound<'py, PyAny>,
+        q1: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let a = Self::tree_vector(q0, kin.nq(), "q0")?;
+        let b = Self::tree_vector(q1, kin.nq(), "q1")?;
+        let out = tree::configuration::difference(&kin, &a, &b).map_err(solve_error)?;
+        Ok(out.to_pyarray(py))
+    }
+
+    /// The whole tree's neutral configuration (nq,): the base at the origin with the
+    /// identity quaternion (0, 0, 0, 1), the joints at zero.
+    fn neutral<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(tree::configuration::neutral(&*self.tree_model()?).to_pyarray(py))
+    }
+
+    /// A random configuration of the whole tree (nq,) from `seed`: joints uniform within
+    /// their limits ([−π, π] when unbounded), the base's orientation uniform and its position
+    /// uniform in [−1, 1]³ m.
+    #[pyo3(signature = (seed = 0))]
+    fn random_configuration<'py>(
+        &self,
+        py: Python<'py>,
+        seed: u64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let mut rng = screwkit_solve::sample::SplitMix64(seed);
+        Ok(tree::configuration::random(&kin, &mut rng).to_pyarray(py))
     }
 
     /// Singular values, rank, manipulability, condition number, ellipsoids and the verdict in
@@ -537,20 +987,20 @@ impl Robot {
         if let Rows::Many(_) = self.rows_of(&q, "q")? {
             return Err(PyValueError::new_err(format!(
                 "q: analyze takes one configuration of shape ({},), got {}",
-                self.kin().dof(),
+                self.kin()?.dof(),
                 shape_str(q.shape())
             )));
         }
         let q = q.readonly();
         let qs = q.as_slice()?;
-        let mut ws = self.workspace();
-        let j = jacobian::jacobian(self.kin(), &mut ws, qs, frame).map_err(solve_error)?;
+        let mut ws = self.workspace()?;
+        let j = jacobian::jacobian(self.kin()?, &mut ws, qs, frame).map_err(solve_error)?;
         let a = analysis::analyze_jacobian(j).map_err(solve_error)?;
-        let n = self.kin().dof();
+        let n = self.kin()?.dof();
         let jac = new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?
             .cast_into::<PyArray2<f64>>()?;
         // After the last use of `j` (it lives in the workspace).
-        let pos = analysis::analyze_position(self.kin(), &mut ws, qs).map_err(solve_error)?;
+        let pos = analysis::analyze_position(self.kin()?, &mut ws, qs).map_err(solve_error)?;
         let rows3 = |axes: &[nalgebra::Vector3<f64>; 3]| {
             PyArray2::from_vec2(
                 py,
@@ -605,8 +1055,9 @@ impl Robot {
         view: &str,
     ) -> PyResult<String> {
         let views = word::<Views>("view", view)?.views();
+        let (chain, kin) = self.parts()?;
         let text = self.with_one_q(q, |q| {
-            Scene::new(self.chain(), self.kin(), q).map(|scene| svg::render(&scene, &views))
+            Scene::new(chain, kin, q).map(|scene| svg::render(&scene, &views))
         })?;
         write_text(path, &text)?;
         Ok(text)
@@ -617,7 +1068,8 @@ impl Robot {
     /// URL sets the joints. Returns the HTML and writes it to `path` when given.
     #[pyo3(signature = (q = None, path = None))]
     fn viewer(&self, q: Option<&Bound<'_, PyAny>>, path: Option<PathBuf>) -> PyResult<String> {
-        let text = self.with_one_q(q, |q| html::page(self.chain(), self.kin(), q))?;
+        let (chain, kin) = self.parts()?;
+        let text = self.with_one_q(q, |q| html::page(chain, kin, q))?;
         write_text(path, &text)?;
         Ok(text)
     }
@@ -651,9 +1103,9 @@ impl Robot {
                 let r = a.readonly();
                 r.as_slice()?.to_vec()
             }
-            None => self.kin().midpoint(),
+            None => self.kin()?.midpoint(),
         };
-        self.kin().check_q(&seed).map_err(solve_error)?;
+        self.kin()?.check_q(&seed).map_err(solve_error)?;
         let joint = match lock {
             None => None,
             Some(j) => Some(if let Ok(name) = j.extract::<String>() {
@@ -664,14 +1116,15 @@ impl Robot {
                 })?)
             }),
         };
+        let kin = self.kin()?;
         let auto = self
             .analytic
-            .get_or_init(|| screwkit_solve::analytic::AnalyticIk::auto(self.kin()))
+            .get_or_init(|| screwkit_solve::analytic::AnalyticIk::auto(kin))
             .as_ref()
             .ok();
-        let all = AllSolutions::with_default(self.kin(), joint.as_ref(), lock_value, sweep, auto)
+        let all = AllSolutions::with_default(self.kin()?, joint.as_ref(), lock_value, sweep, auto)
             .map_err(service_error)?;
-        let n = self.kin().dof();
+        let n = self.kin()?.dof();
         let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
             Ok(new_array(py, &[sols.len(), n], |o| {
                 for (row, q) in o.chunks_mut(n.max(1)).zip(sols.iter()) {
@@ -684,9 +1137,9 @@ impl Robot {
         let flat = tv.as_slice()?;
         if count.is_none() {
             let t = target::from_row_major(flat).map_err(bad_target)?;
-            let mut ws = self.workspace();
+            let mut ws = self.workspace()?;
             let (sols, _) = all
-                .solve(self.kin(), &mut ws, &t, &seed)
+                .solve(self.kin()?, &mut ws, &t, &seed)
                 .map_err(solve_error)?;
             if !sols.is_exact() {
                 return Err(PyValueError::new_err(
@@ -695,7 +1148,7 @@ impl Robot {
             }
             return to_array(py, &sols);
         }
-        let kin = self.kin();
+        let kin = self.kin()?;
         let results = py
             .detach(|| pool::run(|| all.solve_batch(kin, flat, &seed)))?
             .map_err(solve_error)?;
@@ -765,7 +1218,7 @@ impl Robot {
             position_only,
             weights,
         })?;
-        let n = self.kin().dof();
+        let n = self.kin()?.dof();
         let (targets, count) = poses(target, "target")?;
         let seed = seed.map(|s| f64_array(s, "seed")).transpose()?;
         let seed_rows = seed.as_ref().map(|s| self.rows_of(s, "seed")).transpose()?;
@@ -781,14 +1234,18 @@ impl Robot {
                     )));
                 }
                 let target = target::from_row_major(tv).map_err(bad_target)?;
-                let mid = self.kin().midpoint();
+                let mid = self.kin()?.midpoint();
                 let seed = seed_values.unwrap_or(&mid);
                 let opts = IkOptions {
                     interrupt: Some(ik::Interrupt(pool::interrupted)),
                     ..opts
                 };
+                let kin = self.kin()?;
                 let r = py
-                    .detach(|| ik::solve(self.kin(), &mut self.workspace(), &target, seed, &opts))
+                    .detach(|| {
+                        self.workspace()
+                            .map(|mut ws| ik::solve(kin, &mut ws, &target, seed, &opts))
+                    })?
                     .map_err(solve_error)?;
                 pool::take_interrupt(py)?;
                 let st = r.status;
@@ -821,10 +1278,11 @@ impl Robot {
                     let mut w = q.readwrite();
                     let qo = w.as_slice_mut()?;
                     let st = &mut status;
+                    let kin = self.kin()?;
                     // Restart seeds by global row: the same answers whatever the chunking.
                     pool::chunked(py, rows, IK_CHUNK, |r| {
                         batch::ik_batch_from(
-                            self.kin(),
+                            kin,
                             r.start,
                             &tv[16 * r.start..16 * r.end],
                             seeds.map(|s| &s[n * r.start..n * r.end]),

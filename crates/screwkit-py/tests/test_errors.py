@@ -49,8 +49,12 @@ def test_unknown_links() -> None:
         screwkit.Robot.from_urdf(UR5, base="plinth")
     with pytest.raises(ValueError, match=r"not an ancestor"):
         screwkit.Robot.from_urdf(UR5, base="tool0", tip="base_link")
+    # A file with several leaves loads as the whole tree; what needs a chain says why.
+    whole = screwkit.Robot.from_urdf(ASSETS / "torso_two_arms.urdf")
     with pytest.raises(ValueError, match=r"cannot choose a tip link"):
-        screwkit.Robot.from_urdf(ASSETS / "torso_two_arms.urdf")
+        whole.ik_all(np.eye(4))
+    with pytest.raises(ValueError, match=r"cannot choose a tip link"):
+        _ = whole.tip
 
 
 def test_wrong_shapes(ur5: screwkit.Robot) -> None:

@@ -1,6 +1,7 @@
 //! screwkit's front-end floor: what every front end (the CLI, the Python package, pictures,
 //! maps; a C API or a ROS node later) needs between the library and its users, written once.
 //!
+//! - [`whole`]: the whole tree's requests: which frames to answer, frame names to indices.
 //! - [`load`]: [`Robot::load`] from a path, text or standard input ([`Source`]), URDF or xacro
 //!   told apart by content, one decoding rule, package paths, xacro arguments, base, tip and
 //!   tool frame ([`LoadOptions`]).
@@ -24,6 +25,7 @@ pub mod report;
 pub mod request;
 pub mod solutions;
 pub mod target;
+pub mod whole;
 pub mod words;
 
 pub use error::{Error, Result};

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use screwkit_lie::Se3;
-use screwkit_model::{input, urdf, Chain, ModelError, Tree, XacroOptions};
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_model::{input, urdf, Chain, KinematicTree, ModelError, Tree, XacroOptions};
+use screwkit_solve::{Kinematics, TreeKinematics, TreeWorkspace, Workspace};
 
 use crate::error::{Error, Result};
 
@@ -139,6 +139,9 @@ pub struct LoadOptions {
     /// A tool frame (TCP) fixed to the tip link: x, y, z, roll, pitch, yaw (m, rad; URDF rpy).
     /// FK, Jacobians, IK and tables are then of the tool frame.
     pub tool: Option<Vec<f64>>,
+    /// A free joint (6 DoF) between the world and the root link in the whole tree
+    /// ([`screwkit_model::kinematic_tree`] states its configuration and velocity).
+    pub floating_base: bool,
 }
 
 impl LoadOptions {
@@ -159,63 +162,115 @@ impl LoadOptions {
     }
 }
 
-/// A robot description read once, with the chain the options name, ready for kinematics.
+/// A robot description read once: the whole tree (every frame, [`TreeKinematics`]) and, where
+/// one is named or the file is a single chain, the chain `base → tip` ([`Kinematics`]).
+///
+/// Loading succeeds when the file parses and what was asked for can be built: with `base`,
+/// `tip` or `tool` the chain must build; otherwise the whole tree or the default chain (a
+/// file with several leaves has no default chain: [`Robot::chain`] then says so, and the
+/// whole-tree algorithms still work).
 #[derive(Debug, Clone)]
 pub struct Robot {
     tree: Tree,
-    chain: Chain,
-    kin: Kinematics,
+    whole: std::result::Result<TreeKinematics, ModelError>,
+    chain: std::result::Result<(Chain, Kinematics), ModelError>,
     urdf: String,
     options: LoadOptions,
 }
 
 impl Robot {
     /// Reads `source` (see [`Source::read`]), expands xacro when the content is xacro, parses
-    /// the URDF, takes the chain `options.base` → `options.tip` and adds the tool frame.
+    /// the URDF, builds the whole tree (with a floating base if asked) and the chain
+    /// `options.base` → `options.tip` with the tool frame.
     pub fn load(source: &Source, options: &LoadOptions) -> Result<Robot> {
         let (tree, urdf) = source.tree(&options.xacro)?;
         Robot::from_tree(tree, urdf, options)
     }
 
-    /// The chain of an already parsed tree (`urdf`: its text, kept for [`Robot::urdf`]).
+    /// The robot of an already parsed tree (`urdf`: its text, kept for [`Robot::urdf`]).
     pub fn from_tree(tree: Tree, urdf: String, options: &LoadOptions) -> Result<Robot> {
-        let chain = Chain::from_tree(&tree, options.base.as_deref(), options.tip.as_deref())?;
-        let chain = match options.tool_pose()? {
-            Some(tool) => chain.with_tool(&tool),
-            None => chain,
-        };
-        let kin = Kinematics::new(&chain);
+        let tool = options.tool_pose()?;
+        let chain =
+            Chain::from_tree(&tree, options.base.as_deref(), options.tip.as_deref()).map(|chain| {
+                let chain = match &tool {
+                    Some(tool) => chain.with_tool(tool),
+                    None => chain,
+                };
+                let kin = Kinematics::new(&chain);
+                (chain, kin)
+            });
+        let whole = KinematicTree::from_tree(&tree)
+            .and_then(|m| TreeKinematics::new(&m.with_floating_base(options.floating_base)));
+        let chain_asked = options.base.is_some() || options.tip.is_some() || tool.is_some();
+        match (&whole, &chain) {
+            (_, Err(e)) if chain_asked => return Err(e.clone().into()),
+            (Err(e), Err(_)) => return Err(e.clone().into()),
+            _ => {}
+        }
         Ok(Robot {
             tree,
+            whole,
             chain,
-            kin,
             urdf,
             options: options.clone(),
         })
     }
 
-    /// The whole tree of the file.
+    /// The parsed tree.
     pub fn tree(&self) -> &Tree {
         &self.tree
     }
 
-    /// The chain (with the tool frame, if any).
-    pub fn chain(&self) -> &Chain {
-        &self.chain
+    /// The chain `base → tip` (with the tool frame), or why there is none (a file with several
+    /// leaves and no tip given).
+    pub fn chain(&self) -> Result<&Chain> {
+        self.chain_parts().map(|(c, _)| c)
     }
 
-    /// Its kinematics, for the library's algorithms.
-    pub fn kin(&self) -> &Kinematics {
-        &self.kin
+    /// The chain's prepared kinematics (see [`Robot::chain`]).
+    pub fn kin(&self) -> Result<&Kinematics> {
+        self.chain_parts().map(|(_, k)| k)
     }
 
-    /// A new scratch for the library's algorithms on this chain.
-    pub fn workspace(&self) -> Workspace {
-        Workspace::new(&self.kin)
+    /// The chain and its kinematics.
+    pub fn chain_parts(&self) -> Result<(&Chain, &Kinematics)> {
+        match &self.chain {
+            Ok((c, k)) => Ok((c, k)),
+            Err(e) => Err(e.clone().into()),
+        }
     }
 
-    /// The URDF text (after xacro expansion): loading it with the same options gives the same
-    /// robot (pickling, pages).
+    /// True when the options or the file give a chain.
+    pub fn has_chain(&self) -> bool {
+        self.chain.is_ok()
+    }
+
+    /// A fresh workspace for the chain.
+    pub fn workspace(&self) -> Result<Workspace> {
+        Ok(Workspace::new(self.kin()?))
+    }
+
+    /// The whole tree prepared for the algorithms ([`screwkit_solve::tree`]), or why it could
+    /// not be built (a joint type the tree does not hold).
+    pub fn whole(&self) -> Result<&TreeKinematics> {
+        self.whole.as_ref().map_err(|e| e.clone().into())
+    }
+
+    /// A fresh workspace for the whole tree.
+    pub fn tree_workspace(&self) -> Result<TreeWorkspace> {
+        Ok(TreeWorkspace::new(self.whole()?))
+    }
+
+    /// Adds a named frame fixed to `link` at `placement` to the whole tree (a tool frame, a
+    /// site); returns its frame index.
+    pub fn add_frame(&mut self, name: &str, link: &str, placement: Se3) -> Result<usize> {
+        let mut model = self.whole()?.model().clone();
+        let index = model.add_frame(name, link, placement)?;
+        self.whole = Ok(TreeKinematics::new(&model)?);
+        Ok(index)
+    }
+
+    /// The URDF text (xacro expanded) the robot was read from.
     pub fn urdf(&self) -> &str {
         &self.urdf
     }
@@ -225,9 +280,13 @@ impl Robot {
         &self.options
     }
 
-    /// The pose of `link` (rigidly attached to the base) in the base frame: a target given in
-    /// that link's frame is `frame_pose(link) · target` in the base frame.
+    /// The pose of `link` in the chain's base frame, when rigidly attached to it (targets
+    /// expressed in another frame). Without a chain, in the root link's frame.
     pub fn frame_pose(&self, link: &str) -> Result<Se3> {
-        Ok(self.tree.fixed_transform(&self.chain.base, link)?)
+        let base = match &self.chain {
+            Ok((c, _)) => c.base.clone(),
+            Err(_) => self.tree.links[self.tree.root].clone(),
+        };
+        Ok(self.tree.fixed_transform(&base, link)?)
     }
 }

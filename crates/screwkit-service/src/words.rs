@@ -192,6 +192,15 @@ impl JacobianFrame {
             JacobianFrame::WorldAligned => None,
         }
     }
+
+    /// The whole-tree algorithms' form ([`screwkit_solve::Form`]).
+    pub fn form(self) -> screwkit_solve::Form {
+        match self {
+            JacobianFrame::Space => screwkit_solve::Form::Space,
+            JacobianFrame::Body => screwkit_solve::Form::Body,
+            JacobianFrame::WorldAligned => screwkit_solve::Form::WorldAligned,
+        }
+    }
 }
 
 words! {

@@ -51,6 +51,18 @@ impl Workspace {
     }
 }
 
+impl Default for Workspace {
+    /// An empty workspace: every algorithm fits it to its chain on first use (one allocation).
+    fn default() -> Self {
+        Self {
+            jacobian: Matrix6xX::zeros(0),
+            links: Vec::new(),
+            link_columns: Vec::new(),
+            ik: IkScratch::default(),
+        }
+    }
+}
+
 impl Workspace {
     /// Makes the workspace fit `kin` (a workspace made for another chain is rebuilt, so a
     /// mix-up costs an allocation, never a panic or a wrong size).

@@ -148,6 +148,7 @@ class Robot:
         package_paths: Sequence[str | os.PathLike[str]] | None = None,
         xacro_args: Mapping[str, str] | None = None,
         tool: Sequence[float] | None = None,
+        floating_base: bool = False,
     ) -> Robot: ...
     @classmethod
     def from_string(
@@ -158,6 +159,18 @@ class Robot:
         source: str = "<string>",
         *,
         tool: Sequence[float] | None = None,
+        floating_base: bool = False,
+    ) -> Robot: ...
+    @classmethod
+    def _restore(
+        cls,
+        xml: str,
+        base: str | None,
+        tip: str | None,
+        source: str,
+        tool: Sequence[float] | None,
+        floating_base: bool,
+        frames: Sequence[tuple[str, str, Sequence[float]]],
     ) -> Robot: ...
     def __reduce__(self) -> Any: ...
     @property
@@ -186,12 +199,42 @@ class Robot:
     def home(self) -> _F64: ...
     def screw_axes(self, frame: _Frame = "space") -> _F64: ...
     def table(self, fmt: _TableFormat = "markdown", frame: _TableFrames = "both") -> str: ...
-    def fk(self, q: _ArrayLike) -> _F64:
-        """q (dof,) -> the pose (4, 4); q (N, dof) -> N poses (N, 4, 4)."""
+    def fk(self, q: _ArrayLike, link: str | None = None, *, relative_to: str | None = None) -> _F64:
+        """q (dof,) -> the pose (4, 4); q (N, dof) -> N poses (N, 4, 4).
+
+        With ``link``: that frame of the whole tree, q of shape (nq,) or (N, nq)."""
     def fk_all_links(self, q: _ArrayLike) -> _F64:
         """q (dof,) -> (links, 4, 4); q (N, dof) -> (N, links, 4, 4)."""
-    def jacobian(self, q: _ArrayLike, frame: _JacobianFrame = "space") -> _F64:
-        """q (dof,) -> (6, dof); q (N, dof) -> (N, 6, dof)."""
+    def fk_all_frames(self, q: _ArrayLike) -> _F64:
+        """The whole tree: q (nq,) -> (frames, 4, 4); q (N, nq) -> (N, frames, 4, 4)."""
+    def jacobian(
+        self,
+        q: _ArrayLike,
+        frame: _JacobianFrame = "space",
+        link: str | None = None,
+        *,
+        relative_to: str | None = None,
+    ) -> _F64:
+        """q (dof,) -> (6, dof); q (N, dof) -> (N, 6, dof); with ``link``: (6, nv)."""
+    @property
+    def variable_names(self) -> list[str]: ...
+    @property
+    def q_names(self) -> list[str]: ...
+    @property
+    def v_names(self) -> list[str]: ...
+    @property
+    def nq(self) -> int: ...
+    @property
+    def nv(self) -> int: ...
+    @property
+    def floating_base(self) -> bool: ...
+    @property
+    def frame_names(self) -> list[str]: ...
+    def add_frame(self, name: str, parent_link: str, pose: _ArrayLike) -> None: ...
+    def integrate(self, q: _ArrayLike, v: _ArrayLike, dt: float) -> _F64: ...
+    def difference(self, q0: _ArrayLike, q1: _ArrayLike) -> _F64: ...
+    def neutral(self) -> _F64: ...
+    def random_configuration(self, seed: int = 0) -> _F64: ...
     def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
     def draw(
         self,

@@ -8,6 +8,7 @@
 //! | [`fk_frames_batch`] | q: N × nq | poses: N × F × 16 (every frame, frame order) |
 //! | [`fk_frame_batch`] | q: N × nq | poses: N × 16 |
 //! | [`frame_jacobian_batch`] | q: N × nq | Jacobians: N × 6 × nv (row-major), poses: N × 16 (optional) |
+//! | [`relative_pose_batch`] | q: N × nq | poses (T_B⁻¹ T_A): N × 16 |
 //! | [`relative_jacobian_batch`] | q: N × nq | Jacobians: N × 6 × nv, poses (T_B⁻¹ T_A): N × 16 (optional) |
 
 use rayon::prelude::*;
@@ -174,4 +175,20 @@ pub fn relative_jacobian_batch(
             }
         },
     )
+}
+
+/// The pose of frame `a` in frame `b` (T_B⁻¹ T_A) for N configurations (N × 16).
+pub fn relative_pose_batch(
+    kin: &TreeKinematics,
+    (a, b): (usize, usize),
+    qs: &[f64],
+    poses: &mut [f64],
+) -> Result<(), SolveError> {
+    kin.check_frame(a)?;
+    kin.check_frame(b)?;
+    rows(kin, qs, (poses, 16), None, &|ws, q, base, out, _| {
+        let ta = frame_unchecked(kin, ws, q, base, a);
+        let tb = frame_unchecked(kin, ws, q, base, b);
+        tb.inverse_compose(&ta).write_row_major(out)
+    })
 }
