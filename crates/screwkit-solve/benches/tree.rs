@@ -57,6 +57,33 @@ fn main() {
         best_fk = best_fk.min((t1 - t0).as_nanos() as f64 / calls as f64);
         best_j = best_j.min((t2 - t1).as_nanos() as f64 / calls as f64);
     }
+    // The same frame's chain alone (root → frame), the kernel the tree's Jacobian runs.
+    let chain = model.chain_to(f).expect("a chain").expect("not the root");
+    let ck = screwkit_solve::Kinematics::new(&chain);
+    let mut cws = screwkit_solve::Workspace::new(&ck);
+    let cqs: Vec<Vec<f64>> = (0..256)
+        .map(|_| screwkit_solve::sample::configurations(&ck, 1, rng.next_u64()))
+        .collect();
+    let mut best_chain = f64::INFINITY;
+    for _ in 0..30 {
+        let t0 = Instant::now();
+        for k in 0..calls {
+            let j = screwkit_solve::jacobian::jacobian(
+                &ck,
+                &mut cws,
+                &cqs[k % 256],
+                screwkit_solve::Frame::Space,
+            )
+            .unwrap();
+            black_box(j[(0, 0)]);
+        }
+        best_chain = best_chain.min(t0.elapsed().as_nanos() as f64 / calls as f64);
+    }
+    println!(
+        "CHAIN root→{frame}: {} variables, {} joints, space Jacobian {best_chain:.1} ns",
+        ck.dof(),
+        chain.joints.len()
+    );
     println!(
         "SCREWKIT joints={} frames={} nq={} all_frames_fk_ns={best_fk:.1} frame_jacobian_ns={best_j:.1}",
         model.joints.len(),

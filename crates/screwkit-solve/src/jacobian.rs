@@ -152,7 +152,7 @@ impl Kernel for PoseAndJacobian<'_> {
     fn run<A: MulAdd>(self) -> Se3 {
         let Self { kin, jac, q, frame } = self;
         if !kin.identity_map {
-            jac.fill(0.0);
+            jac.as_mut_slice().fill(0.0);
         }
         let mut store = |j: usize, jc: &PoeJoint, w: Lane, v: Lane| {
             if kin.identity_map {

@@ -70,7 +70,7 @@ pub(crate) fn pose_jacobian_unchecked(
         ..
     } = ws;
     let jac = if other { second } else { jacobian };
-    jac.fill(0.0);
+    jac.as_mut_slice().fill(0.0);
     let f = &kin.frames[frame];
     let vo = kin.v_offset();
     let chain_frame = if form == Form::Body {
@@ -83,22 +83,7 @@ pub(crate) fn pose_jacobian_unchecked(
         (Some(view), Some(vws)) => {
             let vq = gather(kin, view, q, view_q);
             vws.fit(&view.kin);
-            let local = fk_jacobian_into(&view.kin, &mut vws.jacobian, vq, chain_frame);
-            for (k, &var) in view.variables.iter().enumerate() {
-                let src = vws.jacobian.column(k);
-                let mut dst = jac.column_mut(vo + var);
-                if space_base {
-                    let t = base.adjoint_apply(&Twist::new(
-                        src.fixed_rows::<3>(0).into(),
-                        src.fixed_rows::<3>(3).into(),
-                    ));
-                    dst.fixed_rows_mut::<3>(0).copy_from(&t.w);
-                    dst.fixed_rows_mut::<3>(3).copy_from(&t.v);
-                } else {
-                    dst.copy_from(&src);
-                }
-            }
-            local
+            fk_jacobian_into(&view.kin, &mut vws.jacobian, vq, chain_frame)
         }
         _ => f.home,
     };
@@ -107,6 +92,25 @@ pub(crate) fn pose_jacobian_unchecked(
     } else {
         local
     };
+    let wa = form == Form::WorldAligned;
+    let out = jac.as_mut_slice();
+    // Each column once, straight from the chain's Jacobian into its place: [Ad_{T_base}] when
+    // the base floats (space forms), then world-aligned at the frame's origin; the columns of
+    // joints off the path stay zero.
+    if let (Some(view), Some(vws)) = (&f.view, views[frame].as_ref()) {
+        let src = vws.jacobian.as_slice();
+        for (k, &var) in view.variables.iter().enumerate() {
+            let mut col: [f64; 6] = src[6 * k..6 * k + 6].try_into().expect("6 rows");
+            if space_base {
+                col = adjoint6(base, &col);
+            }
+            if wa {
+                space_to_world_aligned(&mut col, pose.translation());
+            }
+            let c = vo + var;
+            out[6 * c..6 * c + 6].copy_from_slice(&col);
+        }
+    }
     if kin.floating {
         let ad = if chain_frame == Frame::Space {
             base.adjoint()
@@ -114,13 +118,24 @@ pub(crate) fn pose_jacobian_unchecked(
             local.inverse().adjoint()
         };
         for i in 0..6 {
-            jac.column_mut(i).copy_from(&ad.column(i));
+            let mut col: [f64; 6] = ad.column(i).into();
+            if wa {
+                space_to_world_aligned(&mut col, pose.translation());
+            }
+            out[6 * i..6 * i + 6].copy_from_slice(&col);
         }
     }
-    if form == Form::WorldAligned {
-        world_aligned(jac, pose.translation());
-    }
     pose
+}
+
+/// \[Ad_T\] of one column (ω, v).
+#[inline]
+fn adjoint6(t: &Se3, col: &[f64; 6]) -> [f64; 6] {
+    let tw = t.adjoint_apply(&Twist::new(
+        nalgebra::Vector3::new(col[0], col[1], col[2]),
+        nalgebra::Vector3::new(col[3], col[4], col[5]),
+    ));
+    [tw.w[0], tw.w[1], tw.w[2], tw.v[0], tw.v[1], tw.v[2]]
 }
 
 /// Every column made world-aligned at p ([`space_to_world_aligned`]).
