@@ -15,7 +15,7 @@ use nalgebra::{Matrix4, Rotation3, Translation3, Unit, Vector3};
 use screwkit_lie::Se3;
 use screwkit_model::Chain;
 use screwkit_model::{ErrorKind, ModelError};
-use screwkit_model::{JointKind, Tree};
+use screwkit_model::{JointKind, Tree, TreeJoint};
 
 /// The tip pose (4x4) of `chain` for variables `q`, composing the URDF transforms of `tree`
 /// along the chain's path; mimic joints follow `<mimic>` (θ = multiplier · θ_leader + offset).
@@ -38,14 +38,7 @@ pub fn fk_by_composition(
     let mut t = Matrix4::identity();
     for j in path {
         let joint = &tree.joints[j];
-        let origin = Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous()
-            * Rotation3::from_euler_angles(
-                joint.origin_rpy[0],
-                joint.origin_rpy[1],
-                joint.origin_rpy[2],
-            )
-            .to_homogeneous();
-        t *= origin;
+        t *= origin(joint);
         if !joint.kind.is_movable() {
             continue;
         }
@@ -74,15 +67,32 @@ pub fn fk_by_composition(
                 problem: "a joint that is not a variable of the chain".into(),
             })
         })?;
-        let axis = Unit::new_normalize(Vector3::from(joint.axis));
-        let motion = if joint.kind == JointKind::Prismatic {
-            Translation3::from(axis.into_inner() * theta).to_homogeneous()
-        } else {
-            Rotation3::from_axis_angle(&axis, theta).to_homogeneous()
-        };
-        t *= motion;
+        t *= motion(joint, theta);
     }
     Ok(t)
+}
+
+/// A joint's `<origin>` as a 4x4: translation xyz, then R = R_z(y) R_y(p) R_x(r) (nalgebra's
+/// Euler angles).
+fn origin(joint: &TreeJoint) -> Matrix4<f64> {
+    Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous()
+        * Rotation3::from_euler_angles(
+            joint.origin_rpy[0],
+            joint.origin_rpy[1],
+            joint.origin_rpy[2],
+        )
+        .to_homogeneous()
+}
+
+/// A movable joint's motion at θ as a 4x4: a translation along the unit axis (prismatic) or a
+/// rotation about it (nalgebra's axis-angle).
+fn motion(joint: &TreeJoint, theta: f64) -> Matrix4<f64> {
+    let axis = Unit::new_normalize(Vector3::from(joint.axis));
+    if joint.kind == JointKind::Prismatic {
+        Translation3::from(axis.into_inner() * theta).to_homogeneous()
+    } else {
+        Rotation3::from_axis_angle(&axis, theta).to_homogeneous()
+    }
 }
 
 /// θ_j of every chain joint for variables q (each joint's [`screwkit_model::Drive`]).
@@ -120,22 +130,9 @@ pub fn tree_fk_by_composition(tree: &Tree, position: &dyn Fn(&str) -> f64) -> Ve
     while let Some(l) = stack.pop() {
         for &j in &tree.child_joints[l] {
             let joint = &tree.joints[j];
-            let origin = Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous()
-                * Rotation3::from_euler_angles(
-                    joint.origin_rpy[0],
-                    joint.origin_rpy[1],
-                    joint.origin_rpy[2],
-                )
-                .to_homogeneous();
-            let mut t = out[l] * origin;
+            let mut t = out[l] * origin(joint);
             if joint.kind.is_movable() {
-                let theta = position(&joint.name);
-                let axis = Unit::new_normalize(Vector3::from(joint.axis));
-                t *= if joint.kind == JointKind::Prismatic {
-                    Translation3::from(axis.into_inner() * theta).to_homogeneous()
-                } else {
-                    Rotation3::from_axis_angle(&axis, theta).to_homogeneous()
-                };
+                t *= motion(joint, position(&joint.name));
             }
             out[joint.child] = t;
             stack.push(joint.child);

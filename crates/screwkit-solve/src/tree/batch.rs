@@ -133,14 +133,27 @@ pub fn frame_jacobian_batch(
     poses: Option<&mut [f64]>,
 ) -> Result<(), SolveError> {
     kin.check_frame(frame)?;
-    let width = 6 * kin.nv();
+    jacobian_rows(kin, qs, jacobians, poses, &|ws, q, base| {
+        pose_jacobian_unchecked(kin, ws, q, base, frame, form, false)
+    })
+}
+
+/// Runs `f` (a pose, with the Jacobian left in `ws.jacobian`) over the rows: Jacobians
+/// N × 6 × nv, poses N × 16 when given.
+fn jacobian_rows(
+    kin: &TreeKinematics,
+    qs: &[f64],
+    jacobians: &mut [f64],
+    poses: Option<&mut [f64]>,
+    f: &(dyn Fn(&mut TreeWorkspace, &[f64], &Se3) -> Se3 + Sync),
+) -> Result<(), SolveError> {
     rows(
         kin,
         qs,
-        (jacobians, width),
+        (jacobians, 6 * kin.nv()),
         poses.map(|p| (p, 16)),
         &|ws, q, base, out, pose| {
-            let t = pose_jacobian_unchecked(kin, ws, q, base, frame, form, false);
+            let t = f(ws, q, base);
             write_jacobian(&ws.jacobian, out);
             if let Some(p) = pose {
                 t.write_row_major(p);
@@ -161,20 +174,9 @@ pub fn relative_jacobian_batch(
 ) -> Result<(), SolveError> {
     kin.check_frame(a)?;
     kin.check_frame(b)?;
-    let width = 6 * kin.nv();
-    rows(
-        kin,
-        qs,
-        (jacobians, width),
-        poses.map(|p| (p, 16)),
-        &|ws, q, base, out, pose| {
-            let t = relative_unchecked(kin, ws, q, base, a, b, form);
-            write_jacobian(&ws.jacobian, out);
-            if let Some(p) = pose {
-                t.write_row_major(p);
-            }
-        },
-    )
+    jacobian_rows(kin, qs, jacobians, poses, &|ws, q, base| {
+        relative_unchecked(kin, ws, q, base, a, b, form)
+    })
 }
 
 /// The pose of frame `a` in frame `b` (T_B⁻¹ T_A) for N configurations (N × 16).
