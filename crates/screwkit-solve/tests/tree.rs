@@ -486,3 +486,32 @@ fn frames_errors_name_what_is_wrong() {
         .to_string();
     assert!(e.contains("expected 7"), "{e}");
 }
+
+/// A 20,000-link chain (hostile depth): preparing the tree is linear — the chains of the frames
+/// are built on first use, not one per frame up front (which took 25 s and 3 GB at 3,000 links,
+/// and would not fit in memory here).
+#[test]
+fn a_deep_tree_prepares_in_linear_work() {
+    let n = 20_000;
+    let mut xml = String::from("<robot name=\"deep\">");
+    for i in 0..=n {
+        xml.push_str(&format!("<link name=\"l{i}\"/>"));
+    }
+    for i in 0..n {
+        xml.push_str(&format!(
+            "<joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{i}\"/><child link=\"l{}\"/><origin xyz=\"0 0 0.001\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/></joint>",
+            i + 1
+        ));
+    }
+    xml.push_str("</robot>");
+    let tree = urdf::load_str(&xml, "deep").unwrap();
+    let model = KinematicTree::from_tree(&tree).unwrap();
+    let kin = TreeKinematics::new(&model).unwrap();
+    let mut ws = TreeWorkspace::new(&kin);
+    let q = vec![0.0; n];
+    let tip = kin.frame(&format!("l{n}")).unwrap();
+    let t = fk::fk_frame(&kin, &mut ws, &q, tip).unwrap();
+    assert!((t.translation().z - 0.001 * n as f64).abs() < 1e-9);
+    let all = fk::fk_frames(&kin, &mut ws, &q).unwrap();
+    assert!((all[tip].translation().z - 0.001 * n as f64).abs() < 1e-9);
+}

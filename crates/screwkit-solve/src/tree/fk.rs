@@ -136,7 +136,7 @@ pub(crate) fn frame_unchecked(
     frame: usize,
 ) -> Se3 {
     let f = &kin.frames[frame];
-    let local = match &f.view {
+    let local = match kin.view(frame) {
         None => f.home,
         Some(view) => {
             let vq = gather(kin, view, q, &mut ws.view_q);

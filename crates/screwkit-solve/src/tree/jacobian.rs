@@ -22,6 +22,7 @@ use super::fk::gather;
 use super::{Form, TreeKinematics, TreeWorkspace};
 use crate::error::SolveError;
 use crate::jacobian::{fk_jacobian_into, space_to_world_aligned, PoseJacobian};
+use crate::workspace::Workspace;
 
 /// The Jacobian of `frame` in `form` (6 × nv), in the workspace. Checks q and the index.
 pub fn frame_jacobian<'w>(
@@ -79,13 +80,15 @@ pub(crate) fn pose_jacobian_unchecked(
         Frame::Space
     };
     let space_base = kin.floating && chain_frame == Frame::Space;
-    let local = match (&f.view, views[frame].as_mut()) {
-        (Some(view), Some(vws)) => {
+    let view = kin.view(frame);
+    let local = match view {
+        Some(view) => {
             let vq = gather(kin, view, q, view_q);
+            let vws = views[frame].get_or_insert_with(|| Workspace::new(&view.kin));
             vws.fit(&view.kin);
             fk_jacobian_into(&view.kin, &mut vws.jacobian, vq, chain_frame)
         }
-        _ => f.home,
+        None => f.home,
     };
     let pose = if kin.floating {
         base.compose(&local)
@@ -97,7 +100,7 @@ pub(crate) fn pose_jacobian_unchecked(
     // Each column once, straight from the chain's Jacobian into its place: [Ad_{T_base}] when
     // the base floats (space forms), then world-aligned at the frame's origin; the columns of
     // joints off the path stay zero.
-    if let (Some(view), Some(vws)) = (&f.view, views[frame].as_ref()) {
+    if let (Some(view), Some(vws)) = (view, views[frame].as_ref()) {
         let src = vws.jacobian.as_slice();
         for (k, &var) in view.variables.iter().enumerate() {
             let mut col: [f64; 6] = src[6 * k..6 * k + 6].try_into().expect("6 rows");

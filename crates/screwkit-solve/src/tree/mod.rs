@@ -83,8 +83,9 @@ pub(crate) struct FrameData {
     /// The nearest movable joint above the frame (index into the joints), or [`NONE`].
     pub(crate) support: usize,
     pub(crate) home: Se3,
-    /// The chain root → frame, `None` for a frame on the root link.
-    pub(crate) view: Option<View>,
+    /// The chain root → frame, `None` for a frame on the root link; built on first use (so
+    /// that preparing a deep tree stays linear: a chain per frame would be O(frames × depth)).
+    pub(crate) view: std::sync::OnceLock<Option<View>>,
 }
 
 /// The immutable kinematic model of a whole tree, prepared for the algorithms. Build once with
@@ -103,8 +104,11 @@ pub struct TreeKinematics {
     pub(crate) upper: Vec<f64>,
     pub(crate) q_names: Vec<String>,
     pub(crate) v_names: Vec<String>,
-    /// The most variables of any frame's chain (the size of the gathered q).
+    /// The most variables of any frame's chain (the size of the gathered q): the joint
+    /// variables' count.
     pub(crate) max_view_dof: usize,
+    /// Variable name → index (the chains' variables mapped into the tree's).
+    pub(crate) variable_index: std::collections::HashMap<String, usize>,
 }
 
 impl TreeKinematics {
@@ -126,36 +130,21 @@ impl TreeKinematics {
             .iter()
             .map(|j| j.parent.unwrap_or(NONE))
             .collect();
-        let mut frames = Vec::with_capacity(model.frames.len());
-        let mut max_view_dof = 0;
-        for (i, f) in model.frames.iter().enumerate() {
-            let view = match model.chain_to(i)? {
-                None => None,
-                Some(chain) => {
-                    let variables = chain
-                        .variables
-                        .iter()
-                        .map(|v| {
-                            model
-                                .variables
-                                .iter()
-                                .position(|w| w.name == v.name)
-                                .expect("a chain's variables are variables of its tree")
-                        })
-                        .collect::<Vec<_>>();
-                    max_view_dof = max_view_dof.max(variables.len());
-                    Some(View {
-                        kin: Kinematics::new(&chain),
-                        variables,
-                    })
-                }
-            };
-            frames.push(FrameData {
+        let frames = model
+            .frames
+            .iter()
+            .map(|f| FrameData {
                 support: model.links[f.link].support.unwrap_or(NONE),
                 home: f.home,
-                view,
-            });
-        }
+                view: std::sync::OnceLock::new(),
+            })
+            .collect();
+        let variable_index = model
+            .variables
+            .iter()
+            .enumerate()
+            .map(|(k, v)| (v.name.clone(), k))
+            .collect();
         Ok(Self {
             joints,
             parent,
@@ -165,9 +154,31 @@ impl TreeKinematics {
             upper: model.variables.iter().map(|v| v.upper).collect(),
             q_names: model.q_names(),
             v_names: model.v_names(),
-            max_view_dof,
+            max_view_dof: model.variables.len(),
+            variable_index,
             model: model.clone(),
         })
+    }
+
+    /// The chain root → `frame` prepared (built on first use), `None` for a frame on the root
+    /// link. The chain of a validated tree always builds (its joints, limits and mimic rules
+    /// were checked by [`KinematicTree::from_tree`]).
+    pub(crate) fn view(&self, frame: usize) -> Option<&View> {
+        self.frames[frame]
+            .view
+            .get_or_init(|| {
+                let chain = self.model.chain_to(frame).ok().flatten()?;
+                let variables = chain
+                    .variables
+                    .iter()
+                    .map(|v| self.variable_index.get(&v.name).copied())
+                    .collect::<Option<Vec<_>>>()?;
+                Some(View {
+                    kin: Kinematics::new(&chain),
+                    variables,
+                })
+            })
+            .as_ref()
     }
 
     /// The model it was built from.
@@ -330,7 +341,7 @@ pub struct TreeWorkspace {
     pub(crate) frames: Vec<Se3>,
     /// The gathered q of one frame's chain.
     pub(crate) view_q: Vec<f64>,
-    /// The chains' scratch (one per frame with a chain; sized for it).
+    /// The chains' scratch (one per frame, made on first use).
     pub(crate) views: Vec<Option<Workspace>>,
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) other: Matrix6xX<f64>,
@@ -352,11 +363,7 @@ impl TreeWorkspace {
             frame_columns: vec![Columns::identity(); kin.frames.len()],
             frames: vec![Se3::identity(); kin.frames.len()],
             view_q: vec![0.0; kin.max_view_dof],
-            views: kin
-                .frames
-                .iter()
-                .map(|f| f.view.as_ref().map(|v| Workspace::new(&v.kin)))
-                .collect(),
+            views: vec![None; kin.frames.len()],
             jacobian: Matrix6xX::zeros(kin.nv()),
             other: Matrix6xX::zeros(kin.nv()),
             frames_len: kin.frames.len(),
