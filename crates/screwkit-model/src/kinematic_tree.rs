@@ -27,6 +27,7 @@
 
 use std::collections::HashMap;
 
+use nalgebra::Vector3;
 use screwkit_lie::{ScrewAxis, Se3};
 
 use crate::chain::{resolve_mimic, variable_of, Chain, Drive, Variable};
@@ -45,6 +46,13 @@ pub struct TreeScrew {
     pub s_space: ScrewAxis,
     /// The joint frame in the root link's frame at home.
     pub home: Se3,
+    /// The unit axis in the joint's own frame (the file's `<axis>`, normalised): S_j =
+    /// Ad_{home} (axis, 0) for a revolute joint, Ad_{home} (0, axis) for a prismatic one.
+    pub axis: Vector3<f64>,
+    /// The joint frame in its parent joint's frame (in the root link's frame when `parent` is
+    /// `None`): the file's origins composed from there, so that home = home_parent · placement
+    /// holds with the file's own numbers (an exact identity rotation stays exact).
+    pub placement: Se3,
     /// Which variable drives it (index into [`KinematicTree::variables`], joint variables
     /// only) and how: θ = multiplier · q + offset.
     pub drive: Drive,
@@ -63,6 +71,9 @@ pub struct TreeLink {
     /// The nearest movable joint above it (index into [`KinematicTree::joints`]), `None` for
     /// links rigidly attached to the root.
     pub support: Option<usize>,
+    /// The link frame in its support joint's frame (in the root link's frame without one): the
+    /// file's origins composed from there (the identity for the child of a movable joint).
+    pub placement: Se3,
     /// The parent link (index into [`KinematicTree::links`]), `None` for the root.
     pub parent: Option<usize>,
 }
@@ -272,19 +283,24 @@ fn build(tree: &Tree) -> Result<KinematicTree, ErrorKind> {
         name: tree.links[tree.root].clone(),
         home: Se3::identity(),
         support: None,
+        placement: Se3::identity(),
         parent: None,
     });
     let mut joints = Vec::new();
-    // Depth first from the root, children in file order: (link, its home pose, its support).
-    let mut stack = vec![(tree.root, Se3::identity(), None::<usize>)];
-    while let Some((link, pose, support)) = stack.pop() {
+    // Depth first from the root, children in file order: (link, its home pose, its support,
+    // its pose in the support's frame).
+    let mut stack = vec![(tree.root, Se3::identity(), None::<usize>, Se3::identity())];
+    while let Some((link, pose, support, local)) = stack.pop() {
         let mut below = Vec::new();
         for &j in &tree.child_joints[link] {
             let joint = &tree.joints[j];
-            let t = pose.compose(&joint.origin()?);
+            let origin = joint.origin()?;
+            let t = pose.compose(&origin);
+            let mut child_local = local.compose(&origin);
             let mut child_support = support;
             if joint.kind.is_movable() {
-                let axis = t.rotation() * joint.unit_axis()?;
+                let local_axis = joint.unit_axis()?;
+                let axis = t.rotation() * local_axis;
                 let s = if joint.kind == JointKind::Prismatic {
                     ScrewAxis::prismatic(axis)
                 } else {
@@ -306,6 +322,8 @@ fn build(tree: &Tree) -> Result<KinematicTree, ErrorKind> {
                     kind: joint.kind,
                     s_space: s,
                     home: t,
+                    axis: local_axis,
+                    placement: child_local,
                     drive: Drive {
                         variable,
                         multiplier,
@@ -314,14 +332,16 @@ fn build(tree: &Tree) -> Result<KinematicTree, ErrorKind> {
                     parent: support,
                 });
                 child_support = Some(joints.len() - 1);
+                child_local = Se3::identity();
             }
             links[joint.child] = Some(TreeLink {
                 name: tree.links[joint.child].clone(),
                 home: t,
                 support: child_support,
+                placement: child_local,
                 parent: Some(link),
             });
-            below.push((joint.child, t, child_support));
+            below.push((joint.child, t, child_support, child_local));
         }
         stack.extend(below.into_iter().rev());
     }

@@ -1,6 +1,21 @@
 //! Forward kinematics of a tree's frames: T_F(q) = T_base · Π_{j on the path to F}
 //! e^{[S_j]θ_j} · M_F (the formula of [`screwkit_model::kinematic_tree`]).
+//!
+//! One frame runs the chain kernels of its path ([`crate::fk`]) on the space screws. Every
+//! frame at once ([`fk_frames`]) sweeps the tree in each joint's own frame instead (Pinocchio's
+//! form), which the same product gives: with H_k the joint frame at home and a_k its axis
+//! there, S_k = Ad_{H_k}(a_k, 0) (prismatic: (0, a_k)), so e^{[S_k]θ} H_k = H_k e^{[a_k]θ} and
+//! the joint frame's pose J_k(q) = T_base Π_{j ≤ k} e^{[S_j]θ_j} H_k is
+//!
+//! J_k = J_parent(k) · X_k · e^{[a_k]θ_k},  X_k = H_parent(k)⁻¹ H_k (the file's origins),
+//! T_F = J_support(F) · P_F,  P_F = H_support(F)⁻¹ M_F (the identity for a joint's child link),
+//!
+//! with J of "no joint" = T_base. Each joint's motion is then a rotation about (or a
+//! translation along) a coordinate axis of its own frame in most files ([`PoeJoint::apply`]
+//! takes the two-column update), and most links' frames are a joint frame itself (no product).
+//! The tests hold it equal to the chain kernels and to the URDF composed joint by joint.
 
+use nalgebra::Matrix3;
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{trig, Se3};
 
@@ -8,12 +23,55 @@ use super::{TreeKinematics, TreeWorkspace, View, NONE};
 use crate::columns::Columns;
 use crate::error::SolveError;
 use crate::fk::fk_unchecked;
+use crate::poe::PoeJoint;
+
+/// A fixed transform X applied on the right in the sweep (T ← T X), in its cheapest form.
+#[derive(Debug, Clone)]
+pub(crate) enum Placement {
+    Identity,
+    /// A pure translation (the rotation exactly the identity, as most origins write it).
+    Translation([f64; 3]),
+    General(Matrix3<f64>, [f64; 3]),
+}
+
+impl Placement {
+    pub(crate) fn of(x: &Se3) -> Placement {
+        let t = (*x.translation()).into();
+        match (*x.rotation() == Matrix3::identity(), t == [0.0; 3]) {
+            (true, true) => Placement::Identity,
+            (true, false) => Placement::Translation(t),
+            _ => Placement::General(*x.rotation(), t),
+        }
+    }
+
+    /// T · X.
+    #[inline(always)]
+    fn apply<A: MulAdd>(&self, g: &Columns) -> Columns {
+        match self {
+            Placement::Identity => *g,
+            Placement::Translation(t) => {
+                let mut out = *g;
+                out.translate::<A>(t);
+                out
+            }
+            Placement::General(e, t) => g.compose::<A>(e, t),
+        }
+    }
+}
+
+/// One joint of the sweep: X_k, then the motion e^{[a_k]θ} in the joint's own frame.
+#[derive(Debug, Clone)]
+pub(crate) struct SweepJoint {
+    pub(crate) fixed: Placement,
+    pub(crate) motion: PoeJoint,
+}
 
 /// Every frame's pose in one sweep, in frame order (the links in the file's order, then the
 /// extra frames), written into the workspace. Checks q.
 ///
-/// Per joint, parents first: G_k = G_parent(k) · e^{[S_k]θ_k} (G of "no parent" = T_base); per
-/// frame: T_F = G_support(F) · M_F. Pinocchio's `forwardKinematics` + `updateFramePlacements`.
+/// Per joint, parents first: J_k = J_parent(k) · X_k · e^{[a_k]θ_k} (J of "no parent" = T_base);
+/// per frame: T_F = J_support(F) · P_F (the module's formulas). Pinocchio's
+/// `forwardKinematics` + `updateFramePlacements`.
 pub fn fk_frames<'w>(
     kin: &TreeKinematics,
     ws: &'w mut TreeWorkspace,
@@ -76,8 +134,8 @@ impl Kernel for AllFrames<'_> {
     fn run<A: MulAdd>(self) {
         const L: usize = trig::LANES;
         let kin = self.kin;
-        for (t, j) in self.theta.iter_mut().zip(&kin.joints) {
-            *t = j.drive.theta(self.q);
+        for (t, j) in self.theta.iter_mut().zip(&kin.sweep) {
+            *t = j.motion.drive.theta(self.q);
         }
         for ((t, s), c) in self
             .theta
@@ -91,14 +149,16 @@ impl Kernel for AllFrames<'_> {
             s.copy_from_slice(&ls);
             c.copy_from_slice(&lc);
         }
-        for k in 0..kin.joints.len() {
+        for (k, j) in kin.sweep.iter().enumerate() {
             let p = kin.parent[k];
-            let mut g = if p == NONE {
-                self.base
+            let parent = if p == NONE {
+                &self.base
             } else {
-                self.joint_poses[p]
+                &self.joint_poses[p]
             };
-            kin.joints[k].apply::<A>(&mut g, self.theta[k], self.sin[k], self.cos[k]);
+            let mut g = j.fixed.apply::<A>(parent);
+            j.motion
+                .apply::<A>(&mut g, self.theta[k], self.sin[k], self.cos[k]);
             self.joint_poses[k] = g;
         }
         for (o, f) in self.out.iter_mut().zip(&kin.frames) {
@@ -107,7 +167,7 @@ impl Kernel for AllFrames<'_> {
             } else {
                 &self.joint_poses[f.support]
             };
-            *o = g.compose::<A>(f.home.rotation(), &(*f.home.translation()).into());
+            *o = f.placement.apply::<A>(g);
         }
     }
 }

@@ -83,6 +83,8 @@ pub(crate) struct FrameData {
     /// The nearest movable joint above the frame (index into the joints), or [`NONE`].
     pub(crate) support: usize,
     pub(crate) home: Se3,
+    /// P_F: the frame in its support joint's frame (in the base's without one).
+    pub(crate) placement: fk::Placement,
     /// The chain root → frame, `None` for a frame on the root link; built on first use (so
     /// that preparing a deep tree stays linear: a chain per frame would be O(frames × depth)).
     pub(crate) view: std::sync::OnceLock<Option<View>>,
@@ -95,6 +97,8 @@ pub struct TreeKinematics {
     pub(crate) model: KinematicTree,
     /// The space screws, parents first (the order of [`KinematicTree::joints`]).
     pub(crate) joints: Vec<PoeJoint>,
+    /// The same joints in their own frames, for the all-frame sweep ([`fk::fk_frames`]).
+    pub(crate) sweep: Vec<fk::SweepJoint>,
     /// Each joint's parent joint (index) or [`NONE`].
     pub(crate) parent: Vec<usize>,
     pub(crate) frames: Vec<FrameData>,
@@ -125,6 +129,23 @@ impl TreeKinematics {
                 )
             })
             .collect();
+        let sweep = model
+            .joints
+            .iter()
+            .map(|j| {
+                let prismatic = j.kind == screwkit_model::JointKind::Prismatic;
+                let zero = nalgebra::Vector3::zeros();
+                let local = if prismatic {
+                    screwkit_lie::Twist::new(zero, j.axis)
+                } else {
+                    screwkit_lie::Twist::new(j.axis, zero)
+                };
+                fk::SweepJoint {
+                    fixed: fk::Placement::of(&j.placement),
+                    motion: PoeJoint::new(local, prismatic, j.drive),
+                }
+            })
+            .collect();
         let parent = model
             .joints
             .iter()
@@ -136,6 +157,7 @@ impl TreeKinematics {
             .map(|f| FrameData {
                 support: model.links[f.link].support.unwrap_or(NONE),
                 home: f.home,
+                placement: fk::Placement::of(&model.links[f.link].placement.compose(&f.placement)),
                 view: std::sync::OnceLock::new(),
             })
             .collect();
@@ -147,6 +169,7 @@ impl TreeKinematics {
             .collect();
         Ok(Self {
             joints,
+            sweep,
             parent,
             frames,
             floating: model.floating_base,
