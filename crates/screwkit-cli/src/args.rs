@@ -210,7 +210,8 @@ pub struct ChainArgs {
     pub tool: Option<List>,
     /// Put a free joint (6 DoF) between the world and the root link: q starts with the base's
     /// x,y,z and quaternion qx,qy,qz,qw, the Jacobians with the base's six columns (its
-    /// twist (ω, v) in its own frame). Whole-tree commands only (fk --frames, jacobian --of).
+    /// twist (ω, v) in its own frame). Whole-tree commands only (fk, jacobian, draw, view of the
+    /// whole tree).
     #[arg(long)]
     pub floating_base: bool,
 }

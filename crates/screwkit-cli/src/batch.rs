@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use screwkit_solve::{Kinematics, SolveError};
+use screwkit_solve::{Kinematics, SolveError, TreeKinematics};
 use serde_json::{json, Value};
 
 use crate::output::{CliResult, Failure};
@@ -257,12 +257,26 @@ pub fn parse_rows<T: Send>(
 /// The `{"q": [...]}` lines as a flat N × dof buffer (NaN rows where a line is bad) and the
 /// per-line parse errors.
 pub fn q_rows(kin: &Kinematics, lines: &[Line]) -> (Vec<f64>, Vec<Option<String>>) {
+    q_rows_checked(lines, kin.dof(), |q| kin.check_q(q).map(|_| ()))
+}
+
+/// [`q_rows`] for the whole tree: `{"q": [...]}` of nq values (the tree's configuration).
+pub fn tree_q_rows(kin: &TreeKinematics, lines: &[Line]) -> (Vec<f64>, Vec<Option<String>>) {
+    q_rows_checked(lines, kin.nq(), |q| kin.check_q(q).map(|_| ()))
+}
+
+/// The `{"q": [...]}` lines checked by `check`, as rows of `width` values.
+fn q_rows_checked(
+    lines: &[Line],
+    width: usize,
+    check: impl Fn(&[f64]) -> Result<(), SolveError> + Sync,
+) -> (Vec<f64>, Vec<Option<String>>) {
     let parsed = parse_rows(lines, |text| {
         let q = numbers(&parse_object(text)?, "q")?;
-        kin.check_q(&q).map_err(|e| e.to_string())?;
+        check(&q).map_err(|e| e.to_string())?;
         Ok(q)
     });
-    flatten(parsed, kin.dof())
+    flatten(parsed, width)
 }
 
 /// Rows of `width` values into one flat buffer (NaN for the failed rows) and the errors.

@@ -1,5 +1,5 @@
 //! `screwkit draw` (SVG) and `screwkit view` (interactive HTML): the pictures of
-//! `screwkit-draw`, written to a file or standard output.
+//! `screwkit-draw` (of the chain, or of the whole tree), written to a file or standard output.
 
 use screwkit_draw::{html, svg, Scene};
 
@@ -16,31 +16,52 @@ fn write_out(path: &str, text: &str) -> CliResult {
     }
 }
 
-/// Loads the chain, makes the picture at q (`make`: the library's picture of chain, kinematics
-/// and q) and writes it to `output`.
+/// Loads the robot and makes the picture at q: of the whole tree when the floor's rule says
+/// so (`whole::wants_tree`: no chain, or a floating base), else of the chain; writes it to
+/// `output`.
 fn picture(
     chain: &crate::args::ChainArgs,
     q: Option<&crate::args::List>,
     output: &str,
-    make: impl FnOnce(
+    of_chain: impl FnOnce(
         &screwkit_model::Chain,
         &screwkit_solve::Kinematics,
         Option<&[f64]>,
     ) -> Result<String, screwkit_solve::SolveError>,
+    of_tree: impl FnOnce(
+        &screwkit_solve::TreeKinematics,
+        Option<&[f64]>,
+    ) -> Result<String, screwkit_solve::SolveError>,
 ) -> CliResult {
     let robot = crate::load(chain)?;
-    let text = make(robot.chain()?, robot.kin()?, q.map(|l| l.0.as_slice()))?;
+    let q = q.map(|l| l.0.as_slice());
+    let text = if screwkit_service::whole::wants_tree(&robot, false) {
+        of_tree(robot.whole()?, q)?
+    } else {
+        of_chain(robot.chain()?, robot.kin()?, q)?
+    };
     write_out(output, &text)
 }
 
 /// `screwkit draw`.
 pub fn draw(a: &DrawArgs) -> CliResult {
-    picture(&a.chain, a.q.as_ref(), &a.output, |c, k, q| {
-        Ok(svg::render(&Scene::new(c, k, q)?, &a.view.views()))
-    })
+    let views = a.view.views();
+    picture(
+        &a.chain,
+        a.q.as_ref(),
+        &a.output,
+        |c, k, q| Ok(svg::render(&Scene::new(c, k, q)?, &views)),
+        |k, q| Ok(svg::render(&Scene::tree(k, q)?, &views)),
+    )
 }
 
 /// `screwkit view`.
 pub fn view(a: &ViewArgs) -> CliResult {
-    picture(&a.chain, a.q.as_ref(), &a.output, html::page)
+    picture(
+        &a.chain,
+        a.q.as_ref(),
+        &a.output,
+        html::page,
+        html::tree_page,
+    )
 }

@@ -4,13 +4,14 @@ use screwkit_lie::Se3;
 use screwkit_service::{whole, Robot};
 use screwkit_solve::batch::{fk_all_links_batch, fk_batch};
 use screwkit_solve::fk::{fk, fk_all_links};
-use screwkit_solve::{Kinematics, Workspace};
+use screwkit_solve::tree::batch::fk_frames_batch;
+use screwkit_solve::{Kinematics, TreeKinematics, Workspace};
 use serde_json::{json, Value};
 
 use crate::args::{FkArgs, Format};
 use crate::batch;
 use crate::output::{
-    matrix_text, nums, pose_json, pose_summary, print_json, rows_json, tuple, CliResult, Failure,
+    matrix_text, nums, pose_json, pose_summary, print_json, rows_json, tuple, CliResult,
 };
 
 /// The JSON object of one configuration: `{"q", "pose"}` (+ `"links"`).
@@ -57,16 +58,72 @@ fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
     })
 }
 
+/// The chosen frames' poses from one row of every frame's poses (F × 16).
+fn pick(frames: &[usize], all: &[f64], out: &mut [f64]) {
+    for (o, &f) in out.chunks_mut(16).zip(frames) {
+        o.copy_from_slice(&all[16 * f..16 * (f + 1)]);
+    }
+}
+
+/// `{"q", "frames": [{"name", "pose"}]}` of one configuration (`poses`: the chosen frames',
+/// K × 16).
+fn tree_json(kin: &TreeKinematics, frames: &[usize], q: &[f64], poses: &[f64]) -> Value {
+    json!({
+        "q": nums(q),
+        "frames": frames
+            .iter()
+            .zip(poses.chunks(16))
+            .map(|(&f, p)| json!({"name": kin.frame_name(f), "pose": rows_json(p, 4)}))
+            .collect::<Vec<_>>(),
+    })
+}
+
+/// Batch mode on the whole tree: every row through the library's all-frame batch
+/// (`tree::batch::fk_frames_batch`), the chosen frames kept. JSON lines give one
+/// `{"q", "frames"}` object per line; a `.npy` of shape (N, nq) gives (N, K, 4, 4) for the K
+/// chosen frames.
+fn run_tree_batch(
+    kin: &TreeKinematics,
+    frames: &[usize],
+    input: &str,
+    output: Option<&str>,
+) -> CliResult {
+    let (nq, f, k) = (kin.nq(), kin.frame_count(), frames.len());
+    let mut all = Vec::new();
+    if let Some(output) = crate::npy::binary(input, output)? {
+        return crate::npy::run(input, output, nq, "nq", &[k, 4, 4], |qs, _, out| {
+            all.clear();
+            all.resize(qs.len() / nq.max(1) * f * 16, 0.0);
+            let result = fk_frames_batch(kin, qs, &mut all);
+            for (row, o) in all.chunks(f * 16).zip(out.chunks_mut(k * 16)) {
+                pick(frames, row, o);
+            }
+            result
+        });
+    }
+    batch::stream(input, |lines, _| {
+        let (qs, mut errors) = batch::tree_q_rows(kin, lines);
+        let mut all = vec![0.0; lines.len() * f * 16];
+        batch::merge_row_errors(fk_frames_batch(kin, &qs, &mut all), &mut errors)?;
+        Ok(batch::outputs(lines, &errors, |r| {
+            let mut chosen = vec![0.0; k * 16];
+            pick(frames, &all[r * f * 16..(r + 1) * f * 16], &mut chosen);
+            (
+                tree_json(kin, frames, &qs[r * nq..(r + 1) * nq], &chosen),
+                true,
+            )
+        }))
+    })
+}
+
 /// `fk` on the whole tree: the chosen frames' poses in the root link's frame (the world with
 /// a floating base), q the tree's configuration.
 fn run_tree(robot: &Robot, args: &FkArgs, format: Format) -> CliResult {
     let kin = robot.whole()?;
-    if args.at.input.is_some() {
-        return Err(Failure(
-            "fk --input on the whole tree (--frames, --floating-base or a file with several leaves) is not supported yet: give --q, or --tip for a chain".into(),
-        ));
-    }
     let frames = whole::select_frames(kin, &args.frames, args.all_links)?;
+    if let Some(input) = &args.at.input {
+        return run_tree_batch(kin, &frames, input, args.at.output.as_deref());
+    }
     let q = &args
         .at
         .q
@@ -80,14 +137,11 @@ fn run_tree(robot: &Robot, args: &FkArgs, format: Format) -> CliResult {
         .map(|&f| (kin.frame_name(f), &poses[f]))
         .collect();
     if format == Format::Json {
-        let v = json!({
-            "q": nums(q),
-            "frames": chosen
-                .iter()
-                .map(|(name, t)| json!({"name": name, "pose": pose_json(t)}))
-                .collect::<Vec<_>>(),
-        });
-        print_json(&v)?;
+        let mut flat = vec![0.0; 16 * frames.len()];
+        for (o, (_, t)) in flat.chunks_mut(16).zip(&chosen) {
+            t.write_row_major(o);
+        }
+        print_json(&tree_json(kin, &frames, q, &flat))?;
         return Ok(());
     }
     let root = kin.model().root();

@@ -1,8 +1,9 @@
 //! The interactive page in a real headless browser (Chromium from the distribution's packages;
 //! `.ci/run` installs it and runs these with `--ignored`; `SCREWKIT_CHROMIUM` names another
 //! binary): the page's own FK, computed in JavaScript from the embedded chain with q from the
-//! URL, equals `screwkit fk` to 1e-12 on every bundled chain and every chain of ../shared/urdf;
-//! screenshots of the page and of a drawing are not blank.
+//! URL, equals `screwkit fk` to 1e-12 on every bundled chain and every chain of ../shared/urdf,
+//! and on whole trees (every leaf's pose, fixed and floating base); screenshots of the page and
+//! of a drawing, of a chain and of a humanoid, are not blank.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -133,6 +134,85 @@ fn the_page_computes_the_same_fk_as_the_library() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
+/// The whole trees the page is tested on: the bundled two-armed torso and ../shared/urdf's
+/// whole robots.
+fn trees() -> Vec<String> {
+    let shared = std::env::var("SCREWKIT_SHARED_URDF")
+        .expect("SCREWKIT_SHARED_URDF must name ../shared/urdf for the browser tests");
+    let mut v = vec![bundled("torso_two_arms.urdf")];
+    for f in [
+        "talos_full_v2.urdf",
+        "baxter.urdf",
+        "allegro_right_hand.urdf",
+    ] {
+        v.push(format!("{shared}/trees/{f}"));
+    }
+    v
+}
+
+/// Every leaf's pose (`screwkit fk FILE` of a whole tree), row-major, one after the other.
+fn library_leaves(args: &[String], q: &str) -> Vec<f64> {
+    let mut fk: Vec<&str> = vec!["fk"];
+    fk.extend(args.iter().map(String::as_str));
+    fk.extend(["--q", q, "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_slice(&screwkit(&fk).stdout).unwrap();
+    json["frames"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|f| f["pose"].as_array().unwrap().clone())
+        .flat_map(|r| r.as_array().unwrap().clone())
+        .map(|x| x.as_f64().unwrap())
+        .collect()
+}
+
+#[test]
+#[ignore = "needs Chromium: run by .ci/run with --ignored"]
+fn the_tree_page_computes_the_same_fk_as_the_library() {
+    use screwkit_solve::sample::SplitMix64;
+    let dir = scratch("tree");
+    let mut rng = SplitMix64(23);
+    for file in trees() {
+        for floating in [false, true] {
+            let mut args = vec![file.clone()];
+            if floating {
+                args.push("--floating-base".into());
+            }
+            let page = dir.join("tree.html");
+            let mut view: Vec<&str> = vec!["view"];
+            view.extend(args.iter().map(String::as_str));
+            view.extend(["-o", page.to_str().unwrap()]);
+            screwkit(&view);
+            let model = screwkit_model::KinematicTree::from_tree(
+                &screwkit_model::urdf::load_file(&file).unwrap(),
+            )
+            .unwrap()
+            .with_floating_base(floating);
+            let kin = screwkit_solve::TreeKinematics::new(&model).unwrap();
+            let q = screwkit_solve::tree::configuration::random(&kin, &mut rng);
+            let list: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
+            let url = format!("file://{}#q={}", page.display(), list.join(","));
+            let out = chromium(&dir, &["--dump-dom", &url]);
+            let dom = String::from_utf8_lossy(&out.stdout);
+            assert_eq!(pre_numbers(&dom, "q-exact"), q, "{file}: the page read q");
+            let page_fk = pre_numbers(&dom, "fk-exact");
+            let lib = library_leaves(&args, &list.join(","));
+            assert!(lib.len() >= 32, "{file}: {} numbers", lib.len());
+            assert_eq!(page_fk.len(), lib.len(), "{file}: one pose per leaf");
+            let diff = page_fk
+                .iter()
+                .zip(&lib)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            assert!(
+                diff < 1e-12,
+                "{file} (floating base {floating}): page vs library FK differ by {diff:e}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
 /// Pixels darker than the background and panels (the links and joints, whose grey is #3a3a3a,
 /// and dark text) in the box x < `max_x`, y ≥ `min_y`.
 fn dark_pixels(png_file: &Path, max_x: usize, min_y: usize) -> usize {
@@ -160,6 +240,18 @@ fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
     let page = dir.join("ur5.html");
     let svg = dir.join("ur5.svg");
     let q = "0.3,-1.0,1.4,-0.8,-1.2,0.4";
+    let shared = std::env::var("SCREWKIT_SHARED_URDF").expect("SCREWKIT_SHARED_URDF");
+    let talos = format!("{shared}/trees/talos_full_v2.urdf");
+    let (talos_page, talos_svg) = (dir.join("talos.html"), dir.join("talos.svg"));
+    screwkit(&["view", &talos, "-o", talos_page.to_str().unwrap()]);
+    screwkit(&[
+        "draw",
+        &talos,
+        "--view",
+        "all",
+        "-o",
+        talos_svg.to_str().unwrap(),
+    ]);
     screwkit(&["view", &ur5, "--q", q, "-o", page.to_str().unwrap()]);
     screwkit(&[
         "draw",
@@ -173,7 +265,12 @@ fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
     ]);
     // The page: its canvas, left of the 500 px side panel (whose text is dark too). The
     // drawing: below its caption line.
-    for (file, size, max_x, min_y) in [(&page, "1200,800", 690, 0), (&svg, "1160,1000", 1160, 40)] {
+    for (file, size, max_x, min_y) in [
+        (&page, "1200,800", 690, 0),
+        (&svg, "1160,1000", 1160, 40),
+        (&talos_page, "1200,800", 690, 0),
+        (&talos_svg, "1160,1000", 1160, 80),
+    ] {
         let shot = dir.join("shot.png");
         let _ = std::fs::remove_file(&shot);
         chromium(

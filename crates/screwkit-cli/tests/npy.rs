@@ -181,3 +181,97 @@ fn npy_batches_equal_the_library_batches() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("not a .npy file"));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// The whole tree's binary batches: `fk --frames A,B` gives (N, 2, 4, 4) and `jacobian --of A`
+/// (N, 6, nv), equal to the library's tree batches, a bad row NaN and counted.
+#[test]
+fn tree_npy_batches_equal_the_library() {
+    use screwkit_model::{urdf, KinematicTree};
+    use screwkit_solve::tree::{batch, configuration};
+    use screwkit_solve::{sample::SplitMix64, Form, TreeKinematics};
+    let dir = std::env::temp_dir().join(format!("screwkit-tree-npy-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let urdf = bundled("torso_two_arms.urdf");
+    let model = KinematicTree::from_tree(&urdf::load_file(&urdf).unwrap())
+        .unwrap()
+        .with_floating_base(true);
+    let kin = TreeKinematics::new(&model).unwrap();
+    let mut rng = SplitMix64(4);
+    let rows = 300;
+    let nq = kin.nq();
+    let mut qs: Vec<f64> = (0..rows)
+        .flat_map(|_| configuration::random(&kin, &mut rng))
+        .collect();
+    qs[nq * 7 + 9] = f64::INFINITY; // row 7 is bad
+    let input = dir.join("q.npy");
+    write_npy(&input, &[rows, nq], "<f8", false, &qs);
+    let (poses, jacs) = (dir.join("poses.npy"), dir.join("jac.npy"));
+    let (i, p, j) = (
+        input.to_str().unwrap(),
+        poses.to_str().unwrap(),
+        jacs.to_str().unwrap(),
+    );
+    let fk = run(&[
+        "fk",
+        &urdf,
+        "--floating-base",
+        "--frames",
+        "left_hand,right_hand",
+        "--input",
+        i,
+        "--output",
+        p,
+    ]);
+    assert_eq!(fk.status.code(), Some(1), "one bad row");
+    assert!(String::from_utf8_lossy(&fk.stderr).contains("300 rows, 1 failed"));
+    let (shape, got) = read_npy(&poses);
+    assert_eq!(shape, [rows, 2, 4, 4]);
+    // The all-frame sweep's poses (the one-frame batch runs the chain kernel instead: equal to
+    // an ulp, not bit for bit).
+    let frames = kin.frame_count();
+    let mut want = vec![0.0; rows * frames * 16];
+    let _ = batch::fk_frames_batch(&kin, &qs, &mut want);
+    for (f, name) in ["left_hand", "right_hand"].iter().enumerate() {
+        let i = kin.frame(name).unwrap();
+        for r in 0..rows {
+            let g = &got[(2 * r + f) * 16..(2 * r + f + 1) * 16];
+            let w = &want[(r * frames + i) * 16..(r * frames + i + 1) * 16];
+            if r == 7 {
+                assert!(g.iter().all(|x| x.is_nan()));
+            } else {
+                assert_eq!(g, w, "row {r} frame {name}");
+            }
+        }
+    }
+    let jac = run(&[
+        "jacobian",
+        &urdf,
+        "--floating-base",
+        "--of",
+        "left_hand",
+        "--frame",
+        "world-aligned",
+        "--input",
+        i,
+        "--output",
+        j,
+    ]);
+    assert_eq!(jac.status.code(), Some(1));
+    let (shape, got) = read_npy(&jacs);
+    assert_eq!(shape, [rows, 6, kin.nv()]);
+    let mut want = vec![0.0; rows * 6 * kin.nv()];
+    let _ = batch::frame_jacobian_batch(
+        &kin,
+        kin.frame("left_hand").unwrap(),
+        Form::WorldAligned,
+        &qs,
+        &mut want,
+        None,
+    );
+    let w = 6 * kin.nv();
+    for r in (0..rows).filter(|&r| r != 7) {
+        assert_eq!(got[r * w..(r + 1) * w], want[r * w..(r + 1) * w], "row {r}");
+    }
+    assert!(got[7 * w..8 * w].iter().all(|x| x.is_nan()));
+    let _ = std::fs::remove_dir_all(dir);
+}

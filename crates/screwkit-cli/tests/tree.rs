@@ -197,3 +197,108 @@ fn info_lists_variables_and_frames() {
     assert_eq!(frames[0]["name"], "base_link");
     assert_eq!(frames[0]["home"][0][0].as_f64(), Some(1.0));
 }
+
+/// `fk` and `jacobian --of` on the whole tree with `--input` JSON lines: every good line is
+/// exactly the single call's answer (`--analyze` included), a bad line is its error with its
+/// line number, the others are answered, and the run fails.
+#[test]
+fn tree_batches_answer_each_line_as_the_single_call() {
+    let file = asset("torso_two_arms.urdf");
+    let dir = std::env::temp_dir().join(format!("screwkit-tree-batch-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let qs = [Q, "0.3,-0.2,0.1,0.9,-0.4,0.2,-0.6", "0,0,0,0,0,0,0"];
+    let mut text = String::new();
+    for (k, q) in qs.iter().enumerate() {
+        text.push_str(&format!("{{\"q\": [{q}]}}\n"));
+        if k == 0 {
+            text.push_str("{\"q\": [1, 2]}\n\nnot json\n");
+        }
+    }
+    let input = dir.join("q.jsonl");
+    std::fs::write(&input, text).unwrap();
+    let input = input.to_str().unwrap();
+    let requests: [&[&str]; 4] = [
+        &["fk", &file],
+        &["fk", &file, "--frames", "left_hand,head"],
+        &["fk", &file, "--all-links"],
+        &[
+            "jacobian",
+            &file,
+            "--of",
+            "left_hand",
+            "--relative-to",
+            "head",
+            "--frame",
+            "body",
+            "--analyze",
+        ],
+    ];
+    for request in requests {
+        let mut args = request.to_vec();
+        args.extend(["--input", input]);
+        let (code, out, err) = run(&args);
+        assert_eq!(code, 1, "{args:?}: two bad lines fail the run");
+        assert!(err.contains("5 lines, 2 failed"), "{err}");
+        let lines: Vec<Value> = out
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert_eq!(lines.len(), 5);
+        assert_eq!(lines[1]["line"], 2);
+        assert!(
+            lines[1]["error"].as_str().unwrap().contains("expected 7"),
+            "{}",
+            lines[1]
+        );
+        assert_eq!(lines[2]["line"], 4);
+        assert!(lines[2]["error"].as_str().unwrap().contains("invalid JSON"));
+        for (k, q) in [(0, qs[0]), (3, qs[1]), (4, qs[2])] {
+            let mut single = request.to_vec();
+            single.extend(["--q", q, "--format", "json"]);
+            assert_eq!(lines[k], json(&single), "{args:?} line {k}");
+        }
+    }
+    // The analysis is of the library's relative Jacobian.
+    let kin = model(false);
+    let mut ws = TreeWorkspace::new(&kin);
+    let (a, b) = (kin.frame("left_hand").unwrap(), kin.frame("head").unwrap());
+    let j = jacobian::relative_jacobian(&kin, &mut ws, &parse(Q), a, b, Form::Body)
+        .unwrap()
+        .jacobian
+        .clone();
+    let want = screwkit_solve::analysis::analyze_jacobian(&j).unwrap();
+    let v = json(&[
+        "jacobian",
+        &file,
+        "--of",
+        "left_hand",
+        "--relative-to",
+        "head",
+        "--frame",
+        "body",
+        "--analyze",
+        "--q",
+        Q,
+        "--format",
+        "json",
+    ]);
+    assert_eq!(v["analysis"]["rank"], want.rank);
+    let got: Vec<f64> = serde_json::from_value(v["analysis"]["singular_values"].clone()).unwrap();
+    for (g, w) in got.iter().zip(&want.singular_values) {
+        assert!((g - w).abs() < 1e-14, "{g} vs {w}");
+    }
+    // Text output with the analysis.
+    let (code, out, err) = run(&[
+        "jacobian",
+        &file,
+        "--of",
+        "left_hand",
+        "--analyze",
+        "--q",
+        Q,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    // Four joints (waist, the left arm) move the left hand: rank 4.
+    assert!(out.contains("rank                  4 of 6"), "{out}");
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -1,14 +1,15 @@
-//! The interactive page: one self-contained HTML file (no network, no CDN) with the chain
-//! embedded as JSON and a small canvas renderer (`viewer/viewer.js`, `viewer/viewer.css`,
-//! compiled in). The page computes FK itself from the embedded screws — the product of
-//! exponentials in JavaScript — and writes the tip pose at full precision into
-//! `<pre id="fk-exact">`, which the browser tests compare with the library's FK.
+//! The interactive page: one self-contained HTML file (no network, no CDN) with the chain or
+//! the whole tree embedded as JSON and a small canvas renderer (`viewer/viewer.js`,
+//! `viewer/viewer.css`, compiled in). The page computes FK itself from the embedded screws —
+//! the product of exponentials in JavaScript — and writes the drawn frames' poses (a chain's
+//! tip; a tree's leaves) at full precision into `<pre id="fk-exact">`, which the browser tests
+//! compare with the library's FK.
 //!
 //! A hand-written renderer rather than three.js: the picture is a few hundred line segments,
 //! and 300 lines of plain JavaScript keep the file small (≈ 20 kB), offline and readable.
 
 use screwkit_model::{Chain, JointKind};
-use screwkit_solve::{Kinematics, SolveError};
+use screwkit_solve::{Kinematics, SolveError, TreeKinematics};
 use serde_json::{json, Value};
 
 use crate::svg::escape;
@@ -22,12 +23,29 @@ fn row_major(t: &screwkit_lie::Se3) -> Vec<f64> {
     out
 }
 
-/// The chain as the page reads it: joints (name, kind, S, the variable driving it with the
-/// mimic rule θ = multiplier · q + offset, the index of its child link), variables (name,
-/// limits; ±∞ for continuous joints is written as null), links (name, home pose, joints before
-/// it), M, and q.
+fn finite(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        Value::Null
+    }
+}
+
+fn kind_word(kind: JointKind) -> &'static str {
+    match kind {
+        JointKind::Prismatic => "prismatic",
+        JointKind::Continuous => "continuous",
+        _ => "revolute",
+    }
+}
+
+/// The chain as the page reads it, in the tree form the page's FK walks (a chain is a tree
+/// with one branch): joints (name, kind, home space screw S, the variable driving it with the
+/// mimic rule θ = multiplier · q + offset, its parent joint, the index of its child link),
+/// variables (name, limits; ±∞ for continuous joints is written as null), links (name, home
+/// pose M_L, the joint moving it, the link its segment starts from), the drawn frames (the tip
+/// with its home pose M), and q.
 pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
-    let finite = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
     let joints: Vec<Value> = chain
         .joints
         .iter()
@@ -35,15 +53,12 @@ pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
         .map(|(j, joint)| {
             json!({
                 "name": joint.name,
-                "kind": match joint.kind {
-                    JointKind::Prismatic => "prismatic",
-                    JointKind::Continuous => "continuous",
-                    _ => "revolute",
-                },
+                "kind": kind_word(joint.kind),
                 "S": joint.s_space.twist().to_vector().as_slice(),
                 "variable": joint.drive.variable,
                 "multiplier": joint.drive.multiplier,
                 "offset": joint.drive.offset,
+                "parent": j.checked_sub(1),
                 "link": kin.links().iter().position(|l| l.joints_before == j + 1),
             })
         })
@@ -63,16 +78,117 @@ pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
     let links: Vec<Value> = kin
         .links()
         .iter()
-        .map(|l| json!({"name": l.name, "home": row_major(&l.home), "joints_before": l.joints_before}))
+        .enumerate()
+        .map(|(k, l)| {
+            json!({
+                "name": l.name,
+                "home": row_major(&l.home),
+                "support": l.joints_before.checked_sub(1),
+                "parent": k.checked_sub(1),
+            })
+        })
         .collect();
     json!({
         "robot": chain.robot,
-        "base": chain.base,
-        "tip": chain.tip,
+        "subject": format!("chain {} → {}, {} joint(s)", chain.base, chain.tip, chain.variables.len()),
+        "floating": false,
         "joints": joints,
         "variables": variables,
         "links": links,
-        "home": row_major(&chain.home),
+        "frames": [{
+            "name": chain.tip,
+            "role": "tip",
+            "support": chain.joints.len().checked_sub(1),
+            "home": row_major(&chain.home),
+        }],
+        "q": q,
+    })
+}
+
+/// The whole tree as the page reads it (the fields of [`model_json`]): every movable joint
+/// (parents first) and link, the leaves as the drawn frames, and, with a floating base, the
+/// base's seven values first among the variables (position, then the quaternion
+/// (qx, qy, qz, qw), which the page normalises).
+pub fn tree_json(kin: &TreeKinematics, q: &[f64]) -> Value {
+    let model = kin.model();
+    let joints: Vec<Value> = model
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(k, j)| {
+            // The child link: moved by this joint, its parent link not.
+            let child = (0..model.links.len()).find(|&l| {
+                model.links[l].support == Some(k)
+                    && model.links[l]
+                        .parent
+                        .is_none_or(|p| model.links[p].support != Some(k))
+            });
+            json!({
+                "name": j.name,
+                "kind": kind_word(j.kind),
+                "S": j.s_space.twist().to_vector().as_slice(),
+                "variable": j.drive.variable,
+                "multiplier": j.drive.multiplier,
+                "offset": j.drive.offset,
+                "parent": j.parent,
+                "link": child,
+            })
+        })
+        .collect();
+    let (lower, upper) = (kin.lower(), kin.upper());
+    let base = kin.nq() - model.variables.len();
+    let variables: Vec<Value> = kin
+        .q_names()
+        .iter()
+        .enumerate()
+        .map(|(k, name)| {
+            json!({
+                "name": name,
+                "lower": finite(lower[k]),
+                "upper": finite(upper[k]),
+                "prismatic": k < 3 && base > 0
+                    || k >= base && model.variables[k - base].kind == JointKind::Prismatic,
+            })
+        })
+        .collect();
+    let links: Vec<Value> = model
+        .links
+        .iter()
+        .map(|l| {
+            json!({
+                "name": l.name,
+                "home": row_major(&l.home),
+                "support": l.support,
+                "parent": l.parent,
+            })
+        })
+        .collect();
+    let frames: Vec<Value> = screwkit_service::whole::leaf_frames(kin)
+        .into_iter()
+        .map(|f| {
+            let frame = &model.frames[f];
+            json!({
+                "name": frame.name,
+                "role": "leaf",
+                "support": model.links[frame.link].support,
+                "home": row_major(&frame.home),
+            })
+        })
+        .collect();
+    json!({
+        "robot": model.robot,
+        "subject": format!(
+            "whole tree from {}, {} links, {} joints, {} variables",
+            model.root(),
+            model.links.len(),
+            model.joints.len(),
+            kin.nq()
+        ),
+        "floating": kin.floating_base(),
+        "joints": joints,
+        "variables": variables,
+        "links": links,
+        "frames": frames,
         "q": q,
     })
 }
@@ -85,10 +201,30 @@ pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String
         .collect();
     let q = q.unwrap_or(&zeros);
     kin.check_q(q)?;
+    Ok(document(&chain.robot, &model_json(chain, kin, q)))
+}
+
+/// The page of the whole tree at `q` (its configuration, `q_names`; default: the neutral
+/// configuration with each joint brought inside its limits): every branch, a slider per
+/// variable, the pose of every leaf. Checks q.
+pub fn tree_page(kin: &TreeKinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
+    let (lower, upper) = (kin.lower(), kin.upper());
+    let start: Vec<f64> = screwkit_solve::tree::configuration::neutral(kin)
+        .into_iter()
+        .enumerate()
+        .map(|(k, x)| x.clamp(lower[k], upper[k]))
+        .collect();
+    let q = q.unwrap_or(&start);
+    kin.check_q(q)?;
+    Ok(document(&kin.model().robot, &tree_json(kin, q)))
+}
+
+/// The HTML document around the embedded model.
+fn document(robot: &str, model: &Value) -> String {
     // "</" inside a <script> element would end it: JSON allows "\/" for "/".
-    let json = model_json(chain, kin, q).to_string().replace("</", "<\\/");
-    let title = escape(&format!("{} — screwkit", chain.robot));
-    Ok(format!(
+    let json = model.to_string().replace("</", "<\\/");
+    let title = escape(&format!("{robot} — screwkit"));
+    format!(
         r#"<!DOCTYPE html>
 <html lang="en">
 <head>
@@ -105,13 +241,14 @@ pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String
 <div id="error"></div>
 <h2>joints</h2>
 <div id="sliders"></div>
-<h2>tip pose T(q)</h2>
+<h2 id="pose-title">tip pose T(q)</h2>
+<select id="frame"></select>
 <table id="tip"></table>
 <h2>space screw axes S<sub>i</sub>(q)</h2>
 <table id="screws"></table>
 <details><summary>exact values</summary>
 <div class="sub">q</div><pre id="q-exact"></pre>
-<div class="sub">T(q), row-major</div><pre id="fk-exact"></pre>
+<div class="sub">T(q) of each frame listed above, row-major, one after the other</div><pre id="fk-exact"></pre>
 </details>
 <div class="sub">screwkit: T(q) = e<sup>[S1]θ1</sup> ⋯ e<sup>[Sn]θn</sup> M, twists (ω, v), metres, radians.</div>
 </div>
@@ -121,5 +258,5 @@ pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String
 </body>
 </html>
 "#
-    ))
+    )
 }

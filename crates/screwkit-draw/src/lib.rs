@@ -1,7 +1,8 @@
 //! # screwkit-draw
 //!
-//! Pictures of a chain and its screw axes, computed from the solver's all-link FK and
-//! per-joint space screws (no kinematics here):
+//! Pictures of a chain, or of a whole tree, and its screw axes, computed from the solver's
+//! all-link FK and per-joint space screws (no kinematics here; [`Scene::new`] for a chain,
+//! [`Scene::tree`] and [`html::tree_page`] for the whole tree, every leaf named):
 //!
 //! - [`svg::render`]: an SVG 1.1 drawing — the skeleton through the link origins, joints marked
 //!   by kind, every joint's screw axis S_i(q) as a line (a prismatic joint as an arrow along v),
@@ -32,5 +33,5 @@ pub mod html;
 pub mod scene;
 pub mod svg;
 
-pub use scene::Scene;
+pub use scene::{FrameMark, FrameRole, LinkMark, Scene};
 pub use svg::View;

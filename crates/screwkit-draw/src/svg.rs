@@ -11,7 +11,7 @@ use std::fmt::Write;
 use nalgebra::{Vector2, Vector3};
 use screwkit_model::JointKind;
 
-use crate::scene::Scene;
+use crate::scene::{FrameRole, Scene};
 
 pub use screwkit_service::words::View;
 use screwkit_service::words::Word;
@@ -132,16 +132,17 @@ impl Panel {
         let (right, up) = axes(view);
         let flat = |p: &Vector3<f64>| Vector2::new(right.dot(p), up.dot(p));
         let mut pts: Vec<Vector2<f64>> = Vec::new();
-        let triad = 0.12 * scene.size;
         for l in &scene.links {
             pts.push(flat(l.pose.translation()));
         }
         for j in &scene.joints {
             pts.extend(j.line.iter().map(flat));
         }
-        for f in [&screwkit_lie::Se3::identity(), &scene.tip_pose()] {
+        for f in &scene.frames {
             for k in 0..3 {
-                pts.push(flat(&(f.translation() + f.rotation().column(k) * triad)));
+                pts.push(flat(
+                    &(f.pose.translation() + f.pose.rotation().column(k) * triad(scene, f)),
+                ));
             }
         }
         let (lo, hi) = pts.iter().fold(
@@ -340,35 +341,53 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
             m.index
         );
     }
-    // Links: a segment from each link's origin to the next.
-    for w in scene.links.windows(2) {
-        let (a, b) = (p.at(w[0].pose.translation()), p.at(w[1].pose.translation()));
+    // Links: a segment from each link's parent (the previous link on a chain) to its origin.
+    for l in &scene.links {
+        let Some(parent) = l.parent else { continue };
+        let (a, b) = (
+            p.at(scene.links[parent].pose.translation()),
+            p.at(l.pose.translation()),
+        );
         let _ = writeln!(
             out,
             "<g id=\"{v}-link-{}\" class=\"link\"><title>link {}: origin {}</title>",
-            id_part(&w[1].name),
-            escape(&w[1].name),
-            vec3(w[1].pose.translation())
+            id_part(&l.name),
+            escape(&l.name),
+            vec3(l.pose.translation())
         );
         line(out, a, b, LINK, 5.0, "");
         let _ = writeln!(out, "</g>");
     }
-    // Frames: base and tip triads.
-    let triad = 0.12 * scene.size;
-    for (name, which, pose) in [
-        ("base", &scene.base, screwkit_lie::Se3::identity()),
-        ("tip", &scene.tip, scene.tip_pose()),
-    ] {
+    // Frames: the base and the tip, or every leaf of a tree with its name (moved off the
+    // names already written, so that a hand's fingertips stay readable).
+    let mut names = Labels::default();
+    for f in &scene.frames {
+        let triad = triad(scene, f);
+        let (id, what) = match f.role {
+            FrameRole::Base => ("base-frame".to_string(), "base"),
+            FrameRole::Tip => ("tip-frame".to_string(), "tip"),
+            FrameRole::Leaf => (format!("leaf-{}", id_part(&f.name)), "leaf"),
+        };
         let _ = writeln!(
             out,
-            "<g id=\"{v}-{name}-frame\" class=\"frame\"><title>{name} frame: link {} at {}</title>",
-            escape(which),
-            vec3(pose.translation())
+            "<g id=\"{v}-{id}\" class=\"frame\"><title>{what} frame: link {} at {}</title>",
+            escape(&f.name),
+            vec3(f.pose.translation())
         );
-        let o = p.at(pose.translation());
+        let o = p.at(f.pose.translation());
         for (k, colour) in XYZ.iter().enumerate() {
-            let end = p.at(&(pose.translation() + pose.rotation().column(k) * triad));
+            let end = p.at(&(f.pose.translation() + f.pose.rotation().column(k) * triad));
             line(out, o, end, colour, 2.5, "");
+        }
+        if f.role == FrameRole::Leaf {
+            let at = names.place(o.0 + 8.0, o.1 + 14.0, f.name.chars().count());
+            let _ = writeln!(
+                out,
+                "<text x=\"{}\" y=\"{}\" font-size=\"11\" fill=\"#222222\">{}</text>",
+                px(at.0),
+                px(at.1),
+                escape(&f.name)
+            );
         }
         let _ = writeln!(out, "</g>");
     }
@@ -386,6 +405,48 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
         let _ = writeln!(out, "</g>");
     }
     let _ = writeln!(out, "</g>");
+}
+
+/// A triad's length: 12 % of the picture for the base and a chain's tip, 5 % for a tree's
+/// leaves (a hand's fingertips are centimetres apart).
+fn triad(scene: &Scene, f: &crate::scene::FrameMark) -> f64 {
+    match f.role {
+        FrameRole::Leaf => 0.05 * scene.size,
+        _ => 0.12 * scene.size,
+    }
+}
+
+/// Name labels placed so far in a panel, as boxes (x, y of the baseline, width): a new label
+/// that would overlap one moves down (then up) by a line, at most eight lines.
+#[derive(Default)]
+struct Labels(Vec<(f64, f64, f64)>);
+
+impl Labels {
+    /// The height of a line of 11 px text and the width of one of its characters.
+    const LINE: f64 = 13.0;
+    const CHAR: f64 = 6.0;
+
+    fn place(&mut self, x: f64, y: f64, chars: usize) -> (f64, f64) {
+        let w = chars as f64 * Self::CHAR;
+        let free = |y: f64, placed: &[(f64, f64, f64)]| {
+            placed
+                .iter()
+                .all(|&(px, py, pw)| x + w <= px || px + pw <= x || (y - py).abs() >= Self::LINE)
+        };
+        let y = (0..=16)
+            .map(|k| {
+                let step = f64::from((k + 1) / 2) * Self::LINE;
+                if k % 2 == 1 {
+                    y + step
+                } else {
+                    y - step
+                }
+            })
+            .find(|&y| free(y, &self.0))
+            .unwrap_or(y);
+        self.0.push((x, y, w));
+        (x, y)
+    }
 }
 
 /// The legend's entries: (width in px, what to draw at (x, y)).
@@ -512,13 +573,7 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
     let width = cols as f64 * PANEL_W + (cols as f64 + 1.0) * 10.0;
     let legend_h = legend_rows(width) as f64 * LEGEND_ROW + 16.0;
     let q: Vec<String> = scene.q.iter().map(|x| num(*x)).collect();
-    let caption = format!(
-        "{}: chain {} → {}, q = [{}]",
-        scene.robot,
-        scene.base,
-        scene.tip,
-        q.join(", ")
-    );
+    let caption = format!("{}: {}, q = [{}]", scene.robot, scene.subject, q.join(", "));
     // The caption wrapped to the sheet's width (a single 580 px panel cut a 7-joint one).
     let caption_lines = wrap(&caption, ((width - 20.0) / CAPTION_CHAR_W) as usize);
     let extra = (caption_lines.len() as f64 - 1.0) * CAPTION_LINE;
@@ -534,7 +589,7 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
     let _ = writeln!(out, "<title>{}</title>", escape(&caption));
     let _ = writeln!(
         out,
-        "<desc>Drawn by screwkit: the skeleton through the link origins, each joint's screw axis S_i(q) (the columns of the space Jacobian at q), the base and tip frames (x red, y green, z blue). Metres, radians.</desc>"
+        "<desc>Drawn by screwkit: the skeleton through the link origins, each joint's screw axis S_i(q) (the columns of the space Jacobian at q), the base and tip frames, or the base and every leaf of a tree (x red, y green, z blue). Metres, radians.</desc>"
     );
     let _ = writeln!(
         out,

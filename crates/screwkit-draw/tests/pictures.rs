@@ -318,3 +318,102 @@ fn the_page_starts_within_the_limits() {
     assert_eq!(q[3], kin.upper()[3]);
     assert_eq!(q[0], 0.0);
 }
+
+/// A whole tree (the two-armed torso: three branches): every link's segment from its parent
+/// with its origin from the file composed joint by joint, every joint and axis, every leaf's
+/// triad with its name written, no two names on top of each other, and the page with the tree
+/// embedded (leaves as frames, the floating base's seven values first).
+#[test]
+fn a_whole_tree_draws_every_branch_and_names_its_leaves() {
+    use screwkit_model::{urdf, KinematicTree};
+    use screwkit_solve::tree::configuration;
+    use screwkit_solve::{sample::SplitMix64, TreeKinematics};
+    use screwkit_testkit::reference::{tree_fk_by_composition, tree_joint_positions};
+    let tree = urdf::load_file(bundled("torso_two_arms.urdf")).unwrap();
+    let model = KinematicTree::from_tree(&tree).unwrap();
+    let kin = TreeKinematics::new(&model).unwrap();
+    let mut rng = SplitMix64(9);
+    let q = configuration::random(&kin, &mut rng);
+    let names: Vec<String> = model.variables.iter().map(|v| v.name.clone()).collect();
+    let positions = tree_joint_positions(&tree, &names, &q);
+    let want = tree_fk_by_composition(&tree, &|j| positions[j]);
+    let scene = Scene::tree(&kin, Some(&q)).unwrap();
+    assert_eq!(scene.links.len(), model.links.len());
+    assert_eq!(scene.joints.len(), model.joints.len());
+    let text = svg::render(&scene, View::ALL);
+    assert_eq!(
+        text,
+        svg::render(&Scene::tree(&kin, Some(&q)).unwrap(), View::ALL)
+    );
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    let mut ids = HashSet::new();
+    for id in doc.descendants().filter_map(|n| n.attribute("id")) {
+        assert!(ids.insert(id), "duplicate id {id}");
+    }
+    assert!(
+        title(doc.root_element()).contains("whole tree from pelvis, 11 links, 7 joints, 3 leaves")
+    );
+    for &view in View::ALL {
+        let v = view.as_str();
+        for (l, link) in model.links.iter().enumerate() {
+            if link.parent.is_none() {
+                continue;
+            }
+            let p = want[l];
+            let origin = format!(
+                "origin ({:.6}, {:.6}, {:.6})",
+                p[(0, 3)],
+                p[(1, 3)],
+                p[(2, 3)]
+            );
+            let t = title(group(&doc, &format!("{v}-link-{}", link.name)));
+            assert!(t.contains(&origin), "{t} vs {origin}");
+        }
+        for (k, j) in model.joints.iter().enumerate() {
+            for what in ["joint", "axis"] {
+                let g = group(&doc, &format!("{v}-{what}-{}", k + 1));
+                assert_eq!(g.attribute("data-joint"), Some(j.name.as_str()));
+            }
+        }
+        let mut boxes: Vec<(f64, f64, f64)> = Vec::new();
+        for leaf in ["head", "left_hand", "right_hand"] {
+            let g = group(&doc, &format!("{v}-leaf-{leaf}"));
+            assert!(title(g).contains(&format!("leaf frame: link {leaf}")));
+            let label = g.children().find(|c| c.has_tag_name("text")).unwrap();
+            assert_eq!(label.text(), Some(leaf));
+            let at = |a: &str| label.attribute(a).unwrap().parse::<f64>().unwrap();
+            let (x, y, w) = (at("x"), at("y"), 6.0 * leaf.len() as f64);
+            for &(bx, by, bw) in &boxes {
+                assert!(
+                    x + w <= bx || bx + bw <= x || (y - by).abs() >= 13.0,
+                    "{v}: {leaf}'s name on another"
+                );
+            }
+            boxes.push((x, y, w));
+        }
+        assert!(group(&doc, &format!("{v}-base-frame")).has_tag_name("g"));
+    }
+    for floating in [false, true] {
+        let kin = TreeKinematics::new(&model.clone().with_floating_base(floating)).unwrap();
+        let page = html::tree_page(&kin, None).unwrap();
+        let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
+        let end = start + page[start..].find("</script>").unwrap();
+        let json: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
+        let frames: Vec<&str> = json["frames"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(frames, ["head", "left_hand", "right_hand"]);
+        assert_eq!(json["joints"].as_array().unwrap().len(), 7);
+        let vars = json["variables"].as_array().unwrap();
+        assert_eq!(vars.len(), if floating { 14 } else { 7 });
+        assert_eq!(
+            vars[0]["name"],
+            if floating { "floating_base.x" } else { "waist" }
+        );
+        assert_eq!(json["q"].as_array().unwrap().len(), kin.nq());
+        assert!(html::tree_page(&kin, Some(&[0.0; 3])).is_err());
+    }
+}

@@ -1045,7 +1045,8 @@ impl Robot {
 
     /// An SVG picture of the chain at q (default: home): the skeleton through the link
     /// origins, joints by kind, every joint's screw axis S_i(q), base and tip frames, a scale
-    /// bar and a legend. `view`: "iso", "front", "side", "top" or "all" (the four on one sheet).
+    /// bar and a legend. A whole tree (no chain, or a floating base; q of shape (nq,)) is drawn
+    /// with every branch, and every leaf's frame with its name. `view`: "iso", "front", "side", "top" or "all" (the four on one sheet).
     /// Returns the SVG text and writes it to `path` when given. Deterministic.
     #[pyo3(signature = (q = None, path = None, *, view = "iso"))]
     fn draw(
@@ -1055,21 +1056,36 @@ impl Robot {
         view: &str,
     ) -> PyResult<String> {
         let views = word::<Views>("view", view)?.views();
-        let (chain, kin) = self.parts()?;
-        let text = self.with_one_q(q, |q| {
-            Scene::new(chain, kin, q).map(|scene| svg::render(&scene, &views))
-        })?;
+        let text = if self.tree_mode() {
+            let kin = self.tree_model()?;
+            let q = q.map(|q| Self::tree_vector(q, kin.nq(), "q")).transpose()?;
+            Scene::tree(&kin, q.as_deref())
+                .map(|scene| svg::render(&scene, &views))
+                .map_err(solve_error)?
+        } else {
+            let (chain, kin) = self.parts()?;
+            self.with_one_q(q, |q| {
+                Scene::new(chain, kin, q).map(|scene| svg::render(&scene, &views))
+            })?
+        };
         write_text(path, &text)?;
         Ok(text)
     }
 
     /// A self-contained interactive HTML page of the chain at q (default: home): 3D view with
     /// orbit and zoom, a slider per joint, the live tip pose and screw axes; `#q=a,b,…` in its
-    /// URL sets the joints. Returns the HTML and writes it to `path` when given.
+    /// URL sets the joints. Of a whole tree (as `draw`): every branch, a slider per variable,
+    /// the pose of the leaf chosen. Returns the HTML and writes it to `path` when given.
     #[pyo3(signature = (q = None, path = None))]
     fn viewer(&self, q: Option<&Bound<'_, PyAny>>, path: Option<PathBuf>) -> PyResult<String> {
-        let (chain, kin) = self.parts()?;
-        let text = self.with_one_q(q, |q| html::page(chain, kin, q))?;
+        let text = if self.tree_mode() {
+            let kin = self.tree_model()?;
+            let q = q.map(|q| Self::tree_vector(q, kin.nq(), "q")).transpose()?;
+            html::tree_page(&kin, q.as_deref()).map_err(solve_error)?
+        } else {
+            let (chain, kin) = self.parts()?;
+            self.with_one_q(q, |q| html::page(chain, kin, q))?
+        };
         write_text(path, &text)?;
         Ok(text)
     }

@@ -229,3 +229,31 @@ def test_floating_base_configuration() -> None:
     bad[6] = 0.5
     with pytest.raises(ValueError, match="quaternion"):
         robot.fk(bad, link="left_hand")
+
+
+def test_pictures_of_a_whole_tree(tmp_path: Path) -> None:
+    path = REPO / "assets" / "urdf" / "torso_two_arms.urdf"
+    robot = screwkit.Robot.from_urdf(path)
+    q = np.linspace(-0.3, 0.3, robot.nq)
+    svg = robot.draw(q, tmp_path / "torso.svg", view="all")
+    assert (tmp_path / "torso.svg").read_text() == svg
+    doc = ET.fromstring(svg)
+    ns = "{http://www.w3.org/2000/svg}"
+    ids = {g.get("id") for g in doc.iter(f"{ns}g")}
+    for leaf in ["head", "left_hand", "right_hand"]:
+        assert f"iso-leaf-{leaf}" in ids and f"top-leaf-{leaf}" in ids
+    for name in robot.link_names[1:]:
+        assert f"front-link-{name}" in ids
+    # The left hand's title carries its pose from fk, to 6 decimals.
+    p = robot.fk(q, link="left_hand")[:3, 3]
+    title = next(g for g in doc.iter(f"{ns}g") if g.get("id") == "side-leaf-left_hand")
+    assert f"({p[0]:.6f}, {p[1]:.6f}, {p[2]:.6f})" in (title.findtext(f"{ns}title") or "")
+    page = robot.viewer(q)
+    assert "whole tree from pelvis" in page and '"frames":[{"name":"head"' in page
+    with pytest.raises(ValueError, match=r"expected shape \(7,\)"):
+        robot.draw(q[:3])
+    # A floating base: q has the base's seven values first.
+    free = screwkit.Robot.from_urdf(path, floating_base=True)
+    qf = np.concatenate([[0.1, 0.2, 0.3, 0.0, 0.0, 0.0, 1.0], q])
+    assert "iso-leaf-left_hand" in free.draw(qf)
+    assert '"floating":true' in free.viewer(qf)

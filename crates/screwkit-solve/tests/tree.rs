@@ -209,6 +209,74 @@ fn check_jacobians(label: &str, tree: &Tree, floating: bool, samples: usize) {
     assert!(worst > 0.0 || kin.nv() == 0);
 }
 
+/// Every joint's frame and screw at q (`jacobian::joint_screws`, the space form with the
+/// general exponential): the frame equals its child link composed from the file, the screw's
+/// direction is the file's axis turned by that frame and its line passes through the frame's
+/// origin, and every link's space Jacobian column is Σ m_j S_j(q) over the path's joints its
+/// variable drives.
+fn check_joint_screws(label: &str, tree: &Tree, floating: bool, samples: usize) {
+    let (model, kin) = prepared(tree, floating);
+    let mut ws = TreeWorkspace::new(&kin);
+    let mut rng = SplitMix64(5);
+    let off = if floating { 6 } else { 0 };
+    for _ in 0..samples {
+        let q = configuration::random(&kin, &mut rng);
+        let want = oracle(tree, &model, &kin, &q);
+        let screws = jacobian::joint_screws(&kin, &mut ws, &q).unwrap();
+        assert_eq!(screws.len(), model.joints.len());
+        for (k, (js, j)) in screws.iter().zip(&model.joints).enumerate() {
+            let child = (0..model.links.len())
+                .find(|&l| {
+                    model.links[l].support == Some(k)
+                        && model.links[l]
+                            .parent
+                            .is_none_or(|p| model.links[p].support != Some(k))
+                })
+                .unwrap_or_else(|| panic!("{label}: joint {} has no child", j.name));
+            let d = (js.frame.to_homogeneous() - want[child]).abs().max();
+            assert!(d < 1e-12, "{label}: joint {} frame off by {d:e}", j.name);
+            let dir = js.frame.rotation() * j.axis;
+            let p = js.frame.translation();
+            let (w, v) = (js.screw.w, js.screw.v);
+            if j.kind == screwkit_model::JointKind::Prismatic {
+                assert!(
+                    w.norm() == 0.0 && (v - dir).norm() < 1e-12,
+                    "{label}: {}",
+                    j.name
+                );
+            } else {
+                assert!((w - dir).norm() < 1e-12, "{label}: {} direction", j.name);
+                assert!((w.cross(p) + v).norm() < 1e-12, "{label}: {} line", j.name);
+            }
+        }
+        for l in 0..model.links.len() {
+            let jac = jacobian::frame_jacobian(&kin, &mut ws, &q, l, Form::Space)
+                .unwrap()
+                .clone();
+            for var in 0..model.variables.len() {
+                let mut col = Vector6::zeros();
+                for k in model.path(l) {
+                    let j = &model.joints[k];
+                    if j.drive.variable == var {
+                        col += screws[k].screw.to_vector() * j.drive.multiplier;
+                    }
+                }
+                let d = (jac.column(off + var) - col).abs().max();
+                assert!(d < 1e-12, "{label}: link {l} column {var} off by {d:e}");
+            }
+        }
+    }
+}
+
+#[test]
+fn bundled_trees_joint_screws_are_the_jacobian_columns() {
+    for file in BUNDLED {
+        let tree = tree_of(&screwkit_testkit::bundled(file));
+        check_joint_screws(file, &tree, false, 5);
+        check_joint_screws(file, &tree, true, 3);
+    }
+}
+
 #[test]
 fn bundled_trees_fk_equals_the_composition() {
     for file in BUNDLED {
@@ -238,6 +306,7 @@ fn shared_trees_against_the_composition_and_differences() {
         check_fk(file, &tree, true, 30);
         check_jacobians(file, &tree, false, 2);
         check_jacobians(file, &tree, true, 2);
+        check_joint_screws(file, &tree, false, 3);
     }
 }
 

@@ -1,6 +1,6 @@
-// screwkit viewer: the chain embedded as JSON (screw axes S, home pose M, link home poses,
-// limits, mimic rule) and its forward kinematics T(q) = e^[S1]θ1 ⋯ e^[Sn]θn M, θ = m q + o,
-// drawn on a canvas. Poses are row-major 4 × 4 arrays; twists (ω, v). No network, no library.
+// screwkit viewer: a chain or a whole tree embedded as JSON (screw axes S at home, each
+// joint's parent, link and frame home poses M, limits, mimic rule) and its forward kinematics
+// T(q) = Π_{path} e^[S_j]θ_j M, θ = m q + o, drawn on a canvas. Poses are row-major 4 × 4 arrays; twists (ω, v). No network, no library.
 "use strict";
 (function () {
   const model = JSON.parse(document.getElementById("model").textContent);
@@ -46,17 +46,39 @@
     const pw = cross([T[3], T[7], T[11]], w);
     return [w[0], w[1], w[2], v[0] + pw[0], v[1] + pw[1], v[2] + pw[2]];
   }
+  // The floating base's pose from q's first seven values (x, y, z, qx, qy, qz, qw; the
+  // quaternion normalised), or the identity for a fixed base.
+  const off = model.floating ? 7 : 0;
+  function basePose(q) {
+    if (!model.floating) return I4;
+    let [x, y, z, a, b, c, d] = q.slice(0, 7);
+    const n = Math.hypot(a, b, c, d);
+    if (n === 0) [a, b, c, d] = [0, 0, 0, 1];
+    else [a, b, c, d] = [a / n, b / n, c / n, d / n];
+    return [
+      1 - 2 * (b * b + c * c), 2 * (a * b - c * d), 2 * (a * c + b * d), x,
+      2 * (a * b + c * d), 1 - 2 * (a * a + c * c), 2 * (b * c - a * d), y,
+      2 * (a * c - b * d), 2 * (b * c + a * d), 1 - 2 * (a * a + b * b), z,
+      0, 0, 0, 1,
+    ];
+  }
+  // The tree (a chain is one branch): G_k = G_parent(k) e^[S_k]θ_k, parents first, with the
+  // base's pose for "no parent"; a link or frame is G_support M; the screw of joint k at q is
+  // [Ad_{G_parent(k)}] S_k.
   function fk(q) {
-    let T = I4;
-    const after = [I4];
-    for (const j of model.joints) {
-      T = mul(T, exp(j.S, j.multiplier * q[j.variable] + j.offset));
-      after.push(T);
-    }
+    const base = basePose(q);
+    const G = [], screws = [];
+    model.joints.forEach((j) => {
+      const above = j.parent === null ? base : G[j.parent];
+      screws.push(adjoint(above, j.S));
+      G.push(mul(above, exp(j.S, j.multiplier * q[off + j.variable] + j.offset)));
+    });
+    const at = (s) => (s === null ? base : G[s]);
     return {
-      tip: mul(T, model.home),
-      links: model.links.map((l) => mul(after[l.joints_before], l.home)),
-      screws: model.joints.map((j, k) => adjoint(after[k], j.S)),
+      base,
+      links: model.links.map((l) => mul(at(l.support), l.home)),
+      frames: model.frames.map((f) => mul(at(f.support), f.home)),
+      screws,
     };
   }
 
@@ -78,7 +100,18 @@
 
   // ---- Side panel.
   document.getElementById("title").textContent = model.robot;
-  document.getElementById("chain").textContent = `chain ${model.base} → ${model.tip}, ${model.variables.length} joint(s)`;
+  document.getElementById("chain").textContent = model.subject;
+  const select = document.getElementById("frame");
+  model.frames.forEach((f, k) => {
+    const o = document.createElement("option");
+    o.value = k;
+    o.textContent = f.name;
+    select.append(o);
+  });
+  select.hidden = model.frames.length < 2;
+  document.getElementById("pose-title").textContent =
+    model.frames.length < 2 ? "tip pose T(q)" : "frame pose T(q)";
+  select.addEventListener("change", () => update());
   const sliders = document.getElementById("sliders");
   const inputs = model.variables.map((v, k) => {
     const row = document.createElement("div");
@@ -173,18 +206,42 @@
         ctx.fillText(String(k + 1), e[0] + 4, e[1] - 4);
       }
     });
-    // Links.
-    for (let k = 1; k < state.links.length; k++) {
-      const a = state.links[k - 1], b = state.links[k];
+    // Links: a segment from each link's parent (the previous link on a chain).
+    model.links.forEach((l, k) => {
+      if (l.parent === null) return;
+      const a = state.links[l.parent], b = state.links[k];
       seg([a[3], a[7], a[11]], [b[3], b[7], b[11]], "#3a3a3a", 5 * dpr);
-    }
-    // Base and tip frames.
-    for (const T of [I4, state.tip]) {
+    });
+    // The base and the drawn frames (the tip, or every leaf with its name).
+    // A tree's leaves get short triads and their names, moved down or up by a line off the
+    // names already written.
+    const tree = model.frames.length > 1;
+    const placed = [];
+    ctx.font = `${11 * dpr}px sans-serif`;
+    [state.base, ...state.frames].forEach((T, f) => {
       const o = [T[3], T[7], T[11]];
+      const len = (tree && f > 0 ? 0.05 : 0.12) * size;
       ["#d7191c", "#1a9641", "#2b83ba"].forEach((c, k) => {
-        seg(o, [0, 1, 2].map((i) => o[i] + 0.12 * size * T[4 * i + k]), c, 2.5 * dpr);
+        seg(o, [0, 1, 2].map((i) => o[i] + len * T[4 * i + k]), c, 2.5 * dpr);
       });
-    }
+      if (f > 0 && tree) {
+        const name = model.frames[f - 1].name;
+        const e = project(o);
+        const x = e[0] + 8 * dpr, w = ctx.measureText(name).width, line = 13 * dpr;
+        const free = (y) => placed.every((b) => x + w <= b[0] || b[0] + b[2] <= x || Math.abs(y - b[1]) >= line);
+        let y = e[1] + 14 * dpr;
+        for (let k = 0; k <= 16; k++) {
+          const t = e[1] + 14 * dpr + (k % 2 ? 1 : -1) * Math.floor((k + 1) / 2) * line;
+          if (free(t)) {
+            y = t;
+            break;
+          }
+        }
+        placed.push([x, y, w]);
+        ctx.fillStyle = "#222222";
+        ctx.fillText(name, x, y);
+      }
+    });
     // Joints.
     ctx.setLineDash([]);
     model.joints.forEach((j) => {
@@ -210,9 +267,10 @@
     });
     const tip = document.getElementById("tip");
     tip.innerHTML = "";
+    const shown = state.frames[Number(select.value) || 0] || I4;
     for (let i = 0; i < 4; i++) {
       const tr = tip.insertRow();
-      for (let j = 0; j < 4; j++) tr.insertCell().textContent = fmt(state.tip[4 * i + j]);
+      for (let j = 0; j < 4; j++) tr.insertCell().textContent = fmt(shown[4 * i + j]);
     }
     const screws = document.getElementById("screws");
     screws.innerHTML = "<tr><th>#</th><th>joint</th><th>ω</th><th>v</th></tr>";
@@ -227,7 +285,7 @@
       tr.insertCell().textContent = s.slice(3, 6).map(fmt4).join(" ");
     });
     document.getElementById("q-exact").textContent = JSON.stringify(q);
-    document.getElementById("fk-exact").textContent = JSON.stringify(state.tip);
+    document.getElementById("fk-exact").textContent = JSON.stringify([].concat(...state.frames));
     draw();
   }
 

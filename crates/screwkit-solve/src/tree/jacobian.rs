@@ -215,3 +215,46 @@ pub(crate) fn relative_unchecked(
     }
     rel
 }
+
+/// A movable joint of the tree at q: its frame and its screw axis in the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointScrew {
+    /// The joint's frame at q: T_base G_k(q) H_k, with G_k the product of the exponentials of
+    /// the path down to and including joint k and H_k its frame at home
+    /// (`TreeScrew::home`). Its origin lies on the axis.
+    pub frame: Se3,
+    /// Its screw axis at q in the world: S_k(q) = \[Ad_{T_base G_parent(k)(q)}\] S_k, the axis
+    /// the joint turns about (or slides along) at this configuration. Without mimic joints the
+    /// column of its variable in the space Jacobian of any frame below it; with them that
+    /// column is Σ m_j S_j(q) over the joints the variable drives.
+    pub screw: Twist,
+}
+
+/// Every movable joint's frame and space screw axis at q, in the order of
+/// `KinematicTree::joints` (parents first, mimic joints included). For pictures and
+/// analysis, not a hot path: the space form with the general `Se3::exp`, independent of the
+/// sweep and chain kernels. Checks q.
+pub fn joint_screws(
+    kin: &TreeKinematics,
+    _ws: &mut TreeWorkspace,
+    q: &[f64],
+) -> Result<Vec<JointScrew>, SolveError> {
+    let base = kin.check_q(q)?;
+    let joints_q = &q[kin.q_offset()..];
+    let model = &kin.model;
+    // G_k = G_parent(k) e^{[S_k]θ_k}, with T_base in front.
+    let mut g: Vec<Se3> = Vec::with_capacity(model.joints.len());
+    let mut out = Vec::with_capacity(model.joints.len());
+    for j in &model.joints {
+        let above = j.parent.map_or(base, |p| g[p]);
+        let s = *j.s_space.twist();
+        let theta = j.drive.theta(joints_q);
+        let gk = above.compose(&Se3::exp(&Twist::new(s.w * theta, s.v * theta)));
+        out.push(JointScrew {
+            frame: gk.compose(&j.home),
+            screw: above.adjoint_apply(&s),
+        });
+        g.push(gk);
+    }
+    Ok(out)
+}
