@@ -40,7 +40,9 @@ def test_viewer_embeds_the_chain(ur5: screwkit.Robot, tmp_path: Path) -> None:
     model = json.loads(page.split('id="model">')[1].split("</script>")[0])
     assert model["q"] == [0.1] * 6
     np.testing.assert_array_equal([j["S"] for j in model["joints"]], ur5.screw_axes("space"))
-    np.testing.assert_array_equal(np.reshape(model["home"], (4, 4)), ur5.home)
+    # The tip is the page's one drawn frame, at M (its home pose).
+    assert [f["name"] for f in model["frames"]] == ["tool0"]
+    np.testing.assert_array_equal(np.reshape(model["frames"][0]["home"], (4, 4)), ur5.home)
 
 
 def test_draw_errors(ur5: screwkit.Robot, tmp_path: Path) -> None:

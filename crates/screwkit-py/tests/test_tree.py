@@ -10,6 +10,7 @@ rule read from the file itself and sums their columns into the leader's (m * col
 
 from __future__ import annotations
 
+import json
 import pickle
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -249,7 +250,10 @@ def test_pictures_of_a_whole_tree(tmp_path: Path) -> None:
     title = next(g for g in doc.iter(f"{ns}g") if g.get("id") == "side-leaf-left_hand")
     assert f"({p[0]:.6f}, {p[1]:.6f}, {p[2]:.6f})" in (title.findtext(f"{ns}title") or "")
     page = robot.viewer(q)
-    assert "whole tree from pelvis" in page and '"frames":[{"name":"head"' in page
+    model = json.loads(page.split('id="model">')[1].split("</script>")[0])
+    assert model["subject"].startswith("whole tree from pelvis")
+    assert [f["name"] for f in model["frames"]] == ["head", "left_hand", "right_hand"]
+    assert model["q"] == q.tolist()
     with pytest.raises(ValueError, match=r"expected shape \(7,\)"):
         robot.draw(q[:3])
     # A floating base: q has the base's seven values first.
@@ -257,3 +261,5 @@ def test_pictures_of_a_whole_tree(tmp_path: Path) -> None:
     qf = np.concatenate([[0.1, 0.2, 0.3, 0.0, 0.0, 0.0, 1.0], q])
     assert "iso-leaf-left_hand" in free.draw(qf)
     assert '"floating":true' in free.viewer(qf)
+    with pytest.raises(ValueError, match=r"expected shape \(14,\)"):
+        free.viewer(q)
