@@ -813,19 +813,16 @@ impl Robot {
             let qs = q.as_slice()?;
             let nv = kin.nv();
             return match rows {
-                Rows::One => {
-                    let out = self.with_tree_ws(&kin, |ws| {
-                        let pj = match b {
-                            Some(b) => tree::jacobian::relative_jacobian(&kin, ws, qs, a, b, form),
-                            None => tree::jacobian::frame_pose_jacobian(&kin, ws, qs, a, form),
-                        }?;
-                        let mut out = vec![0.0; 6 * nv];
-                        batch::write_jacobian(pj.jacobian, &mut out);
-                        Ok::<_, SolveError>(out)
-                    });
-                    let out = out.map_err(solve_error)?;
-                    Ok(new_array(py, &[6, nv], |o| o.copy_from_slice(&out))?.into_any())
-                }
+                // Written straight into the new array (no intermediate copy).
+                Rows::One => self.with_tree_ws(&kin, |ws| {
+                    let pj = match b {
+                        Some(b) => tree::jacobian::relative_jacobian(&kin, ws, qs, a, b, form),
+                        None => tree::jacobian::frame_pose_jacobian(&kin, ws, qs, a, form),
+                    }
+                    .map_err(solve_error)?;
+                    Ok(new_array(py, &[6, nv], |o| batch::write_jacobian(pj.jacobian, o))?
+                        .into_any())
+                }),
                 Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
                 Rows::Many(n) => run_batch(py, &[n, 6, nv], qs, FK_CHUNK / 16, |qs, o| match b {
                     Some(b) => {
