@@ -820,8 +820,10 @@ impl Robot {
                         None => tree::jacobian::frame_pose_jacobian(&kin, ws, qs, a, form),
                     }
                     .map_err(solve_error)?;
-                    Ok(new_array(py, &[6, nv], |o| batch::write_jacobian(pj.jacobian, o))?
-                        .into_any())
+                    Ok(
+                        new_array(py, &[6, nv], |o| batch::write_jacobian(pj.jacobian, o))?
+                            .into_any(),
+                    )
                 }),
                 Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
                 Rows::Many(n) => run_batch(py, &[n, 6, nv], qs, FK_CHUNK / 16, |qs, o| match b {
