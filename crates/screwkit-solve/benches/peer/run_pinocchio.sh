@@ -51,10 +51,14 @@ if [ ! -f "$src/src/parsers/urdf/model.cpp" ]; then
   "$py" - "$version" "$peer" <<'PY'
 import hashlib, json, sys, tarfile, urllib.request
 version, peer = sys.argv[1], sys.argv[2]
-meta = json.load(urllib.request.urlopen(f"https://pypi.org/pypi/pin/{version}/json"))
-sdist = next(u for u in meta["urls"] if u["packagetype"] == "sdist")
+# PyPI's simple index (PEP 691 JSON): the registry this machine reaches.
+req = urllib.request.Request(
+    "https://pypi.org/simple/pin/", headers={"Accept": "application/vnd.pypi.simple.v1+json"}
+)
+files = json.load(urllib.request.urlopen(req))["files"]
+sdist = next(f for f in files if f["filename"] == f"pin-{version}.tar.gz")
 data = urllib.request.urlopen(sdist["url"]).read()
-if hashlib.sha256(data).hexdigest() != sdist["digests"]["sha256"]:
+if hashlib.sha256(data).hexdigest() != sdist["hashes"]["sha256"]:
     raise SystemExit(f"{sdist['filename']}: sha256 differs from PyPI's")
 path = f"{peer}/{sdist['filename']}"
 open(path, "wb").write(data)
@@ -75,7 +79,8 @@ if [ ! -x "$bin" ] || [ "$here/pinocchio_tree.cpp" -nt "$bin" ]; then
     -I"$prefix/include" -I"$prefix/include/eigen3" -I"$prefix/include/urdfdom_headers" \
     -I"$prefix/include/urdfdom" \
     "$here/pinocchio_tree.cpp" "$src/src/parsers/urdf/model.cpp" "$src/src/parsers/urdf/utils.cpp" \
-    -o "$bin.tmp" -L"$prefix/lib" -lurdfdom_model -lconsole_bridge -Wl,-rpath,"$prefix/lib"
+    -o "$bin.tmp" -L"$prefix/lib" -lurdfdom_model -lconsole_bridge -Wl,-rpath,"$prefix/lib" \
+    2>"$peer/build.log" || { cat "$peer/build.log" >&2; exit 1; }
   mv "$bin.tmp" "$bin"
 fi
 
