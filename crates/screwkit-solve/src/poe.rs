@@ -83,6 +83,12 @@ impl PoeJoint {
         Twist::new(self.w.into(), self.v.into())
     }
 
+    /// The screw axis (ω, v) as arrays.
+    #[inline(always)]
+    pub(crate) fn axis(&self) -> (&[f64; 3], &[f64; 3]) {
+        (&self.w, &self.v)
+    }
+
     pub(crate) fn new(s: Twist, prismatic: bool, drive: Drive) -> Self {
         let wv = s.w.cross(&s.v);
         let wwv = s.w.cross(&wv);

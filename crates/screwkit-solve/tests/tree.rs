@@ -311,7 +311,8 @@ fn shared_trees_against_the_composition_and_differences() {
 }
 
 /// A chain (root → tip) is a view of the tree: the sweep's tip pose equals the chain kernel,
-/// and the tip's tree Jacobian is the chain's with its columns in the tree's variable order.
+/// and the tip's tree Jacobian is the chain's with its columns in the tree's variable order
+/// (both to 1e-14).
 #[test]
 fn the_chain_is_a_view_of_the_tree() {
     for file in [
@@ -355,8 +356,11 @@ fn the_chain_is_a_view_of_the_tree() {
             .unwrap()
             .clone();
             let tj = jacobian::frame_jacobian(&kin, &mut ws, &q, tip, Form::Space).unwrap();
+            // The tree sweeps in the joints' own frames, the chain kernel in the space
+            // screws: the same product, rounded differently.
             for (c, &k) in order.iter().enumerate() {
-                assert_eq!(cj.column(c), tj.column(k), "{file}");
+                let d = (cj.column(c) - tj.column(k)).amax();
+                assert!(d < 1e-14, "{file}: column {c} differs by {d:e}");
             }
         }
     }

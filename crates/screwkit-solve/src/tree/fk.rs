@@ -46,7 +46,7 @@ impl Placement {
 
     /// T · X.
     #[inline(always)]
-    fn apply<A: MulAdd>(&self, g: &Columns) -> Columns {
+    pub(crate) fn apply<A: MulAdd>(&self, g: &Columns) -> Columns {
         match self {
             Placement::Identity => *g,
             Placement::Translation(t) => {

@@ -16,13 +16,13 @@
 //! (world-aligned). When B is an ancestor of A this is the chain B → A's Jacobian.
 
 use nalgebra::Matrix6xX;
-use screwkit_lie::{Frame, Se3, Twist};
+use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
+use screwkit_lie::{trig, Se3, Twist};
 
-use super::fk::gather;
-use super::{Form, TreeKinematics, TreeWorkspace};
+use super::{Form, TreeKinematics, TreeWorkspace, NONE};
+use crate::columns::{add, cross, Columns, Lane};
 use crate::error::SolveError;
-use crate::jacobian::{fk_jacobian_into, space_to_world_aligned, PoseJacobian};
-use crate::workspace::Workspace;
+use crate::jacobian::{space_to_world_aligned, PoseJacobian};
 
 /// The Jacobian of `frame` in `form` (6 × nv), in the workspace. Checks q and the index.
 pub fn frame_jacobian<'w>(
@@ -54,6 +54,13 @@ pub fn frame_pose_jacobian<'w>(
 }
 
 /// Pose and Jacobian of one frame into `ws.jacobian` (or `ws.other` when `other`), unchecked.
+///
+/// The path's joints are swept in their own frames as in [`super::fk::fk_frames`] (from the
+/// base's pose: G_k = G_parent X_k e^{[a_k]θ_k}), and joint k's world column is
+/// \[Ad_{G_k}\](a_k, 0) = (R_k a_k, p_k × R_k a_k) (prismatic (0, R_k a_k)) — the space column of
+/// the module's formula, since S_k = Ad_{H_k}(a_k, 0) — with the axis-aligned a_k of most files
+/// a column of R_k. Then each form from the world column, each added (× its mimic multiplier)
+/// into its variable's column; columns off the path stay zero.
 pub(crate) fn pose_jacobian_unchecked(
     kin: &TreeKinematics,
     ws: &mut TreeWorkspace,
@@ -64,65 +71,50 @@ pub(crate) fn pose_jacobian_unchecked(
     other: bool,
 ) -> Se3 {
     let TreeWorkspace {
-        view_q,
-        views,
+        theta,
+        sin,
+        cos,
+        path,
+        path_columns,
         jacobian,
         other: second,
         ..
     } = ws;
     let jac = if other { second } else { jacobian };
     jac.as_mut_slice().fill(0.0);
-    let f = &kin.frames[frame];
-    let vo = kin.v_offset();
-    let chain_frame = if form == Form::Body {
-        Frame::Body
-    } else {
-        Frame::Space
-    };
-    let space_base = kin.floating && chain_frame == Frame::Space;
-    let view = kin.view(frame);
-    let local = match view {
-        Some(view) => {
-            let vq = gather(kin, view, q, view_q);
-            let vws = views[frame].get_or_insert_with(|| Workspace::new(&view.kin));
-            vws.fit(&view.kin);
-            fk_jacobian_into(&view.kin, &mut vws.jacobian, vq, chain_frame)
-        }
-        None => f.home,
-    };
-    let pose = if kin.floating {
-        base.compose(&local)
-    } else {
-        local
-    };
-    let wa = form == Form::WorldAligned;
-    let out = jac.as_mut_slice();
-    // Each column once, straight from the chain's Jacobian into its place: [Ad_{T_base}] when
-    // the base floats (space forms), then world-aligned at the frame's origin; the columns of
-    // joints off the path stay zero.
-    if let (Some(view), Some(vws)) = (view, views[frame].as_ref()) {
-        let src = vws.jacobian.as_slice();
-        for (k, &var) in view.variables.iter().enumerate() {
-            let mut col: [f64; 6] = src[6 * k..6 * k + 6].try_into().expect("6 rows");
-            if space_base {
-                col = adjoint6(base, &col);
-            }
-            if wa {
-                space_to_world_aligned(&mut col, pose.translation());
-            }
-            let c = vo + var;
-            out[6 * c..6 * c + 6].copy_from_slice(&col);
-        }
+    // The path root → the frame's support joint, parents first.
+    let mut n = 0;
+    let mut j = kin.frames[frame].support;
+    while j != NONE {
+        path[n] = j;
+        n += 1;
+        j = kin.parent[j];
     }
+    path[..n].reverse();
+    let vo = kin.v_offset();
+    let pose = dispatch(PathColumns {
+        kin,
+        q: &q[kin.q_offset()..],
+        base: Columns::from_se3(base),
+        frame,
+        form,
+        path: &path[..n],
+        theta,
+        sin,
+        cos,
+        columns: path_columns,
+        out: &mut jac.as_mut_slice()[6 * vo..],
+    })
+    .to_se3();
+    let out = jac.as_mut_slice();
     if kin.floating {
-        let ad = if chain_frame == Frame::Space {
-            base.adjoint()
-        } else {
-            local.inverse().adjoint()
+        let ad = match form {
+            Form::Body => base.inverse_compose(&pose).inverse().adjoint(),
+            _ => base.adjoint(),
         };
         for i in 0..6 {
             let mut col: [f64; 6] = ad.column(i).into();
-            if wa {
+            if form == Form::WorldAligned {
                 space_to_world_aligned(&mut col, pose.translation());
             }
             out[6 * i..6 * i + 6].copy_from_slice(&col);
@@ -131,14 +123,86 @@ pub(crate) fn pose_jacobian_unchecked(
     pose
 }
 
-/// \[Ad_T\] of one column (ω, v).
-#[inline]
-fn adjoint6(t: &Se3, col: &[f64; 6]) -> [f64; 6] {
-    let tw = t.adjoint_apply(&Twist::new(
-        nalgebra::Vector3::new(col[0], col[1], col[2]),
-        nalgebra::Vector3::new(col[3], col[4], col[5]),
-    ));
-    [tw.w[0], tw.w[1], tw.w[2], tw.v[0], tw.v[1], tw.v[2]]
+/// The kernel of [`pose_jacobian_unchecked`]: the frame's pose, its path joints' world
+/// columns, each in `form` and added into its variable's column of `out` (the joint columns).
+struct PathColumns<'a> {
+    kin: &'a TreeKinematics,
+    /// The joint variables.
+    q: &'a [f64],
+    base: Columns,
+    frame: usize,
+    form: Form,
+    /// Joint indices, parents first.
+    path: &'a [usize],
+    theta: &'a mut [f64],
+    sin: &'a mut [f64],
+    cos: &'a mut [f64],
+    columns: &'a mut [[Lane; 2]],
+    out: &'a mut [f64],
+}
+
+impl Kernel for PathColumns<'_> {
+    type Output = Columns;
+    #[inline(always)]
+    fn run<A: MulAdd>(self) -> Columns {
+        const L: usize = trig::LANES;
+        let kin = self.kin;
+        let n = self.path.len();
+        let lanes = n.div_ceil(L) * L;
+        for (t, &k) in self.theta.iter_mut().zip(self.path) {
+            *t = kin.sweep[k].motion.drive.theta(self.q);
+        }
+        self.theta[n..lanes].fill(0.0);
+        for ((t, s), c) in self.theta[..lanes]
+            .chunks_exact(L)
+            .zip(self.sin.chunks_exact_mut(L))
+            .zip(self.cos.chunks_exact_mut(L))
+        {
+            let (mut ls, mut lc) = ([0.0; L], [0.0; L]);
+            let lt: &[f64; L] = t.try_into().expect("whole lanes");
+            trig::sin_cos_lanes_with::<A>(lt, &mut ls, &mut lc);
+            s.copy_from_slice(&ls);
+            c.copy_from_slice(&lc);
+        }
+        let mut g = self.base;
+        for (i, (&k, col)) in self.path.iter().zip(self.columns.iter_mut()).enumerate() {
+            let j = &kin.sweep[k];
+            g = j.fixed.apply::<A>(&g);
+            j.motion
+                .apply::<A>(&mut g, self.theta[i], self.sin[i], self.cos[i]);
+            // [Ad_G](w, v) = (R w, p × R w + R v); the joint's own motion leaves its axis.
+            let (w, v) = j.motion.axis();
+            let rw = g.rotate::<A>(w);
+            let mut rv = cross(g.p(), rw);
+            if j.motion.prismatic || *v != [0.0; 3] {
+                rv = add(rv, g.rotate::<A>(v));
+            }
+            *col = [rw, rv];
+        }
+        let t = kin.frames[self.frame].placement.apply::<A>(&g);
+        let inv = (self.form == Form::Body).then(|| t.inverse::<A>());
+        for (&k, &[w, v]) in self.path.iter().zip(self.columns.iter()) {
+            let (w, v) = match (self.form, &inv) {
+                (Form::Space, _) => (w, v),
+                // (ω, v + ω × p_F): `jacobian::space_to_world_aligned`.
+                (Form::WorldAligned, _) => (w, add(v, cross(w, t.p()))),
+                // [Ad_{T_F⁻¹}](ω, v) = (Rᵀω, Rᵀv + (−Rᵀp) × Rᵀω).
+                (Form::Body, Some(inv)) => {
+                    let (w, v) = ([w[0], w[1], w[2]], [v[0], v[1], v[2]]);
+                    let bw = inv.rotate::<A>(&w);
+                    (bw, add(inv.rotate::<A>(&v), cross(inv.p(), bw)))
+                }
+                (Form::Body, None) => unreachable!("the inverse is made for the body form"),
+            };
+            let drive = &kin.sweep[k].motion.drive;
+            let o = &mut self.out[6 * drive.variable..6 * drive.variable + 6];
+            let m = drive.multiplier;
+            for (r, x) in [w[0], w[1], w[2], v[0], v[1], v[2]].into_iter().enumerate() {
+                o[r] = A::madd(m, x, o[r]);
+            }
+        }
+        t
+    }
 }
 
 /// Every column made world-aligned at p ([`space_to_world_aligned`]).

@@ -39,7 +39,6 @@ use crate::columns::Columns;
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
 use crate::poe::PoeJoint;
-use crate::workspace::Workspace;
 
 /// "No joint": a frame or joint with only fixed joints above it.
 pub(crate) const NONE: usize = usize::MAX;
@@ -312,7 +311,9 @@ impl TreeKinematics {
                 names: short_names(&self.q_names),
             });
         }
-        if let Some(i) = q.iter().position(|x| !x.is_finite()) {
+        // One pass without early exit (it vectorises), then the search for the message.
+        if q.iter().fold(false, |bad, x| bad | !x.is_finite()) {
+            let i = q.iter().position(|x| !x.is_finite()).unwrap_or(0);
             return Err(SolveError::NonFinite {
                 what: "configuration value",
                 index: i,
@@ -364,8 +365,9 @@ pub struct TreeWorkspace {
     pub(crate) frames: Vec<Se3>,
     /// The gathered q of one frame's chain.
     pub(crate) view_q: Vec<f64>,
-    /// The chains' scratch (one per frame, made on first use).
-    pub(crate) views: Vec<Option<Workspace>>,
+    /// One frame's path (joint indices, parents first) and its joints' world columns.
+    pub(crate) path: Vec<usize>,
+    pub(crate) path_columns: Vec<[crate::columns::Lane; 2]>,
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) other: Matrix6xX<f64>,
     /// Checked by [`TreeWorkspace::fit`].
@@ -386,7 +388,8 @@ impl TreeWorkspace {
             frame_columns: vec![Columns::identity(); kin.frames.len()],
             frames: vec![Se3::identity(); kin.frames.len()],
             view_q: vec![0.0; kin.max_view_dof],
-            views: vec![None; kin.frames.len()],
+            path: vec![0; kin.joints.len()],
+            path_columns: vec![[[0.0; 4]; 2]; kin.joints.len()],
             jacobian: Matrix6xX::zeros(kin.nv()),
             other: Matrix6xX::zeros(kin.nv()),
             frames_len: kin.frames.len(),
