@@ -19,12 +19,13 @@
 //! v = (ω, v_b of the base in its own frame, joint rates…).
 //!
 //! **Fast paths.** The path root → F of a frame is a serial chain ([`KinematicTree::chain_to`]);
-//! one frame's pose and Jacobian run the chain's kernels ([`crate::fk`], [`crate::jacobian`]) on
-//! that chain's variables gathered from q, then put the columns in place (and, with a floating
-//! base, compose with the base's pose). Every frame at once is one sweep over the tree
-//! ([`fk::fk_frames`]): G_k = G_parent(k) e^{[S_k]θ_k} per joint, parents first, and
-//! T_F = G_support(F) M_F per frame. The tests hold both equal to the URDF composed joint by
-//! joint.
+//! one frame's pose runs the chain's FK kernel ([`crate::fk`]) on that chain's variables
+//! gathered from q (and, with a floating base, composes with the base's pose). Every frame at
+//! once is one sweep over the tree in each joint's own frame ([`fk::fk_frames`]): G_k =
+//! G_parent(k) X_k e^{[a_k]θ_k} per joint, parents first, and T_F = G_support(F) P_F per frame;
+//! one frame's Jacobian is the same sweep along its path only, each joint's world column
+//! \[Ad_{G_k}\](a_k, 0) read off G_k ([`jacobian`]). The tests hold all of them equal to the URDF
+//! composed joint by joint and the Jacobians to finite differences.
 
 pub mod batch;
 pub mod configuration;
