@@ -20,7 +20,7 @@ use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{trig, Se3, Twist};
 
 use super::{Form, TreeKinematics, TreeWorkspace, NONE};
-use crate::columns::{add, cross, Columns, Lane};
+use crate::columns::{add, cross, sub, Columns, Lane};
 use crate::error::SolveError;
 use crate::jacobian::{space_to_world_aligned, PoseJacobian};
 
@@ -137,7 +137,7 @@ struct PathColumns<'a> {
     theta: &'a mut [f64],
     sin: &'a mut [f64],
     cos: &'a mut [f64],
-    columns: &'a mut [[Lane; 2]],
+    columns: &'a mut [[Lane; 3]],
     out: &'a mut [f64],
 }
 
@@ -171,23 +171,25 @@ impl Kernel for PathColumns<'_> {
             j.motion
                 .apply::<A>(&mut g, self.theta[i], self.sin[i], self.cos[i]);
             // [Ad_G](w, v) = (R w, p × R w + R v); the joint's own motion leaves its axis.
+            // Kept as (R w, R v, p); the cross product is taken below, once per form.
             let (w, v) = j.motion.axis();
-            let rw = g.rotate::<A>(w);
-            let mut rv = cross(g.p(), rw);
-            if j.motion.prismatic || *v != [0.0; 3] {
-                rv = add(rv, g.rotate::<A>(v));
-            }
-            *col = [rw, rv];
+            let rv = if j.motion.prismatic || *v != [0.0; 3] {
+                g.rotate::<A>(v)
+            } else {
+                [0.0; 4]
+            };
+            *col = [g.rotate::<A>(w), rv, g.p()];
         }
         let t = kin.frames[self.frame].placement.apply::<A>(&g);
         let inv = (self.form == Form::Body).then(|| t.inverse::<A>());
-        for (&k, &[w, v]) in self.path.iter().zip(self.columns.iter()) {
+        for (&k, &[w, rv, p]) in self.path.iter().zip(self.columns.iter()) {
             let (w, v) = match (self.form, &inv) {
-                (Form::Space, _) => (w, v),
-                // (ω, v + ω × p_F): `jacobian::space_to_world_aligned`.
-                (Form::WorldAligned, _) => (w, add(v, cross(w, t.p()))),
+                (Form::Space, _) => (w, add(cross(p, w), rv)),
+                // (ω, v + ω × p_F) (`jacobian::space_to_world_aligned`) = (ω, (p − p_F) × ω + R v).
+                (Form::WorldAligned, _) => (w, add(cross(sub(p, t.p()), w), rv)),
                 // [Ad_{T_F⁻¹}](ω, v) = (Rᵀω, Rᵀv + (−Rᵀp) × Rᵀω).
                 (Form::Body, Some(inv)) => {
+                    let v = add(cross(p, w), rv);
                     let (w, v) = ([w[0], w[1], w[2]], [v[0], v[1], v[2]]);
                     let bw = inv.rotate::<A>(&w);
                     (bw, add(inv.rotate::<A>(&v), cross(inv.p(), bw)))

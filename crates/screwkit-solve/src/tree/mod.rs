@@ -368,7 +368,7 @@ pub struct TreeWorkspace {
     pub(crate) view_q: Vec<f64>,
     /// One frame's path (joint indices, parents first) and its joints' world columns.
     pub(crate) path: Vec<usize>,
-    pub(crate) path_columns: Vec<[crate::columns::Lane; 2]>,
+    pub(crate) path_columns: Vec<[crate::columns::Lane; 3]>,
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) other: Matrix6xX<f64>,
     /// Checked by [`TreeWorkspace::fit`].
@@ -390,7 +390,7 @@ impl TreeWorkspace {
             frames: vec![Se3::identity(); kin.frames.len()],
             view_q: vec![0.0; kin.max_view_dof],
             path: vec![0; kin.joints.len()],
-            path_columns: vec![[[0.0; 4]; 2]; kin.joints.len()],
+            path_columns: vec![[[0.0; 4]; 3]; kin.joints.len()],
             jacobian: Matrix6xX::zeros(kin.nv()),
             other: Matrix6xX::zeros(kin.nv()),
             frames_len: kin.frames.len(),
