@@ -132,23 +132,11 @@ impl Kernel for AllFrames<'_> {
     type Output = ();
     #[inline(always)]
     fn run<A: MulAdd>(self) {
-        const L: usize = trig::LANES;
         let kin = self.kin;
         for (t, j) in self.theta.iter_mut().zip(&kin.sweep) {
             *t = j.motion.drive.theta(self.q);
         }
-        for ((t, s), c) in self
-            .theta
-            .chunks_exact(L)
-            .zip(self.sin.chunks_exact_mut(L))
-            .zip(self.cos.chunks_exact_mut(L))
-        {
-            let (mut ls, mut lc) = ([0.0; L], [0.0; L]);
-            let lt: &[f64; L] = t.try_into().expect("whole lanes");
-            trig::sin_cos_lanes_with::<A>(lt, &mut ls, &mut lc);
-            s.copy_from_slice(&ls);
-            c.copy_from_slice(&lc);
-        }
+        sin_cos_lanes::<A>(self.theta, self.sin, self.cos);
         for (k, j) in kin.sweep.iter().enumerate() {
             let p = kin.parent[k];
             let parent = if p == NONE {
@@ -169,6 +157,24 @@ impl Kernel for AllFrames<'_> {
             };
             *o = f.placement.apply::<A>(g);
         }
+    }
+}
+
+/// sin θ and cos θ of every angle of `theta` (whole lanes of [`trig::LANES`]), into `sin` and
+/// `cos`: the lane sin/cos of the sweeps.
+#[inline(always)]
+pub(crate) fn sin_cos_lanes<A: MulAdd>(theta: &[f64], sin: &mut [f64], cos: &mut [f64]) {
+    const L: usize = trig::LANES;
+    for ((t, s), c) in theta
+        .chunks_exact(L)
+        .zip(sin.chunks_exact_mut(L))
+        .zip(cos.chunks_exact_mut(L))
+    {
+        let (mut ls, mut lc) = ([0.0; L], [0.0; L]);
+        let lt: &[f64; L] = t.try_into().expect("whole lanes");
+        trig::sin_cos_lanes_with::<A>(lt, &mut ls, &mut lc);
+        s.copy_from_slice(&ls);
+        c.copy_from_slice(&lc);
     }
 }
 

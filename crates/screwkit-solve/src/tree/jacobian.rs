@@ -19,6 +19,7 @@ use nalgebra::Matrix6xX;
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{trig, Se3, Twist};
 
+use super::fk::sin_cos_lanes;
 use super::{Form, TreeKinematics, TreeWorkspace, NONE};
 use crate::columns::{add, cross, sub, Columns, Lane};
 use crate::error::SolveError;
@@ -153,17 +154,7 @@ impl Kernel for PathColumns<'_> {
             *t = kin.sweep[k].motion.drive.theta(self.q);
         }
         self.theta[n..lanes].fill(0.0);
-        for ((t, s), c) in self.theta[..lanes]
-            .chunks_exact(L)
-            .zip(self.sin.chunks_exact_mut(L))
-            .zip(self.cos.chunks_exact_mut(L))
-        {
-            let (mut ls, mut lc) = ([0.0; L], [0.0; L]);
-            let lt: &[f64; L] = t.try_into().expect("whole lanes");
-            trig::sin_cos_lanes_with::<A>(lt, &mut ls, &mut lc);
-            s.copy_from_slice(&ls);
-            c.copy_from_slice(&lc);
-        }
+        sin_cos_lanes::<A>(&self.theta[..lanes], self.sin, self.cos);
         let mut g = self.base;
         for (i, (&k, col)) in self.path.iter().zip(self.columns.iter_mut()).enumerate() {
             let j = &kin.sweep[k];
