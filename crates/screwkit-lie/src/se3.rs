@@ -439,3 +439,138 @@ impl fmt::Debug for Se3 {
         )
     }
 }
+
+/// The four coefficients of the Jacobians of SE(3)'s exponential at θ = ‖ω‖:
+/// (1 − cos θ)/θ², (θ − sin θ)/θ³, (θ² + 2 cos θ − 2)/(2θ⁴), (2θ − 3 sin θ + θ cos θ)/(2θ⁵),
+/// by their Taylor series below θ = 0.1 (where the last two cancel).
+fn jacobian_coefficients(theta: f64) -> [f64; 4] {
+    let t2 = theta * theta;
+    if theta < 0.1 {
+        [
+            0.5 - t2 * (1.0 / 24.0 - t2 * (1.0 / 720.0 - t2 / 40_320.0)),
+            1.0 / 6.0 - t2 * (1.0 / 120.0 - t2 * (1.0 / 5040.0 - t2 / 362_880.0)),
+            1.0 / 24.0 - t2 * (1.0 / 720.0 - t2 * (1.0 / 40_320.0 - t2 / 3_628_800.0)),
+            1.0 / 120.0 - t2 * (1.0 / 2520.0 - t2 * (1.0 / 120_960.0 - t2 / 9_979_200.0)),
+        ]
+    } else {
+        let (s, c) = theta.sin_cos();
+        [
+            (1.0 - c) / t2,
+            (theta - s) / (t2 * theta),
+            (t2 + 2.0 * c - 2.0) / (2.0 * t2 * t2),
+            (2.0 * theta - 3.0 * s + theta * c) / (2.0 * t2 * t2 * theta),
+        ]
+    }
+}
+
+/// The coupling block Q(ω, v) of SE(3)'s left Jacobian (Barfoot, *State Estimation for
+/// Robotics*, eq. 7.86b, written for twists ordered (ω, v)):
+/// Q = ½[v] + b([ω][v] + [v][ω] + [ω][v][ω]) + c([ω]²[v] + [v][ω]² − 3[ω][v][ω])
+///   + d([ω][v][ω]² + [ω]²[v][ω]), with b, c, d the last three [`jacobian_coefficients`].
+fn left_jacobian_coupling(xi: &Twist, k: &[f64; 4]) -> Matrix3<f64> {
+    let w = so3::hat(&xi.w);
+    let v = so3::hat(&xi.v);
+    let wv = w * v;
+    let vw = v * w;
+    let wvw = wv * w;
+    let ww = w * w;
+    v * 0.5
+        + (wv + vw + wvw) * k[1]
+        + (ww * v + vw * w - wvw * 3.0) * k[2]
+        + (wvw * w + ww * vw) * k[3]
+}
+
+/// The left Jacobian of SE(3)'s exponential at ξ = (ω, v): exp(ξ + δ) ≈ exp(J_l(ξ) δ) exp(ξ),
+///
+/// J_l = [[J, 0], [Q, J]],  J = I + (1 − cos θ)/θ² [ω] + (θ − sin θ)/θ³ [ω]² (SO(3)'s left
+/// Jacobian, the V of [`Se3::exp`]), Q the coupling block of Barfoot's eq. 7.86b; the right
+/// Jacobian is J_r(ξ) = J_l(−ξ) (exp(ξ + δ) ≈ exp(ξ) exp(J_r δ)). J_l(ξ) ξ = ξ.
+pub fn left_jacobian(xi: &Twist) -> Matrix6<f64> {
+    let k = jacobian_coefficients(xi.w.norm());
+    let w = so3::hat(&xi.w);
+    let j = Matrix3::identity() + w * k[0] + w * w * k[1];
+    let q = left_jacobian_coupling(xi, &k);
+    let mut out = Matrix6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&j);
+    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&j);
+    out.fixed_view_mut::<3, 3>(3, 0).copy_from(&q);
+    out
+}
+
+/// J_l(ξ)⁻¹ = [[J⁻¹, 0], [−J⁻¹ Q J⁻¹, J⁻¹]] with J⁻¹ = I − ½[ω] + D[ω]² (the V⁻¹ of
+/// [`Se3::log`], D = (1 − (θ/2) cot(θ/2))/θ²), defined for θ < 2π (log's θ ≤ π). With
+/// ξ = log(T_F⁻¹ T*) it is the derivative of that error: moving T_F by T_F exp(δ) changes ξ by
+/// −J_l(ξ)⁻¹ δ (whole-body IK's frame task rows).
+pub fn left_jacobian_inverse(xi: &Twist) -> Matrix6<f64> {
+    let theta = xi.w.norm();
+    let k = jacobian_coefficients(theta);
+    let w = so3::hat(&xi.w);
+    let (s, c) = theta.sin_cos();
+    let jinv = Matrix3::identity() - w * 0.5 + w * w * log_coefficient(theta, s, c);
+    let q = left_jacobian_coupling(xi, &k);
+    let mut out = Matrix6::zeros();
+    out.fixed_view_mut::<3, 3>(0, 0).copy_from(&jinv);
+    out.fixed_view_mut::<3, 3>(3, 3).copy_from(&jinv);
+    out.fixed_view_mut::<3, 3>(3, 0)
+        .copy_from(&(-(jinv * q * jinv)));
+    out
+}
+
+#[cfg(test)]
+mod jacobian_tests {
+    use super::*;
+
+    fn twists() -> Vec<Twist> {
+        let mut out = Vec::new();
+        for (i, theta) in [0.0, 1e-9, 1e-4, 0.05, 0.0999, 0.1001, 0.7, 2.0, 3.1]
+            .iter()
+            .enumerate()
+        {
+            let axis = Vector3::new(0.3 + i as f64, -0.5, 0.8).normalize();
+            out.push(Twist {
+                w: axis * *theta,
+                v: Vector3::new(0.4, -1.1 + 0.2 * i as f64, 0.6),
+            });
+        }
+        out
+    }
+
+    fn vec6(t: &Twist) -> nalgebra::Vector6<f64> {
+        nalgebra::Vector6::new(t.w[0], t.w[1], t.w[2], t.v[0], t.v[1], t.v[2])
+    }
+
+    fn twist(x: &nalgebra::Vector6<f64>) -> Twist {
+        Twist {
+            w: Vector3::new(x[0], x[1], x[2]),
+            v: Vector3::new(x[3], x[4], x[5]),
+        }
+    }
+
+    #[test]
+    fn left_jacobian_is_the_derivative_of_the_exponential() {
+        for xi in twists() {
+            let jl = left_jacobian(&xi);
+            let t = Se3::exp(&xi);
+            let h = 1e-6;
+            for k in 0..6 {
+                let mut d = nalgebra::Vector6::zeros();
+                d[k] = h;
+                let p = Se3::exp(&twist(&(vec6(&xi) + d)))
+                    .compose(&t.inverse())
+                    .log();
+                let m = Se3::exp(&twist(&(vec6(&xi) - d)))
+                    .compose(&t.inverse())
+                    .log();
+                let fd = (vec6(&p) - vec6(&m)) / (2.0 * h);
+                assert!(
+                    (fd - jl.column(k)).norm() < 1e-8,
+                    "{xi:?} column {k}: {} vs {fd}",
+                    jl.column(k)
+                );
+            }
+            assert!((jl * vec6(&xi) - vec6(&xi)).norm() < 1e-14);
+            let inv = left_jacobian_inverse(&xi);
+            assert!((inv * jl - Matrix6::identity()).norm() < 1e-12, "{xi:?}");
+        }
+    }
+}

@@ -71,6 +71,14 @@ pub enum ErrorKind {
         /// What is wrong with it.
         problem: String,
     },
+    /// A link's `<inertial>` that does not give a usable mass and centre of mass.
+    #[error("link \"{link}\" <inertial>: {problem}")]
+    BadInertial {
+        /// The link.
+        link: String,
+        /// What is wrong.
+        problem: String,
+    },
     /// A non-finite number on the requested chain.
     #[error("joint \"{joint}\": {what} is not finite")]
     NonFinite {

@@ -73,6 +73,16 @@ pub struct Mimic {
     pub offset: f64,
 }
 
+/// A link's `<inertial>`: what the centre of mass needs (the inertia tensor is not read).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertial {
+    /// `<mass value>` (kg), finite and ≥ 0.
+    pub mass: f64,
+    /// The centre of mass in the link's frame: `<inertial><origin xyz>` (zero when absent;
+    /// `rpy` only turns the inertia tensor's axes, so it does not move the centre).
+    pub com: [f64; 3],
+}
+
 /// A joint of the tree, as read from the URDF (not yet validated for chain use).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TreeJoint {
@@ -133,6 +143,8 @@ pub struct Tree {
     pub source: String,
     /// Link names, in file order.
     pub links: Vec<String>,
+    /// Each link's `<inertial>` (index as `links`), `None` where the file has none.
+    pub inertials: Vec<Option<Inertial>>,
     /// Joints, in file order.
     pub joints: Vec<TreeJoint>,
     /// For each link, the joint whose child it is (`None` for the root).
@@ -307,6 +319,7 @@ impl Tree {
         Ok(Tree {
             name,
             source,
+            inertials: vec![None; links.len()],
             links,
             joints: tree_joints,
             parent_joint,

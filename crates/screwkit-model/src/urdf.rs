@@ -14,6 +14,11 @@
 //!   though real files omit them. The pre-pass hands urdf-rs a copy with the missing
 //!   attributes filled in, and the model records them as absent.
 //!
+//! The pre-pass also reads each link's first `<inertial>` (its `<mass value>` and `<origin
+//! xyz>`: the centre of mass; numbers checked like the joints', the mass finite and ≥ 0, an
+//! `<inertial>` without a mass an error naming the link, as in urdfdom) into
+//! [`Tree::inertials`]; the inertia tensor is not read.
+//!
 //! urdf-rs also sees only what kinematics needs: each `<link>` as its name and each top-level
 //! `<joint>` with its `<origin>`, `<parent>`, `<child>`, `<axis>`, `<limit>` and `<mimic>`, so
 //! meshes, materials, inertia, collision, `<transmission>` and `<gazebo>` blocks (which may
@@ -27,7 +32,7 @@ use std::path::Path;
 
 use crate::error::{ErrorKind, ModelError};
 use crate::input;
-use crate::tree::{JointKind, Limit, Mimic, Tree, TreeJointSpec};
+use crate::tree::{Inertial, JointKind, Limit, Mimic, Tree, TreeJointSpec};
 use crate::xacro::{self, XacroOptions};
 
 /// Loads a URDF or xacro file into a [`Tree`] (xacro expanded with the default
@@ -92,7 +97,7 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
     if robot.tag_name().name() != "robot" || input::is_prefixed(text, &robot) {
         return Err(err(ErrorKind::NotARobot(robot.tag_name().name().into())));
     }
-    let (clean, facts) = pre_pass(text, &robot).map_err(err)?;
+    let (clean, facts, inertials) = pre_pass(text, &robot).map_err(err)?;
     let parsed =
         urdf_rs::read_from_string(&clean).map_err(|e| err(ErrorKind::Urdf(e.to_string())))?;
     let links = parsed.links.iter().map(|l| l.name.clone()).collect();
@@ -132,7 +137,13 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
             (spec, j.parent.link.clone(), j.child.link.clone())
         })
         .collect();
-    Tree::new(parsed.name, source.to_string(), links, joints)
+    let mut tree = Tree::new(parsed.name, source.to_string(), links, joints)?;
+    for (name, inertial) in inertials {
+        if let Ok(i) = tree.link(&name) {
+            tree.inertials[i] = Some(inertial);
+        }
+    }
+    Ok(tree)
 }
 
 /// What the pre-pass learned about a joint's `<limit>`.
@@ -143,12 +154,13 @@ struct LimitFacts {
     has_effort: bool,
 }
 
-/// Checks the numeric attributes of every top-level joint and writes the reduced document
-/// that urdf-rs parses.
-fn pre_pass(
-    text: &str,
-    robot: &roxmltree::Node,
-) -> Result<(String, HashMap<String, LimitFacts>), ErrorKind> {
+/// What the pre-pass hands on: the reduced document, each joint's limit facts, each link's
+/// inertial.
+type PrePass = (String, HashMap<String, LimitFacts>, Vec<(String, Inertial)>);
+
+/// Checks the numeric attributes of every top-level joint and link inertial and writes the
+/// reduced document that urdf-rs parses.
+fn pre_pass(text: &str, robot: &roxmltree::Node) -> Result<PrePass, ErrorKind> {
     let mut out = String::with_capacity(text.len() / 4);
     out.push_str("<robot");
     for attr in ["name", "version"] {
@@ -158,6 +170,7 @@ fn pre_pass(
     }
     out.push_str(">\n");
     let mut facts = HashMap::new();
+    let mut inertials = Vec::new();
     // Elements written with a prefix (`<u:joint>`) are another format's: urdfdom never reads them.
     for node in robot
         .children()
@@ -168,7 +181,10 @@ fn pre_pass(
                 // urdf-rs requires the name; let it report a missing one.
                 match node.attribute("name") {
                     Some(n) => {
-                        out.push_str(&format!("<link name=\"{}\"/>\n", input::escape_xml(n)))
+                        out.push_str(&format!("<link name=\"{}\"/>\n", input::escape_xml(n)));
+                        if let Some(inertial) = inertial_of(text, &node, n)? {
+                            inertials.push((n.to_string(), inertial));
+                        }
                     }
                     None => out.push_str("<link/>\n"),
                 }
@@ -184,7 +200,57 @@ fn pre_pass(
         }
     }
     out.push_str("</robot>\n");
-    Ok((out, facts))
+    Ok((out, facts, inertials))
+}
+
+/// A link's first `<inertial>`: mass and centre of mass, checked (see the module docs).
+fn inertial_of(
+    text: &str,
+    link: &roxmltree::Node,
+    name: &str,
+) -> Result<Option<Inertial>, ErrorKind> {
+    fn child<'a, 'i>(
+        text: &str,
+        n: &roxmltree::Node<'a, 'i>,
+        tag: &str,
+    ) -> Option<roxmltree::Node<'a, 'i>> {
+        n.children()
+            .filter(|c| c.is_element() && !input::is_prefixed(text, c))
+            .find(|c| c.tag_name().name() == tag)
+    }
+    let Some(inertial) = child(text, link, "inertial") else {
+        return Ok(None);
+    };
+    let element = |tag: &str| format!("link \"{name}\" <inertial><{tag}>");
+    let mut com = [0.0; 3];
+    if let Some(origin) = child(text, &inertial, "origin") {
+        for attr in ["xyz", "rpy"] {
+            if let Some(v) = origin.attribute(attr) {
+                check_numbers_of(&element("origin"), attr, v, 3)?;
+            }
+        }
+        if let Some(v) = origin.attribute("xyz") {
+            for (c, t) in com.iter_mut().zip(v.split_whitespace()) {
+                *c = t.parse().unwrap_or(f64::NAN);
+            }
+        }
+    }
+    let bad = |problem: String| ErrorKind::BadInertial {
+        link: name.to_string(),
+        problem,
+    };
+    if com.iter().any(|c| !c.is_finite()) {
+        return Err(bad("the centre of mass <origin xyz> is not finite".into()));
+    }
+    let value = child(text, &inertial, "mass")
+        .and_then(|m| m.attribute("value"))
+        .ok_or_else(|| bad("no <mass value=\"…\"/> (urdfdom requires one)".into()))?;
+    check_numbers_of(&element("mass"), "value", value, 1)?;
+    let mass: f64 = value.trim().parse().unwrap_or(f64::NAN);
+    if !(mass.is_finite() && mass >= 0.0) {
+        return Err(bad(format!("mass {value} is not a finite number ≥ 0")));
+    }
+    Ok(Some(Inertial { mass, com }))
 }
 
 /// One `<joint>` reduced to its kinematic children, numbers checked, `<limit>` completed.
@@ -256,8 +322,13 @@ fn check_numbers(
     value: &str,
     count: usize,
 ) -> Result<(), ErrorKind> {
+    check_numbers_of(&format!("joint \"{joint}\" <{tag}>"), attr, value, count)
+}
+
+/// [`check_numbers`] for any element, named as `element` in the message.
+fn check_numbers_of(element: &str, attr: &str, value: &str, count: usize) -> Result<(), ErrorKind> {
     let bad = |problem: String| ErrorKind::BadNumber {
-        element: format!("joint \"{joint}\" <{tag}>"),
+        element: element.to_string(),
         attribute: attr.to_string(),
         value: value.to_string(),
         problem,

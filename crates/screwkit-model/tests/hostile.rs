@@ -456,3 +456,59 @@ fn an_included_file_passes_the_same_checks() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+// ---- Inertials ------------------------------------------------------------------------------
+
+#[test]
+fn link_inertials_are_read_and_bad_ones_name_the_link() {
+    let robot = |inertial: &str| {
+        format!(
+            "<robot name=\"r\"><link name=\"base\"/><link name=\"arm\">{inertial}</link>\
+             <joint name=\"j\" type=\"continuous\"><parent link=\"base\"/><child link=\"arm\"/></joint></robot>"
+        )
+    };
+    let tree = urdf::load_str(
+        &robot("<inertial><origin xyz=\"0.1 -0.2 0.3\" rpy=\"0 1 0\"/><mass value=\"2.5\"/></inertial>"),
+        "t.urdf",
+    )
+    .unwrap();
+    let arm = tree.link("arm").unwrap();
+    let i = tree.inertials[arm].expect("the arm's inertial");
+    assert_eq!((i.mass, i.com), (2.5, [0.1, -0.2, 0.3]));
+    assert!(tree.inertials[tree.link("base").unwrap()].is_none());
+    for (inertial, words) in [
+        (
+            "<inertial><mass value=\"-1\"/></inertial>",
+            "mass -1 is not a finite number ≥ 0",
+        ),
+        (
+            "<inertial><mass value=\"nan\"/></inertial>",
+            "is not a finite number",
+        ),
+        (
+            "<inertial><mass value=\"1 2\"/></inertial>",
+            "expected 1 number(s)",
+        ),
+        (
+            "<inertial><mass value=\"x\"/></inertial>",
+            "\"x\" is not a number",
+        ),
+        (
+            "<inertial><origin xyz=\"0 0\"/><mass value=\"1\"/></inertial>",
+            "expected 3 number(s)",
+        ),
+        (
+            "<inertial><origin xyz=\"0 inf 0\"/><mass value=\"1\"/></inertial>",
+            "not finite",
+        ),
+        ("<inertial><inertia ixx=\"1\"/></inertial>", "no <mass"),
+    ] {
+        let e = urdf::load_str(&robot(inertial), "t.urdf")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("t.urdf: ") && e.contains("link \"arm\"") && e.contains(words),
+            "{e} (wanted {words})"
+        );
+    }
+}

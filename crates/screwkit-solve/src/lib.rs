@@ -52,6 +52,7 @@
 pub mod analysis;
 pub mod analytic;
 pub mod batch;
+pub mod box_qp;
 mod columns;
 mod dls;
 pub mod error;

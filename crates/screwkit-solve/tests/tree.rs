@@ -9,7 +9,7 @@ use screwkit_model::{urdf, KinematicTree, Tree};
 use screwkit_solve::sample::SplitMix64;
 use screwkit_solve::tree::{batch, configuration, fk, jacobian};
 use screwkit_solve::{Form, Kinematics, TreeKinematics, TreeWorkspace, Workspace};
-use screwkit_testkit::reference::{tree_fk_by_composition, tree_joint_positions};
+use screwkit_testkit::reference::tree_world_poses;
 
 /// The bundled files (all of them are trees; most are single chains).
 const BUNDLED: &[&str] = &[
@@ -50,18 +50,11 @@ fn prepared(tree: &Tree, floating: bool) -> (KinematicTree, TreeKinematics) {
 /// Every link's pose by composition, T_base applied (q is the tree's configuration).
 fn oracle(
     tree: &Tree,
-    model: &KinematicTree,
+    _model: &KinematicTree,
     kin: &TreeKinematics,
     q: &[f64],
 ) -> Vec<Matrix4<f64>> {
-    let off = if kin.floating_base() { 7 } else { 0 };
-    let names: Vec<String> = model.variables.iter().map(|v| v.name.clone()).collect();
-    let positions = tree_joint_positions(tree, &names, &q[off..]);
-    let base = kin.check_q(q).unwrap().to_homogeneous();
-    tree_fk_by_composition(tree, &|j| positions[j])
-        .into_iter()
-        .map(|t| base * t)
-        .collect()
+    tree_world_poses(tree, kin, q)
 }
 
 fn check_fk(label: &str, tree: &Tree, floating: bool, samples: usize) {

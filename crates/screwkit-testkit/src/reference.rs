@@ -165,3 +165,44 @@ pub fn tree_joint_positions(
     }
     out
 }
+
+/// Every link's world pose (4x4, `tree.links` order) at the whole-tree configuration `q` of
+/// `kin` (nq values; a floating base's seven first: x y z qx qy qz qw), by
+/// [`tree_fk_by_composition`] and the base's pose built here from its quaternion with
+/// nalgebra. The oracle of every whole-tree algorithm's poses.
+pub fn tree_world_poses(
+    tree: &Tree,
+    kin: &screwkit_solve::TreeKinematics,
+    q: &[f64],
+) -> Vec<Matrix4<f64>> {
+    let model = kin.model();
+    let off = if kin.floating_base() { 7 } else { 0 };
+    let names: Vec<String> = model.variables.iter().map(|v| v.name.clone()).collect();
+    let positions = tree_joint_positions(tree, &names, &q[off..]);
+    let base = if kin.floating_base() {
+        let quat = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+            q[6], q[3], q[4], q[5],
+        ));
+        nalgebra::Isometry3::from_parts(Translation3::new(q[0], q[1], q[2]), quat).to_homogeneous()
+    } else {
+        Matrix4::identity()
+    };
+    tree_fk_by_composition(tree, &|j| positions[j])
+        .into_iter()
+        .map(|t| base * t)
+        .collect()
+}
+
+/// The centre of mass Σ m_L T_L c_L / Σ m_L of the links with a mass (> 0), from the link
+/// poses `poses` (world, 4x4) and the tree's `<inertial>` values.
+pub fn tree_com(tree: &Tree, poses: &[Matrix4<f64>]) -> Vector3<f64> {
+    let (mut s, mut m) = (Vector3::zeros(), 0.0);
+    for (l, i) in tree.inertials.iter().enumerate() {
+        if let Some(i) = i.filter(|i| i.mass > 0.0) {
+            let c = poses[l] * nalgebra::Vector4::new(i.com[0], i.com[1], i.com[2], 1.0);
+            s += i.mass * c.xyz();
+            m += i.mass;
+        }
+    }
+    s / m
+}

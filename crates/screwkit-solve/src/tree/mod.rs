@@ -28,9 +28,12 @@
 //! composed joint by joint and the Jacobians to finite differences.
 
 pub mod batch;
+pub mod com;
 pub mod configuration;
+pub mod differential_ik;
 pub mod fk;
 pub mod jacobian;
+pub mod tasks;
 
 use nalgebra::Matrix6xX;
 use screwkit_lie::{Frame, Se3};
@@ -113,6 +116,15 @@ pub struct TreeKinematics {
     pub(crate) max_view_dof: usize,
     /// Variable name → index (the chains' variables mapped into the tree's).
     pub(crate) variable_index: std::collections::HashMap<String, usize>,
+    /// The links with a mass: (link, mass, centre of mass in the link's frame).
+    pub(crate) masses: Vec<(usize, f64, nalgebra::Vector3<f64>)>,
+    pub(crate) total_mass: f64,
+    /// Each joint variable's bounds as every joint it drives allows (a mimic follower's own
+    /// limits mapped through θ = m q + o), and its speed limit (∞ where none is given).
+    pub(crate) variable_bounds: Vec<(f64, f64)>,
+    pub(crate) variable_speed: Vec<f64>,
+    /// Continuous (unbounded, periodic) joint variables.
+    pub(crate) continuous: Vec<bool>,
 }
 
 impl TreeKinematics {
@@ -167,7 +179,26 @@ impl TreeKinematics {
             .enumerate()
             .map(|(k, v)| (v.name.clone(), k))
             .collect();
+        let masses: Vec<_> = model
+            .tree
+            .inertials
+            .iter()
+            .enumerate()
+            .filter_map(|(l, i)| i.map(|i| (l, i.mass, nalgebra::Vector3::from(i.com))))
+            .filter(|(_, m, _)| *m > 0.0)
+            .collect();
+        let total_mass = masses.iter().map(|(_, m, _)| m).sum();
+        let (variable_bounds, variable_speed) = variable_limits(model);
         Ok(Self {
+            masses,
+            total_mass,
+            variable_bounds,
+            variable_speed,
+            continuous: model
+                .variables
+                .iter()
+                .map(|v| v.kind == screwkit_model::JointKind::Continuous)
+                .collect(),
             joints,
             sweep,
             parent,
@@ -329,6 +360,37 @@ impl TreeKinematics {
     }
 }
 
+/// Each joint variable's bounds and speed limit over every joint it drives (its own and its
+/// mimic followers': θ = m q + o within [lo, hi] is q within [(lo − o)/m, (hi − o)/m], the
+/// bounds swapped for m < 0; |θ̇| = |m| |q̇| ≤ speed). Continuous joints and joints without a
+/// file limit add no position bound; a speed limit of 0 or none in the file is no limit.
+fn variable_limits(model: &KinematicTree) -> (Vec<(f64, f64)>, Vec<f64>) {
+    let mut bounds: Vec<(f64, f64)> = model.variables.iter().map(|v| (v.lower, v.upper)).collect();
+    let mut speed = vec![f64::INFINITY; bounds.len()];
+    for j in &model.joints {
+        let Some(tj) = model.tree.joint(&j.name).map(|i| &model.tree.joints[i]) else {
+            continue;
+        };
+        let (k, m, o) = (j.drive.variable, j.drive.multiplier, j.drive.offset);
+        if k >= bounds.len() || m == 0.0 {
+            continue;
+        }
+        let Some(limit) = tj.limit else { continue };
+        if let Some(v) = limit.velocity.filter(|v| *v > 0.0 && v.is_finite()) {
+            speed[k] = speed[k].min(v / m.abs());
+        }
+        if tj.kind == screwkit_model::JointKind::Continuous {
+            continue;
+        }
+        let (a, b) = ((limit.lower - o) / m, (limit.upper - o) / m);
+        let (a, b) = if m < 0.0 { (b, a) } else { (a, b) };
+        let (lo, hi) = &mut bounds[k];
+        *lo = lo.max(a);
+        *hi = hi.min(b);
+    }
+    (bounds, speed)
+}
+
 /// The floating base's pose from q\[0..7\] = (x, y, z, qx, qy, qz, qw), the quaternion checked
 /// within [`QUATERNION_TOLERANCE`] of unit length and normalised.
 pub(crate) fn base_pose(q: &[f64]) -> Result<Se3, SolveError> {
@@ -371,6 +433,10 @@ pub struct TreeWorkspace {
     pub(crate) path_columns: Vec<[crate::columns::Lane; 3]>,
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) other: Matrix6xX<f64>,
+    /// The centre of mass's Jacobian and, per joint, the mass and the mass-weighted centre of
+    /// the links it carries.
+    pub(crate) com_jacobian: nalgebra::Matrix3xX<f64>,
+    pub(crate) subtree: Vec<(f64, nalgebra::Vector3<f64>)>,
     /// Checked by [`TreeWorkspace::fit`].
     frames_len: usize,
     nv: usize,
@@ -393,6 +459,8 @@ impl TreeWorkspace {
             path_columns: vec![[[0.0; 4]; 3]; kin.joints.len()],
             jacobian: Matrix6xX::zeros(kin.nv()),
             other: Matrix6xX::zeros(kin.nv()),
+            com_jacobian: nalgebra::Matrix3xX::zeros(kin.nv()),
+            subtree: vec![(0.0, nalgebra::Vector3::zeros()); kin.joints.len()],
             frames_len: kin.frames.len(),
             nv: kin.nv(),
         }

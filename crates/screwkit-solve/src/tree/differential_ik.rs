@@ -1,0 +1,735 @@
+//! Whole-body differential IK: several tasks at once under hard joint limits (mink's and
+//! pink's job), one velocity step for a control loop ([`ik_step`]) or iterated to convergence
+//! ([`ik_tasks`]), batches and trajectories on all cores.
+//!
+//! **The step.** With the tasks' rows ([`super::tasks`]: r = w ⊙ (J Δ − g e)) stacked into
+//! A Δ − b and the regularisers' diagonal D (posture, damping), the displacement Δ = v·dt of one
+//! step solves
+//!
+//! ```text
+//! minimise ½‖A Δ − b‖² + ½ Σ_i D_i (Δ_i − r_i)² + ½ ε ‖Δ‖²   subject to   l ≤ Δ ≤ u,
+//! ```
+//!
+//! a box-constrained least-squares problem, solved exactly by [`crate::box_qp`] (H = AᵀA + D +
+//! εI, c = −(Aᵀb + D r)). ε = 1e-10 (1 + max_i (AᵀA + D)_ii) keeps H positive definite when
+//! the tasks leave directions free (no damping or posture task); it changes the answer by
+//! rounding-level amounts. The box, per joint variable j (the floating base is unbounded):
+//!
+//! - position: q_j + Δ_j within the variable's bounds — its joint's `<limit>` and, for a
+//!   variable driving mimic joints, theirs mapped through θ = m q + o; continuous joints have
+//!   none;
+//! - velocity: |Δ_j| ≤ dt · min(the file's `velocity`, the caller's cap for j).
+//!
+//! A configuration already outside its bounds (beyond 1e-9 relative) is an error naming the
+//! joint, never clipped silently. The weights decide between conflicting tasks.
+//!
+//! **To convergence** ([`ik_tasks`]): from the seed (and, when that descent stalls, from up to
+//! `restarts` random joint values with the seed's base: a local method's answer to local
+//! minima, as the chain IK's restarts), steps with dt = 1 (position limits only),
+//! Levenberg–Marquardt style: the merit is the goals' weighted squared error E; velocity entry
+//! i gets the damping λ·E_i, E_i the merit of the goals that entry moves (λ divided by 3 on a
+//! step that lowers E, multiplied by 10 and the step retried otherwise), and its regularisers'
+//! squared weights are multiplied by min(1, E_i), so that they choose among solutions while the
+//! goals are far and vanish as they are met (the goals then
+//! converge to their tolerances, as a posture task would otherwise hold them off). A descent
+//! stalls when neither E nor any unmet goal's own error fell by 0.1 % in five steps. It stops when
+//! every goal is within its tolerances ([`TasksStop::Converged`]), at the iteration budget, or
+//! when E no longer decreases: [`TasksStop::Conflicting`] when two or more goals remain unmet
+//! (the weights decide between them), [`TasksStop::Stalled`] for one (out of reach, a
+//! singularity or a joint limit). Each task's final error is reported.
+//!
+//! **Batches and trajectories**: independent problems on all cores ([`ik_tasks_batch`], one
+//! workspace per worker; row k is the single call on problem k); a trajectory
+//! ([`ik_trajectory`]) solves N target sets in order, each seeded by the previous answer, on one
+//! core, or in fixed segments on all cores, each segment warmed up from the seed over the target
+//! sets before it — the segments depend on the options only, never on the thread count, so the
+//! answers do not either.
+//!
+//! **Self-collision** is not a limit here (it needs geometry): it would be a general inequality
+//! row G Δ ≤ h beside the box, handed to a general QP in place of [`crate::box_qp`] (the
+//! `Limits` struct is where it would be switched on).
+
+use rayon::prelude::*;
+use screwkit_lie::Se3;
+
+use super::tasks::{check_tasks, evaluate, Rows, Task, TaskError, TaskKind};
+use super::{TreeKinematics, TreeWorkspace};
+use crate::box_qp::{self, BoxQpWorkspace};
+use crate::error::SolveError;
+use crate::ik::Interrupt;
+
+/// Which limits a step respects (module documentation).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Limits {
+    /// q + v·dt within the position bounds (default true).
+    pub position: bool,
+    /// |v_j| within the file's `velocity` limits (default true).
+    pub velocity: bool,
+    /// The caller's speed caps per joint variable (n values, rad/s or m/s; ∞ for none),
+    /// combined with the file's by the minimum.
+    pub velocity_caps: Option<Vec<f64>>,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            position: true,
+            velocity: true,
+            velocity_caps: None,
+        }
+    }
+}
+
+/// Relative tolerance of "already outside the limits".
+pub const LIMIT_TOLERANCE: f64 = 1e-9;
+
+/// Reusable scratch of the differential IK (grows to the largest task set, then no allocation).
+#[derive(Debug, Clone)]
+pub struct DiffIkWorkspace {
+    pub(crate) tree: TreeWorkspace,
+    rows: Rows,
+    next: Rows,
+    h: Vec<f64>,
+    c: Vec<f64>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    delta: Vec<f64>,
+    v: Vec<f64>,
+    q: Vec<f64>,
+    q_try: Vec<f64>,
+    qp: BoxQpWorkspace,
+}
+
+impl DiffIkWorkspace {
+    /// Scratch for `kin`.
+    pub fn new(kin: &TreeKinematics) -> Self {
+        let nv = kin.nv();
+        Self {
+            tree: TreeWorkspace::new(kin),
+            rows: Rows::default(),
+            next: Rows::default(),
+            h: vec![0.0; nv * nv],
+            c: vec![0.0; nv],
+            lo: vec![0.0; nv],
+            hi: vec![0.0; nv],
+            delta: vec![0.0; nv],
+            v: vec![0.0; nv],
+            q: vec![0.0; kin.nq()],
+            q_try: vec![0.0; kin.nq()],
+            qp: BoxQpWorkspace::new(),
+        }
+    }
+
+    fn fit(&mut self, kin: &TreeKinematics) {
+        if self.c.len() != kin.nv() || self.q.len() != kin.nq() {
+            *self = DiffIkWorkspace::new(kin);
+        }
+        self.tree.fit(kin);
+    }
+
+    /// Each task's error at the configuration of the last step (its q, not after it).
+    pub fn task_errors(&self) -> &[TaskError] {
+        &self.rows.errors
+    }
+
+    /// The QP of the last step or iteration (H n × n row-major, c, l, u, n = nv), for
+    /// inspection and reference solves: its solution is that step's Δ = v·dt.
+    pub fn qp(&self) -> (&[f64], &[f64], &[f64], &[f64]) {
+        (&self.h, &self.c, &self.lo, &self.hi)
+    }
+}
+
+fn check_dt(dt: f64) -> Result<(), SolveError> {
+    if dt.is_finite() && dt > 0.0 {
+        Ok(())
+    } else {
+        Err(SolveError::InvalidInput(format!(
+            "dt must be a finite number > 0, got {dt}"
+        )))
+    }
+}
+
+/// The box l ≤ Δ ≤ u for one step from q (module documentation); `dt` None: no velocity limit.
+fn bounds(
+    kin: &TreeKinematics,
+    q: &[f64],
+    limits: &Limits,
+    dt: Option<f64>,
+    lo: &mut [f64],
+    hi: &mut [f64],
+) -> Result<(), SolveError> {
+    lo.fill(f64::NEG_INFINITY);
+    hi.fill(f64::INFINITY);
+    let (qo, vo) = (kin.q_offset(), kin.v_offset());
+    if let Some(caps) = &limits.velocity_caps {
+        if caps.len() != kin.variable_bounds.len() {
+            return Err(SolveError::InvalidInput(format!(
+                "velocity_caps has {} values, the model has {} joint variables",
+                caps.len(),
+                kin.variable_bounds.len()
+            )));
+        }
+        if let Some(i) = caps.iter().position(|c| c.is_nan() || *c < 0.0) {
+            return Err(SolveError::InvalidInput(format!(
+                "velocity_caps[{i}] = {} is not a number ≥ 0",
+                caps[i]
+            )));
+        }
+    }
+    for (j, &(bl, bu)) in kin.variable_bounds.iter().enumerate() {
+        let x = q[qo + j];
+        let (l, u) = (&mut lo[vo + j], &mut hi[vo + j]);
+        if limits.position {
+            let tol = |b: f64| LIMIT_TOLERANCE * b.abs().max(1.0);
+            if x < bl - tol(bl) || x > bu + tol(bu) {
+                return Err(SolveError::InvalidInput(format!(
+                    "joint \"{}\" is at {x}, outside its limits [{bl}, {bu}]: bring it inside first (the step does not clip it)",
+                    kin.q_names()[qo + j]
+                )));
+            }
+            *l = (bl - x).min(0.0);
+            *u = (bu - x).max(0.0);
+        }
+        if let Some(dt) = dt {
+            let mut speed = if limits.velocity {
+                kin.variable_speed[j]
+            } else {
+                f64::INFINITY
+            };
+            if let Some(caps) = &limits.velocity_caps {
+                speed = speed.min(caps[j]);
+            }
+            if speed.is_finite() {
+                *l = l.max(-speed * dt);
+                *u = u.min(speed * dt);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Per velocity entry, the merit of the goals it moves ([`Damping::merit`]) and whether any
+/// goal depends on it: the scales of [`ik_tasks`]' damping and regularisers.
+#[derive(Debug, Clone, Default)]
+struct Damping {
+    merit: Vec<f64>,
+    touched: Vec<bool>,
+    lambda: f64,
+}
+
+/// H = AᵀA + D' + εI, c = −(Aᵀb + D' r) from `rows`. Without `damping` (a control step),
+/// D' = D. With it (an iteration of [`ik_tasks`]), entry i's regularisers are scaled by
+/// min(1, E_i) (E_i the merit of the goals entry i moves; 1 for an entry no goal depends on,
+/// or when there is no goal) and λ E_i is added: Levenberg–Marquardt damping per entry, so that
+/// a goal met or converging beside a stuck one is neither damped nor held off by it.
+fn normal_equations(
+    rows: &Rows,
+    nv: usize,
+    damping: Option<&Damping>,
+    h: &mut [f64],
+    c: &mut [f64],
+) {
+    let scale = |i: usize| match damping {
+        Some(d) if rows.has_goal && d.touched[i] => (d.merit[i].min(1.0), d.lambda * d.merit[i]),
+        _ => (1.0, 0.0),
+    };
+    h.fill(0.0);
+    for (k, ck) in c.iter_mut().enumerate() {
+        *ck = -scale(k).0 * rows.diag_rhs[k];
+    }
+    for r in 0..rows.m {
+        let row = &rows.a[r * nv..r * nv + nv];
+        let br = rows.b[r];
+        for i in 0..nv {
+            let ai = row[i];
+            if ai == 0.0 {
+                continue;
+            }
+            c[i] -= ai * br;
+            let hrow = &mut h[i * nv..i * nv + i + 1];
+            for (hij, aj) in hrow.iter_mut().zip(&row[..=i]) {
+                *hij += ai * aj;
+            }
+        }
+    }
+    let mut max_diag = 0.0_f64;
+    for i in 0..nv {
+        h[i * nv + i] += scale(i).0 * rows.diag[i];
+        max_diag = max_diag.max(h[i * nv + i]);
+    }
+    let eps = 1e-10 * (1.0 + max_diag);
+    for i in 0..nv {
+        h[i * nv + i] += eps + scale(i).1;
+    }
+}
+
+/// The velocity entries each goal depends on: the variables of its frames' paths and a
+/// floating base's six (every entry for a centre-of-mass task); empty for regularisers.
+fn dependence(kin: &TreeKinematics, tasks: &[Task]) -> Vec<Vec<usize>> {
+    let model = kin.model();
+    let vo = kin.v_offset();
+    let path = |f: usize, out: &mut Vec<usize>| {
+        out.extend(
+            model
+                .path(f)
+                .into_iter()
+                .map(|j| vo + model.joints[j].drive.variable),
+        );
+    };
+    tasks
+        .iter()
+        .map(|t| {
+            let mut out: Vec<usize> = (0..vo).collect();
+            match &t.kind {
+                TaskKind::Frame {
+                    frame, relative_to, ..
+                } => {
+                    path(*frame, &mut out);
+                    if let Some(b) = relative_to {
+                        path(*b, &mut out);
+                    }
+                }
+                TaskKind::Axis { frame, .. } => path(*frame, &mut out),
+                TaskKind::Com { .. } => out = (0..kin.nv()).collect(),
+                _ => out.clear(),
+            }
+            out.sort_unstable();
+            out.dedup();
+            out
+        })
+        .collect()
+}
+
+impl Damping {
+    fn new(nv: usize, deps: &[Vec<usize>]) -> Damping {
+        let mut touched = vec![false; nv];
+        for d in deps {
+            for &i in d {
+                touched[i] = true;
+            }
+        }
+        Damping {
+            merit: vec![0.0; nv],
+            touched,
+            lambda: 1e-3,
+        }
+    }
+
+    /// E_i from the tasks' merits.
+    fn update(&mut self, deps: &[Vec<usize>], rows: &Rows) {
+        self.merit.fill(0.0);
+        for (d, m) in deps.iter().zip(&rows.task_merit) {
+            for &i in d {
+                self.merit[i] += m;
+            }
+        }
+    }
+}
+
+/// One control step: the velocity v (nv) that moves the tasks by their gains in time `dt`
+/// within `limits` (module documentation), in the workspace. Checks q, the tasks and dt.
+pub fn ik_step<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut DiffIkWorkspace,
+    q: &[f64],
+    tasks: &[Task],
+    dt: f64,
+    limits: &Limits,
+) -> Result<&'w [f64], SolveError> {
+    let base = kin.check_q(q)?;
+    check_tasks(kin, tasks)?;
+    check_dt(dt)?;
+    ws.fit(kin);
+    let nv = kin.nv();
+    bounds(kin, q, limits, Some(dt), &mut ws.lo, &mut ws.hi)?;
+    evaluate(kin, &mut ws.tree, q, &base, tasks, &mut ws.rows);
+    normal_equations(&ws.rows, nv, None, &mut ws.h, &mut ws.c);
+    box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
+    for (v, d) in ws.v.iter_mut().zip(&ws.delta) {
+        *v = d / dt;
+    }
+    Ok(&ws.v)
+}
+
+/// Why [`ik_tasks`] stopped (its best descent's reason).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TasksStop {
+    /// Every goal within its tolerances.
+    Converged,
+    /// The iteration budget ran out.
+    Iterations,
+    /// One goal remains unmet and no step lowers its error (out of reach, a singularity, a
+    /// joint limit).
+    Stalled,
+    /// Two or more goals remain unmet and no step lowers their weighted error: they conflict
+    /// and the weights decide.
+    Conflicting,
+    /// The caller's interrupt check said stop.
+    Interrupted,
+}
+
+impl TasksStop {
+    /// The word (`converged`, `iterations`, `stalled`, `conflicting`, `interrupted`).
+    pub fn word(self) -> &'static str {
+        match self {
+            TasksStop::Converged => "converged",
+            TasksStop::Iterations => "iterations",
+            TasksStop::Stalled => "stalled",
+            TasksStop::Conflicting => "conflicting",
+            TasksStop::Interrupted => "interrupted",
+        }
+    }
+}
+
+/// Settings of [`ik_tasks`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TasksOptions {
+    /// Iteration budget of each descent (default 100).
+    pub max_iterations: usize,
+    /// Descents from random joint values after the first stalls (default 50).
+    pub restarts: usize,
+    /// The restarts' random seed (default 0; batch row k uses `batch::row_seed(seed, k)`).
+    pub seed: u64,
+    /// Keep q within the position bounds (default true).
+    pub position_limits: bool,
+    /// A stop check polled every 16 iterations.
+    pub interrupt: Option<Interrupt>,
+}
+
+impl Default for TasksOptions {
+    fn default() -> Self {
+        TasksOptions {
+            max_iterations: 100,
+            restarts: 50,
+            seed: 0,
+            position_limits: true,
+            interrupt: None,
+        }
+    }
+}
+
+/// The outcome of [`ik_tasks`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TasksResult {
+    /// The final configuration (nq).
+    pub q: Vec<f64>,
+    /// Every goal within its tolerances.
+    pub converged: bool,
+    /// Steps taken, over every descent.
+    pub iterations: usize,
+    /// Why it stopped.
+    pub stop: TasksStop,
+    /// Each task's error at `q`, in the tasks' order.
+    pub task_errors: Vec<TaskError>,
+}
+
+/// q ⊕ Δ (the base by the exponential map), the joints clamped into `bounds` when `limits`
+/// (rounding only: Δ is within the box).
+fn step_into(kin: &TreeKinematics, q: &[f64], delta: &[f64], limits: bool, out: &mut [f64]) {
+    let (qo, vo) = (kin.q_offset(), kin.v_offset());
+    for (j, &(bl, bu)) in kin.variable_bounds.iter().enumerate() {
+        let x = q[qo + j] + delta[vo + j];
+        out[qo + j] = if limits {
+            x.clamp(bl.min(q[qo + j]), bu.max(q[qo + j]))
+        } else {
+            x
+        };
+    }
+    if kin.floating {
+        let base = super::base_pose(q).unwrap_or_else(|_| Se3::identity());
+        let step = Se3::exp(&screwkit_lie::Twist::new(
+            nalgebra::Vector3::new(delta[0], delta[1], delta[2]),
+            nalgebra::Vector3::new(delta[3], delta[4], delta[5]),
+        ));
+        let t = base.compose(&step);
+        out[..3].copy_from_slice(t.translation().as_slice());
+        out[3..7].copy_from_slice(&t.quaternion());
+    }
+}
+
+/// Iterates steps to convergence from `seed` (module documentation), restarting from random
+/// joint values (`opts.restarts`, seeded by `opts.seed`) when a descent stalls. Checks the seed
+/// (within the limits when `opts.position_limits`) and the tasks.
+pub fn ik_tasks(
+    kin: &TreeKinematics,
+    ws: &mut DiffIkWorkspace,
+    tasks: &[Task],
+    seed: &[f64],
+    opts: &TasksOptions,
+) -> Result<TasksResult, SolveError> {
+    kin.check_q(seed)?;
+    check_tasks(kin, tasks)?;
+    ws.fit(kin);
+    let limits = Limits {
+        position: opts.position_limits,
+        velocity: false,
+        velocity_caps: None,
+    };
+    bounds(kin, seed, &limits, None, &mut ws.lo, &mut ws.hi)?;
+    let mut rng = crate::sample::SplitMix64(opts.seed);
+    let mut start = seed.to_vec();
+    let mut best: Option<(f64, TasksResult)> = None;
+    let mut iterations = 0;
+    for attempt in 0..=opts.restarts {
+        if attempt > 0 {
+            // Odd restarts keep the best answer's met goals and redraw the variables of the
+            // unmet ones; even restarts redraw every joint from the seed.
+            match (&best, attempt % 2) {
+                (Some((_, b)), 1) => {
+                    let mask = unmet_variables(kin, tasks, &b.task_errors);
+                    restart_point(kin, &b.q, Some(&mask), &mut rng, &mut start);
+                }
+                _ => restart_point(kin, seed, None, &mut rng, &mut start),
+            }
+        }
+        let (stop, used) = descend(kin, ws, tasks, &start, opts.max_iterations, &limits, opts)?;
+        iterations += used;
+        let merit = ws.rows.merit;
+        if best
+            .as_ref()
+            .is_none_or(|(m, _)| merit < *m || stop == TasksStop::Converged)
+        {
+            best = Some((
+                merit,
+                TasksResult {
+                    q: ws.q.clone(),
+                    converged: ws.rows.converged,
+                    iterations,
+                    stop,
+                    task_errors: ws.rows.errors.clone(),
+                },
+            ));
+        }
+        if matches!(stop, TasksStop::Converged | TasksStop::Interrupted) {
+            break;
+        }
+    }
+    let mut result = best.expect("at least one descent").1;
+    result.iterations = iterations;
+    Ok(result)
+}
+
+/// A restart: `from` with its joints (those of `mask`, or all) drawn uniformly within their
+/// bounds ([−π, π] where unbounded); the floating base kept.
+fn restart_point(
+    kin: &TreeKinematics,
+    from: &[f64],
+    mask: Option<&[bool]>,
+    rng: &mut crate::sample::SplitMix64,
+    out: &mut [f64],
+) {
+    out.copy_from_slice(from);
+    let qo = kin.q_offset();
+    for (j, &(l, u)) in kin.variable_bounds.iter().enumerate() {
+        let (l, u) = crate::sample::range(l, u);
+        let x = l + (u - l) * rng.uniform();
+        if mask.is_none_or(|m| m[j]) {
+            out[qo + j] = x;
+        }
+    }
+}
+
+/// The joint variables on the paths of the goals not met (every variable for an unmet
+/// centre-of-mass task).
+fn unmet_variables(kin: &TreeKinematics, tasks: &[Task], errors: &[TaskError]) -> Vec<bool> {
+    let n = kin.variable_bounds.len();
+    let mut mask = vec![false; n];
+    let model = kin.model();
+    let mark = |frame: usize, mask: &mut Vec<bool>| {
+        for j in model.path(frame) {
+            mask[model.joints[j].drive.variable] = true;
+        }
+    };
+    for (t, e) in tasks.iter().zip(errors) {
+        if e.converged || !t.is_goal() {
+            continue;
+        }
+        match &t.kind {
+            TaskKind::Frame {
+                frame, relative_to, ..
+            } => {
+                mark(*frame, &mut mask);
+                if let Some(b) = relative_to {
+                    mark(*b, &mut mask);
+                }
+            }
+            TaskKind::Axis { frame, .. } => mark(*frame, &mut mask),
+            _ => mask.fill(true),
+        }
+    }
+    mask
+}
+
+/// True when the total merit or some unmet goal's own error fell by more than 0.1 % (a goal
+/// converging beside a stuck one is progress though the total hardly moves).
+fn progress(tasks: &[Task], before: &Rows, after: &Rows) -> bool {
+    const RATE: f64 = 1.0 - 1e-3;
+    if after.merit < before.merit * RATE {
+        return true;
+    }
+    let size = |e: &TaskError| e.position * e.position + e.rotation * e.rotation;
+    tasks
+        .iter()
+        .zip(before.errors.iter().zip(&after.errors))
+        .any(|(t, (b, a))| t.is_goal() && !b.converged && size(a) < size(b) * RATE)
+}
+
+/// One Levenberg–Marquardt descent from `start` (module documentation) of at most `budget`
+/// steps; leaves the final q and its evaluation in `ws.q` / `ws.rows`.
+fn descend(
+    kin: &TreeKinematics,
+    ws: &mut DiffIkWorkspace,
+    tasks: &[Task],
+    start: &[f64],
+    budget: usize,
+    limits: &Limits,
+    opts: &TasksOptions,
+) -> Result<(TasksStop, usize), SolveError> {
+    let nv = kin.nv();
+    ws.q.copy_from_slice(start);
+    let base = kin.check_q(&ws.q)?;
+    evaluate(kin, &mut ws.tree, &ws.q, &base, tasks, &mut ws.rows);
+    let deps = dependence(kin, tasks);
+    let mut damping = Damping::new(nv, &deps);
+    let mut iterations = 0;
+    let mut slow = 0;
+    loop {
+        if ws.rows.converged {
+            return Ok((TasksStop::Converged, iterations));
+        }
+        if iterations >= budget {
+            return Ok((TasksStop::Iterations, iterations));
+        }
+        if iterations % 16 == 15 && opts.interrupt.as_ref().is_some_and(|i| (i.0)()) {
+            return Ok((TasksStop::Interrupted, iterations));
+        }
+        let e = ws.rows.merit;
+        damping.update(&deps, &ws.rows);
+        bounds(kin, &ws.q, limits, None, &mut ws.lo, &mut ws.hi)?;
+        let mut accepted = false;
+        while damping.lambda < 1e10 {
+            normal_equations(&ws.rows, nv, Some(&damping), &mut ws.h, &mut ws.c);
+            box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
+            step_into(kin, &ws.q, &ws.delta, limits.position, &mut ws.q_try);
+            let base = kin.check_q(&ws.q_try)?;
+            evaluate(kin, &mut ws.tree, &ws.q_try, &base, tasks, &mut ws.next);
+            if ws.next.merit < e {
+                accepted = true;
+                damping.lambda = (damping.lambda / 3.0).max(1e-12);
+                slow = if progress(tasks, &ws.rows, &ws.next) {
+                    0
+                } else {
+                    slow + 1
+                };
+                std::mem::swap(&mut ws.rows, &mut ws.next);
+                std::mem::swap(&mut ws.q, &mut ws.q_try);
+                break;
+            }
+            damping.lambda *= 10.0;
+        }
+        iterations += 1;
+        if !accepted || slow >= 5 {
+            if ws.rows.converged {
+                return Ok((TasksStop::Converged, iterations));
+            }
+            let unmet = ws
+                .rows
+                .errors
+                .iter()
+                .zip(tasks)
+                .filter(|(e, t)| t.is_goal() && !e.converged)
+                .count();
+            let stop = if unmet >= 2 {
+                TasksStop::Conflicting
+            } else {
+                TasksStop::Stalled
+            };
+            return Ok((stop, iterations));
+        }
+    }
+}
+
+/// One problem of a batch: its tasks and seed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TasksProblem {
+    /// The tasks.
+    pub tasks: Vec<Task>,
+    /// The seed (nq).
+    pub seed: Vec<f64>,
+}
+
+/// Independent problems on all cores (one workspace per worker): entry k is
+/// `ik_tasks(problems[k])` with restart seed `batch::row_seed(opts.seed, k)`, whatever the
+/// thread count.
+pub fn ik_tasks_batch(
+    kin: &TreeKinematics,
+    problems: &[TasksProblem],
+    opts: &TasksOptions,
+) -> Vec<Result<TasksResult, SolveError>> {
+    problems
+        .par_iter()
+        .enumerate()
+        .map_init(
+            || DiffIkWorkspace::new(kin),
+            |ws, (k, p)| {
+                let opts = TasksOptions {
+                    seed: crate::batch::row_seed(opts.seed, k),
+                    ..opts.clone()
+                };
+                ik_tasks(kin, ws, &p.tasks, &p.seed, &opts)
+            },
+        )
+        .collect()
+}
+
+/// How [`ik_trajectory`] splits a trajectory.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Segments {
+    /// Target sets per segment; 0 (the default): one segment, solved in order on one core.
+    pub length: usize,
+    /// Target sets before each segment solved first (from the seed) and discarded, so that a
+    /// segment starts from an answer of the trajectory rather than from the seed.
+    pub warm_up: usize,
+}
+
+/// N target sets solved in order, each seeded by the previous answer (the first by `seed`); a
+/// set that fails (bad input) is reported and the next one seeded by the last answer. With
+/// `segments.length > 0`, segment s (sets s·length …) runs on its own core after solving the
+/// `warm_up` sets before it from `seed`; the answers depend on `segments`, not on the threads.
+pub fn ik_trajectory(
+    kin: &TreeKinematics,
+    sets: &[Vec<Task>],
+    seed: &[f64],
+    opts: &TasksOptions,
+    segments: Segments,
+) -> Result<Vec<Result<TasksResult, SolveError>>, SolveError> {
+    kin.check_q(seed)?;
+    let n = sets.len();
+    let length = if segments.length == 0 {
+        n.max(1)
+    } else {
+        segments.length
+    };
+    let starts: Vec<usize> = (0..n).step_by(length).collect();
+    let parts: Vec<Vec<Result<TasksResult, SolveError>>> = starts
+        .par_iter()
+        .map(|&start| {
+            let mut ws = DiffIkWorkspace::new(kin);
+            let end = (start + length).min(n);
+            let first = start.saturating_sub(segments.warm_up);
+            let mut q = seed.to_vec();
+            let mut out = Vec::with_capacity(end - start);
+            for (i, set) in sets.iter().enumerate().take(end).skip(first) {
+                let r = ik_tasks(kin, &mut ws, set, &q, opts);
+                if let Ok(res) = &r {
+                    q.copy_from_slice(&res.q);
+                }
+                if i >= start {
+                    out.push(r);
+                }
+            }
+            out
+        })
+        .collect();
+    Ok(parts.into_iter().flatten().collect())
+}
