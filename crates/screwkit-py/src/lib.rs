@@ -11,6 +11,7 @@ mod pool;
 mod reach;
 mod results;
 mod robot;
+mod tasks;
 
 use numpy::{PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -150,6 +151,13 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<results::IkResult>()?;
     m.add_class::<results::IkBatchResult>()?;
     m.add_class::<results::Analysis>()?;
+    m.add_class::<tasks::FrameTask>()?;
+    m.add_class::<tasks::RelativeFrameTask>()?;
+    m.add_class::<tasks::AxisTask>()?;
+    m.add_class::<tasks::ComTask>()?;
+    m.add_class::<tasks::PostureTask>()?;
+    m.add_class::<tasks::DampingTask>()?;
+    m.add_class::<tasks::TasksResult>()?;
     m.add("BatchError", m.py().get_type::<errors::BatchError>())?;
     m.add_function(wrap_pyfunction!(exp, m)?)?;
     m.add_function(wrap_pyfunction!(log, m)?)?;

@@ -24,6 +24,7 @@ use crate::array::{f64_array, new_array, poses, shape_str, zeros};
 use crate::errors::{batch_error, model_error, service_error, solve_error};
 use crate::pool;
 use crate::results::{Analysis, IkBatchResult, IkResult};
+use screwkit_solve::tree::differential_ik::{self, DiffIkWorkspace};
 
 /// A serial chain base → tip of a robot description, ready for kinematics.
 ///
@@ -40,6 +41,8 @@ pub struct Robot {
     whole: RwLock<Option<Arc<TreeKinematics>>>,
     /// Scratch of single whole-tree calls.
     tree_ws: Mutex<Option<TreeWorkspace>>,
+    /// Scratch of whole-body IK steps.
+    diff_ws: Mutex<Option<DiffIkWorkspace>>,
     /// The default analytic solver (`AnalyticIk::auto`), built on first use.
     analytic: std::sync::OnceLock<
         Result<screwkit_solve::analytic::AnalyticIk, screwkit_solve::SolveError>,
@@ -61,6 +64,40 @@ fn bad_target(e: SolveError) -> PyErr {
 /// An option word of family `W` from a keyword argument; the error names the keyword.
 pub(crate) fn word<W: Word>(keyword: &str, given: &str) -> PyResult<W> {
     words::parse::<W>(given).map_err(|e| PyValueError::new_err(format!("{keyword}: {e}")))
+}
+
+/// The neutral configuration with the joints brought within their limits (the default seed of
+/// whole-body IK).
+fn clamped_neutral(kin: &TreeKinematics) -> Vec<f64> {
+    let mut q = tree::configuration::neutral(kin);
+    let (lo, hi) = (kin.lower(), kin.upper());
+    let off = kin.nq() - kin.model().variables.len();
+    for i in off..q.len() {
+        q[i] = q[i].clamp(lo[i], hi[i].max(lo[i]));
+    }
+    q
+}
+
+/// The Python result of `ik_tasks`.
+fn tasks_result(
+    py: Python<'_>,
+    r: differential_ik::TasksResult,
+) -> PyResult<crate::tasks::TasksResult> {
+    let n = r.task_errors.len();
+    let errors = new_array(py, &[n, 2], |o| {
+        for (e, out) in r.task_errors.iter().zip(o.chunks_mut(2)) {
+            out[0] = e.position;
+            out[1] = e.rotation;
+        }
+    })?;
+    Ok(crate::tasks::TasksResult {
+        q: r.q.to_pyarray(py).unbind(),
+        converged: r.converged,
+        iterations: r.iterations,
+        stop: r.stop.word().to_string(),
+        task_errors: errors.cast_into::<PyArray2<f64>>()?.unbind(),
+        task_converged: r.task_errors.iter().map(|e| e.converged).collect(),
+    })
 }
 
 /// Whether q is one configuration (dof,) or a stack (N, dof); the error names the joints.
@@ -88,6 +125,7 @@ impl Robot {
             ws,
             whole,
             tree_ws: Mutex::new(None),
+            diff_ws: Mutex::new(None),
             analytic: std::sync::OnceLock::new(),
         })
     }
@@ -142,6 +180,62 @@ impl Robot {
                 "{what}: this robot is a whole tree (no chain: several leaves, or a floating base): name the frame with link=…, one of the frame_names"
             ))),
         }
+    }
+
+    /// Runs `f` with the shared whole-body IK scratch (a new one when another thread holds it).
+    fn with_diff_ws<T>(
+        &self,
+        kin: &TreeKinematics,
+        f: impl FnOnce(&mut DiffIkWorkspace) -> T,
+    ) -> T {
+        match self.diff_ws.try_lock() {
+            Ok(mut g) => f(g.get_or_insert_with(|| DiffIkWorkspace::new(kin))),
+            Err(_) => f(&mut DiffIkWorkspace::new(kin)),
+        }
+    }
+
+    /// Python task objects resolved by the floor against `kin`.
+    fn resolve_tasks(
+        &self,
+        kin: &TreeKinematics,
+        tasks: &Bound<'_, PyAny>,
+    ) -> PyResult<Vec<screwkit_solve::tree::tasks::Task>> {
+        let specs = crate::tasks::specs(tasks)?;
+        screwkit_service::tasks::resolve_all(&specs, kin).map_err(service_error)
+    }
+
+    /// The inputs of a step: the tree, q, the tasks, the limits.
+    #[allow(clippy::type_complexity)]
+    fn step_inputs(
+        &self,
+        q: &Bound<'_, PyAny>,
+        tasks: &Bound<'_, PyAny>,
+        position: bool,
+        velocity: bool,
+        caps: Option<Bound<'_, PyAny>>,
+    ) -> PyResult<(
+        Arc<TreeKinematics>,
+        Vec<f64>,
+        Vec<screwkit_solve::tree::tasks::Task>,
+        differential_ik::Limits,
+    )> {
+        let kin = self.tree_model()?;
+        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let tasks = self.resolve_tasks(&kin, tasks)?;
+        let n = kin.model().variables.len();
+        let velocity_caps = caps
+            .map(|c| Self::tree_vector(&c, n, "velocity_caps"))
+            .transpose()?;
+        Ok((
+            kin,
+            q,
+            tasks,
+            differential_ik::Limits {
+                position,
+                velocity,
+                velocity_caps,
+            },
+        ))
     }
 
     /// Checks q's shape for the whole tree: (nq,) or (N, nq).
@@ -922,6 +1016,227 @@ impl Robot {
     fn add_frame(&self, name: &str, parent_link: &str, pose: &Bound<'_, PyAny>) -> PyResult<()> {
         let t = crate::se3_arg(pose, "pose")?;
         self.add_frame_pose(name, parent_link, t)
+    }
+
+    /// The centre of mass (3,) in the world frame: Σ m_L T_L c_L / Σ m_L over every link with
+    /// an `<inertial>` mass (the root link included), q the whole tree's configuration (nq,).
+    fn com<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let c = self
+            .with_tree_ws(&kin, |ws| tree::com::com(&kin, ws, &q))
+            .map_err(solve_error)?;
+        Ok(c.as_slice().to_pyarray(py))
+    }
+
+    /// The centre of mass's Jacobian (3, nv): ċ = J_c v, columns in `v_names` order.
+    fn com_jacobian<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let kin = self.tree_model()?;
+        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let nv = kin.nv();
+        self.with_tree_ws(&kin, |ws| {
+            let (_, j) = tree::com::com_jacobian(&kin, ws, &q).map_err(solve_error)?;
+            Ok(new_array(py, &[3, nv], |o| {
+                for r in 0..3 {
+                    for c in 0..nv {
+                        o[r * nv + c] = j[(r, c)];
+                    }
+                }
+            })?
+            .into_any())
+        })
+    }
+
+    /// The total mass (kg) of the links with an `<inertial>` mass (0 when the file has none).
+    #[getter]
+    fn total_mass(&self) -> PyResult<f64> {
+        Ok(tree::com::total_mass(&*self.tree_model()?))
+    }
+
+    /// One whole-body differential IK step: the velocity v (nv,) that moves every task by its
+    /// gain in time `dt` as the weights decide, q + v·dt within the joints' position limits and
+    /// |v| within their velocity limits (the file's `velocity`, and `velocity_caps` (joint
+    /// variables,) when given). A q outside its limits raises ValueError naming the joint. The
+    /// GIL is released.
+    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik_step<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        tasks: &Bound<'py, PyAny>,
+        dt: f64,
+        position_limits: bool,
+        velocity_limits: bool,
+        velocity_caps: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let (kin, q, tasks, limits) =
+            self.step_inputs(q, tasks, position_limits, velocity_limits, velocity_caps)?;
+        let v = py
+            .detach(|| {
+                self.with_diff_ws(&kin, |ws| {
+                    differential_ik::ik_step(&kin, ws, &q, &tasks, dt, &limits).map(|v| v.to_vec())
+                })
+            })
+            .map_err(solve_error)?;
+        Ok(v.to_pyarray(py))
+    }
+
+    /// The quadratic program `ik_step` solves, for inspection and reference solvers:
+    /// (H (nv, nv), c (nv,), lower (nv,), upper (nv,)); its minimiser of ½ΔᵀHΔ + cᵀΔ within
+    /// lower ≤ Δ ≤ upper is Δ = v·dt.
+    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik_step_qp<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        tasks: &Bound<'py, PyAny>,
+        dt: f64,
+        position_limits: bool,
+        velocity_limits: bool,
+        velocity_caps: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+        let (kin, q, tasks, limits) =
+            self.step_inputs(q, tasks, position_limits, velocity_limits, velocity_caps)?;
+        let nv = kin.nv();
+        let (h, c, l, u) = self
+            .with_diff_ws(&kin, |ws| {
+                differential_ik::ik_step(&kin, ws, &q, &tasks, dt, &limits)?;
+                let (h, c, l, u) = ws.qp();
+                Ok::<_, screwkit_solve::SolveError>((
+                    h.to_vec(),
+                    c.to_vec(),
+                    l.to_vec(),
+                    u.to_vec(),
+                ))
+            })
+            .map_err(solve_error)?;
+        // The full symmetric H (the solver reads its lower triangle).
+        let hm = new_array(py, &[nv, nv], |o| {
+            for i in 0..nv {
+                for j in 0..nv {
+                    o[i * nv + j] = if j <= i { h[i * nv + j] } else { h[j * nv + i] };
+                }
+            }
+        })?;
+        pyo3::types::PyTuple::new(
+            py,
+            [
+                hm.into_any(),
+                c.to_pyarray(py).into_any(),
+                l.to_pyarray(py).into_any(),
+                u.to_pyarray(py).into_any(),
+            ],
+        )
+    }
+
+    /// Whole-body IK to convergence from `seed` (nq,; default: the neutral configuration with
+    /// the joints brought within their limits): steps until every goal (frame, axis,
+    /// centre-of-mass task) is within its tolerances, restarting from random joint values
+    /// (`restarts`, seeded by `seed_rng`) when a descent stalls. Returns a TasksResult (.q,
+    /// .converged, .iterations, .stop, .task_errors). The GIL is released; Ctrl-C interrupts.
+    #[pyo3(signature = (tasks, seed = None, *, max_iterations = 100, restarts = 50, seed_rng = 0, position_limits = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik_tasks(
+        &self,
+        py: Python<'_>,
+        tasks: &Bound<'_, PyAny>,
+        seed: Option<Bound<'_, PyAny>>,
+        max_iterations: usize,
+        restarts: usize,
+        seed_rng: u64,
+        position_limits: bool,
+    ) -> PyResult<crate::tasks::TasksResult> {
+        let kin = self.tree_model()?;
+        let tasks = self.resolve_tasks(&kin, tasks)?;
+        let seed = match seed {
+            Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
+            None => clamped_neutral(&kin),
+        };
+        let opts = differential_ik::TasksOptions {
+            max_iterations,
+            restarts,
+            seed: seed_rng,
+            position_limits,
+            interrupt: Some(ik::Interrupt(pool::interrupted)),
+        };
+        let r = py
+            .detach(|| {
+                self.with_diff_ws(&kin, |ws| {
+                    differential_ik::ik_tasks(&kin, ws, &tasks, &seed, &opts)
+                })
+            })
+            .map_err(solve_error)?;
+        pool::take_interrupt(py)?;
+        tasks_result(py, r)
+    }
+
+    /// N target sets solved in order, each seeded by the previous answer (the first by `seed`):
+    /// `task_sets` a sequence of task lists; a list of TasksResult. With `segment` > 0 the sets
+    /// are solved in segments of that many on all cores, each segment first solving the
+    /// `warm_up` sets before it from `seed` (the answers depend on these two, never on the
+    /// thread count).
+    #[pyo3(signature = (task_sets, seed = None, *, segment = 0, warm_up = 0, max_iterations = 100, restarts = 50, seed_rng = 0, position_limits = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn ik_trajectory(
+        &self,
+        py: Python<'_>,
+        task_sets: &Bound<'_, PyAny>,
+        seed: Option<Bound<'_, PyAny>>,
+        segment: usize,
+        warm_up: usize,
+        max_iterations: usize,
+        restarts: usize,
+        seed_rng: u64,
+        position_limits: bool,
+    ) -> PyResult<Vec<crate::tasks::TasksResult>> {
+        let kin = self.tree_model()?;
+        let mut sets = Vec::new();
+        for (i, t) in task_sets.try_iter()?.enumerate() {
+            let t = t?;
+            let specs = crate::tasks::specs(&t)?;
+            sets.push(
+                screwkit_service::tasks::resolve_all(&specs, &kin)
+                    .map_err(|e| PyValueError::new_err(format!("task_sets[{i}]: {e}")))?,
+            );
+        }
+        let seed = match seed {
+            Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
+            None => clamped_neutral(&kin),
+        };
+        let opts = differential_ik::TasksOptions {
+            max_iterations,
+            restarts,
+            seed: seed_rng,
+            position_limits,
+            interrupt: Some(ik::Interrupt(pool::interrupted)),
+        };
+        let segments = differential_ik::Segments {
+            length: segment,
+            warm_up,
+        };
+        let out = py
+            .detach(|| {
+                pool::run(|| differential_ik::ik_trajectory(&kin, &sets, &seed, &opts, segments))
+            })?
+            .map_err(solve_error)?;
+        pool::take_interrupt(py)?;
+        out.into_iter()
+            .enumerate()
+            .map(|(i, r)| {
+                let r = r.map_err(|e| PyValueError::new_err(format!("task_sets[{i}]: {e}")))?;
+                tasks_result(py, r)
+            })
+            .collect()
     }
 
     /// q ⊕ v·dt on SE(3) × joints: the floating base moves by the exponential map

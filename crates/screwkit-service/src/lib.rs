@@ -25,6 +25,7 @@ pub mod report;
 pub mod request;
 pub mod solutions;
 pub mod target;
+pub mod tasks;
 pub mod whole;
 pub mod words;
 

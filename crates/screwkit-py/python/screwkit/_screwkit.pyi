@@ -15,6 +15,13 @@ __all__ = [
     "IkBatchResult",
     "Analysis",
     "BatchError",
+    "FrameTask",
+    "RelativeFrameTask",
+    "AxisTask",
+    "ComTask",
+    "PostureTask",
+    "DampingTask",
+    "TasksResult",
     "exp",
     "log",
     "adjoint",
@@ -35,6 +42,110 @@ _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
 _F64: TypeAlias = npt.NDArray[np.float64]
 _ArrayLike: TypeAlias = npt.ArrayLike
+_Weights: TypeAlias = float | Sequence[float]
+
+@final
+class FrameTask:
+    """A frame (link or added frame) to a world pose (4, 4): error log(T_F^-1 T*) in the frame."""
+
+    def __new__(
+        cls,
+        frame: str,
+        target: _ArrayLike,
+        *,
+        gain: float = 1.0,
+        weight: float = 1.0,
+        position_weight: _Weights | None = None,
+        orientation_weight: _Weights | None = None,
+        tol_pos: float = 1e-9,
+        tol_rot: float = 1e-9,
+    ) -> FrameTask: ...
+
+@final
+class RelativeFrameTask:
+    """Frame `frame`'s pose in frame `relative_to` (T_B^-1 T_A) to `target` (4, 4)."""
+
+    def __new__(
+        cls,
+        frame: str,
+        relative_to: str,
+        target: _ArrayLike,
+        *,
+        gain: float = 1.0,
+        weight: float = 1.0,
+        position_weight: _Weights | None = None,
+        orientation_weight: _Weights | None = None,
+        tol_pos: float = 1e-9,
+        tol_rot: float = 1e-9,
+    ) -> RelativeFrameTask: ...
+
+@final
+class AxisTask:
+    """A frame's axis along a world direction, its origin at `point`; free about the axis."""
+
+    def __new__(
+        cls,
+        frame: str,
+        *,
+        axis: _ArrayLike,
+        direction: _ArrayLike,
+        point: _ArrayLike | None = None,
+        gain: float = 1.0,
+        weight: float = 1.0,
+        position_weight: _Weights | None = None,
+        orientation_weight: float = 1.0,
+        tol_pos: float = 1e-9,
+        tol_rot: float = 1e-9,
+    ) -> AxisTask: ...
+
+@final
+class ComTask:
+    """The centre of mass to a world point (3,)."""
+
+    def __new__(
+        cls,
+        target: _ArrayLike,
+        *,
+        gain: float = 1.0,
+        weight: float = 1.0,
+        position_weight: _Weights | None = None,
+        tol_pos: float = 1e-9,
+    ) -> ComTask: ...
+
+@final
+class PostureTask:
+    """The joints towards q_ref (nq,): a regulariser."""
+
+    def __new__(
+        cls, q_ref: _ArrayLike, *, weight: float = 1.0, gain: float = 1.0
+    ) -> PostureTask: ...
+
+@final
+class DampingTask:
+    """Small steps: the squared step weighted by weight^2."""
+
+    def __new__(cls, weight: float = 1e-3) -> DampingTask: ...
+
+_Task: TypeAlias = FrameTask | RelativeFrameTask | AxisTask | ComTask | PostureTask | DampingTask
+
+@final
+class TasksResult:
+    """The outcome of Robot.ik_tasks."""
+
+    @property
+    def q(self) -> _F64: ...
+    @property
+    def converged(self) -> bool: ...
+    @property
+    def iterations(self) -> int: ...
+    @property
+    def stop(
+        self,
+    ) -> Literal["converged", "iterations", "stalled", "conflicting", "interrupted"]: ...
+    @property
+    def task_errors(self) -> _F64: ...
+    @property
+    def task_converged(self) -> list[bool]: ...
 
 class BatchError(ValueError):
     """Some rows of a batch had bad input; every other row was computed.
@@ -235,6 +346,52 @@ class Robot:
     def difference(self, q0: _ArrayLike, q1: _ArrayLike) -> _F64: ...
     def neutral(self) -> _F64: ...
     def random_configuration(self, seed: int = 0) -> _F64: ...
+    def com(self, q: _ArrayLike) -> _F64: ...
+    def com_jacobian(self, q: _ArrayLike) -> _F64: ...
+    @property
+    def total_mass(self) -> float: ...
+    def ik_step(
+        self,
+        q: _ArrayLike,
+        tasks: Sequence[_Task],
+        dt: float,
+        *,
+        position_limits: bool = True,
+        velocity_limits: bool = True,
+        velocity_caps: _ArrayLike | None = None,
+    ) -> _F64: ...
+    def ik_step_qp(
+        self,
+        q: _ArrayLike,
+        tasks: Sequence[_Task],
+        dt: float,
+        *,
+        position_limits: bool = True,
+        velocity_limits: bool = True,
+        velocity_caps: _ArrayLike | None = None,
+    ) -> tuple[_F64, _F64, _F64, _F64]: ...
+    def ik_tasks(
+        self,
+        tasks: Sequence[_Task],
+        seed: _ArrayLike | None = None,
+        *,
+        max_iterations: int = 100,
+        restarts: int = 50,
+        seed_rng: int = 0,
+        position_limits: bool = True,
+    ) -> TasksResult: ...
+    def ik_trajectory(
+        self,
+        task_sets: Sequence[Sequence[_Task]],
+        seed: _ArrayLike | None = None,
+        *,
+        segment: int = 0,
+        warm_up: int = 0,
+        max_iterations: int = 100,
+        restarts: int = 50,
+        seed_rng: int = 0,
+        position_limits: bool = True,
+    ) -> list[TasksResult]: ...
     def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
     def draw(
         self,

@@ -1,0 +1,149 @@
+"""Whole-body differential IK and the centre of mass against Pinocchio (`pin`): the centre of
+mass and its Jacobian (centerOfMass, jacobianCenterOfMass on the free-flyer model, which counts
+the root link as screwkit does), every IK answer's frames recomputed by Pinocchio's FK, every
+step's QP checked by its KKT conditions and the limits on every step."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+import pytest
+from test_tree import Peer
+
+import screwkit
+
+from conftest import REPO, shared_urdf_dir
+
+pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin) is a test dependency")
+
+Array = npt.NDArray[np.float64]
+
+
+def shared(name: str) -> Path:
+    d = shared_urdf_dir()
+    if d is None:
+        pytest.skip("../shared/urdf not found")
+    return d / "trees" / name
+
+
+@pytest.mark.parametrize(
+    "name", ["talos_full_v2.urdf", "baxter.urdf", "allegro_right_hand.urdf", "so101.urdf"]
+)
+@pytest.mark.parametrize("floating", [False, True], ids=["fixed", "floating"])
+def test_com_equals_pinocchio(name: str, floating: bool) -> None:
+    path = shared(name)
+    robot = screwkit.Robot.from_urdf(path, floating_base=floating)
+    # Pinocchio's fixed-base model leaves the root link out: compare with its free-flyer model,
+    # the base at the identity for screwkit's fixed base.
+    peer = Peer(path, True)
+    model, data = peer.model, peer.data
+    assert robot.total_mass == pytest.approx(pin.computeTotalMass(model), rel=1e-14)
+    worst = 0.0
+    for seed in range(20):
+        q = robot.random_configuration(seed)
+        full = q if floating else np.concatenate([[0, 0, 0, 0, 0, 0, 1.0], q])
+        probe = screwkit.Robot.from_urdf(path, floating_base=True)
+        pq = peer.q(probe, full)
+        c_pin = pin.centerOfMass(model, data, pq)
+        j_pin = pin.jacobianCenterOfMass(model, data, pq)
+        c = robot.com(q)
+        j = robot.com_jacobian(q)
+        assert c.shape == (3,) and j.shape == (3, robot.nv)
+        worst = max(worst, float(np.abs(c - c_pin).max()))
+        # Pinocchio's columns as screwkit's (rows (v, omega) there: the linear rows land in 3:).
+        cols = peer.columns(probe, np.vstack([j_pin, np.zeros((3, model.nv))]))[3:]
+        want = cols if floating else cols[:, 6:]
+        worst = max(worst, float(np.abs(j - want).max()))
+    assert worst < 1e-12, worst
+
+
+def kkt(h: Array, c: Array, lo: Array, hi: Array, x: Array) -> int:
+    """Checks the KKT conditions of x; returns how many bounds are active."""
+    g = h @ x + c
+    tol = 1e-9 * max(1.0, float(np.abs(c).max()))
+    # x is v * dt: within rounding of the bound it is at the bound.
+    at_lo = np.abs(x - lo) <= 1e-12 * np.maximum(1.0, np.abs(lo))
+    at_hi = np.abs(x - hi) <= 1e-12 * np.maximum(1.0, np.abs(hi))
+    assert np.all((x >= lo) | at_lo) and np.all((x <= hi) | at_hi)
+    free = ~at_lo & ~at_hi
+    assert np.all(np.abs(g[free]) <= tol)
+    assert np.all(g[at_lo & (lo < hi)] >= -tol)
+    assert np.all(g[at_hi & (lo < hi)] <= tol)
+    return int(np.sum(~free))
+
+
+def test_talos_floating_reaches_feet_and_hands_checked_by_pinocchio() -> None:
+    path = shared("talos_full_v2.urdf")
+    robot = screwkit.Robot.from_urdf(path, floating_base=True)
+    peer = Peer(path, True)
+    names = [
+        "left_sole_link",
+        "right_sole_link",
+        "gripper_left_base_link",
+        "gripper_right_base_link",
+    ]
+    fids = [peer.model.getFrameId(n, pin.BODY) for n in names]
+    lo, hi = np.array(robot.lower), np.array(robot.upper)
+    converged = 0
+    for seed in range(10):
+        qs = robot.random_configuration(100 + seed)
+        pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, qs))
+        targets = [peer.data.oMf[f].homogeneous.copy() for f in fids]
+        tasks: list[screwkit.FrameTask | screwkit.PostureTask] = [
+            screwkit.FrameTask(n, t) for n, t in zip(names, targets)
+        ]
+        tasks.append(screwkit.PostureTask(robot.neutral(), weight=1e-2))
+        r = robot.ik_tasks(tasks)
+        assert r.task_errors.shape == (5, 2)
+        pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, r.q))
+        for f, t in zip(fids, targets):
+            err = float(np.abs(peer.data.oMf[f].homogeneous - t).max())
+            if r.converged:
+                assert err < 1e-8, err
+        assert np.all(r.q[7:] >= lo[7:] - 1e-12) and np.all(r.q[7:] <= hi[7:] + 1e-12)
+        converged += r.converged
+    assert converged == 10
+
+
+def test_control_loop_steps_are_qp_optima_within_limits() -> None:
+    robot = screwkit.Robot.from_urdf(REPO / "assets" / "urdf" / "torso_two_arms.urdf")
+    far = np.eye(4)
+    far[:3, 3] = [2.0, 1.0, 0.5]
+    tasks: list[screwkit.FrameTask | screwkit.DampingTask] = [
+        screwkit.FrameTask("left_hand", far),
+        screwkit.FrameTask("right_hand", far, weight=0.5, orientation_weight=0.0),
+        screwkit.DampingTask(1e-3),
+    ]
+    q = np.zeros(robot.nq)
+    lo, hi = np.array(robot.lower), np.array(robot.upper)
+    dt = 0.02
+    active = 0
+    for _ in range(100):
+        v = robot.ik_step(q, tasks, dt)
+        h, c, lower, upper = robot.ik_step_qp(q, tasks, dt)
+        np.testing.assert_array_equal(h, h.T)
+        active += kkt(h, c, lower, upper, v * dt)
+        q = robot.integrate(q, v, dt)
+        assert np.all(q >= lo - 1e-12) and np.all(q <= hi + 1e-12)
+    assert active > 0, "the loop drives joints into their limits"
+
+
+def test_task_errors_are_named() -> None:
+    robot = screwkit.Robot.from_urdf(REPO / "assets" / "urdf" / "torso_two_arms.urdf")
+    q = np.zeros(robot.nq)
+    with pytest.raises(TypeError, match=r"tasks\[1\]"):
+        robot.ik_step(q, [screwkit.DampingTask(), "nope"], 0.01)  # type: ignore[list-item]
+    with pytest.raises(ValueError, match="unknown frame"):
+        robot.ik_step(q, [screwkit.FrameTask("nowhere", np.eye(4))], 0.01)
+    with pytest.raises(ValueError, match=r"\(4, 4\)"):
+        screwkit.FrameTask("left_hand", np.eye(3))
+    with pytest.raises(ValueError, match="gain"):
+        robot.ik_step(q, [screwkit.FrameTask("left_hand", np.eye(4), gain=2.0)], 0.01)
+    with pytest.raises(ValueError, match="dt"):
+        robot.ik_step(q, [screwkit.DampingTask()], 0.0)
+    bad = q.copy()
+    bad[1] = 10.0
+    with pytest.raises(ValueError, match="outside its limits"):
+        robot.ik_step(bad, [screwkit.DampingTask()], 0.01)

@@ -1,0 +1,250 @@
+//! Whole-body IK tasks as front ends take them: frames by name, targets as numbers, one set of
+//! defaults — written once for the CLI's `--tasks` JSON and Python's task classes, resolved
+//! against a robot into the library's [`Task`]s ([`screwkit_solve::tree::tasks`]).
+//!
+//! JSON (one object per task; `type` is `frame`, `relative`, `axis`, `com`, `posture` or
+//! `damping`; every other field optional unless its type needs it):
+//!
+//! ```json
+//! {"type": "frame", "frame": "left_sole_link", "target": [16 numbers, row-major 4 x 4],
+//!  "gain": 1, "weight": 1, "position_weight": 1, "orientation_weight": [1, 1, 0],
+//!  "tol_pos": 1e-9, "tol_rot": 1e-9}
+//! {"type": "relative", "frame": "left_hand", "relative_to": "right_hand", "target": [16 numbers]}
+//! {"type": "axis", "frame": "gripper", "axis": [0, 0, 1], "direction": [0, 0, -1], "point": [0.3, 0, 0.2]}
+//! {"type": "com", "target": [0, 0, 0.8], "position_weight": [1, 1, 0]}
+//! {"type": "posture", "q_ref": [nq numbers], "weight": 0.01}
+//! {"type": "damping", "weight": 0.001}
+//! ```
+//!
+//! Weights are a number (every axis) or three numbers.
+
+use nalgebra::Vector3;
+use screwkit_solve::tree::tasks::{Task, TaskKind};
+use screwkit_solve::TreeKinematics;
+use serde::Deserialize;
+
+use crate::error::{Error, Result};
+use crate::target;
+
+/// What kind of task a [`TaskSpec`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TaskType {
+    /// A frame to a world pose.
+    Frame,
+    /// A frame to a pose in another frame.
+    Relative,
+    /// A frame's axis along a direction, its origin at a point.
+    Axis,
+    /// The centre of mass to a point.
+    Com,
+    /// q towards a reference.
+    Posture,
+    /// Small steps.
+    Damping,
+}
+
+/// Per-axis weights: one number for every axis, or three.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum Weights {
+    /// The same weight on x, y, z.
+    All(f64),
+    /// x, y, z.
+    Each([f64; 3]),
+}
+
+impl Weights {
+    fn get(self) -> [f64; 3] {
+        match self {
+            Weights::All(w) => [w; 3],
+            Weights::Each(w) => w,
+        }
+    }
+}
+
+/// One task as a front end gives it (module documentation).
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TaskSpec {
+    /// The kind.
+    #[serde(rename = "type")]
+    pub kind: TaskType,
+    /// The driven frame (frame, relative, axis).
+    #[serde(default)]
+    pub frame: Option<String>,
+    /// The frame the target is in (relative).
+    #[serde(default)]
+    pub relative_to: Option<String>,
+    /// 16 numbers (frame, relative: row-major 4 × 4) or 3 (com).
+    #[serde(default)]
+    pub target: Option<Vec<f64>>,
+    /// The axis in the frame (axis task).
+    #[serde(default)]
+    pub axis: Option<[f64; 3]>,
+    /// The world direction (axis task).
+    #[serde(default)]
+    pub direction: Option<[f64; 3]>,
+    /// The world point for the origin (axis task, optional).
+    #[serde(default)]
+    pub point: Option<[f64; 3]>,
+    /// The reference configuration (posture: nq numbers).
+    #[serde(default)]
+    pub q_ref: Option<Vec<f64>>,
+    /// Gain in (0, 1] (default 1).
+    #[serde(default)]
+    pub gain: Option<f64>,
+    /// Weight ≥ 0 (default 1).
+    #[serde(default)]
+    pub weight: Option<f64>,
+    /// Position rows' per-axis weights (default 1).
+    #[serde(default)]
+    pub position_weight: Option<Weights>,
+    /// Rotation rows' per-axis weights (default 1).
+    #[serde(default)]
+    pub orientation_weight: Option<Weights>,
+    /// Position tolerance, m (default 1e-9).
+    #[serde(default)]
+    pub tol_pos: Option<f64>,
+    /// Rotation tolerance, rad (default 1e-9).
+    #[serde(default)]
+    pub tol_rot: Option<f64>,
+}
+
+impl TaskSpec {
+    /// An empty spec of `kind` (every field at its default).
+    pub fn new(kind: TaskType) -> TaskSpec {
+        TaskSpec {
+            kind,
+            frame: None,
+            relative_to: None,
+            target: None,
+            axis: None,
+            direction: None,
+            point: None,
+            q_ref: None,
+            gain: None,
+            weight: None,
+            position_weight: None,
+            orientation_weight: None,
+            tol_pos: None,
+            tol_rot: None,
+        }
+    }
+
+    /// The library task for `kin`: frames by name, targets checked (a pose's rotation under
+    /// the targets' tolerance), the defaults filled in. The error names the field.
+    pub fn resolve(&self, kin: &TreeKinematics) -> Result<Task> {
+        let frame = |name: &Option<String>, field: &'static str| -> Result<usize> {
+            let n = name
+                .as_deref()
+                .ok_or_else(|| Error::option(field, "is required for this task"))?;
+            Ok(kin.frame(n)?)
+        };
+        let pose = || -> Result<screwkit_lie::Se3> {
+            let t = self
+                .target
+                .as_deref()
+                .ok_or_else(|| Error::option("target", "is required for this task"))?;
+            if t.len() != 16 {
+                return Err(Error::option(
+                    "target",
+                    format!("needs 16 numbers (a row-major 4 x 4 pose), got {}", t.len()),
+                ));
+            }
+            Ok(target::from_row_major(t)?)
+        };
+        let vec3 = |v: Option<[f64; 3]>, field: &'static str| -> Result<Vector3<f64>> {
+            v.map(Vector3::from)
+                .ok_or_else(|| Error::option(field, "is required for this task"))
+        };
+        let kind = match self.kind {
+            TaskType::Frame => TaskKind::Frame {
+                frame: frame(&self.frame, "frame")?,
+                target: pose()?,
+                relative_to: None,
+            },
+            TaskType::Relative => TaskKind::Frame {
+                frame: frame(&self.frame, "frame")?,
+                target: pose()?,
+                relative_to: Some(frame(&self.relative_to, "relative_to")?),
+            },
+            TaskType::Axis => TaskKind::Axis {
+                frame: frame(&self.frame, "frame")?,
+                axis: vec3(self.axis, "axis")?,
+                direction: vec3(self.direction, "direction")?,
+                point: self.point.map(Vector3::from),
+            },
+            TaskType::Com => {
+                let t = self
+                    .target
+                    .as_deref()
+                    .ok_or_else(|| Error::option("target", "is required for this task"))?;
+                let [x, y, z] = t else {
+                    return Err(Error::option(
+                        "target",
+                        format!("needs 3 numbers (a point), got {}", t.len()),
+                    ));
+                };
+                TaskKind::Com {
+                    target: Vector3::new(*x, *y, *z),
+                }
+            }
+            TaskType::Posture => TaskKind::Posture {
+                q_ref: self
+                    .q_ref
+                    .clone()
+                    .ok_or_else(|| Error::option("q_ref", "is required for this task"))?,
+            },
+            TaskType::Damping => TaskKind::Damping,
+        };
+        let d = Task::posture(Vec::new());
+        Ok(Task {
+            kind,
+            gain: self.gain.unwrap_or(d.gain),
+            weight: self.weight.unwrap_or(d.weight),
+            orientation_weight: self
+                .orientation_weight
+                .map_or(d.orientation_weight, Weights::get),
+            position_weight: self.position_weight.map_or(d.position_weight, Weights::get),
+            tol_rot: self.tol_rot.unwrap_or(d.tol_rot),
+            tol_pos: self.tol_pos.unwrap_or(d.tol_pos),
+        })
+    }
+}
+
+/// Parses a JSON task list (an array of task objects, or `{"tasks": [...]}`).
+pub fn parse_json(text: &str) -> Result<Vec<TaskSpec>> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum List {
+        Bare(Vec<TaskSpec>),
+        Wrapped { tasks: Vec<TaskSpec> },
+    }
+    match serde_json::from_str::<List>(text) {
+        Ok(List::Bare(t)) | Ok(List::Wrapped { tasks: t }) => Ok(t),
+        Err(_) => {
+            // Untagged enums hide the reason: parse as a plain list for the message.
+            let e = serde_json::from_str::<Vec<TaskSpec>>(text)
+                .err()
+                .map_or("not a list of tasks".to_string(), |e| e.to_string());
+            Err(Error::option("tasks", e))
+        }
+    }
+}
+
+/// Every spec resolved; the error names the task's index.
+pub fn resolve_all(specs: &[TaskSpec], kin: &TreeKinematics) -> Result<Vec<Task>> {
+    specs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            s.resolve(kin).map_err(|e| match e {
+                Error::Option { name, message } => {
+                    Error::option("tasks", format!("task {i}: {name}: {message}"))
+                }
+                other => Error::option("tasks", format!("task {i}: {other}")),
+            })
+        })
+        .collect()
+}
