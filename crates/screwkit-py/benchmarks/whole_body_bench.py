@@ -18,15 +18,20 @@ import re
 import sys
 import time
 from pathlib import Path
+from typing import Any, Callable
 
-import mink
-import mujoco
+import mink  # type: ignore[import-not-found]
+import mujoco  # type: ignore[import-not-found]
 import numpy as np
-import pink
+import pink  # type: ignore[import-not-found]
 import pinocchio as pin
-import qpsolvers
-from pink.limits import ConfigurationLimit as PinkConfigurationLimit
-from pink.limits import VelocityLimit as PinkVelocityLimit
+import qpsolvers  # type: ignore[import-not-found]
+from pink.limits import (  # type: ignore[import-not-found]
+    ConfigurationLimit as PinkConfigurationLimit,
+)
+from pink.limits import (
+    VelocityLimit as PinkVelocityLimit,
+)
 
 import screwkit
 
@@ -34,7 +39,7 @@ HANDS = ["gripper_left_base_link", "gripper_right_base_link"]
 DT = 0.01
 
 
-def best(f, rounds: int = 7, inner: int = 200) -> float:
+def best(f: Callable[[], object], rounds: int = 7, inner: int = 200) -> float:
     """Minimum over rounds of the mean time per call, in µs."""
     out = []
     for _ in range(rounds):
@@ -45,12 +50,13 @@ def best(f, rounds: int = 7, inner: int = 200) -> float:
     return min(out)
 
 
-def mujoco_model(urdf: str) -> mujoco.MjModel:
+def mujoco_model(urdf: str) -> Any:
     """The URDF compiled by MuJoCo, geometry dropped, fixed links kept as bodies."""
     xml = re.sub(r"<(visual|collision)>.*?</\1>", "", urdf, flags=re.S)
     xml = xml.replace(
         "</robot>",
-        '<mujoco><compiler fusestatic="false" discardvisual="true" balanceinertia="true"/></mujoco></robot>',
+        '<mujoco><compiler fusestatic="false" discardvisual="true" balanceinertia="true"/>'
+        "</mujoco></robot>",
     )
     return mujoco.MjModel.from_xml_string(xml)
 
@@ -66,7 +72,9 @@ def main(path: Path) -> None:
     targets = {h: robot.fk(qstar, link=h) for h in HANDS}
 
     # screwkit
-    tasks = [screwkit.FrameTask(h, targets[h]) for h in HANDS]
+    tasks: list[screwkit.FrameTask | screwkit.PostureTask | screwkit.DampingTask] = [
+        screwkit.FrameTask(h, targets[h]) for h in HANDS
+    ]
     tasks.append(screwkit.PostureTask(mid, weight=1e-2))
     tasks.append(screwkit.DampingTask(1e-6))
 
@@ -75,7 +83,7 @@ def main(path: Path) -> None:
     data = model.createData()
     names = list(robot.variable_names)
 
-    def to_pin(q: np.ndarray) -> np.ndarray:
+    def to_pin(q: np.ndarray) -> Any:
         out = pin.neutral(model)
         for k, name in enumerate(names):
             jid = model.getJointId(name)
@@ -97,7 +105,7 @@ def main(path: Path) -> None:
     mj = mujoco_model(urdf)
     mconf = mink.Configuration(mj)
 
-    def to_mj(q: np.ndarray) -> np.ndarray:
+    def to_mj(q: np.ndarray) -> Any:
         out = mj.qpos0.copy()
         for k, name in enumerate(names):
             out[mj.jnt_qposadr[mj.joint(name).id]] = q[k]
@@ -115,16 +123,18 @@ def main(path: Path) -> None:
     mlimits = [mink.ConfigurationLimit(mj)]
 
     q0 = mid.copy()
-    runs = {
+    runs: dict[str, Callable[[], object]] = {
         "screwkit": lambda: robot.ik_step(q0, tasks, DT),
         "pink_daqp": lambda: pink.solve_ik(config, ptasks, DT, solver="daqp", limits=plimits),
         "mink_daqp": lambda: mink.solve_ik(mconf, mtasks, DT, solver="daqp", limits=mlimits),
     }
-    h, c, lower, upper = robot.ik_step_qp(q0, tasks, DT)
+    hq, cq, lower, upper = robot.ik_step_qp(q0, tasks, DT)
+
+    def qp_only(solver: str) -> Callable[[], object]:
+        return lambda: qpsolvers.solve_qp(hq, cq, lb=lower, ub=upper, solver=solver)
+
     for solver in ["clarabel", "daqp", "quadprog", "proxqp", "osqp"]:
-        runs[f"qp_only_{solver}"] = lambda s=solver: qpsolvers.solve_qp(
-            h, c, lb=lower, ub=upper, solver=s
-        )
+        runs[f"qp_only_{solver}"] = qp_only(solver)
     # Interleaved: every library once per round, minima kept.
     times = {k: float("inf") for k in runs}
     for _ in range(5):
@@ -132,12 +142,13 @@ def main(path: Path) -> None:
             times[k] = min(times[k], best(f, rounds=1, inner=100 if "screwkit" in k else 30))
     for k, t in times.items():
         print(
-            f"RESULT robot={path.name} what={k} step_us={t:.2f} ratio_to_screwkit={t / times['screwkit']:.1f}"
+            f"RESULT robot={path.name} what={k} step_us={t:.2f} "
+            f"ratio_to_screwkit={t / times['screwkit']:.1f}"
         )
     # The step agrees with the general solvers on the same QP.
     v = robot.ik_step(q0, tasks, DT)
     for solver in ["clarabel", "daqp", "quadprog"]:
-        x = qpsolvers.solve_qp(h, c, lb=lower, ub=upper, solver=solver)
+        x = qpsolvers.solve_qp(hq, cq, lb=lower, ub=upper, solver=solver)
         print(f"AGREE solver={solver} max_abs_diff={np.abs(x - v * DT).max():.2e}")
 
     # Control loops: limit violations on every step, and where the hands end.
@@ -193,7 +204,8 @@ def main(path: Path) -> None:
     ]:
         bad, err = f()
         print(
-            f"LOOP robot={path.name} what={name} steps=300 limit_violations={bad} final_hand_error={err:.2e}"
+            f"LOOP robot={path.name} what={name} steps=300 limit_violations={bad} "
+            f"final_hand_error={err:.2e}"
         )
 
 
