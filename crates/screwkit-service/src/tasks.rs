@@ -248,3 +248,80 @@ pub fn resolve_all(specs: &[TaskSpec], kin: &TreeKinematics) -> Result<Vec<Task>
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn kin() -> TreeKinematics {
+        let tree =
+            screwkit_model::urdf::load_file(screwkit_testkit_path("torso_two_arms.urdf")).unwrap();
+        TreeKinematics::new(&screwkit_model::KinematicTree::from_tree(&tree).unwrap()).unwrap()
+    }
+
+    fn screwkit_testkit_path(file: &str) -> String {
+        format!("{}/../../assets/urdf/{file}", env!("CARGO_MANIFEST_DIR"))
+    }
+
+    #[test]
+    fn json_tasks_resolve_with_defaults_and_name_what_is_wrong() {
+        let kin = kin();
+        let eye = "[1,0,0,0.3, 0,1,0,0.1, 0,0,1,0.2, 0,0,0,1]";
+        let text = format!(
+            r#"{{"tasks": [
+                {{"type": "frame", "frame": "left_hand", "target": {eye}, "orientation_weight": 0}},
+                {{"type": "relative", "frame": "left_hand", "relative_to": "right_hand", "target": {eye}, "position_weight": [1, 1, 0]}},
+                {{"type": "axis", "frame": "right_hand", "axis": [0, 0, 1], "direction": [1, 0, 0]}},
+                {{"type": "damping", "weight": 0.001}}
+            ]}}"#
+        );
+        let specs = parse_json(&text).unwrap();
+        let tasks = resolve_all(&specs, &kin).unwrap();
+        assert_eq!(tasks.len(), 4);
+        assert_eq!(tasks[0].orientation_weight, [0.0; 3]);
+        assert_eq!(tasks[0].position_weight, [1.0; 3]);
+        assert_eq!(tasks[1].position_weight, [1.0, 1.0, 0.0]);
+        assert_eq!((tasks[0].gain, tasks[0].tol_pos), (1.0, 1e-9));
+        assert!(matches!(
+            tasks[1].kind,
+            TaskKind::Frame {
+                relative_to: Some(_),
+                ..
+            }
+        ));
+        assert_eq!(tasks[3].weight, 1e-3);
+        for (bad, words) in [
+            (
+                r#"[{"type": "frame", "frame": "nowhere", "target": [1]}]"#,
+                "task 0: ",
+            ),
+            (
+                r#"[{"type": "frame", "frame": "left_hand"}]"#,
+                "target: is required",
+            ),
+            (
+                r#"[{"type": "frame", "frame": "left_hand", "target": [1, 2]}]"#,
+                "needs 16 numbers",
+            ),
+            (r#"[{"type": "com", "target": [1, 2]}]"#, "needs 3 numbers"),
+            (
+                r#"[{"type": "axis", "frame": "left_hand", "axis": [0, 0, 1]}]"#,
+                "direction: is required",
+            ),
+        ] {
+            let e = parse_json(bad)
+                .and_then(|s| resolve_all(&s, &kin))
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains(words), "{e} (wanted {words})");
+        }
+        for bad in [
+            r#"[{"type": "spin"}]"#,
+            r#"[{"type": "damping", "wieght": 1}]"#,
+            "{",
+        ] {
+            let e = parse_json(bad).unwrap_err().to_string();
+            assert!(e.starts_with("tasks: "), "{e}");
+        }
+    }
+}
