@@ -78,6 +78,22 @@ fn clamped_neutral(kin: &TreeKinematics) -> Vec<f64> {
     q
 }
 
+/// The options of `ik_tasks` / `ik_trajectory` (Ctrl-C polled).
+fn tasks_options(
+    max_iterations: usize,
+    restarts: usize,
+    seed: u64,
+    position_limits: bool,
+) -> differential_ik::TasksOptions {
+    differential_ik::TasksOptions {
+        max_iterations,
+        restarts,
+        seed,
+        position_limits,
+        interrupt: Some(ik::Interrupt(pool::interrupted)),
+    }
+}
+
 /// The Python result of `ik_tasks`.
 fn tasks_result(
     py: Python<'_>,
@@ -1162,13 +1178,7 @@ impl Robot {
             Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
             None => clamped_neutral(&kin),
         };
-        let opts = differential_ik::TasksOptions {
-            max_iterations,
-            restarts,
-            seed: seed_rng,
-            position_limits,
-            interrupt: Some(ik::Interrupt(pool::interrupted)),
-        };
+        let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
         let r = py
             .detach(|| {
                 self.with_diff_ws(&kin, |ws| {
@@ -1213,13 +1223,7 @@ impl Robot {
             Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
             None => clamped_neutral(&kin),
         };
-        let opts = differential_ik::TasksOptions {
-            max_iterations,
-            restarts,
-            seed: seed_rng,
-            position_limits,
-            interrupt: Some(ik::Interrupt(pool::interrupted)),
-        };
+        let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
         let segments = differential_ik::Segments {
             length: segment,
             warm_up,

@@ -70,6 +70,37 @@ fn common(
     Ok(spec)
 }
 
+/// A frame or relative frame task's spec (the two share every field but `relative_to`).
+#[allow(clippy::too_many_arguments)]
+fn frame_spec(
+    py: Python<'_>,
+    kind: TaskType,
+    frame: String,
+    relative_to: Option<String>,
+    target: &Bound<'_, PyAny>,
+    gain: f64,
+    weight: f64,
+    position_weight: Option<Bound<'_, PyAny>>,
+    orientation_weight: Option<Bound<'_, PyAny>>,
+    tol_pos: f64,
+    tol_rot: f64,
+) -> PyResult<TaskSpec> {
+    let mut spec = TaskSpec::new(kind);
+    spec.frame = Some(frame);
+    spec.relative_to = relative_to;
+    spec.target = Some(pose(target, "target")?);
+    let one = 1.0_f64.into_pyobject(py)?.into_any();
+    common(
+        spec,
+        gain,
+        weight,
+        position_weight.as_ref().unwrap_or(&one),
+        orientation_weight.as_ref().unwrap_or(&one),
+        tol_pos,
+        tol_rot,
+    )
+}
+
 /// Drives frame `frame` (a link or an added frame) to the world pose `target` (4, 4). The
 /// error is the twist ξ = log(T_F⁻¹ T*) in the frame's own axes, rows (ω, v); per-axis weights
 /// are along the frame's axes (`orientation_weight=0`: position only).
@@ -94,21 +125,20 @@ impl FrameTask {
         tol_pos: f64,
         tol_rot: f64,
     ) -> PyResult<Self> {
-        let mut spec = TaskSpec::new(TaskType::Frame);
-        spec.frame = Some(frame);
-        spec.target = Some(pose(target, "target")?);
-        let one = 1.0_f64.into_pyobject(py)?.into_any();
-        Ok(Self {
-            spec: common(
-                spec,
-                gain,
-                weight,
-                position_weight.as_ref().unwrap_or(&one),
-                orientation_weight.as_ref().unwrap_or(&one),
-                tol_pos,
-                tol_rot,
-            )?,
-        })
+        let spec = frame_spec(
+            py,
+            TaskType::Frame,
+            frame,
+            None,
+            target,
+            gain,
+            weight,
+            position_weight,
+            orientation_weight,
+            tol_pos,
+            tol_rot,
+        )?;
+        Ok(Self { spec })
     }
 
     fn __repr__(&self) -> String {
@@ -140,22 +170,20 @@ impl RelativeFrameTask {
         tol_pos: f64,
         tol_rot: f64,
     ) -> PyResult<Self> {
-        let mut spec = TaskSpec::new(TaskType::Relative);
-        spec.frame = Some(frame);
-        spec.relative_to = Some(relative_to);
-        spec.target = Some(pose(target, "target")?);
-        let one = 1.0_f64.into_pyobject(py)?.into_any();
-        Ok(Self {
-            spec: common(
-                spec,
-                gain,
-                weight,
-                position_weight.as_ref().unwrap_or(&one),
-                orientation_weight.as_ref().unwrap_or(&one),
-                tol_pos,
-                tol_rot,
-            )?,
-        })
+        let spec = frame_spec(
+            py,
+            TaskType::Relative,
+            frame,
+            Some(relative_to),
+            target,
+            gain,
+            weight,
+            position_weight,
+            orientation_weight,
+            tol_pos,
+            tol_rot,
+        )?;
+        Ok(Self { spec })
     }
 
     fn __repr__(&self) -> String {

@@ -347,6 +347,29 @@ pub(crate) struct Rows {
 }
 
 impl Rows {
+    /// The three rows of a point's error `e` (world axes) with Jacobian rows `jac(r, c)`,
+    /// weighted per axis; returns the weighted axes' error norm.
+    fn push_point(
+        &mut self,
+        nv: usize,
+        pw: &[f64; 3],
+        g: f64,
+        e: &Vector3<f64>,
+        jac: impl Fn(usize, usize) -> f64,
+    ) -> f64 {
+        let mut pos = 0.0;
+        for r in 0..3 {
+            let w = pw[r];
+            if w == 0.0 {
+                continue;
+            }
+            pos += e[r] * e[r];
+            self.merit += (w * e[r]) * (w * e[r]);
+            self.push(nv, w, (0..nv).map(|c| jac(r, c)), g * e[r]);
+        }
+        pos.sqrt()
+    }
+
     fn push(&mut self, nv: usize, w: f64, jrow: impl Iterator<Item = f64>, rhs: f64) {
         let start = self.m * nv;
         if self.a.len() < start + nv {
@@ -456,35 +479,15 @@ pub(crate) fn evaluate(
                 }
                 if let Some(p) = point {
                     let e = p - pose.translation();
-                    let mut pos = 0.0;
-                    for r in 0..3 {
-                        let w = pw[r];
-                        if w == 0.0 {
-                            continue;
-                        }
-                        pos += e[r] * e[r];
-                        rows.merit += (w * e[r]) * (w * e[r]);
-                        let jac = &ws.jacobian;
-                        rows.push(nv, w, (0..nv).map(|c| jac[(3 + r, c)]), g * e[r]);
-                    }
-                    error.position = pos.sqrt();
+                    let jac = &ws.jacobian;
+                    error.position = rows.push_point(nv, &pw, g, &e, |r, c| jac[(3 + r, c)]);
                 }
             }
             TaskKind::Com { target } => {
                 let c = com_jacobian_unchecked(kin, ws, q, base);
                 let e = target - c;
-                let mut pos = 0.0;
-                for r in 0..3 {
-                    let w = pw[r];
-                    if w == 0.0 {
-                        continue;
-                    }
-                    pos += e[r] * e[r];
-                    rows.merit += (w * e[r]) * (w * e[r]);
-                    let jac = &ws.com_jacobian;
-                    rows.push(nv, w, (0..nv).map(|c| jac[(r, c)]), g * e[r]);
-                }
-                error.position = pos.sqrt();
+                let jac = &ws.com_jacobian;
+                error.position = rows.push_point(nv, &pw, g, &e, |r, c| jac[(r, c)]);
             }
             TaskKind::Posture { q_ref } => {
                 let w2 = t.weight * t.weight;
