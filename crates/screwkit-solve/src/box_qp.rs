@@ -16,17 +16,18 @@
 //! variables, g_i = (H x + c)_i, are checked (held at l_i: g_i ≥ 0; at u_i: g_i ≤ 0) and the most
 //! negative one released; if not, x moves towards y as far as the box allows and the blocking
 //! variable is held. H being positive definite, the objective decreases strictly on every move
-//! and no working set repeats, so the method ends, in practice in a few iterations (one when no
-//! bound is active, one more per bound that becomes active).
+//! and no working set repeats, so the method ends. The first working set holds every variable
+//! the unconstrained minimiser puts beyond a bound (at that bound, the rest at the minimiser's
+//! values: a feasible start), so that the bounds a step hits come in one factorisation rather
+//! than one each; the iterations then release the ones that should not be held.
 //!
 //! At the end the KKT conditions hold to rounding: with g = H x + c, g_i = 0 where l_i < x_i < u_i,
 //! g_i ≥ 0 where x_i = l_i and g_i ≤ 0 where x_i = u_i (the tests check them, and compare with a
 //! reference solver). Why this and not a general QP crate (measured, BENCHMARKS.md, TALOS
 //! n = 32): an interior-point solver (Clarabel, OSQP through qpsolvers) takes over 1 ms for the
-//! QP alone and answers to its tolerance (2e-3 off the exact optimum here), while this is exact and the whole
-//! step (Jacobians included) takes ~110 µs; a dense active set with factorisation updates
-//! (DAQP, 44 µs) is faster still — the next step here is the same updates in place of a
-//! refactorisation per iteration. A general inequality row (self-collision avoidance: a
+//! QP alone and answers to its tolerance (2e-3 off the exact optimum here); a dense active set
+//! in C (DAQP) takes 43 µs for the QP alone from Python, while the whole step here (Jacobians
+//! included) takes 33 µs and is exact. A general inequality row (self-collision avoidance: a
 //! distance's gradient times v above a bound) needs a
 //! general QP; it would enter here as a new constraint kind beside the box.
 
@@ -127,6 +128,26 @@ pub fn solve(
                 .filter(|v| v.is_finite())
                 .fold(1.0_f64, |m, v| m.max(v.abs()));
     let tol = 1e-12 * scale.max(f64::MIN_POSITIVE);
+    // The first working set from the unconstrained minimiser: every variable it puts beyond a
+    // bound held there, the others at its values (a feasible start, so the method below stays
+    // exact; it then releases what should not be held). One factorisation instead of one per
+    // bound when many bounds are active, as under a control step's velocity limits.
+    subproblem(ws, h, c, x)?;
+    for i in 0..n {
+        if ws.held[i] != Held::Free {
+            continue;
+        }
+        let y = ws.y[i];
+        if y < l[i] {
+            ws.held[i] = Held::Lower;
+            x[i] = l[i];
+        } else if y > u[i] {
+            ws.held[i] = Held::Upper;
+            x[i] = u[i];
+        } else {
+            x[i] = y;
+        }
+    }
     let max_iterations = 4 * n + 20;
     for iteration in 1..=max_iterations {
         subproblem(ws, h, c, x)?;
