@@ -103,6 +103,9 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
     use screwkit_service::words::Word;
     let ik = screwkit_service::IkSettings::default();
     let m = screwkit_service::ReachSpec::default();
+    let wb = screwkit_solve::tree::differential_ik::TasksOptions::default();
+    let limits = screwkit_solve::tree::differential_ik::Limits::default();
+    let task = screwkit_solve::tree::tasks::Task::damping(1.0);
     let d = serde_json::json!({
         "ik": {
             "method": ik.method.as_str(), "tol_rot": ik.tol_rot, "tol_pos": ik.tol_pos,
@@ -112,6 +115,14 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
             "seed_rng": ik.seed, "max_iterations": ik.max_iterations,
             "max_restarts": ik.max_restarts, "damping": ik.damping,
         },
+        "ik_tasks": {
+            "max_iterations": wb.max_iterations, "restarts": wb.restarts, "seed_rng": wb.seed,
+            "position_limits": wb.position_limits,
+        },
+        "ik_step": {
+            "position_limits": limits.position, "velocity_limits": limits.velocity,
+        },
+        "task": {"gain": task.gain, "tol_pos": task.tol_pos, "tol_rot": task.tol_rot},
         "reach": {
             "resolution": m.resolution, "orientations": m.orientations,
             "mode": m.mode.as_str(), "solver": m.solver.as_str(), "seed": m.seed,

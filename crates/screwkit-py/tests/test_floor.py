@@ -90,6 +90,24 @@ def test_signature_defaults_are_the_floors() -> None:
         reach = inspect.signature(fn).parameters
         for name, value in d["reach"].items():
             assert reach[name].default == value, (fn, name)
+    # Whole-body IK: the library's TasksOptions, Limits and Task defaults.
+    tasks_methods: list[Callable[..., object]] = [
+        screwkit.Robot.ik_tasks,
+        screwkit.Robot.ik_trajectory,
+    ]
+    for method in tasks_methods:
+        params = inspect.signature(method).parameters
+        for name, value in d["ik_tasks"].items():
+            assert params[name].default == value, (method, name)
+    step_methods: list[Callable[..., object]] = [screwkit.Robot.ik_step, screwkit.Robot.ik_step_qp]
+    for method in step_methods:
+        params = inspect.signature(method).parameters
+        for name, value in d["ik_step"].items():
+            assert params[name].default == value, (method, name)
+    for cls in [screwkit.FrameTask, screwkit.RelativeFrameTask, screwkit.AxisTask]:
+        params = inspect.signature(cls).parameters
+        for name, value in d["task"].items():
+            assert params[name].default == value, (cls, name)
     # The numbers behind them are the library's (IkOptions::default, ReachSpec::default).
     assert d["ik"]["tol_rot"] == 1e-9 and d["ik"]["max_restarts"] == 200
     assert d["reach"]["resolution"] == 0.05 and d["reach"]["orientations"] == 50

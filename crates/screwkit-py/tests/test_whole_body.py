@@ -147,3 +147,26 @@ def test_task_errors_are_named() -> None:
     bad[1] = 10.0
     with pytest.raises(ValueError, match="outside its limits"):
         robot.ik_step(bad, [screwkit.DampingTask()], 0.01)
+
+
+def test_hostile_task_values_raise_value_errors_naming_them() -> None:
+    robot = screwkit.Robot.from_urdf(REPO / "assets" / "urdf" / "torso_two_arms.urdf")
+    q = np.zeros(robot.nq)
+    nan_pose = np.eye(4)
+    nan_pose[0, 3] = np.nan
+    n = len(robot.variable_names)
+    cases: list[tuple[list[object], str]] = [
+        ([screwkit.FrameTask("left_hand", nan_pose)], "finite rigid transform"),
+        ([screwkit.FrameTask("left_hand", np.eye(4), weight=np.inf)], "weight inf"),
+        ([screwkit.AxisTask("left_hand", axis=[0, 0, 0], direction=[0, 0, 1])], "no direction"),
+        ([screwkit.PostureTask([np.nan] * robot.nq)], r"q_ref\[0\] \(waist\) is not finite"),
+        ([screwkit.ComTask([0, 0, 0])], "no link has a mass"),
+    ]
+    for tasks, words in cases:
+        with pytest.raises(ValueError, match=words):
+            robot.ik_step(q, tasks, 0.01)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match=r"velocity_caps\[0\] = -1"):
+        robot.ik_step(q, [screwkit.DampingTask()], 0.01, velocity_caps=[-1.0] * n)
+    with pytest.raises(ValueError, match="not finite"):
+        robot.ik_step(np.full(robot.nq, np.nan), [screwkit.DampingTask()], 0.01)
+    assert robot.ik_tasks([]).stop == "converged"
