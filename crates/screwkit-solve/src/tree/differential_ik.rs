@@ -466,6 +466,8 @@ pub fn ik_tasks(
         velocity_caps: None,
     };
     bounds(kin, seed, &limits, None, &mut ws.lo, &mut ws.hi)?;
+    // Which velocity entries each goal moves: once per call (descents and restarts share it).
+    let deps = dependence(kin, tasks);
     let mut rng = crate::sample::SplitMix64(opts.seed);
     let mut start = seed.to_vec();
     let mut best: Option<(f64, TasksResult)> = None;
@@ -476,13 +478,13 @@ pub fn ik_tasks(
             // unmet ones; even restarts redraw every joint from the seed.
             match (&best, attempt % 2) {
                 (Some((_, b)), 1) => {
-                    let mask = unmet_variables(kin, tasks, &b.task_errors);
+                    let mask = unmet_variables(kin, &deps, tasks, &b.task_errors);
                     restart_point(kin, &b.q, Some(&mask), &mut rng, &mut start);
                 }
                 _ => restart_point(kin, seed, None, &mut rng, &mut start),
             }
         }
-        let (stop, used) = descend(kin, ws, tasks, &start, opts.max_iterations, &limits, opts)?;
+        let (stop, used) = descend(kin, ws, tasks, &deps, &start, &limits, opts)?;
         iterations += used;
         let merit = ws.rows.merit;
         if best
@@ -529,32 +531,21 @@ fn restart_point(
     }
 }
 
-/// The joint variables on the paths of the goals not met (every variable for an unmet
-/// centre-of-mass task).
-fn unmet_variables(kin: &TreeKinematics, tasks: &[Task], errors: &[TaskError]) -> Vec<bool> {
-    let n = kin.variable_bounds.len();
-    let mut mask = vec![false; n];
-    let model = kin.model();
-    let mark = |frame: usize, mask: &mut Vec<bool>| {
-        for j in model.path(frame) {
-            mask[model.joints[j].drive.variable] = true;
-        }
-    };
-    for (t, e) in tasks.iter().zip(errors) {
-        if e.converged || !t.is_goal() {
-            continue;
-        }
-        match &t.kind {
-            TaskKind::Frame {
-                frame, relative_to, ..
-            } => {
-                mark(*frame, &mut mask);
-                if let Some(b) = relative_to {
-                    mark(*b, &mut mask);
-                }
+/// The joint variables the goals not met depend on ([`dependence`] without the floating base's
+/// entries: every variable for an unmet centre-of-mass task).
+fn unmet_variables(
+    kin: &TreeKinematics,
+    deps: &[Vec<usize>],
+    tasks: &[Task],
+    errors: &[TaskError],
+) -> Vec<bool> {
+    let vo = kin.v_offset();
+    let mut mask = vec![false; kin.variable_bounds.len()];
+    for ((t, e), d) in tasks.iter().zip(errors).zip(deps) {
+        if t.is_goal() && !e.converged {
+            for &i in d.iter().filter(|&&i| i >= vo) {
+                mask[i - vo] = true;
             }
-            TaskKind::Axis { frame, .. } => mark(*frame, &mut mask),
-            _ => mask.fill(true),
         }
     }
     mask
@@ -574,23 +565,23 @@ fn progress(tasks: &[Task], before: &Rows, after: &Rows) -> bool {
         .any(|(t, (b, a))| t.is_goal() && !b.converged && size(a) < size(b) * RATE)
 }
 
-/// One Levenberg–Marquardt descent from `start` (module documentation) of at most `budget`
-/// steps; leaves the final q and its evaluation in `ws.q` / `ws.rows`.
+/// One Levenberg–Marquardt descent from `start` (module documentation) of at most
+/// `opts.max_iterations` steps; leaves the final q and its evaluation in `ws.q` / `ws.rows`.
 fn descend(
     kin: &TreeKinematics,
     ws: &mut DiffIkWorkspace,
     tasks: &[Task],
+    deps: &[Vec<usize>],
     start: &[f64],
-    budget: usize,
     limits: &Limits,
     opts: &TasksOptions,
 ) -> Result<(TasksStop, usize), SolveError> {
     let nv = kin.nv();
+    let budget = opts.max_iterations;
     ws.q.copy_from_slice(start);
     let base = kin.check_q(&ws.q)?;
     evaluate(kin, &mut ws.tree, &ws.q, &base, tasks, &mut ws.rows);
-    let deps = dependence(kin, tasks);
-    let mut damping = Damping::new(nv, &deps);
+    let mut damping = Damping::new(nv, deps);
     let mut iterations = 0;
     let mut slow = 0;
     loop {
@@ -604,7 +595,7 @@ fn descend(
             return Ok((TasksStop::Interrupted, iterations));
         }
         let e = ws.rows.merit;
-        damping.update(&deps, &ws.rows);
+        damping.update(deps, &ws.rows);
         bounds(kin, &ws.q, limits, None, &mut ws.lo, &mut ws.hi)?;
         let mut accepted = false;
         while damping.lambda < 1e10 {
