@@ -3,7 +3,8 @@
 //! `updateFramePlacements`) and one frame's world-aligned Jacobian
 //! (`tree::jacobian::frame_jacobian`, Pinocchio's `computeFrameJacobian(…,
 //! LOCAL_WORLD_ALIGNED)`), in ns per call: the minimum over 30 rounds of 20,000 calls on 256
-//! random configurations, one thread.
+//! random configurations, one thread. Then one whole-body control step (`differential_ik::ik_step`,
+//! the problem of `benchmarks/whole_body_bench.py`) and its box-constrained QP alone.
 //!
 //! `cargo bench -p screwkit-solve --bench tree -- URDF FRAME` (default: TALOS from
 //! ../shared/urdf/trees and its left gripper's base link).
@@ -12,7 +13,10 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use screwkit_model::{urdf, KinematicTree};
+use screwkit_solve::box_qp::{self, BoxQpWorkspace};
 use screwkit_solve::sample::SplitMix64;
+use screwkit_solve::tree::differential_ik::{self, DiffIkWorkspace, Limits};
+use screwkit_solve::tree::tasks::Task;
 use screwkit_solve::tree::{configuration, fk, jacobian};
 use screwkit_solve::{Form, TreeKinematics, TreeWorkspace};
 
@@ -89,5 +93,65 @@ fn main() {
         model.joints.len(),
         kin.frame_count(),
         kin.nq()
+    );
+    whole_body_step(&kin, &mut rng);
+}
+
+/// One whole-body control step (`differential_ik::ik_step`: two grippers' poses + posture +
+/// damping, position and velocity limits, dt = 0.01, as `benchmarks/whole_body_bench.py` in
+/// Python) from the middle of the limits, and its box-constrained QP alone.
+fn whole_body_step(kin: &TreeKinematics, rng: &mut SplitMix64) {
+    let hands = ["gripper_left_base_link", "gripper_right_base_link"];
+    let Ok(frames) = hands
+        .iter()
+        .map(|h| kin.frame(h))
+        .collect::<Result<Vec<_>, _>>()
+    else {
+        return;
+    };
+    let mut ws = TreeWorkspace::new(kin);
+    let (lower, upper) = (kin.lower(), kin.upper());
+    let mid: Vec<f64> = configuration::neutral(kin)
+        .iter()
+        .enumerate()
+        .map(|(i, x)| x.clamp(lower[i], upper[i]))
+        .collect();
+    // Targets: FK of q* at 0.3–0.7 of every joint's range (reachable, away from the limits).
+    let star: Vec<f64> = (0..kin.nq())
+        .map(|i| lower[i] + (upper[i] - lower[i]) * (0.3 + 0.4 * rng.uniform()))
+        .collect();
+    let poses = fk::fk_frames(kin, &mut ws, &star).unwrap().to_vec();
+    let mut tasks: Vec<Task> = frames.iter().map(|&f| Task::frame(f, poses[f])).collect();
+    tasks.push(Task::posture(mid.clone()).with_weight(1e-2));
+    tasks.push(Task::damping(1e-6));
+    let limits = Limits::default();
+    let mut dws = DiffIkWorkspace::new(kin);
+    let (mut best_step, mut best_qp) = (f64::INFINITY, f64::INFINITY);
+    let calls = 2_000;
+    let mut qp = BoxQpWorkspace::new();
+    let mut x = vec![0.0; kin.nv()];
+    for _ in 0..30 {
+        let t0 = Instant::now();
+        for _ in 0..calls {
+            let v = differential_ik::ik_step(kin, &mut dws, &mid, &tasks, 0.01, &limits).unwrap();
+            black_box(v[0]);
+        }
+        let t1 = Instant::now();
+        let (h, c, l, u) = dws.qp();
+        for _ in 0..calls {
+            box_qp::solve(&mut qp, h, c, l, u, &mut x).unwrap();
+            black_box(x[0]);
+        }
+        let t2 = Instant::now();
+        best_step = best_step.min((t1 - t0).as_nanos() as f64 / calls as f64);
+        best_qp = best_qp.min((t2 - t1).as_nanos() as f64 / calls as f64);
+    }
+    let (h, c, l, u) = dws.qp();
+    let info = box_qp::solve(&mut qp, h, c, l, u, &mut x).unwrap();
+    println!(
+        "SCREWKIT whole_body ik_step_ns={best_step:.0} box_qp_ns={best_qp:.0} nv={} qp_iterations={} active={}",
+        kin.nv(),
+        info.iterations,
+        info.active
     );
 }
