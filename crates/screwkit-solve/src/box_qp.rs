@@ -501,6 +501,27 @@ mod tests {
         x
     }
 
+    /// Bounds in [−scale, 0] and [0, scale]; every `lower_free`-th lower bound (from the last of
+    /// each run) and every `upper_free`-th upper bound infinite.
+    fn random_bounds(
+        n: usize,
+        rng: &mut SplitMix64,
+        scale: f64,
+        lower_free: usize,
+        upper_free: usize,
+    ) -> (Vec<f64>, Vec<f64>) {
+        let mut pick = |i: usize, every: usize, sign: f64| {
+            if every != usize::MAX && i % every == every - 1 {
+                sign * f64::INFINITY
+            } else {
+                sign * scale * rng.uniform()
+            }
+        };
+        let l = (0..n).map(|i| pick(i, lower_free, -1.0)).collect();
+        let u = (0..n).map(|i| pick(i, upper_free, 1.0)).collect();
+        (l, u)
+    }
+
     #[test]
     fn kkt_holds_and_matches_projected_gradient() {
         let mut rng = SplitMix64(7);
@@ -510,41 +531,11 @@ mod tests {
             let n = 1 + trial % 9;
             let h = spd(n, &mut rng);
             let c: Vec<f64> = (0..n).map(|_| 4.0 * rng.uniform() - 2.0).collect();
-            let l: Vec<f64> = (0..n)
-                .map(|i| {
-                    if i % 4 == 3 {
-                        f64::NEG_INFINITY
-                    } else {
-                        -0.5 * rng.uniform()
-                    }
-                })
-                .collect();
-            let u: Vec<f64> = (0..n)
-                .map(|i| {
-                    if i % 5 == 4 {
-                        f64::INFINITY
-                    } else {
-                        0.5 * rng.uniform()
-                    }
-                })
-                .collect();
+            let (l, u) = random_bounds(n, &mut rng, 0.5, 4, 5);
             let mut x = vec![0.0; n];
             let info = solve(&mut ws, &h, &c, &l, &u, &mut x).unwrap();
             active_seen += info.active;
-            for i in 0..n {
-                assert!(
-                    x[i] >= l[i] && x[i] <= u[i],
-                    "trial {trial}: x[{i}] outside"
-                );
-                let g = c[i] + (0..n).map(|j| h[i * n + j] * x[j]).sum::<f64>();
-                if x[i] > l[i] && x[i] < u[i] {
-                    assert!(g.abs() < 1e-9, "trial {trial}: free gradient {g}");
-                } else if x[i] == l[i] && l[i] < u[i] {
-                    assert!(g > -1e-9, "trial {trial}: lower multiplier {g}");
-                } else if x[i] == u[i] && l[i] < u[i] {
-                    assert!(g < 1e-9, "trial {trial}: upper multiplier {g}");
-                }
-            }
+            assert_kkt(&h, &c, &l, &u, &x, 1e-9, &format!("trial {trial}"));
             if n <= 4 {
                 let r = reference(&h, &c, &l, &u);
                 let (fx, fr) = (objective(&h, &c, &x), objective(&h, &c, &r));
@@ -604,16 +595,7 @@ mod tests {
                 }
             }
             let c: Vec<f64> = (0..n).map(|_| 20.0 * rng.uniform() - 10.0).collect();
-            let l: Vec<f64> = (0..n).map(|_| -0.1 * rng.uniform()).collect();
-            let u: Vec<f64> = (0..n)
-                .map(|i| {
-                    if i % 7 == 0 {
-                        f64::INFINITY
-                    } else {
-                        0.1 * rng.uniform()
-                    }
-                })
-                .collect();
+            let (l, u) = random_bounds(n, &mut rng, 0.1, usize::MAX, 7);
             let mut x = vec![0.0; n];
             let info = solve(&mut ws, &h, &c, &l, &u, &mut x).unwrap();
             iterations += info.iterations;
