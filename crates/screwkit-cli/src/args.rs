@@ -354,8 +354,8 @@ impl IkArgs {
             damping: self.damping,
             tol_rot: self.tol_rot,
             tol_pos: self.tol_pos,
-            max_iterations: self.max_iter,
-            max_restarts: self.restarts,
+            max_iterations: self.max_iter.unwrap_or(ik().max_iterations),
+            max_restarts: self.restarts.unwrap_or(ik().max_restarts),
             timeout_ms: self.timeout_ms,
             seed: self.random_seed,
             position_only: self.position_only,
@@ -373,6 +373,16 @@ pub struct IkArgs {
     /// The chain.
     #[command(flatten)]
     pub chain: ChainArgs,
+    /// Whole-body IK on the whole tree: a JSON file (or -) of tasks — frames to poses, relative
+    /// frames, axes, the centre of mass, a posture, damping (README, "Whole-body IK") — solved
+    /// together to convergence within the joint limits; q is the tree's (the floating base's
+    /// seven values first with --floating-base). With --input: JSON lines {"tasks": [a change
+    /// of each task's fields, or null], "seed": [...]}, one answer per line.
+    #[arg(long, value_name = "FILE", conflicts_with_all = [
+        "target_xyz_quat", "target_xyz_rpy", "target_matrix", "all", "output", "target_frame",
+        "position_only", "weights", "damping", "timeout_ms", "method", "tol_rot", "tol_pos",
+    ])]
+    pub tasks: Option<PathBuf>,
     /// Target as x,y,z,qx,qy,qz,qw.
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub target_xyz_quat: Option<List>,
@@ -398,12 +408,13 @@ pub struct IkArgs {
     /// Position tolerance (m).
     #[arg(long, default_value_t = ik().tol_pos)]
     pub tol_pos: f64,
-    /// Iteration budget (all attempts).
-    #[arg(long, default_value_t = ik().max_iterations)]
-    pub max_iter: usize,
-    /// Random restarts allowed.
-    #[arg(long, default_value_t = ik().max_restarts)]
-    pub restarts: usize,
+    /// Iteration budget: over all attempts (default: the library's, 2000); with --tasks, of
+    /// each descent (default 100).
+    #[arg(long)]
+    pub max_iter: Option<usize>,
+    /// Random restarts allowed (default: the library's, 200; with --tasks, 50).
+    #[arg(long)]
+    pub restarts: Option<usize>,
     /// Wall-time budget per target in ms (0, the default: none, so answers do not depend on
     /// the machine's load; the budget is --max-iter and --restarts).
     #[arg(long, default_value_t = ik().timeout_ms)]

@@ -324,6 +324,9 @@ fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliR
 
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
+    if let Some(path) = &args.tasks {
+        return crate::whole_body::run(args, path, format);
+    }
     let robot = crate::load(&args.chain)?;
     let (chain, kin) = robot.chain_parts()?;
     let opts = args.settings().options()?;

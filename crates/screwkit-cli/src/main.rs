@@ -17,6 +17,7 @@ mod npy;
 mod output;
 mod reach;
 mod table;
+mod whole_body;
 
 use std::process::ExitCode;
 

@@ -1,5 +1,5 @@
 //! Fuzz target of the JSON-lines batch parser (`fk`, `jacobian`, `ik --input -`, `ik --all
-//! --input -`): mutated lines from the seeded mutation fuzzer of `screwkit_testkit::fuzz`,
+//! --input -`, `ik --tasks FILE --input -` with and without `--sequential`): mutated lines from the seeded mutation fuzzer of `screwkit_testkit::fuzz`,
 //! thousands per process. Every line gets exactly one answer (a result or an error object
 //! naming its line), the exit code is 0 or 1, and nothing panics. A few seconds here;
 //! `SCREWKIT_FUZZ_SECS=600` runs ten minutes.
@@ -80,6 +80,8 @@ fn fuzz_json_lines() {
         r#"{"target":[[-1,0,0,0.81725],[0,0,1,0.19145],[0,1,0,-0.005491],[0,0,0,1]],"seed":[0,0,0,0,0,0]}"#,
         r#"{"target":[[1,0,0,0.3],[0,1,0,0.1],[0,0,1,0.4],[0,0,0,1]]}"#,
         "\u{feff}{\"q\":[1e-300,2,3,4,5,6]}",
+        r#"{"tasks":[{"target":[1,0,0,0.3,0,1,0,0.4,0,0,1,0.9,0,0,0,1]},null,{"weight":0.1}],"seed":[0,0,0,0,0,0,0]}"#,
+        r#"{"tasks":[{"type":"axis","axis":[0,0,1],"direction":[1,0,0]},{"position_weight":[1,0,1]}]}"#,
     ]
     .iter()
     .map(|s| s.as_bytes().to_vec())
@@ -94,6 +96,8 @@ fn fuzz_json_lines() {
         b"\"q\"",
         b"\"target\"",
         b"\"seed\"",
+        b"\"tasks\"",
+        b"\"weight\"",
         b"null",
         b"true",
         b"1e999",
@@ -110,6 +114,14 @@ fn fuzz_json_lines() {
     let mut m = Mutator::new(6, &seeds, tokens);
     let (mut rounds, mut lines_fed) = (0u64, 0u64);
     let ur5 = ur5();
+    let torso = format!(
+        "{}/../../assets/urdf/torso_two_arms.urdf",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let tasks = format!(
+        "{}/../../assets/tasks/torso_two_arms.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
     while start.elapsed() < Duration::from_secs_f64(secs) {
         let fk: Vec<Vec<u8>> = (0..5000).map(|_| m.input()).collect();
         feed(&["fk", &ur5, "--input", "-"], &fk);
@@ -129,8 +141,27 @@ fn fuzz_json_lines() {
             &ik,
         );
         feed(&["ik", &ur5, "--all", "--input", "-"], &ik[..200]);
+        // Whole-body IK's lines of task changes (`--tasks`), independent and in order.
+        for sequential in [false, true] {
+            let mut args = vec![
+                "ik",
+                &torso,
+                "--tasks",
+                &tasks,
+                "--input",
+                "-",
+                "--max-iter",
+                "10",
+                "--restarts",
+                "1",
+            ];
+            if sequential {
+                args.push("--sequential");
+            }
+            feed(&args, &ik[..200]);
+        }
         rounds += 1;
-        lines_fed += 7700;
+        lines_fed += 8100;
     }
     eprintln!(
         "fuzz json lines: {lines_fed} lines in {rounds} rounds, {:.0} s, without a crash",

@@ -66,18 +66,6 @@ pub(crate) fn word<W: Word>(keyword: &str, given: &str) -> PyResult<W> {
     words::parse::<W>(given).map_err(|e| PyValueError::new_err(format!("{keyword}: {e}")))
 }
 
-/// The neutral configuration with the joints brought within their limits (the default seed of
-/// whole-body IK).
-fn clamped_neutral(kin: &TreeKinematics) -> Vec<f64> {
-    let mut q = tree::configuration::neutral(kin);
-    let (lo, hi) = (kin.lower(), kin.upper());
-    let off = kin.nq() - kin.model().variables.len();
-    for i in off..q.len() {
-        q[i] = q[i].clamp(lo[i], hi[i].max(lo[i]));
-    }
-    q
-}
-
 /// The options of `ik_tasks` / `ik_trajectory` (Ctrl-C polled).
 fn tasks_options(
     max_iterations: usize,
@@ -1176,7 +1164,7 @@ impl Robot {
         let tasks = self.resolve_tasks(&kin, tasks)?;
         let seed = match seed {
             Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
-            None => clamped_neutral(&kin),
+            None => screwkit_service::tasks::default_seed(&kin),
         };
         let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
         let r = py
@@ -1221,7 +1209,7 @@ impl Robot {
         }
         let seed = match seed {
             Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
-            None => clamped_neutral(&kin),
+            None => screwkit_service::tasks::default_seed(&kin),
         };
         let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
         let segments = differential_ik::Segments {

@@ -173,3 +173,65 @@ impl MapReport {
         }
     }
 }
+
+/// One task's final error in a [`TasksReport`].
+#[derive(Debug, Clone, Serialize)]
+pub struct TaskErrorReport {
+    /// The task in words ([`screwkit_solve::tree::tasks::Task::describe`]).
+    pub task: String,
+    /// Its position error (m; a posture's joint distance).
+    #[serde(serialize_with = "number")]
+    pub position_error: f64,
+    /// Its rotation error (rad).
+    #[serde(serialize_with = "number")]
+    pub rotation_error: f64,
+    /// Within its tolerances (a regulariser: always).
+    pub converged: bool,
+}
+
+/// A whole-body IK answer (`screwkit ik --tasks … --format json`, a line of its batch).
+#[derive(Debug, Clone, Serialize)]
+pub struct TasksReport {
+    /// Every goal within its tolerances.
+    pub converged: bool,
+    /// The configuration (nq: the floating base's seven values first), within the limits.
+    #[serde(serialize_with = "numbers")]
+    pub q: Vec<f64>,
+    /// Steps taken over every descent.
+    pub iterations: usize,
+    /// Why it stopped ([`screwkit_solve::tree::differential_ik::TasksStop::word`]).
+    pub stop: &'static str,
+    /// Each task's final error, in the tasks' order.
+    pub tasks: Vec<TaskErrorReport>,
+    /// Wall time of the solve (µs); 0 in a batch solved on all cores.
+    #[serde(serialize_with = "number")]
+    pub time_us: f64,
+}
+
+impl TasksReport {
+    /// The report of `result` for `tasks` on `kin`.
+    pub fn new(
+        kin: &screwkit_solve::TreeKinematics,
+        tasks: &[screwkit_solve::tree::tasks::Task],
+        result: &screwkit_solve::tree::differential_ik::TasksResult,
+        time_us: f64,
+    ) -> TasksReport {
+        TasksReport {
+            converged: result.converged,
+            q: result.q.clone(),
+            iterations: result.iterations,
+            stop: result.stop.word(),
+            tasks: tasks
+                .iter()
+                .zip(&result.task_errors)
+                .map(|(t, e)| TaskErrorReport {
+                    task: t.describe(kin),
+                    position_error: e.position,
+                    rotation_error: e.rotation,
+                    converged: e.converged,
+                })
+                .collect(),
+            time_us,
+        }
+    }
+}

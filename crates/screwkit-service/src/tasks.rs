@@ -22,6 +22,7 @@ use nalgebra::Vector3;
 use screwkit_solve::tree::tasks::{Task, TaskKind};
 use screwkit_solve::TreeKinematics;
 use serde::Deserialize;
+use serde_json::Value;
 
 use crate::error::{Error, Result};
 use crate::target;
@@ -215,22 +216,119 @@ impl TaskSpec {
 
 /// Parses a JSON task list (an array of task objects, or `{"tasks": [...]}`).
 pub fn parse_json(text: &str) -> Result<Vec<TaskSpec>> {
-    #[derive(Deserialize)]
-    #[serde(untagged)]
-    enum List {
-        Bare(Vec<TaskSpec>),
-        Wrapped { tasks: Vec<TaskSpec> },
-    }
-    match serde_json::from_str::<List>(text) {
-        Ok(List::Bare(t)) | Ok(List::Wrapped { tasks: t }) => Ok(t),
-        Err(_) => {
-            // Untagged enums hide the reason: parse as a plain list for the message.
-            let e = serde_json::from_str::<Vec<TaskSpec>>(text)
-                .err()
-                .map_or("not a list of tasks".to_string(), |e| e.to_string());
-            Err(Error::option("tasks", e))
+    Ok(TaskList::parse(text)?.specs)
+}
+
+/// A task list read from JSON, each task's object kept so that a batch line can change some of
+/// its fields ([`TaskList::with_changes`]: the targets of a motion clip's frame, say).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TaskList {
+    objects: Vec<serde_json::Map<String, Value>>,
+    specs: Vec<TaskSpec>,
+}
+
+/// Task `i`'s object as a spec; the error names the task.
+fn spec_of(i: usize, object: &serde_json::Map<String, Value>) -> Result<TaskSpec> {
+    TaskSpec::deserialize(Value::Object(object.clone()))
+        .map_err(|e| Error::option("tasks", format!("task {i}: {e}")))
+}
+
+impl TaskList {
+    /// Parses an array of task objects or `{"tasks": [...]}` (module documentation); the error
+    /// gives the line and column of bad JSON, or the task and field.
+    pub fn parse(text: &str) -> Result<TaskList> {
+        let value: Value =
+            serde_json::from_str(text).map_err(|e| Error::option("tasks", e.to_string()))?;
+        let list = match value {
+            Value::Array(list) => list,
+            Value::Object(mut o) if o.len() == 1 && o.contains_key("tasks") => {
+                match o.remove("tasks") {
+                    Some(Value::Array(list)) => list,
+                    _ => {
+                        return Err(Error::option(
+                            "tasks",
+                            "\"tasks\" must be a list of task objects",
+                        ))
+                    }
+                }
+            }
+            _ => {
+                return Err(Error::option(
+                    "tasks",
+                    "expected a list of task objects, or {\"tasks\": [...]}",
+                ))
+            }
+        };
+        let mut objects = Vec::with_capacity(list.len());
+        for (i, t) in list.into_iter().enumerate() {
+            match t {
+                Value::Object(o) => objects.push(o),
+                other => {
+                    return Err(Error::option(
+                        "tasks",
+                        format!("task {i}: expected an object with a \"type\", got {other}"),
+                    ))
+                }
+            }
         }
+        let specs = objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| spec_of(i, o))
+            .collect::<Result<_>>()?;
+        Ok(TaskList { objects, specs })
     }
+
+    /// The tasks as read.
+    pub fn specs(&self) -> &[TaskSpec] {
+        &self.specs
+    }
+
+    /// The tasks with a batch line's changes: `changes[i]` (an object, or null for none)
+    /// replaces the fields it gives of task i; tasks past the end of `changes` are unchanged.
+    /// The error (for the line's report) names the task and field.
+    pub fn with_changes(&self, changes: &[Value]) -> Result<Vec<TaskSpec>> {
+        if changes.len() > self.objects.len() {
+            return Err(Error::option(
+                "tasks",
+                format!(
+                    "{} task changes for {} tasks",
+                    changes.len(),
+                    self.objects.len()
+                ),
+            ));
+        }
+        let mut out = self.specs.clone();
+        for (i, change) in changes.iter().enumerate() {
+            match change {
+                Value::Null => {}
+                Value::Object(fields) => {
+                    let mut o = self.objects[i].clone();
+                    o.extend(fields.iter().map(|(k, v)| (k.clone(), v.clone())));
+                    out[i] = spec_of(i, &o)?;
+                }
+                other => {
+                    return Err(Error::option(
+                        "tasks",
+                        format!("task {i}: a change is an object or null, got {other}"),
+                    ))
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The default seed of whole-body IK: the neutral configuration (the base at the world's
+/// origin) with every joint brought within its limits.
+pub fn default_seed(kin: &TreeKinematics) -> Vec<f64> {
+    let mut q = screwkit_solve::tree::configuration::neutral(kin);
+    let (lo, hi) = (kin.lower(), kin.upper());
+    let off = kin.nq() - kin.model().variables.len();
+    for i in off..q.len() {
+        q[i] = q[i].clamp(lo[i], hi[i].max(lo[i]));
+    }
+    q
 }
 
 /// Every spec resolved; the error names the task's index.

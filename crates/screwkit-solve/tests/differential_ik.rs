@@ -525,6 +525,22 @@ fn q_outside_its_limits_is_reported_and_bad_tasks_are_named() {
     for dt in [0.0, -1.0, f64::NAN] {
         assert!(ik_step(&kin, &mut ws, &q, &tasks, dt, &Limits::default()).is_err());
     }
+    // Finite numbers whose squares overflow (found by the task-JSON fuzzer: a NaN step): an
+    // error, never a NaN velocity or configuration.
+    let far =
+        Se3::from_parts(nalgebra::Matrix3::identity(), Vector3::new(1e300, 0.0, 0.0)).unwrap();
+    for (set, what) in [
+        (
+            vec![Task::frame(l, Se3::identity()), Task::damping(1e308)],
+            "a huge weight",
+        ),
+        (vec![Task::frame(l, far)], "a target at 1e300 m"),
+    ] {
+        let e = ik_step(&kin, &mut ws, &q, &set, 0.01, &Limits::default()).unwrap_err();
+        assert!(e.to_string().contains("overflows"), "{what}: {e}");
+        let e = ik_tasks(&kin, &mut ws, &set, &q, &TasksOptions::default()).unwrap_err();
+        assert!(e.to_string().contains("overflows"), "{what}: {e}");
+    }
 }
 
 #[test]
@@ -551,9 +567,11 @@ fn batches_and_trajectories_equal_the_single_calls_whatever_the_threads() {
     let opts = TasksOptions::default();
     let problems: Vec<TasksProblem> = sets
         .iter()
-        .map(|t| TasksProblem {
+        .enumerate()
+        .map(|(row, t)| TasksProblem {
             tasks: t.clone(),
             seed: seed.clone(),
+            row,
         })
         .collect();
     let run = |threads: usize| {

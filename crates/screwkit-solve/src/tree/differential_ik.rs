@@ -222,13 +222,17 @@ struct Damping {
 /// min(1, E_i) (E_i the merit of the goals entry i moves; 1 for an entry no goal depends on,
 /// or when there is no goal) and λ E_i is added: Levenberg–Marquardt damping per entry, so that
 /// a goal met or converging beside a stuck one is neither damped nor held off by it.
+///
+/// Errors (`InvalidInput`) when the numbers overflow f64 — a weight or a target so large that
+/// its square is infinite: a diagonal of H or an entry of c that is not finite (H's
+/// off-diagonal entries are then finite too, |H_ij| ≤ √(H_ii H_jj)).
 fn normal_equations(
     rows: &Rows,
     nv: usize,
     damping: Option<&Damping>,
     h: &mut [f64],
     c: &mut [f64],
-) {
+) -> Result<(), SolveError> {
     let scale = |i: usize| match damping {
         Some(d) if rows.has_goal && d.touched[i] => (d.merit[i].min(1.0), d.lambda * d.merit[i]),
         _ => (1.0, 0.0),
@@ -260,6 +264,14 @@ fn normal_equations(
     let eps = 1e-10 * (1.0 + max_diag);
     for i in 0..nv {
         h[i * nv + i] += eps + scale(i).1;
+    }
+    match (0..nv).find(|&i| !h[i * nv + i].is_finite() || !c[i].is_finite()) {
+        None => Ok(()),
+        Some(i) => Err(SolveError::InvalidInput(format!(
+            "the step's least-squares problem overflows at velocity entry {i} (H = {:e}, c = {:e}): a task's weight or target is too large for f64 (weights above about 1e150 square to infinity)",
+            h[i * nv + i],
+            c[i]
+        ))),
     }
 }
 
@@ -343,7 +355,7 @@ pub fn ik_step<'w>(
     let nv = kin.nv();
     bounds(kin, q, limits, Some(dt), &mut ws.lo, &mut ws.hi)?;
     evaluate(kin, &mut ws.tree, q, &base, tasks, &mut ws.rows);
-    normal_equations(&ws.rows, nv, None, &mut ws.h, &mut ws.c);
+    normal_equations(&ws.rows, nv, None, &mut ws.h, &mut ws.c)?;
     box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
     for (v, d) in ws.v.iter_mut().zip(&ws.delta) {
         *v = d / dt;
@@ -599,7 +611,7 @@ fn descend(
         bounds(kin, &ws.q, limits, None, &mut ws.lo, &mut ws.hi)?;
         let mut accepted = false;
         while damping.lambda < 1e10 {
-            normal_equations(&ws.rows, nv, Some(&damping), &mut ws.h, &mut ws.c);
+            normal_equations(&ws.rows, nv, Some(&damping), &mut ws.h, &mut ws.c)?;
             box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
             step_into(kin, &ws.q, &ws.delta, limits.position, &mut ws.q_try);
             let base = kin.check_q(&ws.q_try)?;
@@ -640,18 +652,22 @@ fn descend(
     }
 }
 
-/// One problem of a batch: its tasks and seed.
+/// One problem of a batch: its tasks, seed and row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TasksProblem {
     /// The tasks.
     pub tasks: Vec<Task>,
     /// The seed (nq).
     pub seed: Vec<f64>,
+    /// Its row in the caller's numbering (a line of a stream read in chunks): its restarts'
+    /// random seed is `batch::row_seed(opts.seed, row)`, so an answer does not depend on how
+    /// the rows were chunked.
+    pub row: usize,
 }
 
 /// Independent problems on all cores (one workspace per worker): entry k is
-/// `ik_tasks(problems[k])` with restart seed `batch::row_seed(opts.seed, k)`, whatever the
-/// thread count.
+/// `ik_tasks(problems[k])` with restart seed `batch::row_seed(opts.seed, problems[k].row)`,
+/// whatever the thread count.
 pub fn ik_tasks_batch(
     kin: &TreeKinematics,
     problems: &[TasksProblem],
@@ -659,12 +675,11 @@ pub fn ik_tasks_batch(
 ) -> Vec<Result<TasksResult, SolveError>> {
     problems
         .par_iter()
-        .enumerate()
         .map_init(
             || DiffIkWorkspace::new(kin),
-            |ws, (k, p)| {
+            |ws, p| {
                 let opts = TasksOptions {
-                    seed: crate::batch::row_seed(opts.seed, k),
+                    seed: crate::batch::row_seed(opts.seed, p.row),
                     ..opts.clone()
                 };
                 ik_tasks(kin, ws, &p.tasks, &p.seed, &opts)
