@@ -58,3 +58,27 @@ def test_readme_example_prints_what_the_readme_says(line: int, code: str, printe
     assert len(got) == len(want), f"README.md:{line}: {len(got)} lines, the README has {len(want)}"
     for g, w in zip(got, want):
         assert same(g, w), f"README.md:{line}: got\n  {g}\nthe README has\n  {w}"
+
+
+def test_readme_whole_body_picture_is_current() -> None:
+    """docs/talos-whole-body.svg is the `svg` the README's whole-body example draws; regenerate
+    it with SCREWKIT_UPDATE_PICTURES=1 and look at it (a headless-browser screenshot) first."""
+    found = [(line, code) for line, code, _ in examples() if "svg = robot.draw(" in code]
+    assert len(found) == 1, "the README's whole-body example draws the picture"
+    line, code = found[0]
+    namespace: dict[str, object] = {"__name__": "__readme__"}
+    here = Path.cwd()
+    os.chdir(REPO)
+    try:
+        with contextlib.redirect_stdout(io.StringIO()):
+            exec(compile(code, f"README.md:{line}", "exec"), namespace)
+    finally:
+        os.chdir(here)
+    svg = namespace["svg"]
+    assert isinstance(svg, str) and "<svg" in svg[:200]
+    path = REPO / "docs" / "talos-whole-body.svg"
+    if os.environ.get("SCREWKIT_UPDATE_PICTURES"):
+        path.write_text(svg)
+    assert path.read_text() == svg, (
+        "docs/talos-whole-body.svg is stale: regenerate it with SCREWKIT_UPDATE_PICTURES=1"
+    )
