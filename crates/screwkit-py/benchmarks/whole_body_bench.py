@@ -208,6 +208,116 @@ def main(path: Path) -> None:
             f"final_hand_error={err:.2e}"
         )
 
+    convergence(path, robot, names, model, data, mj, to_pin, to_mj)
+
+
+def convergence(
+    path: Path,
+    robot: screwkit.Robot,
+    names: list[str],
+    model: Any,
+    data: Any,
+    mj: Any,
+    to_pin: Callable[[np.ndarray], Any],
+    to_mj: Callable[[np.ndarray], Any],
+    sets: int = 100,
+    peer_steps: int = 200,
+) -> None:
+    """To convergence on reachable target sets: both grippers to the 6-D poses of a random
+    q* (10–90 % of every range), from the middle of the limits, position limits only.
+    screwkit's `ik_tasks` (its tolerance, 1e-9, without and with restarts) next to pink and
+    mink iterated the way their documentation loops them (a step with dt = 1, integrated,
+    until the error is below a tolerance, at most `peer_steps` steps; their default damping,
+    no posture task, which would hold them off the targets). Every answer is checked by
+    Pinocchio's FK; limit violations are counted on every iteration of every library."""
+    lo, hi = np.array(robot.lower), np.array(robot.upper)
+    mid = np.clip(np.zeros(robot.nq), lo, hi)
+    rng = np.random.default_rng(1)
+    fids = [model.getFrameId(h, pin.BODY) for h in HANDS]
+    plo, phi = model.lowerPositionLimit, model.upperPositionLimit
+
+    def hand_errors(q_pin: Any, targets: list[np.ndarray]) -> tuple[float, float]:
+        pin.framesForwardKinematics(model, data, q_pin)
+        pos, rot = 0.0, 0.0
+        for f, t in zip(fids, targets):
+            err = pin.log6(data.oMf[f].actInv(pin.SE3(t[:3, :3], t[:3, 3]))).vector
+            pos, rot = (
+                max(pos, float(np.linalg.norm(err[:3]))),
+                max(rot, float(np.linalg.norm(err[3:]))),
+            )
+        return pos, rot
+
+    problems = []
+    for _ in range(sets):
+        qstar = lo + (hi - lo) * rng.uniform(0.1, 0.9, robot.nq)
+        problems.append([robot.fk(qstar, link=h) for h in HANDS])
+    counts: dict[str, dict[str, float]] = {}
+
+    def record(name: str, ok6: bool, ok9: bool, bad: int, seconds: float) -> None:
+        c = counts.setdefault(name, {"1e-6": 0, "1e-9": 0, "violations": 0, "seconds": 0.0})
+        c["1e-6"] += ok6
+        c["1e-9"] += ok9
+        c["violations"] += bad
+        c["seconds"] += seconds
+
+    for targets in problems:
+        tasks = [screwkit.FrameTask(h, t) for h, t in zip(HANDS, targets)]
+        for name, restarts in [("screwkit_no_restarts", 0), ("screwkit", 50)]:
+            t0 = time.perf_counter()
+            r = robot.ik_tasks(tasks, seed=mid, restarts=restarts)
+            dt = time.perf_counter() - t0
+            bad = int(np.sum((r.q < lo - 1e-12) | (r.q > hi + 1e-12)))
+            pos, rot = hand_errors(to_pin(r.q), targets)
+            record(name, max(pos, rot) < 1e-6, max(pos, rot) < 1e-9, bad, dt)
+        # pink
+        ptasks = []
+        for h, t in zip(HANDS, targets):
+            task = pink.tasks.FrameTask(h, position_cost=1.0, orientation_cost=1.0)
+            task.set_target(pin.SE3(t[:3, :3], t[:3, 3]))
+            ptasks.append(task)
+        plimits = [PinkConfigurationLimit(model)]
+        c = pink.Configuration(model, data, to_pin(mid))
+        bad, t0 = 0, time.perf_counter()
+        for _ in range(peer_steps):
+            v = pink.solve_ik(c, ptasks, 1.0, solver="daqp", limits=plimits)
+            c.integrate_inplace(v, 1.0)
+            bad += int(np.sum((c.q < plo - 1e-12) | (c.q > phi + 1e-12)))
+            if max(hand_errors(c.q, targets)) < 1e-9:
+                break
+        dt = time.perf_counter() - t0
+        pos, rot = hand_errors(c.q, targets)
+        record("pink", max(pos, rot) < 1e-6, max(pos, rot) < 1e-9, bad, dt)
+        # mink
+        mtasks = []
+        for h, t in zip(HANDS, targets):
+            task = mink.FrameTask(h, "body", position_cost=1.0, orientation_cost=1.0)
+            task.set_target(mink.SE3.from_matrix(t))
+            mtasks.append(task)
+        mlimits = [mink.ConfigurationLimit(mj)]
+        mc = mink.Configuration(mj)
+        mc.update(to_mj(mid))
+        bad, t0 = 0, time.perf_counter()
+        q_pin = to_pin(mid)
+        for _ in range(peer_steps):
+            v = mink.solve_ik(mc, mtasks, 1.0, solver="daqp", limits=mlimits)
+            mc.integrate_inplace(v, 1.0)
+            for j in range(mj.njnt):
+                if mj.jnt_limited[j]:
+                    x = mc.q[mj.jnt_qposadr[j]]
+                    bad += int(x < mj.jnt_range[j, 0] - 1e-12 or x > mj.jnt_range[j, 1] + 1e-12)
+            q_pin = to_pin(np.array([mc.q[mj.jnt_qposadr[mj.joint(n).id]] for n in names]))
+            if max(hand_errors(q_pin, targets)) < 1e-9:
+                break
+        dt = time.perf_counter() - t0
+        pos, rot = hand_errors(q_pin, targets)
+        record("mink", max(pos, rot) < 1e-6, max(pos, rot) < 1e-9, bad, dt)
+    for name, c in counts.items():
+        print(
+            f"CONVERGE robot={path.name} what={name} sets={sets} "
+            f"within_1e-6={int(c['1e-6'])} within_1e-9={int(c['1e-9'])} "
+            f"limit_violations={int(c['violations'])} mean_ms={c['seconds'] / sets * 1e3:.2f}"
+        )
+
 
 if __name__ == "__main__":
     main(Path(sys.argv[1]))
