@@ -146,6 +146,50 @@ pub fn interrupted() -> bool {
     raised
 }
 
+/// Set while a [`cancellable`] call is being cancelled (a signal handler raised).
+static CANCEL: AtomicBool = AtomicBool::new(false);
+
+/// The interrupt check of work running on the pool's threads under [`cancellable`] (off the
+/// main thread, where Python's signal handlers cannot run): true once the main thread saw a
+/// signal handler raise.
+pub fn cancelled() -> bool {
+    CANCEL.load(Ordering::Relaxed)
+}
+
+/// Runs `f` on the pool with the GIL released while this thread waits, running Python's
+/// signal handlers every 50 ms; when one raises (Ctrl-C), [`cancelled`] turns true — `f`'s
+/// solvers poll it and stop — and the exception is raised once `f` has returned.
+pub fn cancellable<R: Send>(py: Python<'_>, f: impl FnOnce() -> R + Send) -> PyResult<R> {
+    use std::time::Duration;
+    let pool = pool()?;
+    let mut raised: Option<PyErr> = None;
+    let out = py.detach(|| {
+        std::thread::scope(|s| {
+            let waiter = std::thread::current();
+            let worker = s.spawn(move || {
+                let r = pool.install(f);
+                waiter.unpark();
+                r
+            });
+            while !worker.is_finished() {
+                std::thread::park_timeout(Duration::from_millis(50));
+                if raised.is_none() && !worker.is_finished() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        raised = Some(e);
+                        CANCEL.store(true, Ordering::SeqCst);
+                    }
+                }
+            }
+            worker.join()
+        })
+    });
+    CANCEL.store(false, Ordering::SeqCst);
+    if let Some(e) = raised {
+        return Err(e);
+    }
+    out.map_err(|_| PyRuntimeError::new_err("internal error: a batch thread panicked"))
+}
+
 /// The exception a signal handler raised during the last solve, if any.
 pub fn take_interrupt(py: Python<'_>) -> PyResult<()> {
     if RAISED.swap(false, Ordering::SeqCst) {

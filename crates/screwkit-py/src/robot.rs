@@ -1211,17 +1211,19 @@ impl Robot {
             Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
             None => screwkit_service::tasks::default_seed(&kin),
         };
-        let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
+        // The sets run on the pool's threads: Ctrl-C reaches them through `pool::cancelled`.
+        let opts = differential_ik::TasksOptions {
+            interrupt: Some(ik::Interrupt(pool::cancelled)),
+            ..tasks_options(max_iterations, restarts, seed_rng, position_limits)
+        };
         let segments = differential_ik::Segments {
             length: segment,
             warm_up,
         };
-        let out = py
-            .detach(|| {
-                pool::run(|| differential_ik::ik_trajectory(&kin, &sets, &seed, &opts, segments))
-            })?
-            .map_err(solve_error)?;
-        pool::take_interrupt(py)?;
+        let out = pool::cancellable(py, || {
+            differential_ik::ik_trajectory(&kin, &sets, &seed, &opts, segments)
+        })?
+        .map_err(solve_error)?;
         out.into_iter()
             .enumerate()
             .map(|(i, r)| {

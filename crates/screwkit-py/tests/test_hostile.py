@@ -51,6 +51,8 @@ import numpy as np
 import screwkit
 robot = screwkit.Robot.from_urdf({panda!r})
 far = np.eye(4); far[:3, 3] = [5.0, 0.0, 0.0]   # out of reach: every solve runs its budget
+torso = screwkit.Robot.from_urdf({torso!r})
+reach = [screwkit.FrameTask("left_hand", far)]
 def fire():
     time.sleep(0.5)
     global t0
@@ -70,10 +72,16 @@ except KeyboardInterrupt:
     [
         "robot.ik(far, max_iterations=10**9, max_restarts=10**9)",
         "robot.ik(np.repeat(far[None], 60000, axis=0))",
+        # Whole-body IK: one solve on this thread, and trajectories on the pool's threads.
+        "torso.ik_tasks(reach, max_iterations=10**9, restarts=10**9)",
+        "torso.ik_trajectory([reach] * 200000, np.zeros(7))",
+        "torso.ik_trajectory([reach] * 200000, np.zeros(7), segment=1000)",
     ],
 )
 def test_ctrl_c_interrupts_long_calls(call: str) -> None:
-    script = textwrap.dedent(INTERRUPT.format(panda=str(PANDA), call=call))
+    script = textwrap.dedent(
+        INTERRUPT.format(panda=str(PANDA), torso=str(ASSETS / "torso_two_arms.urdf"), call=call)
+    )
     out = subprocess.run(
         [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
     )

@@ -170,3 +170,76 @@ def test_hostile_task_values_raise_value_errors_naming_them() -> None:
     with pytest.raises(ValueError, match="not finite"):
         robot.ik_step(np.full(robot.nq, np.nan), [screwkit.DampingTask()], 0.01)
     assert robot.ik_tasks([]).stop == "converged"
+
+
+def within_limits(robot: screwkit.Robot, q: Array) -> bool:
+    lo, hi = np.array(robot.lower), np.array(robot.upper)
+    off = 7 if robot.floating_base else 0
+    return bool(np.all(q[off:] >= lo[off:] - 1e-12) and np.all(q[off:] <= hi[off:] + 1e-12))
+
+
+def test_relative_frame_task_holds_one_gripper_in_the_other_checked_by_pinocchio() -> None:
+    path = shared("baxter.urdf")
+    robot = screwkit.Robot.from_urdf(path)
+    peer = Peer(path, False)
+    fl, fr = (peer.model.getFrameId(n, pin.BODY) for n in ("left_gripper", "right_gripper"))
+
+    def relative(q: Array) -> Array:
+        pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, q))
+        return np.asarray((peer.data.oMf[fr].inverse() * peer.data.oMf[fl]).homogeneous)
+
+    for seed in range(10):
+        want = relative(robot.random_configuration(200 + seed))
+        r = robot.ik_tasks([screwkit.RelativeFrameTask("left_gripper", "right_gripper", want)])
+        assert r.converged, r
+        assert np.abs(relative(r.q) - want).max() < 1e-8
+        assert within_limits(robot, r.q)
+
+
+def test_axis_task_points_a_five_axis_arm_checked_by_pinocchio() -> None:
+    path = shared("so101.urdf")
+    robot = screwkit.Robot.from_urdf(path)
+    peer = Peer(path, False)
+    fid = peer.model.getFrameId("gripper_frame_link", pin.BODY)
+
+    def pose(q: Array) -> Array:
+        pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, q))
+        return np.asarray(peer.data.oMf[fid].homogeneous)
+
+    for seed in range(10):
+        star = pose(robot.random_configuration(300 + seed))
+        d, p = star[:3, 2], star[:3, 3]
+        r = robot.ik_tasks(
+            [screwkit.AxisTask("gripper_frame_link", axis=(0, 0, 1), direction=d, point=p)]
+        )
+        assert r.converged, r
+        got = pose(r.q)
+        assert float(got[:3, 2] @ d) > 1 - 1e-12
+        assert np.abs(got[:3, 3] - p).max() < 1e-8
+        assert within_limits(robot, r.q)
+
+
+def test_com_task_balances_a_floating_humanoid_checked_by_pinocchio() -> None:
+    path = shared("talos_full_v2.urdf")
+    robot = screwkit.Robot.from_urdf(path, floating_base=True)
+    peer = Peer(path, True)
+    feet = ["left_sole_link", "right_sole_link"]
+    fids = [peer.model.getFrameId(n, pin.BODY) for n in feet]
+    for seed in range(5):
+        star = peer.q(robot, robot.random_configuration(400 + seed))
+        pin.framesForwardKinematics(peer.model, peer.data, star)
+        soles = [peer.data.oMf[f].homogeneous.copy() for f in fids]
+        c = pin.centerOfMass(peer.model, peer.data, star).copy()
+        tasks: list[screwkit.FrameTask | screwkit.ComTask | screwkit.PostureTask] = [
+            screwkit.FrameTask(n, t) for n, t in zip(feet, soles)
+        ]
+        tasks.append(screwkit.ComTask(c))
+        tasks.append(screwkit.PostureTask(robot.neutral(), weight=1e-2))
+        r = robot.ik_tasks(tasks)
+        assert r.converged, r
+        got = peer.q(robot, r.q)
+        assert np.abs(pin.centerOfMass(peer.model, peer.data, got) - c).max() < 1e-8
+        pin.framesForwardKinematics(peer.model, peer.data, got)
+        for f, t in zip(fids, soles):
+            assert np.abs(peer.data.oMf[f].homogeneous - t).max() < 1e-8
+        assert within_limits(robot, r.q)

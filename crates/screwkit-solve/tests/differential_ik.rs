@@ -795,3 +795,33 @@ fn baxter_allegro_so101_reach_their_targets() {
     let n = run_reachable("so101", &tree, &kin, 30, &|_| mid.clone(), &make);
     assert_eq!(n, 30, "so101");
 }
+
+#[test]
+fn an_interrupt_stops_a_solve_and_every_set_of_a_trajectory() {
+    let (_, kin) = load(&screwkit_testkit::bundled("torso_two_arms.urdf"), false);
+    let l = kin.frame("left_hand").unwrap();
+    // Out of reach: without the interrupt every descent runs and 10⁶ restarts would follow.
+    let far = Se3::from_parts(nalgebra::Matrix3::identity(), Vector3::new(5.0, 0.0, 0.0)).unwrap();
+    let tasks = vec![Task::frame(l, far)];
+    let stop = TasksOptions {
+        restarts: 1_000_000,
+        interrupt: Some(screwkit_solve::ik::Interrupt(|| true)),
+        ..TasksOptions::default()
+    };
+    let mut ws = DiffIkWorkspace::new(&kin);
+    let seed = vec![0.0; kin.nq()];
+    let r = ik_tasks(&kin, &mut ws, &tasks, &seed, &stop).unwrap();
+    assert_eq!(r.stop, TasksStop::Interrupted);
+    assert_eq!(r.iterations, 0, "polled before the first step");
+    assert!(!r.converged);
+    let sets = vec![tasks; 1000];
+    for length in [0, 100] {
+        let segments = Segments { length, warm_up: 5 };
+        let out = ik_trajectory(&kin, &sets, &seed, &stop, segments).unwrap();
+        assert_eq!(out.len(), 1000);
+        assert!(out.iter().all(|r| {
+            let r = r.as_ref().unwrap();
+            r.stop == TasksStop::Interrupted && r.iterations == 0
+        }));
+    }
+}

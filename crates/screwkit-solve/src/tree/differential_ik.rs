@@ -404,7 +404,8 @@ pub struct TasksOptions {
     pub seed: u64,
     /// Keep q within the position bounds (default true).
     pub position_limits: bool,
-    /// A stop check polled every 16 iterations.
+    /// A stop check polled every 16 iterations, from the first (so a trajectory of short
+    /// solves polls it once per set).
     pub interrupt: Option<Interrupt>,
 }
 
@@ -483,7 +484,7 @@ pub fn ik_tasks(
     let mut rng = crate::sample::SplitMix64(opts.seed);
     let mut start = seed.to_vec();
     let mut best: Option<(f64, TasksResult)> = None;
-    let mut iterations = 0;
+    let (mut iterations, mut interrupted) = (0, false);
     for attempt in 0..=opts.restarts {
         if attempt > 0 {
             // Odd restarts keep the best answer's met goals and redraw the variables of the
@@ -514,12 +515,19 @@ pub fn ik_tasks(
                 },
             ));
         }
+        if stop == TasksStop::Interrupted {
+            interrupted = true;
+        }
         if matches!(stop, TasksStop::Converged | TasksStop::Interrupted) {
             break;
         }
     }
     let mut result = best.expect("at least one descent").1;
     result.iterations = iterations;
+    if interrupted && !result.converged {
+        // The best answer so far, and the reason the search ended.
+        result.stop = TasksStop::Interrupted;
+    }
     Ok(result)
 }
 
@@ -603,7 +611,7 @@ fn descend(
         if iterations >= budget {
             return Ok((TasksStop::Iterations, iterations));
         }
-        if iterations % 16 == 15 && opts.interrupt.as_ref().is_some_and(|i| (i.0)()) {
+        if iterations % 16 == 0 && opts.interrupt.as_ref().is_some_and(|i| (i.0)()) {
             return Ok((TasksStop::Interrupted, iterations));
         }
         let e = ws.rows.merit;
