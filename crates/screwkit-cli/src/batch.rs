@@ -224,6 +224,20 @@ pub fn parse_object(text: &str) -> Result<serde_json::Map<String, Value>, String
     }
 }
 
+/// A line's optional `"seed"` (an array of numbers), checked by `check` (the model's
+/// configuration check); the error starts with `seed: `.
+pub fn optional_seed<E: std::fmt::Display>(
+    obj: &serde_json::Map<String, Value>,
+    check: impl Fn(&[f64]) -> Result<(), E>,
+) -> Result<Option<Vec<f64>>, String> {
+    if !obj.contains_key("seed") {
+        return Ok(None);
+    }
+    let s = numbers(obj, "seed")?;
+    check(&s).map_err(|e| format!("seed: {e}"))?;
+    Ok(Some(s))
+}
+
 /// Reads a JSON array of finite numbers from `obj[key]`.
 pub fn numbers(obj: &serde_json::Map<String, Value>, key: &str) -> Result<Vec<f64>, String> {
     let arr = obj

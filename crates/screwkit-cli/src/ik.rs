@@ -72,13 +72,7 @@ fn parse_line(kin: &Kinematics, text: &str) -> Result<(Vec<f64>, Option<Vec<f64>
     }
     let t = targets::from_row_major(&m).map_err(|e| format!("target: {e}"))?;
     let target = targets::row_major(&t).to_vec();
-    let seed = if obj.contains_key("seed") {
-        let s = batch::numbers(&obj, "seed")?;
-        kin.check_q(&s).map_err(|e| format!("seed: {e}"))?;
-        Some(s)
-    } else {
-        None
-    };
+    let seed = batch::optional_seed(&obj, |q| kin.check_q(q).map(|_| ()))?;
     Ok((target, seed))
 }
 

@@ -61,13 +61,7 @@ fn parse_line(
         Some(_) => return Err("\"tasks\" must be a list of task changes (objects or null)".into()),
     };
     let tasks = resolve_all(&specs, kin).map_err(|e| e.to_string())?;
-    let seed = if obj.contains_key("seed") {
-        let s = batch::numbers(&obj, "seed")?;
-        kin.check_q(&s).map_err(|e| format!("seed: {e}"))?;
-        Some(s)
-    } else {
-        None
-    };
+    let seed = batch::optional_seed(&obj, |q| kin.check_q(q).map(|_| ()))?;
     Ok((tasks, seed))
 }
 
