@@ -243,3 +243,27 @@ def test_com_task_balances_a_floating_humanoid_checked_by_pinocchio() -> None:
         for f, t in zip(fids, soles):
             assert np.abs(peer.data.oMf[f].homogeneous - t).max() < 1e-8
         assert within_limits(robot, r.q)
+
+
+def test_a_floating_base_pose_task_is_a_frame_task_on_the_root_link() -> None:
+    path = shared("talos_full_v2.urdf")
+    robot = screwkit.Robot.from_urdf(path, floating_base=True)
+    peer = Peer(path, True)
+    root, foot = (peer.model.getFrameId(n, pin.BODY) for n in ("base_link", "left_sole_link"))
+    for seed in range(5):
+        star = robot.random_configuration(500 + seed)
+        pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, star))
+        base = peer.data.oMf[root].homogeneous.copy()
+        sole = peer.data.oMf[foot].homogeneous.copy()
+        r = robot.ik_tasks(
+            [
+                screwkit.FrameTask("base_link", base),
+                screwkit.FrameTask("left_sole_link", sole),
+                screwkit.PostureTask(robot.neutral(), weight=1e-2),
+            ]
+        )
+        assert r.converged, r
+        pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, r.q))
+        assert np.abs(peer.data.oMf[root].homogeneous - base).max() < 1e-8
+        assert np.abs(peer.data.oMf[foot].homogeneous - sole).max() < 1e-8
+        assert within_limits(robot, r.q)
