@@ -41,6 +41,10 @@ pub enum ErrorKind {
     /// A xacro construct that could not be expanded (the error's `file` is `FILE:LINE`).
     #[error("{0}")]
     XacroExpand(String),
+    /// An MJCF element that cannot be read as kinematics (the error's `file` is `FILE:LINE`;
+    /// the message names the element).
+    #[error("{0}")]
+    Mjcf(String),
     /// Two links that are not rigidly attached (a frame given for a target, …).
     #[error(
         "link \"{to}\" is not rigidly attached to \"{from}\": joint \"{joint}\" between them moves"

@@ -5,6 +5,7 @@
 //!
 //! - [`input`]: bounded reads and the XML checks every robot file passes (the stated limits).
 //! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
+//! - [`mjcf`]: reading MuJoCo's MJCF (bodies, joints, sites, classes, includes) into the same tree.
 //! - [`tree`]: links, joints, paths between links.
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
@@ -27,6 +28,7 @@ pub mod chain;
 pub mod error;
 pub mod input;
 pub mod kinematic_tree;
+pub mod mjcf;
 pub mod table;
 pub mod tree;
 pub mod urdf;

@@ -98,6 +98,10 @@ pub struct TreeJoint {
     pub origin_xyz: [f64; 3],
     /// `<origin rpy>` (zero when absent), fixed axes: R = R_z(y) R_y(p) R_x(r).
     pub origin_rpy: [f64; 3],
+    /// The origin's rotation exactly, as a unit quaternion (w, x, y, z), when the format gives
+    /// it as one (MJCF): used in place of `origin_rpy`, which is then its roll-pitch-yaw for
+    /// display only (rpy loses precision near pitch ±π/2).
+    pub origin_quat: Option<[f64; 4]>,
     /// `<axis xyz>` as written (default (1, 0, 0)); normalised when a chain is built.
     pub axis: [f64; 3],
     /// `<limit>`, if present.
@@ -109,10 +113,24 @@ pub struct TreeJoint {
 impl TreeJoint {
     /// The joint frame in the parent link frame at zero position (`<origin>`), checked finite.
     pub fn origin(&self) -> Result<Se3, ErrorKind> {
-        Se3::from_xyz_rpy(self.origin_xyz, self.origin_rpy).map_err(|_| ErrorKind::NonFinite {
+        let bad = || ErrorKind::NonFinite {
             joint: self.name.clone(),
             what: "<origin>".into(),
-        })
+        };
+        match self.origin_quat {
+            Some([w, x, y, z]) => {
+                let q = nalgebra::Quaternion::new(w, x, y, z);
+                let t = Vector3::from(self.origin_xyz);
+                if !(q.coords.iter().all(|v| v.is_finite()) && t.iter().all(|v| v.is_finite()))
+                    || q.norm() < 0.5
+                {
+                    return Err(bad());
+                }
+                let r = nalgebra::UnitQuaternion::from_quaternion(q).to_rotation_matrix();
+                Ok(Se3::from_parts_unchecked(*r.matrix(), t))
+            }
+            None => Se3::from_xyz_rpy(self.origin_xyz, self.origin_rpy).map_err(|_| bad()),
+        }
     }
 
     /// The unit axis, checked: finite and non-zero (for movable joints).
@@ -153,6 +171,12 @@ pub struct Tree {
     pub child_joints: Vec<Vec<usize>>,
     /// Index of the root link.
     pub root: usize,
+    /// The file gives the root link a free joint (MJCF's `<freejoint>` on the only top-level
+    /// body): the whole tree is loaded with a floating base.
+    pub floating_root: bool,
+    /// What the reader read past that changes kinematics (an MJCF tendon, a loop-closing
+    /// equality), one sentence each, for front ends to show.
+    pub warnings: Vec<String>,
     link_index: HashMap<String, usize>,
     joint_index: HashMap<String, usize>,
 }
@@ -325,6 +349,8 @@ impl Tree {
             parent_joint,
             child_joints,
             root,
+            floating_root: false,
+            warnings: Vec::new(),
             link_index,
             joint_index,
         })
@@ -468,6 +494,8 @@ pub struct TreeJointSpec {
     pub origin_xyz: [f64; 3],
     /// `<origin rpy>`.
     pub origin_rpy: [f64; 3],
+    /// The origin's rotation as a unit quaternion (w, x, y, z), overriding `origin_rpy`.
+    pub origin_quat: Option<[f64; 4]>,
     /// `<axis xyz>`.
     pub axis: [f64; 3],
     /// `<limit>`.
@@ -485,6 +513,7 @@ impl TreeJointSpec {
             child,
             origin_xyz: self.origin_xyz,
             origin_rpy: self.origin_rpy,
+            origin_quat: self.origin_quat,
             axis: self.axis,
             limit: self.limit,
             mimic: self.mimic,

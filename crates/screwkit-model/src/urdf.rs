@@ -126,6 +126,7 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
                 kind,
                 origin_xyz: j.origin.xyz.0,
                 origin_rpy: j.origin.rpy.0,
+                origin_quat: None,
                 axis: j.axis.xyz.0,
                 limit,
                 mimic: j.mimic.as_ref().map(|m| Mimic {

@@ -1003,7 +1003,7 @@ impl Robot {
     /// True when a free joint joins the world to the root link.
     #[getter]
     fn floating_base(&self) -> bool {
-        self.robot.options().floating_base
+        self.robot.options().floating_base || self.robot.tree().floating_root
     }
 
     /// Every frame of the whole tree: the links (file order), then the added frames.

@@ -119,9 +119,16 @@ impl Source {
         )?)
     }
 
-    /// The whole tree of the description, and its URDF text.
+    /// The whole tree of the description, and its text: URDF (xacro expanded), or MJCF (a
+    /// `<mujoco>` root: [`screwkit_model::mjcf`], includes read from [`Source::dir`]), told
+    /// apart by content.
     pub fn tree(&self, xacro: &XacroOptions) -> Result<(Tree, String)> {
-        let urdf = self.urdf(xacro)?;
+        let text = self.read()?;
+        if screwkit_model::mjcf::is_mjcf(&text) {
+            let tree = screwkit_model::mjcf::load_str(&text, &self.label(), &self.dir())?;
+            return Ok((tree, text));
+        }
+        let urdf = urdf::urdf_text(&text, &self.label(), &self.dir(), xacro)?;
         let tree = urdf::load_str(&urdf, &self.label())?;
         Ok((tree, urdf))
     }
@@ -199,8 +206,10 @@ impl Robot {
                 let kin = Kinematics::new(&chain);
                 (chain, kin)
             });
+        // A file that gives its root a free joint (MJCF) has a floating base whatever asked.
+        let floating = options.floating_base || tree.floating_root;
         let whole = KinematicTree::from_tree(&tree)
-            .and_then(|m| TreeKinematics::new(&m.with_floating_base(options.floating_base)));
+            .and_then(|m| TreeKinematics::new(&m.with_floating_base(floating)));
         let chain_asked = options.base.is_some() || options.tip.is_some() || tool.is_some();
         match (&whole, &chain) {
             (_, Err(e)) if chain_asked => return Err(e.clone().into()),

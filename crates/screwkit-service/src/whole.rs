@@ -15,7 +15,10 @@ use crate::load::Robot;
 /// True when a request goes to the whole tree (module documentation); `names_frames`: the
 /// request names frames.
 pub fn wants_tree(robot: &Robot, names_frames: bool) -> bool {
-    names_frames || robot.options().floating_base || !robot.has_chain()
+    names_frames
+        || robot.options().floating_base
+        || robot.tree().floating_root
+        || !robot.has_chain()
 }
 
 /// The frames a pose request answers: the named ones (in the order given), or every frame

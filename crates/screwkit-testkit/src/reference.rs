@@ -73,15 +73,22 @@ pub fn fk_by_composition(
 }
 
 /// A joint's `<origin>` as a 4x4: translation xyz, then R = R_z(y) R_y(p) R_x(r) (nalgebra's
-/// Euler angles).
+/// Euler angles), or the exact quaternion where the format gave one (nalgebra's
+/// `UnitQuaternion`).
 fn origin(joint: &TreeJoint) -> Matrix4<f64> {
-    Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous()
-        * Rotation3::from_euler_angles(
+    let rotation = match joint.origin_quat {
+        Some([w, x, y, z]) => {
+            nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(w, x, y, z))
+                .to_homogeneous()
+        }
+        None => Rotation3::from_euler_angles(
             joint.origin_rpy[0],
             joint.origin_rpy[1],
             joint.origin_rpy[2],
         )
-        .to_homogeneous()
+        .to_homogeneous(),
+    };
+    Translation3::from(Vector3::from(joint.origin_xyz)).to_homogeneous() * rotation
 }
 
 /// A movable joint's motion at θ as a 4x4: a translation along the unit axis (prismatic) or a

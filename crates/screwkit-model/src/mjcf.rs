@@ -1,0 +1,957 @@
+//! Reading MuJoCo's MJCF: the parts of the format that define kinematics, into the same
+//! [`Tree`] as URDF, so that every algorithm works on an MJCF robot as on a URDF one.
+//!
+//! **What is read** (MuJoCo's XML reference): `<worldbody>` and nested `<body>` (`pos` and
+//! every orientation form: `quat` (w x y z), `axisangle`, `euler` in `<compiler eulerseq>`,
+//! `xyaxes`, `zaxis`), `<frame>` (a pose applied to what it holds), `<joint>` of type
+//! `hinge`, `slide` and `free` (and `<freejoint>`) with `pos`, `axis`, `range`, `limited`,
+//! `ref`; `<site>` (each a frame: a link fixed to its body); `<inertial pos mass>` (the centre
+//! of mass); `<default>` classes with `class` / `childclass` inheritance; `<include file>`
+//! (paths relative to the main file's folder, as MuJoCo resolves them); `<compiler angle
+//! eulerseq autolimits>` (degrees by default); `<equality><joint polycoef>` (a linear coupling
+//! becomes a mimic joint). Geometry, meshes, actuators, sensors, contacts and assets are read
+//! past — a missing mesh file is never an error.
+//!
+//! **Bodies as links.** Each body is a link of its name; MuJoCo's world body is the root link
+//! `world`, unless the file has a single top-level body with a free joint: that body is then
+//! the root and the tree has a floating base ([`Tree::floating_root`]). A body welded to its
+//! parent (no joint) hangs from a fixed joint. MuJoCo moves a body by its joints in order,
+//! B(q) = B₀ · M₁(q₁) ⋯ M_k(q_k), with B₀ the body's pose in its parent and, for a hinge at
+//! `pos` p with unit `axis` a, M = Trans(p) Rot(a, q − ref) Trans(−p), for a slide
+//! M = Trans(a (q − ref)). The tree writes this as a joint per MuJoCo joint whose child link
+//! `BODY/JOINT` sits at the hinge's anchor (a URDF joint turns about its frame's origin), the
+//! `Rot(a, −ref)` (or `Trans(−a ref)`) folded into the joint's origin so that its variable is
+//! MuJoCo's `qpos` entry itself, and a fixed joint `Trans(−p)` to the body's own link when the
+//! last anchor is off the body's origin. Ranges limit `qpos`, as in MuJoCo. Variables come in
+//! MuJoCo's joint order (bodies depth first, joints in order), coupled followers excluded.
+//!
+//! **Refused** with an error naming the file, the line and the element: `ball` joints (three
+//! rotations about one point: not a one-variable joint), a free joint anywhere but on the only
+//! top-level body, an unknown joint type, numbers that do not parse, a missing or circular
+//! `<include>`, an unknown class, a polynomial coupling with terms above the linear.
+//! **Warned about** ([`Tree::warnings`]): tendons, and equalities other than joint
+//! couplings (`connect`, `weld`: loop closures the tree does not hold).
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
+
+use crate::error::{ErrorKind, ModelError};
+use crate::input;
+use crate::tree::{Inertial, JointKind, Limit, Mimic, Tree, TreeJointSpec};
+
+/// Includes nested at most this deep.
+pub const MAX_INCLUDE_DEPTH: usize = 32;
+/// Elements in the document with every include spliced in, at most.
+pub const MAX_ELEMENTS: usize = 1_000_000;
+
+/// True when `text`'s root element is `<mujoco>` (an MJCF model), by content.
+pub fn is_mjcf(text: &str) -> bool {
+    let body = text.trim_start_matches('\u{feff}');
+    // The first element after the prolog, comments and processing instructions.
+    let mut rest = body;
+    loop {
+        rest = rest.trim_start();
+        if let Some(r) = rest.strip_prefix("<?") {
+            rest = r.split_once("?>").map_or("", |(_, r)| r);
+        } else if let Some(r) = rest.strip_prefix("<!--") {
+            rest = r.split_once("-->").map_or("", |(_, r)| r);
+        } else if let Some(r) = rest.strip_prefix("<!") {
+            rest = r.split_once('>').map_or("", |(_, r)| r);
+        } else {
+            break;
+        }
+    }
+    rest.strip_prefix("<mujoco")
+        .and_then(|r| r.chars().next())
+        .is_some_and(|c| c.is_whitespace() || c == '>' || c == '/')
+}
+
+/// Loads an MJCF file into a [`Tree`].
+pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
+    let path = path.as_ref();
+    let label = path.display().to_string();
+    let bytes = input::read_file(path)?;
+    let text = input::decode(&bytes).map_err(|kind| ModelError::new(label.clone(), kind))?;
+    load_str(&text, &label, path.parent().unwrap_or(Path::new(".")))
+}
+
+/// Loads MJCF text into a [`Tree`]; `source` names it in errors, includes are read from `dir`.
+pub fn load_str(text: &str, source: &str, dir: &Path) -> Result<Tree, ModelError> {
+    let mut count = 0;
+    let root = read_document(text, source, dir, &mut vec![], &mut count)?;
+    Builder::new(source).build(&root)
+}
+
+/// An element with its includes spliced in, and where it was written.
+#[derive(Debug, Clone)]
+struct El {
+    tag: String,
+    attrs: Vec<(String, String)>,
+    children: Vec<El>,
+    file: String,
+    line: u32,
+}
+
+impl El {
+    fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// `<joint name="x">` (the element and its name, for messages).
+    fn describe(&self) -> String {
+        match self.attr("name") {
+            Some(n) => format!("<{} name=\"{n}\">", self.tag),
+            None => format!("<{}>", self.tag),
+        }
+    }
+
+    fn error(&self, message: impl std::fmt::Display) -> ModelError {
+        ModelError::new(
+            format!("{}:{}", self.file, self.line),
+            ErrorKind::Mjcf(format!("{}: {message}", self.describe())),
+        )
+    }
+}
+
+/// Parses one file of the model into [`El`]s, splicing `<include>`d files in place.
+fn read_document(
+    text: &str,
+    source: &str,
+    dir: &Path,
+    stack: &mut Vec<PathBuf>,
+    count: &mut usize,
+) -> Result<El, ModelError> {
+    let doc = input::parse_xml(text).map_err(|k| ModelError::new(source, k))?;
+    let root = doc.root_element();
+    if root.tag_name().name() != "mujoco" {
+        return Err(ModelError::new(
+            source,
+            ErrorKind::Mjcf(format!(
+                "the root element is <{}>, expected <mujoco>",
+                root.tag_name().name()
+            )),
+        ));
+    }
+    convert(&doc, root, source, dir, stack, count)
+}
+
+fn convert(
+    doc: &roxmltree::Document,
+    node: roxmltree::Node,
+    source: &str,
+    dir: &Path,
+    stack: &mut Vec<PathBuf>,
+    count: &mut usize,
+) -> Result<El, ModelError> {
+    *count += 1;
+    let line = doc.text_pos_at(node.range().start).row;
+    if *count > MAX_ELEMENTS {
+        return Err(ModelError::new(
+            format!("{source}:{line}"),
+            ErrorKind::TooLarge(format!(
+                "more than {MAX_ELEMENTS} elements with the includes spliced in"
+            )),
+        ));
+    }
+    let mut el = El {
+        tag: node.tag_name().name().to_string(),
+        attrs: node
+            .attributes()
+            .map(|a| (a.name().to_string(), a.value().to_string()))
+            .collect(),
+        children: Vec::new(),
+        file: source.to_string(),
+        line,
+    };
+    for child in node.children().filter(|c| c.is_element()) {
+        if child.tag_name().name() == "include" {
+            let inc = convert(doc, child, source, dir, stack, count)?;
+            el.children.extend(include(&inc, dir, stack, count)?);
+        } else {
+            el.children
+                .push(convert(doc, child, source, dir, stack, count)?);
+        }
+    }
+    Ok(el)
+}
+
+/// The children of the `<mujoco>` root of the file an `<include file>` names.
+fn include(
+    inc: &El,
+    dir: &Path,
+    stack: &mut Vec<PathBuf>,
+    count: &mut usize,
+) -> Result<Vec<El>, ModelError> {
+    let file = inc
+        .attr("file")
+        .ok_or_else(|| inc.error("needs a file attribute"))?;
+    let path = dir.join(file);
+    if stack.len() >= MAX_INCLUDE_DEPTH {
+        return Err(inc.error(format!(
+            "includes nested more than {MAX_INCLUDE_DEPTH} deep"
+        )));
+    }
+    let canonical = std::fs::canonicalize(&path)
+        .map_err(|e| inc.error(format!("cannot read \"{}\": {e}", path.display())))?;
+    if stack.contains(&canonical) {
+        return Err(inc.error(format!(
+            "\"{}\" includes itself (a circular include)",
+            path.display()
+        )));
+    }
+    let bytes =
+        input::read_file(&path).map_err(|e| inc.error(format!("\"{}\": {}", file, e.kind)))?;
+    let text = input::decode(&bytes).map_err(|k| inc.error(format!("\"{file}\": {k}")))?;
+    stack.push(canonical);
+    let label = path.display().to_string();
+    let root = read_document(&text, &label, dir, stack, count)?;
+    stack.pop();
+    Ok(root.children)
+}
+
+/// `<compiler>` settings that change how numbers are read.
+#[derive(Debug, Clone)]
+struct Compiler {
+    degree: bool,
+    eulerseq: [u8; 3],
+    autolimits: bool,
+}
+
+/// One class of `<default>`: per element tag, its attributes (inherited ones included).
+type Class = HashMap<String, Vec<(String, String)>>;
+
+/// A body (or frame) context while walking: the class its elements take by default.
+#[derive(Debug, Clone)]
+struct Context<'a> {
+    class: &'a str,
+}
+
+struct Builder {
+    source: String,
+    compiler: Compiler,
+    classes: HashMap<String, Class>,
+    links: Vec<String>,
+    joints: Vec<(TreeJointSpec, String, String)>,
+    /// MuJoCo's `ref` of each joint by name (for couplings).
+    refs: HashMap<String, f64>,
+    inertials: Vec<(String, Inertial)>,
+    warnings: Vec<String>,
+    bodies: usize,
+    floating_root: bool,
+}
+
+/// A pose as MuJoCo composes them.
+type Pose = Isometry3<f64>;
+
+impl Builder {
+    fn new(source: &str) -> Builder {
+        Builder {
+            source: source.to_string(),
+            compiler: Compiler {
+                degree: true,
+                eulerseq: *b"xyz",
+                autolimits: true,
+            },
+            classes: HashMap::new(),
+            links: Vec::new(),
+            joints: Vec::new(),
+            refs: HashMap::new(),
+            inertials: Vec::new(),
+            warnings: Vec::new(),
+            bodies: 0,
+            floating_root: false,
+        }
+    }
+
+    fn build(mut self, root: &El) -> Result<Tree, ModelError> {
+        for c in root.children.iter().filter(|c| c.tag == "compiler") {
+            self.read_compiler(c)?;
+        }
+        for d in root.children.iter().filter(|c| c.tag == "default") {
+            self.read_defaults(d, &Class::new(), true)?;
+        }
+        self.classes.entry("main".into()).or_default();
+        let name = root.attr("model").unwrap_or("mujoco").to_string();
+        let world: Vec<&El> = root
+            .children
+            .iter()
+            .filter(|c| c.tag == "worldbody")
+            .collect();
+        // Top-level bodies (within frames too): is the file one free-floating body?
+        let mut top = Vec::new();
+        for w in &world {
+            collect_bodies(w, &mut top);
+        }
+        let free_root = match top.as_slice() {
+            [only] => only.children.iter().any(|c| {
+                c.tag == "freejoint"
+                    || (c.tag == "joint" && self.joint_type(c, "main") == Some("free"))
+            }),
+            _ => false,
+        };
+        let ctx = Context { class: "main" };
+        if free_root {
+            self.floating_root = true;
+            let body = top[0];
+            self.body(body, None, &Pose::identity(), &ctx)?;
+            for w in &world {
+                for s in w.children.iter().filter(|c| c.tag == "site") {
+                    self.warnings.push(format!(
+                        "{}: site {} on the world body is not part of the free-floating robot's tree",
+                        s.line,
+                        s.attr("name").unwrap_or("(unnamed)")
+                    ));
+                }
+            }
+        } else {
+            self.links.push("world".into());
+            for w in &world {
+                self.contents(w, "world", &Pose::identity(), &ctx)?;
+            }
+        }
+        self.read_equalities(root)?;
+        for t in root.children.iter().filter(|c| c.tag == "tendon") {
+            if !t.children.is_empty() {
+                self.warnings.push(format!(
+                    "{} tendon(s) at line {} read past: tendons couple no joint kinematically here",
+                    t.children.len(),
+                    t.line
+                ));
+            }
+        }
+        let mut tree = Tree::new(name, self.source.clone(), self.links, self.joints)?;
+        for (link, inertial) in self.inertials {
+            if let Ok(i) = tree.link(&link) {
+                tree.inertials[i] = Some(inertial);
+            }
+        }
+        tree.floating_root = self.floating_root;
+        tree.warnings = self.warnings;
+        Ok(tree)
+    }
+
+    fn read_compiler(&mut self, c: &El) -> Result<(), ModelError> {
+        if let Some(a) = c.attr("angle") {
+            self.compiler.degree = match a {
+                "degree" => true,
+                "radian" => false,
+                other => {
+                    return Err(c.error(format!("angle=\"{other}\": expected degree or radian")))
+                }
+            };
+        }
+        if let Some(seq) = c.attr("eulerseq") {
+            let b = seq.as_bytes();
+            if b.len() != 3 || !b.iter().all(|c| b"xyzXYZ".contains(c)) {
+                return Err(c.error(format!(
+                    "eulerseq=\"{seq}\": expected three of x, y, z (rotating axes) or X, Y, Z (fixed axes)"
+                )));
+            }
+            self.compiler.eulerseq = [b[0], b[1], b[2]];
+        }
+        if let Some(a) = c.attr("autolimits") {
+            self.compiler.autolimits = parse_bool(c, "autolimits", a)?;
+        }
+        Ok(())
+    }
+
+    /// A `<default>` element: its class (`main` at the top) inherits `parent`'s attributes.
+    fn read_defaults(&mut self, d: &El, parent: &Class, top: bool) -> Result<(), ModelError> {
+        let name = match d.attr("class") {
+            Some(n) => n.to_string(),
+            None if top => "main".to_string(),
+            None => return Err(d.error("a nested <default> needs a class name")),
+        };
+        let mut class = parent.clone();
+        for e in d.children.iter().filter(|c| c.tag != "default") {
+            let entry = class.entry(e.tag.clone()).or_default();
+            for (k, v) in &e.attrs {
+                match entry.iter_mut().find(|(ek, _)| ek == k) {
+                    Some(slot) => slot.1 = v.clone(),
+                    None => entry.push((k.clone(), v.clone())),
+                }
+            }
+            // An orientation given here replaces an inherited one of another form.
+            if let Some(form) = ORIENTATIONS.iter().find(|f| e.attr(f).is_some()) {
+                entry.retain(|(k, _)| k == form || !ORIENTATIONS.contains(&k.as_str()));
+            }
+        }
+        if self.classes.contains_key(&name) {
+            return Err(d.error(format!("class \"{name}\" is defined twice")));
+        }
+        self.classes.insert(name.clone(), class.clone());
+        for child in d.children.iter().filter(|c| c.tag == "default") {
+            self.read_defaults(child, &class, false)?;
+        }
+        Ok(())
+    }
+
+    /// An attribute of `e`: its own, else its class's (`class`, or the context's childclass).
+    fn attr<'e>(&'e self, e: &'e El, class: &str, name: &str) -> Option<&'e str> {
+        if let Some(v) = e.attr(name) {
+            return Some(v);
+        }
+        let class = e.attr("class").unwrap_or(class);
+        self.classes
+            .get(class)
+            .and_then(|c| c.get(&e.tag))
+            .and_then(|attrs| attrs.iter().find(|(k, _)| k == name))
+            .map(|(_, v)| v.as_str())
+    }
+
+    fn check_class(&self, e: &El) -> Result<(), ModelError> {
+        match e.attr("class") {
+            Some(c) if !self.classes.contains_key(c) => {
+                Err(e.error(format!("class \"{c}\" is not defined in any <default>")))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    fn joint_type<'e>(&'e self, e: &'e El, class: &str) -> Option<&'e str> {
+        Some(self.attr(e, class, "type").unwrap_or("hinge"))
+    }
+
+    /// Numbers of attribute `name` (exactly `n` of them), or `None` when absent.
+    fn numbers(
+        &self,
+        e: &El,
+        class: &str,
+        name: &str,
+        n: usize,
+    ) -> Result<Option<Vec<f64>>, ModelError> {
+        let Some(text) = self.attr(e, class, name) else {
+            return Ok(None);
+        };
+        let values: Vec<f64> = text
+            .split_whitespace()
+            .map(|t| t.parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| e.error(format!("{name}=\"{text}\": not {n} numbers")))?;
+        if values.len() != n {
+            return Err(e.error(format!(
+                "{name}=\"{text}\": expected {n} numbers, got {}",
+                values.len()
+            )));
+        }
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(e.error(format!("{name}=\"{text}\": not finite")));
+        }
+        Ok(Some(values))
+    }
+
+    fn angle(&self, a: f64) -> f64 {
+        if self.compiler.degree {
+            a.to_radians()
+        } else {
+            a
+        }
+    }
+
+    /// An element's pose in its parent: `pos` and one orientation form.
+    fn pose(&self, e: &El, class: &str) -> Result<Pose, ModelError> {
+        let pos = self.numbers(e, class, "pos", 3)?.unwrap_or(vec![0.0; 3]);
+        let own: Vec<&str> = ORIENTATIONS
+            .iter()
+            .copied()
+            .filter(|f| e.attr(f).is_some())
+            .collect();
+        if own.len() > 1 {
+            return Err(e.error(format!(
+                "more than one orientation ({}): give one",
+                own.join(", ")
+            )));
+        }
+        let form = own.first().copied().or_else(|| {
+            ORIENTATIONS
+                .iter()
+                .copied()
+                .find(|f| self.attr(e, class, f).is_some())
+        });
+        let rotation = match form {
+            None => UnitQuaternion::identity(),
+            Some(f) => self.orientation(e, class, f)?,
+        };
+        Ok(Isometry3::from_parts(
+            Translation3::new(pos[0], pos[1], pos[2]),
+            rotation,
+        ))
+    }
+
+    fn orientation(
+        &self,
+        e: &El,
+        class: &str,
+        form: &str,
+    ) -> Result<UnitQuaternion<f64>, ModelError> {
+        let bad = |what: &str| e.error(format!("{form}: {what}"));
+        match form {
+            "quat" => {
+                let q = self.numbers(e, class, "quat", 4)?.unwrap_or_default();
+                let quat = nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]);
+                if quat.norm() < 1e-10 {
+                    return Err(bad("a zero quaternion"));
+                }
+                Ok(UnitQuaternion::from_quaternion(quat))
+            }
+            "axisangle" => {
+                let v = self.numbers(e, class, "axisangle", 4)?.unwrap_or_default();
+                let axis = Vector3::new(v[0], v[1], v[2]);
+                if axis.norm() < 1e-10 {
+                    return Err(bad("a zero axis"));
+                }
+                Ok(UnitQuaternion::from_axis_angle(
+                    &Unit::new_normalize(axis),
+                    self.angle(v[3]),
+                ))
+            }
+            "euler" => {
+                let v = self.numbers(e, class, "euler", 3)?.unwrap_or_default();
+                let mut q = UnitQuaternion::identity();
+                for (i, &c) in self.compiler.eulerseq.iter().enumerate() {
+                    let axis = match c.to_ascii_lowercase() {
+                        b'x' => Vector3::x_axis(),
+                        b'y' => Vector3::y_axis(),
+                        _ => Vector3::z_axis(),
+                    };
+                    let r = UnitQuaternion::from_axis_angle(&axis, self.angle(v[i]));
+                    // Lower case: about the rotating (intrinsic) axes; upper case: fixed axes.
+                    q = if c.is_ascii_lowercase() { q * r } else { r * q };
+                }
+                Ok(q)
+            }
+            "xyaxes" => {
+                let v = self.numbers(e, class, "xyaxes", 6)?.unwrap_or_default();
+                let x = Vector3::new(v[0], v[1], v[2]);
+                let y = Vector3::new(v[3], v[4], v[5]);
+                if x.norm() < 1e-10 {
+                    return Err(bad("a zero x axis"));
+                }
+                let x = x.normalize();
+                let y = y - x * x.dot(&y);
+                if y.norm() < 1e-10 {
+                    return Err(bad("y is parallel to x"));
+                }
+                let y = y.normalize();
+                let z = x.cross(&y);
+                let m = nalgebra::Matrix3::from_columns(&[x, y, z]);
+                Ok(UnitQuaternion::from_rotation_matrix(
+                    &nalgebra::Rotation3::from_matrix_unchecked(m),
+                ))
+            }
+            _ => {
+                let v = self.numbers(e, class, "zaxis", 3)?.unwrap_or_default();
+                let z = Vector3::new(v[0], v[1], v[2]);
+                if z.norm() < 1e-10 {
+                    return Err(bad("a zero axis"));
+                }
+                Ok(z_to(z.normalize()))
+            }
+        }
+    }
+
+    /// A body under `parent` (None: the free-floating root), `offset` the pose of the frame it
+    /// was written in relative to the parent link.
+    fn body(
+        &mut self,
+        body: &El,
+        parent: Option<&str>,
+        offset: &Pose,
+        ctx: &Context,
+    ) -> Result<(), ModelError> {
+        self.bodies += 1;
+        self.check_class(body)?;
+        let childclass = match body.attr("childclass") {
+            Some(c) => {
+                if !self.classes.contains_key(c) {
+                    return Err(body.error(format!(
+                        "childclass \"{c}\" is not defined in any <default>"
+                    )));
+                }
+                c.to_string()
+            }
+            None => ctx.class.to_string(),
+        };
+        let name = body
+            .attr("name")
+            .map_or_else(|| format!("body_{}", self.bodies), str::to_string);
+        let local = offset * self.pose(body, "main")?;
+        let joints: Vec<&El> = body
+            .children
+            .iter()
+            .filter(|c| c.tag == "joint" || c.tag == "freejoint")
+            .collect();
+        match parent {
+            None => {
+                // The free-floating root: its free joint is the floating base.
+                if joints.len() != 1 {
+                    return Err(body.error("a free-floating body takes only its free joint"));
+                }
+                self.links.push(name.clone());
+            }
+            Some(parent) => self.joints_of(&name, parent, &local, &joints, &childclass)?,
+        }
+        if let Some(i) = body.children.iter().find(|c| c.tag == "inertial") {
+            let mass = self.numbers(i, "main", "mass", 1)?.map_or(0.0, |m| m[0]);
+            if mass < 0.0 {
+                return Err(i.error(format!("mass {mass} is negative")));
+            }
+            let pos = self.numbers(i, "main", "pos", 3)?.unwrap_or(vec![0.0; 3]);
+            self.inertials.push((
+                name.clone(),
+                Inertial {
+                    mass,
+                    com: [pos[0], pos[1], pos[2]],
+                },
+            ));
+        }
+        let ctx = Context { class: &childclass };
+        self.contents(body, &name, &Pose::identity(), &ctx)
+    }
+
+    /// What a body (or frame, or the world) holds: sites, frames, bodies.
+    fn contents(
+        &mut self,
+        holder: &El,
+        link: &str,
+        offset: &Pose,
+        ctx: &Context,
+    ) -> Result<(), ModelError> {
+        for c in &holder.children {
+            match c.tag.as_str() {
+                "site" => {
+                    self.check_class(c)?;
+                    let name = c.attr("name").map_or_else(
+                        || format!("{link}/site_{}", self.links.len()),
+                        str::to_string,
+                    );
+                    let pose = offset * self.pose(c, ctx.class)?;
+                    self.links.push(name.clone());
+                    self.joints.push((
+                        spec(
+                            format!("{name}_site"),
+                            JointKind::Fixed,
+                            &pose,
+                            [1.0, 0.0, 0.0],
+                            None,
+                        ),
+                        link.to_string(),
+                        name,
+                    ));
+                }
+                "frame" => {
+                    self.check_class(c)?;
+                    let class = match c.attr("childclass") {
+                        Some(k) if !self.classes.contains_key(k) => {
+                            return Err(c.error(format!(
+                                "childclass \"{k}\" is not defined in any <default>"
+                            )))
+                        }
+                        Some(k) => k.to_string(),
+                        None => ctx.class.to_string(),
+                    };
+                    let pose = offset * self.pose(c, "main")?;
+                    self.contents(c, link, &pose, &Context { class: &class })?;
+                }
+                "body" => self.body(c, Some(link), offset, ctx)?,
+                "joint" | "freejoint" if holder.tag != "body" => {
+                    return Err(c.error(format!(
+                        "a joint belongs in a <body>, not in <{}>",
+                        holder.tag
+                    )))
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The tree joints of a body's MuJoCo joints (module documentation), ending at the
+    /// body's own link.
+    fn joints_of(
+        &mut self,
+        name: &str,
+        parent: &str,
+        local: &Pose,
+        joints: &[&El],
+        class: &str,
+    ) -> Result<(), ModelError> {
+        if joints.is_empty() {
+            self.links.push(name.to_string());
+            self.joints.push((
+                spec(
+                    format!("{name}_weld"),
+                    JointKind::Fixed,
+                    local,
+                    [1.0, 0.0, 0.0],
+                    None,
+                ),
+                parent.to_string(),
+                name.to_string(),
+            ));
+            return Ok(());
+        }
+        // `from`: the pose of the next joint's frame in the current link, before its anchor.
+        let (mut from, mut current) = (*local, parent.to_string());
+        let mut anchor = Vector3::zeros();
+        for (k, j) in joints.iter().enumerate() {
+            self.check_class(j)?;
+            let jtype = if j.tag == "freejoint" {
+                "free"
+            } else {
+                self.joint_type(j, class).unwrap_or("hinge")
+            };
+            let jname = j
+                .attr("name")
+                .map_or_else(|| format!("{name}_joint{k}"), str::to_string);
+            let pos = match jtype {
+                "slide" => Vector3::zeros(),
+                _ => Vector3::from_vec(self.numbers(j, class, "pos", 3)?.unwrap_or(vec![0.0; 3])),
+            };
+            let axis = Vector3::from_vec(
+                self.numbers(j, class, "axis", 3)?
+                    .unwrap_or(vec![0.0, 0.0, 1.0]),
+            );
+            if axis.norm() < 1e-10 {
+                return Err(j.error("axis is zero"));
+            }
+            let axis = axis.normalize();
+            let reference = self.numbers(j, class, "ref", 1)?.map_or(0.0, |r| r[0]);
+            let (kind, fold, reference) = match jtype {
+                "hinge" => {
+                    let r = self.angle(reference);
+                    (
+                        JointKind::Revolute,
+                        Isometry3::from_parts(
+                            Translation3::identity(),
+                            UnitQuaternion::from_axis_angle(&Unit::new_unchecked(axis), -r),
+                        ),
+                        r,
+                    )
+                }
+                "slide" => (
+                    JointKind::Prismatic,
+                    Isometry3::from_parts(Translation3::from(-axis * reference), UnitQuaternion::identity()),
+                    reference,
+                ),
+                "free" => {
+                    return Err(j.error(
+                        "a free joint is read only on the file's single top-level body (the floating base)",
+                    ))
+                }
+                "ball" => {
+                    return Err(j.error(
+                        "ball joints (three rotations about one point) are not supported: write them as three hinges",
+                    ))
+                }
+                other => return Err(j.error(format!("unknown joint type \"{other}\""))),
+            };
+            let limit = self.limit(j, class, jtype)?;
+            let kind = match (kind, &limit) {
+                (JointKind::Revolute, None) => JointKind::Continuous,
+                (k, _) => k,
+            };
+            let limit = match (kind, limit) {
+                (JointKind::Prismatic, None) => Some(Limit {
+                    lower: f64::NEG_INFINITY,
+                    upper: f64::INFINITY,
+                    velocity: None,
+                    effort: None,
+                }),
+                (_, l) => l,
+            };
+            let origin =
+                from * Isometry3::from_parts(
+                    Translation3::from(pos - anchor),
+                    UnitQuaternion::identity(),
+                ) * fold;
+            let child = if k + 1 == joints.len() && pos == Vector3::zeros() {
+                name.to_string()
+            } else {
+                format!("{name}/{jname}")
+            };
+            self.links.push(child.clone());
+            self.refs.insert(jname.clone(), reference);
+            self.joints.push((
+                spec(jname, kind, &origin, axis.into(), limit),
+                current,
+                child.clone(),
+            ));
+            current = child;
+            from = Pose::identity();
+            anchor = pos;
+        }
+        if current != name {
+            self.links.push(name.to_string());
+            let back =
+                Isometry3::from_parts(Translation3::from(-anchor), UnitQuaternion::identity());
+            self.joints.push((
+                spec(
+                    format!("{name}_anchor"),
+                    JointKind::Fixed,
+                    &back,
+                    [1.0, 0.0, 0.0],
+                    None,
+                ),
+                current,
+                name.to_string(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A hinge's or slide's limits (`limited`, `range`, `autolimits`); None: unlimited.
+    fn limit(&self, j: &El, class: &str, jtype: &str) -> Result<Option<Limit>, ModelError> {
+        let range = self.numbers(j, class, "range", 2)?;
+        let limited = match self.attr(j, class, "limited") {
+            Some("true") => true,
+            Some("false") => false,
+            None | Some("auto") => {
+                if !self.compiler.autolimits && range.is_some() {
+                    return Err(j.error(
+                        "has a range but no limited=\"true\"/\"false\" (with <compiler autolimits=\"false\">)",
+                    ));
+                }
+                range.is_some()
+            }
+            Some(other) => {
+                return Err(j.error(format!("limited=\"{other}\": expected true, false or auto")))
+            }
+        };
+        if !limited {
+            return Ok(None);
+        }
+        let r = range.unwrap_or(vec![0.0, 0.0]);
+        let (lo, hi) = if jtype == "hinge" {
+            (self.angle(r[0]), self.angle(r[1]))
+        } else {
+            (r[0], r[1])
+        };
+        if lo > hi {
+            return Err(j.error(format!("range [{}, {}] is empty", r[0], r[1])));
+        }
+        Ok(Some(Limit {
+            lower: lo,
+            upper: hi,
+            velocity: None,
+            effort: None,
+        }))
+    }
+
+    /// `<equality>`: joint couplings become mimic joints; the rest are warnings.
+    fn read_equalities(&mut self, root: &El) -> Result<(), ModelError> {
+        for eq in root.children.iter().filter(|c| c.tag == "equality") {
+            for e in &eq.children {
+                if e.tag != "joint" {
+                    self.warnings.push(format!(
+                        "line {}: equality {} read past: the tree holds no loop closure",
+                        e.line,
+                        e.describe()
+                    ));
+                    continue;
+                }
+                if e.attr("active").is_some_and(|a| a == "false") {
+                    continue;
+                }
+                let follower = e
+                    .attr("joint1")
+                    .ok_or_else(|| e.error("needs joint1"))?
+                    .to_string();
+                let c = self
+                    .numbers(e, "main", "polycoef", 5)?
+                    .unwrap_or(vec![0.0, 1.0, 0.0, 0.0, 0.0]);
+                let Some(leader) = e.attr("joint2") else {
+                    self.warnings.push(format!(
+                        "line {}: {} locks joint \"{follower}\" (no joint2): read past, the joint stays a variable",
+                        e.line,
+                        e.describe()
+                    ));
+                    continue;
+                };
+                if c[2..].iter().any(|v| *v != 0.0) {
+                    return Err(e.error(format!(
+                        "polycoef=\"{}\": terms above the linear are not supported (a mimic joint is linear)",
+                        c.iter().map(f64::to_string).collect::<Vec<_>>().join(" ")
+                    )));
+                }
+                let (Some(&r1), Some(&r2)) = (self.refs.get(&follower), self.refs.get(leader))
+                else {
+                    return Err(e.error(format!(
+                        "joint1 \"{follower}\" or joint2 \"{leader}\" is not a hinge or slide joint of the model"
+                    )));
+                };
+                let Some((spec, _, _)) =
+                    self.joints.iter_mut().find(|(s, _, _)| s.name == follower)
+                else {
+                    return Err(
+                        e.error(format!("joint1 \"{follower}\" is not a joint of the model"))
+                    );
+                };
+                // q1 − ref1 = c0 + c1 (q2 − ref2), with q MuJoCo's qpos: the tree's variables.
+                spec.mimic = Some(Mimic {
+                    leader: leader.to_string(),
+                    multiplier: c[1],
+                    offset: r1 + c[0] - c[1] * r2,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The orientation attributes, in MuJoCo's order of precedence for defaults.
+const ORIENTATIONS: [&str; 5] = ["quat", "axisangle", "euler", "xyaxes", "zaxis"];
+
+fn parse_bool(e: &El, name: &str, v: &str) -> Result<bool, ModelError> {
+    match v {
+        "true" => Ok(true),
+        "false" => Ok(false),
+        other => Err(e.error(format!("{name}=\"{other}\": expected true or false"))),
+    }
+}
+
+/// The minimal rotation taking (0, 0, 1) to the unit vector `z` (a half turn about x when
+/// they are opposite).
+fn z_to(z: Vector3<f64>) -> UnitQuaternion<f64> {
+    UnitQuaternion::rotation_between(&Vector3::z(), &z).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
+    })
+}
+
+/// The bodies directly under `holder` (through frames).
+fn collect_bodies<'a>(holder: &'a El, out: &mut Vec<&'a El>) {
+    for c in &holder.children {
+        match c.tag.as_str() {
+            "body" => out.push(c),
+            "frame" => collect_bodies(c, out),
+            _ => {}
+        }
+    }
+}
+
+/// A tree joint at `origin` (its rotation kept exact as a quaternion).
+fn spec(
+    name: String,
+    kind: JointKind,
+    origin: &Pose,
+    axis: [f64; 3],
+    limit: Option<Limit>,
+) -> TreeJointSpec {
+    let q = origin.rotation;
+    let (r, p, y) = q.euler_angles();
+    TreeJointSpec {
+        name,
+        kind,
+        origin_xyz: origin.translation.vector.into(),
+        origin_rpy: [r, p, y],
+        origin_quat: Some([q.w, q.i, q.j, q.k]),
+        axis,
+        limit,
+        mimic: None,
+    }
+}
