@@ -45,6 +45,8 @@ use crate::tree::{Inertial, JointKind, Limit, Mimic, Tree, TreeJointSpec};
 pub const MAX_INCLUDE_DEPTH: usize = 32;
 /// Elements in the document with every include spliced in, at most.
 pub const MAX_ELEMENTS: usize = 1_000_000;
+/// What one `<include>` counts for against [`MAX_ELEMENTS`] (so at most 10,000 file reads).
+pub const INCLUDE_WEIGHT: usize = 100;
 
 /// True when `text`'s root element is `<mujoco>` (an MJCF model), by content.
 pub fn is_mjcf(text: &str) -> bool {
@@ -74,7 +76,12 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
     let label = path.display().to_string();
     let bytes = input::read_file(path)?;
     let text = input::decode(&bytes).map_err(|kind| ModelError::new(label.clone(), kind))?;
-    load_str(&text, &label, path.parent().unwrap_or(Path::new(".")))
+    let dir = path.parent().unwrap_or(Path::new("."));
+    // The main file is on the include stack: a file including it is a cycle.
+    let mut stack: Vec<PathBuf> = std::fs::canonicalize(path).into_iter().collect();
+    let mut count = 0;
+    let root = read_document(&text, &label, dir, &mut stack, &mut count)?;
+    Builder::new(&label).build(&root)
 }
 
 /// Loads MJCF text into a [`Tree`]; `source` names it in errors, includes are read from `dir`.
@@ -200,8 +207,17 @@ fn include(
         .map_err(|e| inc.error(format!("cannot read \"{}\": {e}", path.display())))?;
     if stack.contains(&canonical) {
         return Err(inc.error(format!(
-            "\"{}\" includes itself (a circular include)",
+            "\"{}\" is already being read (a circular include)",
             path.display()
+        )));
+    }
+    // Each include counts as INCLUDE_WEIGHT elements: at most MAX_ELEMENTS / INCLUDE_WEIGHT
+    // file reads, whatever the include graph (a diamond doubling at every level).
+    *count += INCLUDE_WEIGHT;
+    if *count > MAX_ELEMENTS {
+        return Err(inc.error(format!(
+            "too large: more than {} included files",
+            MAX_ELEMENTS / INCLUDE_WEIGHT
         )));
     }
     let bytes =

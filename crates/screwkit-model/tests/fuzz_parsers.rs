@@ -1,11 +1,11 @@
-//! Fuzz targets of the robot-file parsers — URDF, xacro and xacro's expression language —
+//! Fuzz targets of the robot-file parsers — URDF, xacro and xacro's expression language, MJCF —
 //! by the seeded mutation fuzzer of `screwkit_testkit::fuzz`, starting from the bundled and
 //! shared robot files. Each runs a few seconds here; `SCREWKIT_FUZZ_SECS=600` runs ten
 //! minutes. A crash, an abort or a hang fails the run.
 
 use std::path::{Path, PathBuf};
 
-use screwkit_model::{urdf, xacro, Chain, XacroOptions};
+use screwkit_model::{mjcf, urdf, xacro, Chain, KinematicTree, XacroOptions};
 use screwkit_testkit::fuzz;
 
 fn files(dir: &Path, ext: &str, out: &mut Vec<Vec<u8>>) {
@@ -194,6 +194,52 @@ fn fuzz_expressions() {
             "<robot name=\"r\" xmlns:xacro=\"http://www.ros.org/wiki/xacro\">{props}<link name=\"${{{e}}}\"/></robot>"
         );
         let _ = xacro::expand_str(&doc, "fuzz.xacro", Path::new("."), &XacroOptions::default());
+    });
+    assert!(n > 0);
+}
+
+const MJCF_TOKENS: &[&[u8]] = &[
+    b"<body name=\"x\">",
+    b"</body>",
+    b"<joint type=\"slide\"/>",
+    b"<joint type=\"ball\"/>",
+    b"<freejoint/>",
+    b"<frame euler=\"1 2 3\">",
+    b"</frame>",
+    b"<site quat=\"0 0 0 0\"/>",
+    b"childclass=\"main\"",
+    b"class=\"nope\"",
+    b"<default class=\"c\"><joint range=\"0 1\"/></default>",
+    b"<compiler angle=\"radian\" eulerseq=\"ZyX\" autolimits=\"false\"/>",
+    b"<include file=\"fuzz.xml\"/>",
+    b"<equality><joint joint1=\"a\" joint2=\"b\" polycoef=\"0 1 0 0 0\"/></equality>",
+    b"ref=\"1e308\"",
+    b"range=\"-1e999 nan\"",
+    b"xyaxes=\"1 0 0 1 0 0\"",
+    b"zaxis=\"0 0 -1\"",
+    b"axisangle=\"0 0 0 90\"",
+    b"limited=\"auto\"",
+];
+
+#[test]
+fn fuzz_mjcf() {
+    let mut seeds = Vec::new();
+    files(&crate_dir().join("../../assets/mjcf"), "xml", &mut seeds);
+    let shared = std::env::var_os("SCREWKIT_SHARED_MJCF")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| crate_dir().join("../../../shared/mjcf"));
+    files(&shared, "xml", &mut seeds);
+    let dir = std::env::temp_dir();
+    let n = fuzz::run("mjcf", 4, 3.0, &seeds, MJCF_TOKENS, |input| {
+        let text = String::from_utf8_lossy(input);
+        if let Ok(tree) = mjcf::load_str(&text, "fuzz.xml", &dir) {
+            if let Ok(kt) = KinematicTree::from_tree(&tree) {
+                let _ = kt.with_floating_base(tree.floating_root);
+            }
+            for l in tree.leaves_below(tree.root) {
+                let _ = Chain::from_tree(&tree, None, Some(&tree.links[l]));
+            }
+        }
     });
     assert!(n > 0);
 }

@@ -78,7 +78,14 @@ class MuJoCo:
     """The oracle: the mesh-free model and screwkit's q mapped to its qpos by joint name."""
 
     def __init__(self, path: Path, robot: screwkit.Robot) -> None:
-        self.model = mujoco.MjModel.from_xml_string(mesh_free(path.read_text()))
+        text = mesh_free(path.read_text())
+        if "<include" in text:
+            # Includes are read from the file's folder: MuJoCo compiles a copy beside it.
+            copy = path.with_name(path.stem + ".mujoco.xml")
+            copy.write_text(text)
+            self.model = mujoco.MjModel.from_xml_path(str(copy))
+        else:
+            self.model = mujoco.MjModel.from_xml_string(text)
         self.data = mujoco.MjData(self.model)
         self.robot = robot
         self.index = {n: k for k, n in enumerate(robot.q_names)}
@@ -94,6 +101,24 @@ class MuJoCo:
                 out[adr + 4 : adr + 7] = q[3:6]
             else:
                 out[adr] = q[self.index[m.joint(j).name]]
+        return out
+
+    def qpos_with(self, q: Array, coupled: dict[str, tuple[str, float, float]]) -> Any:
+        """qpos with each coupled follower f at c0 + c1 q_leader (refs 0 in MuJoCo's
+        coupling formula here): {follower: (leader, c1, c0)}."""
+        m = self.model
+        out = m.qpos0.copy()
+        values = dict(zip(self.robot.q_names, q.tolist()))
+        for j in range(m.njnt):
+            name = m.joint(j).name
+            adr = m.jnt_qposadr[j]
+            if name in coupled:
+                leader, c1, c0 = coupled[name]
+                ref1 = m.qpos0[adr]
+                ref2 = m.qpos0[m.jnt_qposadr[m.joint(leader).id]]
+                out[adr] = ref1 + c0 + c1 * (values[leader] - ref2)
+            elif m.jnt_type[j] != mujoco.mjtJoint.mjJNT_FREE:
+                out[adr] = values[name]
         return out
 
     def run(self, q: Array) -> None:
@@ -167,3 +192,150 @@ def test_body_jacobians_equal_mujoco(name: str) -> None:
                 worst = max(worst, float(np.abs(got[:3, k] - jacr[:, d]).max()))
                 worst = max(worst, float(np.abs(got[3:, k] - jacp[:, d]).max()))
     assert worst < 1e-12, worst
+
+
+ARM = """<mujoco model="constructs">
+  {compiler}
+  <default>
+    <joint axis="0 1 0" range="-90 90"/>
+    <site size="0.01"/>
+    <default class="roll">
+      <joint axis="1 0 0"/>
+      <default class="slider"><joint type="slide" range="-0.2 0.3"/></default>
+    </default>
+  </default>
+  <worldbody>
+    <body name="base" pos="0.1 0.2 0.3" {orient}>
+      <joint name="j1" pos="0.05 0 0.02" ref="{ref}"/>
+      <geom size="0.05"/>
+      <frame pos="0 0 0.1" euler="{frame_euler}">
+        <site name="tool_a" pos="0.01 0.02 0.03" zaxis="1 1 0"/>
+        <body name="upper" pos="0 0.1 0.4" childclass="roll">
+          <joint name="j2" pos="0 0 -0.1"/>
+          <joint name="j3" class="slider" axis="0 0 1" ref="0.05"/>
+          <joint name="j4" axis="0 1 1" pos="0.02 0.03 0" range="-45 60"/>
+          <geom size="0.04"/>
+          <site name="tool_b" pos="0 0 0.2" xyaxes="0 1 0 -1 0 0.2"/>
+          <body name="lower" pos="0.3 0 0" axisangle="1 2 3 {angle}">
+            <joint name="j5" type="hinge" limited="false" axis="1 1 1"/>
+            <geom size="0.03"/>
+            <site name="tool_c" quat="0.3 0.1 -0.5 0.8"/>
+          </body>
+        </body>
+      </frame>
+      <body name="welded" pos="0 0 -0.2" euler="{euler}"><geom size="0.02"/></body>
+    </body>
+  </worldbody>
+  <equality>{equality}</equality>
+</mujoco>"""
+
+
+def compare(xml: str, tmp: Path, name: str = "m.xml", configurations: int = 50) -> float:
+    path = tmp / name
+    path.write_text(xml)
+    robot = screwkit.Robot.from_urdf(path)
+    peer = MuJoCo(path, robot)
+    m = peer.model
+    worst = 0.0
+    for seed in range(configurations):
+        q = robot.random_configuration(seed)
+        peer.run(q)
+        # A coupled follower's qpos as MuJoCo's equality would hold it (from screwkit's FK of
+        # the follower's body: every body is compared below, so a wrong coupling shows).
+        for b in range(1, m.nbody):
+            want = pose(peer.data.xpos[b], peer.data.xmat[b])
+            worst = max(worst, float(np.abs(robot.fk(q, link=peer.body_name(b)) - want).max()))
+        for s in range(m.nsite):
+            want = pose(peer.data.site_xpos[s], peer.data.site_xmat[s])
+            worst = max(worst, float(np.abs(robot.fk(q, link=m.site(s).name) - want).max()))
+    return worst
+
+
+@pytest.mark.parametrize("degree", [True, False], ids=["degree", "radian"])
+@pytest.mark.parametrize("eulerseq", ["xyz", "zyx", "XYZ", "zXy"])
+def test_constructs_equal_mujoco(degree: bool, eulerseq: str, tmp_path: Path) -> None:
+    """Classes and childclass, frames, every orientation form, both angle units, euler
+    sequences (rotating and fixed axes), several joints in one body with anchors off its
+    origin, ref on hinges and slides, limited/unlimited, sites."""
+    a = 40.0 if degree else np.radians(40.0)
+    compiler = f'<compiler angle="{"degree" if degree else "radian"}" eulerseq="{eulerseq}"/>'
+    xml = ARM.format(
+        compiler=compiler,
+        orient=f'euler="{a} {-a / 2} {a / 3}"',
+        ref=a / 4,
+        frame_euler=f"{a / 2} 0 {a}",
+        angle=a,
+        euler=f"{-a} {a} 0",
+        equality="",
+    )
+    assert compare(xml, tmp_path) < 1e-12
+
+
+def test_joint_coupling_and_includes_equal_mujoco(tmp_path: Path) -> None:
+    """`<equality><joint polycoef>` (a linear coupling with refs: a mimic joint) and
+    `<include>` of a file in a subfolder (paths from the main file's folder)."""
+    xml = ARM.format(
+        compiler="",
+        orient='quat="0.9 0.1 0.2 0.3"',
+        ref=10,
+        frame_euler="0 0 0",
+        angle=30,
+        euler="10 20 30",
+        equality='<joint joint1="j4" joint2="j2" polycoef="0.1 -0.7 0 0 0"/>',
+    )
+    robot_path = tmp_path / "m.xml"
+    robot_path.write_text(xml)
+    robot = screwkit.Robot.from_urdf(robot_path)
+    assert "j4" not in robot.variable_names, "the follower is not a variable"
+    # MuJoCo keeps j4 a dof and holds the equality by constraint: give it the coupled value.
+    peer = MuJoCo(robot_path, robot)
+    m = peer.model
+    worst = 0.0
+    for seed in range(50):
+        q = robot.random_configuration(seed)
+        qpos = peer.qpos_with(q, {"j4": ("j2", -0.7, 0.1)})
+        peer.data.qpos[:] = qpos
+        mujoco.mj_kinematics(m, peer.data)
+        for b in range(1, m.nbody):
+            want = pose(peer.data.xpos[b], peer.data.xmat[b])
+            worst = max(worst, float(np.abs(robot.fk(q, link=peer.body_name(b)) - want).max()))
+    assert worst < 1e-12, worst
+    # The model (without the coupling) split over an include in a subfolder.
+    (tmp_path / "parts").mkdir()
+    head, rest = xml.replace(
+        '<joint joint1="j4" joint2="j2" polycoef="0.1 -0.7 0 0 0"/>', ""
+    ).split("<worldbody>", 1)
+    (tmp_path / "parts" / "defaults.xml").write_text(
+        "<mujoco>" + head.split('<mujoco model="constructs">', 1)[1] + "</mujoco>"
+    )
+    main = '<mujoco model="constructs"><include file="parts/defaults.xml"/><worldbody>' + rest
+    assert compare(main, tmp_path, "main.xml") < 1e-12
+
+
+def test_the_bundled_construct_model_equals_mujoco() -> None:
+    """assets/mjcf/two_arm_constructs.xml, compiled by MuJoCo as it is (no copy): bodies and
+    sites, the coupled right shoulder roll given MuJoCo's coupled value, and the centre of
+    mass of its inertials against MuJoCo's subtree centre of mass."""
+    path = REPO / "assets" / "mjcf" / "two_arm_constructs.xml"
+    robot = screwkit.Robot.from_urdf(path)
+    assert "right_shoulder_roll" not in robot.variable_names
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    peer = MuJoCo.__new__(MuJoCo)
+    peer.model, peer.data, peer.robot = model, data, robot
+    peer.index = {n: k for k, n in enumerate(robot.q_names)}
+    worst = 0.0
+    for seed in range(100):
+        q = robot.random_configuration(seed)
+        data.qpos[:] = peer.qpos_with(q, {"right_shoulder_roll": ("left_shoulder_roll", -1.0, 0.0)})
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_comPos(model, data)
+        for b in range(1, model.nbody):
+            want = pose(data.xpos[b], data.xmat[b])
+            worst = max(worst, float(np.abs(robot.fk(q, link=model.body(b).name) - want).max()))
+        for s in range(model.nsite):
+            want = pose(data.site_xpos[s], data.site_xmat[s])
+            worst = max(worst, float(np.abs(robot.fk(q, link=model.site(s).name) - want).max()))
+        worst = max(worst, float(np.abs(robot.com(q) - data.subtree_com[0]).max()))
+    assert worst < 1e-12, worst
+    assert robot.total_mass == pytest.approx(float(np.sum(model.body_mass)), rel=1e-14)
