@@ -544,6 +544,34 @@ impl Robot {
         Self::build(&Source::Path(path), &options)
     }
 
+    /// Loads a robot file of any format screwkit reads — URDF, xacro or MuJoCo's MJCF, told
+    /// apart by content — with the options of `from_urdf` (which reads them all too). An MJCF
+    /// model with a free root joint has a floating base.
+    #[classmethod]
+    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None, floating_base = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_file(
+        cls: &Bound<'_, PyType>,
+        path: PathBuf,
+        base: Option<String>,
+        tip: Option<String>,
+        package_paths: Option<Vec<PathBuf>>,
+        xacro_args: Option<std::collections::BTreeMap<String, String>>,
+        tool: Option<Vec<f64>>,
+        floating_base: bool,
+    ) -> PyResult<Self> {
+        Self::from_urdf(
+            cls,
+            path,
+            base,
+            tip,
+            package_paths,
+            xacro_args,
+            tool,
+            floating_base,
+        )
+    }
+
     /// Loads the chain `base` → `tip` of URDF (or xacro) text; `source` names it in error
     /// messages; `tool` as in `from_urdf`.
     #[classmethod]
@@ -1247,6 +1275,36 @@ impl Robot {
         let q = Self::tree_vector(q, kin.nq(), "q")?;
         let v = Self::tree_vector(v, kin.nv(), "v")?;
         let out = tree::configuration::integrate(&kin, &q, &v, dt).map_err(solve_error)?;
+        Ok(out.to_pyarray(py))
+    }
+
+    /// screwkit's q (nq,) of MuJoCo's `qpos` for this model: the free joint's quaternion
+    /// (w first in MuJoCo) reordered to qx, qy, qz, qw, each variable its joint's entry, a
+    /// coupled follower's entry not read.
+    // The (and users' scripts') name: a conversion of this robot's qpos, so it takes self.
+    #[allow(clippy::wrong_self_convention)]
+    fn from_mujoco_qpos<'py>(
+        &self,
+        py: Python<'py>,
+        qpos: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let n = screwkit_service::mujoco::qpos_len(&kin);
+        let qpos = Self::tree_vector(qpos, n, "qpos")?;
+        let q = screwkit_service::mujoco::from_qpos(&kin, &qpos).map_err(service_error)?;
+        Ok(q.to_pyarray(py))
+    }
+
+    /// MuJoCo's `qpos` of screwkit's q (nq,): the base's quaternion w first, every joint's
+    /// value, a coupled follower's as its coupling gives it.
+    fn to_mujoco_qpos<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let out = screwkit_service::mujoco::to_qpos(&kin, &q).map_err(service_error)?;
         Ok(out.to_pyarray(py))
     }
 

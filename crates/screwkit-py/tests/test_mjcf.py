@@ -339,3 +339,32 @@ def test_the_bundled_construct_model_equals_mujoco() -> None:
         worst = max(worst, float(np.abs(robot.com(q) - data.subtree_com[0]).max()))
     assert worst < 1e-12, worst
     assert robot.total_mass == pytest.approx(float(np.sum(model.body_mass)), rel=1e-14)
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_mujoco_qpos_both_ways(name: str) -> None:
+    path = shared_mjcf() / name
+    robot = screwkit.Robot.from_file(path)
+    peer = MuJoCo(path, robot)
+    for seed in range(20):
+        q = robot.random_configuration(seed)
+        qpos = robot.to_mujoco_qpos(q)
+        np.testing.assert_array_equal(qpos, peer.qpos(q))  # the test's own mapping, by name
+        np.testing.assert_array_equal(robot.from_mujoco_qpos(qpos), q)
+    with pytest.raises(ValueError, match="qpos"):
+        robot.from_mujoco_qpos(np.zeros(peer.model.nq + 1))
+
+
+def test_mujoco_qpos_of_a_coupled_model() -> None:
+    path = REPO / "assets" / "mjcf" / "two_arm_constructs.xml"
+    robot = screwkit.Robot.from_file(path)
+    model = mujoco.MjModel.from_xml_path(str(path))
+    peer = MuJoCo.__new__(MuJoCo)
+    peer.model, peer.robot = model, robot
+    for seed in range(10):
+        q = robot.random_configuration(seed)
+        qpos = robot.to_mujoco_qpos(q)
+        assert qpos.shape == (model.nq,)
+        want = peer.qpos_with(q, {"right_shoulder_roll": ("left_shoulder_roll", -1.0, 0.0)})
+        np.testing.assert_allclose(qpos, want, rtol=0, atol=1e-15)
+        np.testing.assert_array_equal(robot.from_mujoco_qpos(qpos), q)

@@ -12,6 +12,7 @@
 //!   0-based index ([`JointRef`], [`Lock`]).
 //! - [`report`]: the serde structs of the JSON contract; [`solutions`]: every analytic
 //!   solution, single and batched.
+//! - [`mujoco`]: MuJoCo's `qpos` and screwkit's q, both ways.
 //! - [`io`]: `.npy`/`.npz`, outputs written whole or not at all, the JSON number rule.
 //! - [`Error`]: typed errors (`Io { path, source }`, model, solver, file, word, option).
 //!
@@ -21,6 +22,7 @@ pub mod error;
 pub mod io;
 pub mod joint;
 pub mod load;
+pub mod mujoco;
 pub mod report;
 pub mod request;
 pub mod solutions;
