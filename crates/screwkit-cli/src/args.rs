@@ -82,6 +82,9 @@ pub enum Command {
     View(ViewArgs),
     /// Expand a xacro file and print the URDF.
     Xacro(XacroFileArgs),
+    /// Write the robot's kinematic tree as URDF (links, joints, limits, mimic rules, masses;
+    /// an MJCF model's sites as fixed child links), so that URDF-only tools can use it.
+    Urdf(UrdfArgs),
     /// A reachability map: voxels x orientations solved by IK, written as .npz (`reach merge`
     /// joins shards).
     Reach(Box<ReachArgs>),
@@ -527,6 +530,19 @@ pub struct ViewArgs {
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub q: Option<List>,
     /// The HTML file to write (- for standard output).
+    #[arg(short, long)]
+    pub output: String,
+}
+
+/// `urdf`.
+#[derive(Debug, Args)]
+pub struct UrdfArgs {
+    /// The robot file (URDF, xacro or MJCF; - reads it from standard input).
+    pub file: PathBuf,
+    /// xacro expansion.
+    #[command(flatten)]
+    pub xacro: XacroArgs,
+    /// The URDF file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,
 }

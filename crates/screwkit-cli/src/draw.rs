@@ -7,7 +7,7 @@ use crate::args::{DrawArgs, ViewArgs};
 use crate::output::{CliResult, Failure};
 
 /// Writes `text` to `path` (`-`: standard output).
-fn write_out(path: &str, text: &str) -> CliResult {
+pub(crate) fn write_out(path: &str, text: &str) -> CliResult {
     if path == "-" {
         crate::output::emit(text)
     } else {

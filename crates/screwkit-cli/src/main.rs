@@ -43,11 +43,11 @@ fn run(cli: &Cli) -> CliResult {
     if cli.format != Format::Text
         && matches!(
             cli.command,
-            Command::Draw(_) | Command::View(_) | Command::Xacro(_)
+            Command::Draw(_) | Command::View(_) | Command::Xacro(_) | Command::Urdf(_)
         )
     {
         return Err(Failure(
-            "--format does not apply to `draw`, `view` and `xacro` (they write SVG, HTML or URDF)"
+            "--format does not apply to `draw`, `view`, `xacro` and `urdf` (they write SVG, HTML or URDF)"
                 .into(),
         ));
     }
@@ -83,6 +83,10 @@ fn run(cli: &Cli) -> CliResult {
             let text = Source::from_arg(&a.file).expand_xacro(&a.xacro.options())?;
             crate::output::emit(&text)?;
             Ok(())
+        }
+        Command::Urdf(a) => {
+            let (tree, _) = Source::from_arg(&a.file).tree(&a.xacro.options())?;
+            draw::write_out(&a.output, &screwkit_model::urdf::write(&tree))
         }
     }
 }

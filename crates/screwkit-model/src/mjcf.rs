@@ -959,7 +959,7 @@ fn spec(
     limit: Option<Limit>,
 ) -> TreeJointSpec {
     let q = origin.rotation;
-    let (r, p, y) = q.euler_angles();
+    let [r, p, y] = screwkit_lie::so3::to_rpy(q.to_rotation_matrix().matrix());
     TreeJointSpec {
         name,
         kind,

@@ -346,3 +346,97 @@ fn check_numbers_of(element: &str, attr: &str, value: &str, count: usize) -> Res
     }
     Ok(())
 }
+
+/// The tree as URDF text (what `screwkit urdf FILE` writes, so that URDF-only tools can use a
+/// robot read from another format): every link (with its mass and centre of mass where it has
+/// an inertial; the inertia tensor, not kept, is written as a small placeholder), every joint
+/// with its origin (xyz and roll-pitch-yaw from the exact rotation, [`screwkit_lie::so3::to_rpy`],
+/// to 17 significant digits), axis, limits (`velocity`/`effort` only where known; an unbounded
+/// prismatic joint's limits as ±1e300) and mimic rule. URDF has no free joint: a tree with a
+/// floating root says so in a comment, and is loaded with `--floating-base` /
+/// `floating_base=True`. Loading the text gives the same FK to rounding.
+pub fn write(tree: &Tree) -> String {
+    let num = |x: f64| {
+        if x.is_infinite() {
+            if x > 0.0 {
+                "1e300".to_string()
+            } else {
+                "-1e300".to_string()
+            }
+        } else {
+            format!("{x:e}")
+        }
+    };
+    let vec3 = |v: [f64; 3]| format!("{} {} {}", num(v[0]), num(v[1]), num(v[2]));
+    let mut out = String::new();
+    out.push_str("<?xml version=\"1.0\"?>\n");
+    out.push_str(&format!(
+        "<!-- Written by screwkit from {} (the kinematic tree: links, joints, limits, mimic rules, masses). -->\n",
+        input::escape_xml(&tree.source)
+    ));
+    if tree.floating_root {
+        out.push_str(&format!(
+            "<!-- The file gives the root link \"{}\" a free joint (a floating base): URDF has none; load with a floating base. -->\n",
+            input::escape_xml(&tree.links[tree.root])
+        ));
+    }
+    out.push_str(&format!(
+        "<robot name=\"{}\">\n",
+        input::escape_xml(&tree.name)
+    ));
+    for (l, name) in tree.links.iter().enumerate() {
+        match tree.inertials[l] {
+            Some(i) => out.push_str(&format!(
+                "  <link name=\"{}\">\n    <inertial>\n      <origin xyz=\"{}\"/>\n      <mass value=\"{}\"/>\n      <inertia ixx=\"1e-9\" ixy=\"0\" ixz=\"0\" iyy=\"1e-9\" iyz=\"0\" izz=\"1e-9\"/>\n    </inertial>\n  </link>\n",
+                input::escape_xml(name),
+                vec3(i.com),
+                num(i.mass)
+            )),
+            None => out.push_str(&format!("  <link name=\"{}\"/>\n", input::escape_xml(name))),
+        }
+    }
+    for j in &tree.joints {
+        let rpy = match j.origin() {
+            Ok(t) => screwkit_lie::so3::to_rpy(t.rotation()),
+            Err(_) => j.origin_rpy,
+        };
+        out.push_str(&format!(
+            "  <joint name=\"{}\" type=\"{}\">\n    <origin xyz=\"{}\" rpy=\"{}\"/>\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n",
+            input::escape_xml(&j.name),
+            j.kind.as_str(),
+            vec3(j.origin_xyz),
+            vec3(rpy),
+            input::escape_xml(&tree.links[j.parent]),
+            input::escape_xml(&tree.links[j.child]),
+        ));
+        if j.kind.is_movable() {
+            out.push_str(&format!("    <axis xyz=\"{}\"/>\n", vec3(j.axis)));
+        }
+        if let (Some(l), true) = (j.limit, j.kind != JointKind::Fixed) {
+            let mut s = format!(
+                "    <limit lower=\"{}\" upper=\"{}\"",
+                num(l.lower),
+                num(l.upper)
+            );
+            if let Some(v) = l.velocity {
+                s.push_str(&format!(" velocity=\"{}\"", num(v)));
+            }
+            if let Some(e) = l.effort {
+                s.push_str(&format!(" effort=\"{}\"", num(e)));
+            }
+            out.push_str(&s);
+            out.push_str("/>\n");
+        }
+        if let Some(m) = &j.mimic {
+            out.push_str(&format!(
+                "    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"{}\"/>\n",
+                input::escape_xml(&m.leader),
+                num(m.multiplier),
+                num(m.offset)
+            ));
+        }
+        out.push_str("  </joint>\n");
+    }
+    out.push_str("</robot>\n");
+    out
+}

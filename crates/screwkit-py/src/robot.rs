@@ -1278,6 +1278,16 @@ impl Robot {
         Ok(out.to_pyarray(py))
     }
 
+    /// The robot's kinematic tree as URDF text (as `screwkit urdf` writes it: links, joints,
+    /// limits, mimic rules, masses; an MJCF model's sites as fixed child links), written to
+    /// `path` when given. Loading it (with `floating_base` as this robot's) gives the same FK.
+    #[pyo3(signature = (path = None))]
+    fn to_urdf(&self, path: Option<PathBuf>) -> PyResult<String> {
+        let text = screwkit_model::urdf::write(self.robot.tree());
+        write_text(path, &text)?;
+        Ok(text)
+    }
+
     /// screwkit's q (nq,) of MuJoCo's `qpos` for this model: the free joint's quaternion
     /// (w first in MuJoCo) reordered to qx, qy, qz, qw, each variable its joint's entry, a
     /// coupled follower's entry not read.
