@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any, Callable
 
 import mink  # type: ignore[import-not-found]
-import mujoco  # type: ignore[import-not-found]
+import mujoco  # type: ignore[import-untyped]
 import numpy as np
 import pink  # type: ignore[import-not-found]
 import pinocchio as pin

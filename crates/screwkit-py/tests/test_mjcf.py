@@ -395,3 +395,58 @@ def test_the_written_urdf_gives_the_same_fk(name: str, tmp_path: Path) -> None:
         assert a.shape == b.shape and again.frame_names == links
         worst = max(worst, float(np.abs(a - b).max()))
     assert worst < 1e-12, worst
+
+
+@pytest.mark.parametrize(
+    "name, solutions",
+    [("robosuite_ur5e.xml", None), ("robosuite_panda.xml", 6), ("robosuite_iiwa.xml", 6)],
+)
+def test_ik_on_mjcf_arms(name: str, solutions: int | None) -> None:
+    """Numerical IK and every analytic solution on the MJCF arms (the family read from the
+    screw axes, as for URDF: UR-type for the UR5e, a locked joint for the 7R arms); every
+    answer checked by MuJoCo's own FK of the file."""
+    path = shared_mjcf() / name
+    robot = screwkit.Robot.from_file(path, tip="right_hand")
+    peer = MuJoCo(path, screwkit.Robot.from_file(path))
+    hand = peer.model.body("right_hand").id
+    lo, hi = np.array(robot.lower), np.array(robot.upper)
+    rng = np.random.default_rng(7)
+
+    def mujoco_pose(q: Array) -> Array:
+        peer.run(q)
+        return pose(peer.data.xpos[hand], peer.data.xmat[hand])
+
+    for _ in range(20):
+        q = lo + (hi - lo) * rng.uniform(0.1, 0.9, robot.dof)
+        target = mujoco_pose(q)
+        r = robot.ik(target)
+        assert r.converged
+        assert np.abs(mujoco_pose(r.q) - target).max() < 1e-8
+        lock = {} if solutions is None else {"lock": solutions}
+        every = robot.ik_all(target, q, **lock)
+        assert len(every) >= 1
+        for s in every:
+            assert np.abs(mujoco_pose(s) - target).max() < 1e-9
+
+
+def test_whole_body_tasks_on_the_mujoco_humanoid() -> None:
+    """Both feet held and both hands reaching on gymnasium's humanoid (a free root), checked
+    by MuJoCo's FK."""
+    path = shared_mjcf() / "humanoid.xml"
+    robot = screwkit.Robot.from_file(path)
+    peer = MuJoCo(path, robot)
+    names = ["left_foot", "right_foot", "left_lower_arm", "right_lower_arm"]
+    bodies = [peer.model.body(n).id for n in names]
+    for seed in range(5):
+        star = robot.random_configuration(seed)
+        peer.run(star)
+        targets = [pose(peer.data.xpos[b], peer.data.xmat[b]) for b in bodies]
+        tasks: list[screwkit.FrameTask | screwkit.PostureTask] = [
+            screwkit.FrameTask(n, t) for n, t in zip(names, targets)
+        ]
+        tasks.append(screwkit.PostureTask(robot.neutral(), weight=1e-2))
+        r = robot.ik_tasks(tasks)
+        assert r.converged, r
+        peer.run(r.q)
+        for b, t in zip(bodies, targets):
+            assert np.abs(pose(peer.data.xpos[b], peer.data.xmat[b]) - t).max() < 1e-8
