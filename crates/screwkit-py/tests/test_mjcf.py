@@ -450,3 +450,45 @@ def test_whole_body_tasks_on_the_mujoco_humanoid() -> None:
         peer.run(r.q)
         for b, t in zip(bodies, targets):
             assert np.abs(pose(peer.data.xpos[b], peer.data.xmat[b]) - t).max() < 1e-8
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_every_jacobian_column_equals_mujoco(name: str) -> None:
+    """Every column of every body's and named site's world-aligned Jacobian against
+    `mj_jacBody` / `mj_jacSite`, the floating base's six included: MuJoCo's free-joint velocity
+    is (ṗ in the world, ω in the body), screwkit's base twist (ω, v) in the base frame, so
+    screwkit's ω columns are MuJoCo's and its v columns are MuJoCo's linear ones times R."""
+    path = shared_mjcf() / name
+    robot = screwkit.Robot.from_file(path)
+    peer = MuJoCo(path, robot)
+    m = peer.model
+    columns = {n: k for k, n in enumerate(robot.v_names)}
+    joints = [
+        (m.jnt_dofadr[j], columns[m.joint(j).name])
+        for j in range(m.njnt)
+        if m.jnt_type[j] != mujoco.mjtJoint.mjJNT_FREE
+    ]
+    free = [m.jnt_dofadr[j] for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE]
+    sites = [s for s in range(m.nsite) if m.site(s).name]
+    worst = 0.0
+    for seed in range(20):
+        q = robot.random_configuration(2000 + seed)
+        peer.run(q)
+        targets = [(peer.body_name(b), b, mujoco.mj_jacBody) for b in range(1, m.nbody)]
+        targets += [(m.site(s).name, s, mujoco.mj_jacSite) for s in sites]
+        for link, i, jac in targets:
+            jacp, jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+            jac(m, peer.data, jacp, jacr, i)
+            mj = np.vstack([jacr, jacp])  # screwkit's row order (ω, v)
+            want = np.zeros((6, robot.nv))
+            for d, k in joints:
+                want[:, k] = mj[:, d]
+            if free:
+                d = free[0]
+                # The free joint's body is the file's single top-level body: MuJoCo's body 1.
+                rot = peer.data.xmat[1].reshape(3, 3)
+                want[:, 0:3] = mj[:, d + 3 : d + 6]
+                want[:, 3:6] = mj[:, d : d + 3] @ rot
+            got = robot.jacobian(q, "world-aligned", link=link)
+            worst = max(worst, float(np.abs(got - want).max()))
+    assert worst < 1e-12, worst
