@@ -31,12 +31,24 @@ use output::{CliResult, Failure};
 /// Reads a robot file (URDF or xacro; `-`: standard input) into its tree (the floor's
 /// loading: one decoding rule for every front end).
 pub(crate) fn read_tree(path: &std::path::Path, xacro: &args::XacroArgs) -> CliResult<Tree> {
-    Ok(Source::from_arg(path).tree(&xacro.options())?.0)
+    let tree = Source::from_arg(path).tree(&xacro.options())?.0;
+    warn(&tree);
+    Ok(tree)
+}
+
+/// What the reader read past that changes kinematics (an MJCF tendon, a loop closure): one
+/// line each on stderr.
+fn warn(tree: &Tree) {
+    for w in &tree.warnings {
+        eprintln!("screwkit: warning: {}: {w}", tree.source);
+    }
 }
 
 /// Loads the robot and the chain named by the arguments (with its tool frame, if given).
 pub(crate) fn load(c: &ChainArgs) -> CliResult<Robot> {
-    Ok(Robot::load(&Source::from_arg(&c.urdf), &c.options())?)
+    let robot = Robot::load(&Source::from_arg(&c.urdf), &c.options())?;
+    warn(robot.tree());
+    Ok(robot)
 }
 
 fn run(cli: &Cli) -> CliResult {
@@ -85,7 +97,7 @@ fn run(cli: &Cli) -> CliResult {
             Ok(())
         }
         Command::Urdf(a) => {
-            let (tree, _) = Source::from_arg(&a.file).tree(&a.xacro.options())?;
+            let tree = read_tree(&a.file, &a.xacro)?;
             draw::write_out(&a.output, &screwkit_model::urdf::write(&tree))
         }
     }

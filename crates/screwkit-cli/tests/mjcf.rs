@@ -82,5 +82,20 @@ fn commands_read_mjcf_and_urdf_writes_the_same_robot() {
         err.contains("bad.xml:3") && err.contains("ball joints"),
         "{err}"
     );
+    // What is read past that changes kinematics: a warning line, and the command still runs.
+    let tendon = dir.join("tendon.xml");
+    std::fs::write(
+        &tendon,
+        "<mujoco>\n<worldbody><body name=\"b\"><joint name=\"j\"/></body></worldbody>\n<tendon><fixed><joint joint=\"j\" coef=\"1\"/></fixed></tendon>\n</mujoco>",
+    )
+    .unwrap();
+    let (code, out, err) = run(&["fk", tendon.to_str().unwrap(), "--q", "0.5"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("Pose of `b`"), "{out}");
+    assert!(
+        err.starts_with("screwkit: warning: ")
+            && err.contains("tendon.xml: line 3: 1 tendon(s) read past"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

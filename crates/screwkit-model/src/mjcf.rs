@@ -318,7 +318,7 @@ impl Builder {
             for w in &world {
                 for s in w.children.iter().filter(|c| c.tag == "site") {
                     self.warnings.push(format!(
-                        "{}: site {} on the world body is not part of the free-floating robot's tree",
+                        "line {}: site {} on the world body is not part of the free-floating robot's tree",
                         s.line,
                         s.attr("name").unwrap_or("(unnamed)")
                     ));
@@ -334,7 +334,7 @@ impl Builder {
         for t in root.children.iter().filter(|c| c.tag == "tendon") {
             if !t.children.is_empty() {
                 self.warnings.push(format!(
-                    "{} tendon(s) at line {} read past: tendons couple no joint kinematically here",
+                    "line {1}: {0} tendon(s) read past (in MuJoCo they act in the dynamics; the kinematic tree holds none)",
                     t.children.len(),
                     t.line
                 ));

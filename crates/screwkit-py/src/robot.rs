@@ -118,6 +118,18 @@ impl Robot {
 
     fn build(source: &Source, options: &LoadOptions) -> PyResult<Self> {
         let robot = screwkit_service::Robot::load(source, options).map_err(service_error)?;
+        // What the reader read past that changes kinematics (an MJCF tendon, a loop closure).
+        if !robot.tree().warnings.is_empty() {
+            Python::attach(|py| -> PyResult<()> {
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                for w in &robot.tree().warnings {
+                    let message = std::ffi::CString::new(format!("{}: {w}", robot.tree().source))
+                        .unwrap_or_default();
+                    PyErr::warn(py, &category, &message, 2)?;
+                }
+                Ok(())
+            })?;
+        }
         let ws = Mutex::new(
             robot
                 .kin()

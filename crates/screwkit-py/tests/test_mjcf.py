@@ -492,3 +492,8 @@ def test_every_jacobian_column_equals_mujoco(name: str) -> None:
             got = robot.jacobian(q, "world-aligned", link=link)
             worst = max(worst, float(np.abs(got - want).max()))
     assert worst < 1e-12, worst
+
+
+def test_what_is_read_past_is_a_warning() -> None:
+    with pytest.warns(UserWarning, match=r"humanoid.xml: line \d+: 2 tendon\(s\) read past"):
+        screwkit.Robot.from_file(shared_mjcf() / "humanoid.xml")
