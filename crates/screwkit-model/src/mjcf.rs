@@ -5,7 +5,8 @@
 //! every orientation form: `quat` (w x y z), `axisangle`, `euler` in `<compiler eulerseq>`,
 //! `xyaxes`, `zaxis`), `<frame>` (a pose applied to what it holds), `<joint>` of type
 //! `hinge`, `slide` and `free` (and `<freejoint>`) with `pos`, `axis`, `range`, `limited`,
-//! `ref`; `<site>` (each a frame: a link fixed to its body); `<inertial pos mass>` (the centre
+//! `ref`; `<site>` (each a frame: a link fixed to its body; `site:NAME` when a body has the
+//! name; `fromto` sites at their middle, z along the segment); `<inertial pos mass>` (the centre
 //! of mass); `<default>` classes with `class` / `childclass` inheritance; `<include file>`
 //! (paths relative to the main file's folder, as MuJoCo resolves them); `<compiler angle
 //! eulerseq autolimits>` (degrees by default); `<equality><joint polycoef>` (a linear coupling
@@ -259,6 +260,10 @@ struct Builder {
     warnings: Vec<String>,
     bodies: usize,
     floating_root: bool,
+    /// Every body's name in the file (sites named alike are renamed).
+    body_names: std::collections::HashSet<String>,
+    /// Top-level bodies read past (props beside the robot).
+    skip: Vec<*const El>,
 }
 
 /// A pose as MuJoCo composes them.
@@ -281,6 +286,8 @@ impl Builder {
             warnings: Vec::new(),
             bodies: 0,
             floating_root: false,
+            body_names: std::collections::HashSet::new(),
+            skip: Vec::new(),
         }
     }
 
@@ -293,6 +300,15 @@ impl Builder {
         }
         self.classes.entry("main".into()).or_default();
         let name = root.attr("model").unwrap_or("mujoco").to_string();
+        let mut stack: Vec<&El> = vec![root];
+        while let Some(e) = stack.pop() {
+            if e.tag == "body" {
+                if let Some(n) = e.attr("name") {
+                    self.body_names.insert(n.to_string());
+                }
+            }
+            stack.extend(e.children.iter());
+        }
         let world: Vec<&El> = root
             .children
             .iter()
@@ -303,17 +319,51 @@ impl Builder {
         for w in &world {
             collect_bodies(w, &mut top);
         }
-        let free_root = match top.as_slice() {
-            [only] => only.children.iter().any(|c| {
+        // Which body is the robot when some top-level bodies float freely: the only one; else,
+        // beside a fixed-base mechanism, none (the world is the root and the free bodies are
+        // props, read past); else the free body with the most bodies below it (the others
+        // read past: a scene's ball, a box).
+        let is_free = |b: &El| {
+            b.children.iter().any(|c| {
                 c.tag == "freejoint"
                     || (c.tag == "joint" && self.joint_type(c, "main") == Some("free"))
-            }),
-            _ => false,
+            })
+        };
+        let free: Vec<&El> = top.iter().copied().filter(|b| is_free(b)).collect();
+        let fixed_mechanism = top.iter().any(|b| !is_free(b) && has_joints(b));
+        let robot: Option<&El> = match (free.as_slice(), fixed_mechanism) {
+            ([], _) | (_, true) => None,
+            _ => free
+                .iter()
+                .copied()
+                .max_by_key(|b| (count_bodies(b), std::cmp::Reverse(b.line))),
         };
         let ctx = Context { class: "main" };
-        if free_root {
+        let read_past: Vec<&El> = match robot {
+            Some(r) => top
+                .iter()
+                .copied()
+                .filter(|b| !std::ptr::eq(*b, r))
+                .collect(),
+            None => free.clone(),
+        };
+        for b in &read_past {
+            let why = match robot {
+                Some(r) => format!(
+                    "the tree is the free-floating body {} (the one with the most bodies)",
+                    r.attr("name").unwrap_or("(unnamed)")
+                ),
+                None => "a free-floating body beside the fixed-base mechanism (a prop)".into(),
+            };
+            self.warnings.push(format!(
+                "line {}: top-level body {} read past: {why}",
+                b.line,
+                b.attr("name").unwrap_or("(unnamed)"),
+            ));
+            self.skip.push(*b as *const El);
+        }
+        if let Some(body) = robot {
             self.floating_root = true;
-            let body = top[0];
             self.body(body, None, &Pose::identity(), &ctx)?;
             for w in &world {
                 for s in w.children.iter().filter(|c| c.tag == "site") {
@@ -499,6 +549,30 @@ impl Builder {
         ))
     }
 
+    /// A site's pose: `fromto` (a capsule's or cylinder's two ends: the frame at their middle,
+    /// z along the segment, the minimal rotation from (0, 0, 1)) when given, else `pos` and its
+    /// orientation.
+    fn site_pose(&self, e: &El, class: &str) -> Result<Pose, ModelError> {
+        let Some(ft) = self.numbers(e, class, "fromto", 6)? else {
+            return self.pose(e, class);
+        };
+        let (a, b) = (
+            Vector3::new(ft[0], ft[1], ft[2]),
+            Vector3::new(ft[3], ft[4], ft[5]),
+        );
+        // MuJoCo's frame of a fromto element has z from the second end towards the first
+        // (checked against MuJoCo in test_mjcf.py).
+        let d = a - b;
+        if d.norm() < 1e-10 {
+            return Err(e.error("fromto: the two ends coincide"));
+        }
+        let mid = (a + b) / 2.0;
+        Ok(Isometry3::from_parts(
+            Translation3::new(mid.x, mid.y, mid.z),
+            z_to(d.normalize()),
+        ))
+    }
+
     fn orientation(
         &self,
         e: &El,
@@ -642,11 +716,18 @@ impl Builder {
             match c.tag.as_str() {
                 "site" => {
                     self.check_class(c)?;
-                    let name = c.attr("name").map_or_else(
-                        || format!("{link}/site_{}", self.links.len()),
-                        str::to_string,
-                    );
-                    let pose = offset * self.pose(c, ctx.class)?;
+                    // MuJoCo names bodies and sites apart: a site named like a body (or like
+                    // another site) is the frame `site:NAME`.
+                    let name = match c.attr("name") {
+                        None => format!("{link}/site_{}", self.links.len()),
+                        Some(n)
+                            if self.body_names.contains(n) || self.links.iter().any(|l| l == n) =>
+                        {
+                            format!("site:{n}")
+                        }
+                        Some(n) => n.to_string(),
+                    };
+                    let pose = offset * self.site_pose(c, ctx.class)?;
                     self.links.push(name.clone());
                     self.joints.push((
                         spec(
@@ -674,6 +755,7 @@ impl Builder {
                     let pose = offset * self.pose(c, "main")?;
                     self.contents(c, link, &pose, &Context { class: &class })?;
                 }
+                "body" if self.skip.contains(&(c as *const El)) => {}
                 "body" => self.body(c, Some(link), offset, ctx)?,
                 "joint" | "freejoint" if holder.tag != "body" => {
                     return Err(c.error(format!(
@@ -897,9 +979,13 @@ impl Builder {
                 }
                 let (Some(&r1), Some(&r2)) = (self.refs.get(&follower), self.refs.get(leader))
                 else {
-                    return Err(e.error(format!(
-                        "joint1 \"{follower}\" or joint2 \"{leader}\" is not a hinge or slide joint of the model"
-                    )));
+                    // A joint of a body read past (a prop), or not a hinge or slide.
+                    self.warnings.push(format!(
+                        "line {}: {} read past: joint1 \"{follower}\" or joint2 \"{leader}\" is not a hinge or slide joint of the tree",
+                        e.line,
+                        e.describe()
+                    ));
+                    continue;
                 };
                 let Some((spec, _, _)) =
                     self.joints.iter_mut().find(|(s, _, _)| s.name == follower)
@@ -937,6 +1023,29 @@ fn z_to(z: Vector3<f64>) -> UnitQuaternion<f64> {
     UnitQuaternion::rotation_between(&Vector3::z(), &z).unwrap_or_else(|| {
         UnitQuaternion::from_axis_angle(&Vector3::x_axis(), std::f64::consts::PI)
     })
+}
+
+/// True when a joint is written anywhere below `b`.
+fn has_joints(b: &El) -> bool {
+    let mut stack = vec![b];
+    while let Some(e) = stack.pop() {
+        if e.tag == "joint" || e.tag == "freejoint" {
+            return true;
+        }
+        stack.extend(e.children.iter());
+    }
+    false
+}
+
+/// The bodies at and below `b`.
+fn count_bodies(b: &El) -> usize {
+    let mut stack = vec![b];
+    let mut n = 0;
+    while let Some(e) = stack.pop() {
+        n += usize::from(e.tag == "body");
+        stack.extend(e.children.iter());
+    }
+    n
 }
 
 /// The bodies directly under `holder` (through frames).

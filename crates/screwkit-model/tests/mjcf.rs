@@ -84,7 +84,7 @@ fn refusals_name_the_file_line_and_element() {
         (body("<site name=\"s\" quat=\"0 0 0 0\"/>"), "a zero quaternion"),
         (body("<site name=\"s\" quat=\"1 0 0 0\" euler=\"0 0 0\"/>"), "more than one orientation"),
         (
-            "<mujoco><worldbody><body name=\"a\"><freejoint/></body><body name=\"b\"><freejoint/></body></worldbody></mujoco>".into(),
+            "<mujoco><worldbody><body name=\"a\"><joint name=\"h\"/><body name=\"b\"><freejoint/></body></body></worldbody></mujoco>".into(),
             "a free joint is read only on the file's single top-level body",
         ),
         (
@@ -164,4 +164,38 @@ fn tendons_and_loop_closures_are_warnings() {
     assert_eq!(tree.warnings.len(), 2, "{:?}", tree.warnings);
     assert!(tree.warnings[0].contains("connect"), "{:?}", tree.warnings);
     assert!(tree.warnings[1].contains("tendon"), "{:?}", tree.warnings);
+}
+
+#[test]
+fn free_floating_props_beside_the_robot_are_read_past_with_a_warning() {
+    // Two free bodies (a legged robot and a ball, as dm_control's quadruped): the larger is the
+    // floating root.
+    let robot =
+        "<body name=\"torso\"><freejoint/><body name=\"leg\"><joint name=\"hip\"/></body></body>";
+    let ball = "<body name=\"ball\"><freejoint/></body>";
+    let xml = format!("<mujoco><worldbody>{ball}{robot}</worldbody></mujoco>");
+    let tree = mjcf::load_str(&xml, "m.xml", Path::new(".")).unwrap();
+    assert!(tree.floating_root);
+    assert_eq!(tree.links[tree.root], "torso");
+    assert!(tree.link("ball").is_err());
+    assert_eq!(tree.warnings.len(), 1, "{:?}", tree.warnings);
+    assert!(
+        tree.warnings[0].contains("top-level body ball read past"),
+        "{:?}",
+        tree.warnings
+    );
+    // A fixed-base arm beside a free box: the world is the root, the box a prop.
+    let arm = "<body name=\"link1\"><joint name=\"j1\"/><body name=\"link2\"><joint name=\"j2\"/></body></body>";
+    let xml = format!(
+        "<mujoco><worldbody>{arm}<body name=\"box\"><freejoint/></body></worldbody></mujoco>"
+    );
+    let tree = mjcf::load_str(&xml, "m.xml", Path::new(".")).unwrap();
+    assert!(!tree.floating_root);
+    assert_eq!(tree.links[tree.root], "world");
+    assert!(tree.link("link2").is_ok() && tree.link("box").is_err());
+    assert!(
+        tree.warnings[0].contains("beside the fixed-base mechanism"),
+        "{:?}",
+        tree.warnings
+    );
 }

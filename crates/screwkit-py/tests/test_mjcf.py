@@ -52,7 +52,9 @@ def mesh_free(xml: str) -> str:
             ):
                 parent.remove(child)
             elif child.tag == "geom" and (
-                "mesh" in child.attrib or child.attrib.get("type") == "mesh"
+                "mesh" in child.attrib
+                or "hfield" in child.attrib
+                or child.attrib.get("type") in ("mesh", "hfield")
             ):
                 parent.remove(child)
     for m in root.iter("material"):
@@ -497,3 +499,56 @@ def test_every_jacobian_column_equals_mujoco(name: str) -> None:
 def test_what_is_read_past_is_a_warning() -> None:
     with pytest.warns(UserWarning, match=r"humanoid.xml: line \d+: 2 tendon\(s\) read past"):
         screwkit.Robot.from_file(shared_mjcf() / "humanoid.xml")
+
+
+SCENE = """<mujoco>
+  <worldbody>
+    <body name="ball" pos="1 0 0.2"><freejoint/><geom size="0.1"/></body>
+    <body name="torso" pos="0 0 0.5">
+      <freejoint name="root"/>
+      <geom size="0.2"/>
+      <site name="torso" pos="0.1 0 0"/>
+      <site name="beam" fromto="0.4 -0.02 0.11 0.34 0 0.115" size="0.01" type="capsule"/>
+      <site name="down" fromto="0 0 0.3 0 0 -0.3" size="0.01" type="cylinder"/>
+      <body name="leg" pos="0.2 0 -0.1" euler="0 0 30">
+        <joint name="hip" axis="0 1 0" pos="0 0 0.05"/>
+        <geom size="0.05"/>
+        <site name="foot" fromto="0 0 0 0.1 0.2 -0.3" size="0.01" type="capsule"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>"""
+
+
+def test_fromto_sites_site_names_and_props_equal_mujoco(tmp_path: Path) -> None:
+    """Sites given by `fromto` (as dm_control's rangefinders), a site named like its body (the
+    frame `site:NAME`), and a free prop beside the free robot (read past with a warning, as
+    dm_control's quadruped and its ball)."""
+    path = tmp_path / "scene.xml"
+    path.write_text(SCENE)
+    with pytest.warns(UserWarning, match="top-level body ball read past"):
+        robot = screwkit.Robot.from_file(path)
+    assert robot.floating_base and "ball" not in robot.frame_names
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    robot_free = model.joint("root").qposadr[0]
+    worst = 0.0
+    for seed in range(30):
+        q = robot.random_configuration(seed)
+        data.qpos[:] = model.qpos0
+        data.qpos[robot_free : robot_free + 8] = robot.to_mujoco_qpos(q)
+        mujoco.mj_kinematics(model, data)
+        for name, link in [("torso", "torso"), ("leg", "leg")]:
+            b = model.body(name).id
+            want = pose(data.xpos[b], data.xmat[b])
+            worst = max(worst, float(np.abs(robot.fk(q, link=link) - want).max()))
+        for name, link in [
+            ("torso", "site:torso"),
+            ("beam", "beam"),
+            ("down", "down"),
+            ("foot", "foot"),
+        ]:
+            s = model.site(name).id
+            want = pose(data.site_xpos[s], data.site_xmat[s])
+            worst = max(worst, float(np.abs(robot.fk(q, link=link) - want).max()))
+    assert worst < 1e-12, worst
