@@ -6,12 +6,35 @@ use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_screwkit");
 
-#[test]
-fn readme_picture_is_current() {
+/// Runs `screwkit ARGS` from the repository root and holds `docs/FILE` to its output
+/// (`SCREWKIT_UPDATE_PICTURES=1` rewrites it).
+fn assert_current(args: &[&str], file: &str) {
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let out = Command::new(BIN)
         .current_dir(root)
-        .args([
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let path = format!("{root}/docs/{file}");
+    if std::env::var_os("SCREWKIT_UPDATE_PICTURES").is_some() {
+        std::fs::write(&path, &out.stdout).unwrap();
+    }
+    let committed = std::fs::read(&path).unwrap_or_default();
+    assert!(
+        committed == out.stdout,
+        "docs/{file} is stale: regenerate it with SCREWKIT_UPDATE_PICTURES=1 cargo test -p screwkit-cli --test readme_picture"
+    );
+}
+
+#[test]
+fn readme_picture_is_current() {
+    assert_current(
+        &[
             "draw",
             "assets/urdf/ur5.urdf",
             "--q",
@@ -20,22 +43,8 @@ fn readme_picture_is_current() {
             "all",
             "-o",
             "-",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let file = format!("{root}/docs/ur5.svg");
-    if std::env::var_os("SCREWKIT_UPDATE_PICTURES").is_some() {
-        std::fs::write(&file, &out.stdout).unwrap();
-    }
-    let committed = std::fs::read(&file).unwrap_or_default();
-    assert!(
-        committed == out.stdout,
-        "docs/ur5.svg is stale: regenerate it with SCREWKIT_UPDATE_PICTURES=1 cargo test -p screwkit-cli --test readme_picture"
+        ],
+        "ur5.svg",
     );
 }
 
@@ -43,15 +52,16 @@ fn readme_picture_is_current() {
 /// clone in CI) is the output of the command under it.
 #[test]
 fn readme_humanoid_picture_is_current() {
-    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-    let model = format!("{root}/../shared/mjcf/humanoid.xml");
+    let model = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/mjcf/humanoid.xml"
+    );
     assert!(
-        std::path::Path::new(&model).is_file(),
+        std::path::Path::new(model).is_file(),
         "{model} not found: ../shared/mjcf belongs beside the clone"
     );
-    let out = Command::new(BIN)
-        .current_dir(root)
-        .args([
+    assert_current(
+        &[
             "draw",
             "../shared/mjcf/humanoid.xml",
             "--q",
@@ -60,21 +70,7 @@ fn readme_humanoid_picture_is_current() {
             "all",
             "-o",
             "-",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let file = format!("{root}/docs/humanoid.svg");
-    if std::env::var_os("SCREWKIT_UPDATE_PICTURES").is_some() {
-        std::fs::write(&file, &out.stdout).unwrap();
-    }
-    let committed = std::fs::read(&file).unwrap_or_default();
-    assert!(
-        committed == out.stdout,
-        "docs/humanoid.svg is stale: regenerate it with SCREWKIT_UPDATE_PICTURES=1 cargo test -p screwkit-cli --test readme_picture"
+        ],
+        "humanoid.svg",
     );
 }
