@@ -325,8 +325,7 @@ impl Builder {
         // read past: a scene's ball, a box).
         let is_free = |b: &El| {
             b.children.iter().any(|c| {
-                c.tag == "freejoint"
-                    || (c.tag == "joint" && self.joint_type(c, "main") == Some("free"))
+                c.tag == "freejoint" || (c.tag == "joint" && self.joint_type(c, "main") == "free")
             })
         };
         let free: Vec<&El> = top.iter().copied().filter(|b| is_free(b)).collect();
@@ -479,8 +478,8 @@ impl Builder {
         }
     }
 
-    fn joint_type<'e>(&'e self, e: &'e El, class: &str) -> Option<&'e str> {
-        Some(self.attr(e, class, "type").unwrap_or("hinge"))
+    fn joint_type<'e>(&'e self, e: &'e El, class: &str) -> &'e str {
+        self.attr(e, class, "type").unwrap_or("hinge")
     }
 
     /// Numbers of attribute `name` (exactly `n` of them), or `None` when absent.
@@ -802,7 +801,7 @@ impl Builder {
             let jtype = if j.tag == "freejoint" {
                 "free"
             } else {
-                self.joint_type(j, class).unwrap_or("hinge")
+                self.joint_type(j, class)
             };
             let jname = j
                 .attr("name")

@@ -167,35 +167,6 @@ def test_bodies_and_sites_equal_mujoco(name: str) -> None:
     assert worst < 1e-12, worst
 
 
-@pytest.mark.parametrize("name", FILES)
-def test_body_jacobians_equal_mujoco(name: str) -> None:
-    path = shared_mjcf() / name
-    robot = screwkit.Robot.from_urdf(path)
-    peer = MuJoCo(path, robot)
-    m = peer.model
-    # screwkit's velocity entry of each MuJoCo hinge/slide dof (the base's six are compared
-    # only through the joints' columns: MuJoCo's free-joint velocity is (v world, ω local)).
-    columns = {n: k for k, n in enumerate(robot.v_names)}
-    dofs = [
-        (m.jnt_dofadr[j], columns[m.joint(j).name])
-        for j in range(m.njnt)
-        if m.jnt_type[j] != mujoco.mjtJoint.mjJNT_FREE
-    ]
-    bodies = list(range(1, m.nbody))[-3:]
-    worst = 0.0
-    for seed in range(50):
-        q = robot.random_configuration(1000 + seed)
-        peer.run(q)
-        for b in bodies:
-            jacp, jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
-            mujoco.mj_jacBody(m, peer.data, jacp, jacr, b)
-            got = robot.jacobian(q, "world-aligned", link=peer.body_name(b))
-            for d, k in dofs:
-                worst = max(worst, float(np.abs(got[:3, k] - jacr[:, d]).max()))
-                worst = max(worst, float(np.abs(got[3:, k] - jacp[:, d]).max()))
-    assert worst < 1e-12, worst
-
-
 ARM = """<mujoco model="constructs">
   {compiler}
   <default>
