@@ -37,7 +37,7 @@ pub mod xacro;
 pub use chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 pub use error::{ErrorKind, ModelError};
 pub use kinematic_tree::{KinematicTree, TreeFrame, TreeLink, TreeScrew};
-pub use tree::{Inertial, JointKind, Limit, Mimic, Tree, TreeJoint};
+pub use tree::{Inertial, JointKind, Limit, Mimic, QposLayout, Tree, TreeJoint};
 pub use xacro::XacroOptions;
 
 /// Loads a URDF (or xacro) file and builds the chain from `base` (default: the root link) to

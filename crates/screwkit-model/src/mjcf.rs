@@ -40,7 +40,7 @@ use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 
 use crate::error::{ErrorKind, ModelError};
 use crate::input;
-use crate::tree::{Inertial, JointKind, Limit, Mimic, Tree, TreeJointSpec};
+use crate::tree::{Inertial, JointKind, Limit, Mimic, QposLayout, Tree, TreeJointSpec};
 
 /// Includes nested at most this deep.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
@@ -264,6 +264,10 @@ struct Builder {
     body_names: std::collections::HashSet<String>,
     /// Top-level bodies read past (props beside the robot).
     skip: Vec<*const El>,
+    /// Each joint element's address in MuJoCo's `qpos` of the whole model.
+    addresses: HashMap<*const El, usize>,
+    /// The tree's joints and base in that `qpos`.
+    layout: QposLayout,
 }
 
 /// A pose as MuJoCo composes them.
@@ -288,6 +292,45 @@ impl Builder {
             floating_root: false,
             body_names: std::collections::HashSet::new(),
             skip: Vec::new(),
+            addresses: HashMap::new(),
+            layout: QposLayout {
+                len: 0,
+                base: None,
+                joints: Vec::new(),
+            },
+        }
+    }
+
+    /// MuJoCo's `qpos` addresses of the joints below `holder` (bodies depth first, each
+    /// body's joints before its children; a free joint takes 7 entries, a ball 4, a hinge or
+    /// slide 1), props included, from `adr` on.
+    fn number_joints(&mut self, holder: &El, class: &str, adr: &mut usize) {
+        for c in &holder.children {
+            let class = c.attr("childclass").unwrap_or(class);
+            match c.tag.as_str() {
+                "body" => {
+                    for j in c
+                        .children
+                        .iter()
+                        .filter(|j| j.tag == "joint" || j.tag == "freejoint")
+                    {
+                        self.addresses.insert(j as *const El, *adr);
+                        let jtype = if j.tag == "freejoint" {
+                            "free"
+                        } else {
+                            self.joint_type(j, class)
+                        };
+                        *adr += match jtype {
+                            "free" => 7,
+                            "ball" => 4,
+                            _ => 1,
+                        };
+                    }
+                    self.number_joints(c, class, adr);
+                }
+                "frame" => self.number_joints(c, class, adr),
+                _ => {}
+            }
         }
     }
 
@@ -337,6 +380,11 @@ impl Builder {
                 .copied()
                 .max_by_key(|b| (count_bodies(b), std::cmp::Reverse(b.line))),
         };
+        let mut adr = 0;
+        for w in &world {
+            self.number_joints(w, "main", &mut adr);
+        }
+        self.layout.len = adr;
         let ctx = Context { class: "main" };
         let read_past: Vec<&El> = match robot {
             Some(r) => top
@@ -397,6 +445,7 @@ impl Builder {
         }
         tree.floating_root = self.floating_root;
         tree.warnings = self.warnings;
+        tree.qpos_layout = Some(self.layout);
         Ok(tree)
     }
 
@@ -681,6 +730,7 @@ impl Builder {
                 if joints.len() != 1 {
                     return Err(body.error("a free-floating body takes only its free joint"));
                 }
+                self.layout.base = self.addresses.get(&(joints[0] as *const El)).copied();
                 self.links.push(name.clone());
             }
             Some(parent) => self.joints_of(&name, parent, &local, &joints, &childclass)?,
@@ -874,6 +924,9 @@ impl Builder {
             };
             self.links.push(child.clone());
             self.refs.insert(jname.clone(), reference);
+            if let Some(&a) = self.addresses.get(&(*j as *const El)) {
+                self.layout.joints.push((jname.clone(), a));
+            }
             self.joints.push((
                 spec(jname, kind, &origin, axis.into(), limit),
                 current,

@@ -177,8 +177,24 @@ pub struct Tree {
     /// What the reader read past that changes kinematics (an MJCF tendon, a loop-closing
     /// equality), one sentence each, for front ends to show.
     pub warnings: Vec<String>,
+    /// Where the tree's variables sit in the file's own configuration vector, when the file
+    /// has one of another layout (an MJCF model's `qpos`, props read past included).
+    pub qpos_layout: Option<QposLayout>,
     link_index: HashMap<String, usize>,
     joint_index: HashMap<String, usize>,
+}
+
+/// Where a tree's joints sit in a model's whole configuration vector (MuJoCo's `qpos`: every
+/// joint of every body, depth first, a free joint's seven numbers, a ball's four, a hinge's or
+/// slide's one), so that a model with bodies the tree reads past (props) still converts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct QposLayout {
+    /// The length of the whole model's vector.
+    pub len: usize,
+    /// The address of the floating root's free joint (seven entries: x, y, z, w, x, y, z).
+    pub base: Option<usize>,
+    /// Each hinge or slide joint of the tree, by name: its entry's address.
+    pub joints: Vec<(String, usize)>,
 }
 
 /// Joins names for messages, shortening long lists.
@@ -351,6 +367,7 @@ impl Tree {
             root,
             floating_root: false,
             warnings: Vec::new(),
+            qpos_layout: None,
             link_index,
             joint_index,
         })

@@ -199,3 +199,21 @@ fn free_floating_props_beside_the_robot_are_read_past_with_a_warning() {
         tree.warnings
     );
 }
+
+#[test]
+fn the_qpos_layout_counts_the_props_as_mujoco_does() {
+    // MuJoCo's qpos: bodies depth first, each body's joints before its children; a free
+    // joint 7 entries, a ball 4 (a type a class gives too), a hinge or slide 1.
+    let xml = "<mujoco><default><default class=\"b\"><joint type=\"ball\"/></default></default>\
+        <worldbody>\
+        <body name=\"prop\"><freejoint/><frame><body name=\"swing\" childclass=\"b\"><joint name=\"s\"/></body></frame></body>\
+        <body name=\"arm\"><joint name=\"a\"/><body name=\"fore\"><joint name=\"b\" type=\"slide\"/></body></body>\
+        <frame><body name=\"arm2\"><joint name=\"c\"/></body></frame>\
+        </worldbody></mujoco>";
+    let tree = mjcf::load_str(xml, "m.xml", Path::new(".")).unwrap();
+    let layout = tree.qpos_layout.as_ref().unwrap();
+    assert_eq!(layout.len, 7 + 4 + 1 + 1 + 1);
+    assert_eq!(layout.base, None);
+    let want: Vec<(String, usize)> = vec![("a".into(), 11), ("b".into(), 12), ("c".into(), 13)];
+    assert_eq!(layout.joints, want);
+}

@@ -1300,9 +1300,10 @@ impl Robot {
         Ok(text)
     }
 
-    /// screwkit's q (nq,) of MuJoCo's `qpos` for this model: the free joint's quaternion
-    /// (w first in MuJoCo) reordered to qx, qy, qz, qw, each variable its joint's entry, a
-    /// coupled follower's entry not read.
+    /// screwkit's q (nq,) of MuJoCo's `qpos` for this model — the robot's own entries or the
+    /// whole model's `data.qpos` (props read past included: the robot's entries are read at
+    /// their addresses): the free joint's quaternion (w first in MuJoCo) reordered to qx, qy,
+    /// qz, qw, each variable its joint's entry, a coupled follower's entry not read.
     // The (and users' scripts') name: a conversion of this robot's qpos, so it takes self.
     #[allow(clippy::wrong_self_convention)]
     fn from_mujoco_qpos<'py>(
@@ -1311,22 +1312,40 @@ impl Robot {
         qpos: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kin = self.tree_model()?;
-        let n = screwkit_service::mujoco::qpos_len(&kin);
-        let qpos = Self::tree_vector(qpos, n, "qpos")?;
+        let arr = f64_array(qpos, "qpos")?;
+        if arr.ndim() != 1 {
+            return Err(PyValueError::new_err(format!(
+                "qpos: expected a vector, got shape {}",
+                shape_str(arr.shape())
+            )));
+        }
+        let qpos = arr.readonly().as_slice()?.to_vec();
         let q = screwkit_service::mujoco::from_qpos(&kin, &qpos).map_err(service_error)?;
         Ok(q.to_pyarray(py))
     }
 
     /// MuJoCo's `qpos` of screwkit's q (nq,): the base's quaternion w first, every joint's
-    /// value, a coupled follower's as its coupling gives it.
+    /// value, a coupled follower's as its coupling gives it. With `qpos` (the whole model's,
+    /// e.g. `data.qpos`), a copy of it with the robot's entries written in (props keep theirs).
+    #[pyo3(signature = (q, qpos = None))]
     fn to_mujoco_qpos<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
+        qpos: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kin = self.tree_model()?;
         let q = Self::tree_vector(q, kin.nq(), "q")?;
-        let out = screwkit_service::mujoco::to_qpos(&kin, &q).map_err(service_error)?;
+        let model = match qpos {
+            Some(m) => Some(Self::tree_vector(
+                m,
+                screwkit_service::mujoco::model_qpos_len(&kin),
+                "qpos",
+            )?),
+            None => None,
+        };
+        let out =
+            screwkit_service::mujoco::to_qpos(&kin, &q, model.as_deref()).map_err(service_error)?;
         Ok(out.to_pyarray(py))
     }
 

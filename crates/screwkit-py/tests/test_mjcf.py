@@ -487,6 +487,7 @@ SCENE = """<mujoco>
         <site name="foot" fromto="0 0 0 0.1 0.2 -0.3" size="0.01" type="capsule"/>
       </body>
     </body>
+    <body name="box" pos="-1 0 0.2"><joint type="free"/><geom type="box" size="0.1 0.1 0.1"/></body>
   </worldbody>
 </mujoco>"""
 
@@ -502,12 +503,23 @@ def test_fromto_sites_site_names_and_props_equal_mujoco(tmp_path: Path) -> None:
     assert robot.floating_base and "ball" not in robot.frame_names
     model = mujoco.MjModel.from_xml_path(str(path))
     data = mujoco.MjData(model)
+    assert model.nq == 7 + 8 + 7 and robot.nq == 8
     robot_free = model.joint("root").qposadr[0]
+    rng = np.random.default_rng(3)
     worst = 0.0
     for seed in range(30):
         q = robot.random_configuration(seed)
-        data.qpos[:] = model.qpos0
-        data.qpos[robot_free : robot_free + 8] = robot.to_mujoco_qpos(q)
+        # The whole model's qpos, the props moved too: the robot's entries are written at
+        # their addresses and read back from there, the props' kept.
+        props = rng.normal(size=model.nq)
+        qpos = robot.to_mujoco_qpos(q, props)
+        np.testing.assert_array_equal(qpos[robot_free : robot_free + 8], robot.to_mujoco_qpos(q))
+        np.testing.assert_array_equal(
+            np.delete(qpos, range(robot_free, robot_free + 8)),
+            np.delete(props, range(robot_free, robot_free + 8)),
+        )
+        np.testing.assert_array_equal(robot.from_mujoco_qpos(qpos), q)
+        data.qpos[:] = qpos
         mujoco.mj_kinematics(model, data)
         for name, link in [("torso", "torso"), ("leg", "leg")]:
             b = model.body(name).id
@@ -523,3 +535,7 @@ def test_fromto_sites_site_names_and_props_equal_mujoco(tmp_path: Path) -> None:
             want = pose(data.site_xpos[s], data.site_xmat[s])
             worst = max(worst, float(np.abs(robot.fk(q, link=link) - want).max()))
     assert worst < 1e-12, worst
+    with pytest.raises(ValueError, match=r"expected 8 MuJoCo qpos values \(the robot's\) or 22"):
+        robot.from_mujoco_qpos(np.zeros(21))
+    with pytest.raises(ValueError, match="expected shape \\(22,\\)"):
+        robot.to_mujoco_qpos(robot.neutral(), np.zeros(8))
