@@ -87,9 +87,25 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
 
 /// Loads MJCF text into a [`Tree`]; `source` names it in errors, includes are read from `dir`.
 pub fn load_str(text: &str, source: &str, dir: &Path) -> Result<Tree, ModelError> {
+    read_str(text, source, dir).map(|(tree, _)| tree)
+}
+
+/// Loads MJCF text into a [`Tree`], with the model as one self-contained text: `text` itself
+/// when it includes nothing, else the document with every `<include>` spliced in (what the
+/// tree was read from, loadable without the included files: pickling, copies).
+pub fn read_str(text: &str, source: &str, dir: &Path) -> Result<(Tree, String), ModelError> {
     let mut count = 0;
     let root = read_document(text, source, dir, &mut vec![], &mut count)?;
-    Builder::new(source).build(&root)
+    let tree = Builder::new(source).build(&root)?;
+    // Each include counts INCLUDE_WEIGHT elements more than it splices in.
+    let text = if count > root.size() {
+        let mut out = String::from("<?xml version=\"1.0\"?>\n");
+        root.write(&mut out, 0);
+        out
+    } else {
+        text.to_string()
+    };
+    Ok((tree, text))
 }
 
 /// An element with its includes spliced in, and where it was written.
@@ -103,6 +119,49 @@ struct El {
 }
 
 impl El {
+    /// Elements at and below this one.
+    fn size(&self) -> usize {
+        1 + self.children.iter().map(El::size).sum::<usize>()
+    }
+
+    /// This element as XML, indented by `depth` (attribute values escaped).
+    fn write(&self, out: &mut String, depth: usize) {
+        let pad = "  ".repeat(depth);
+        out.push_str(&pad);
+        out.push('<');
+        out.push_str(&self.tag);
+        for (k, v) in &self.attrs {
+            out.push(' ');
+            out.push_str(k);
+            out.push_str("=\"");
+            for c in v.chars() {
+                match c {
+                    '&' => out.push_str("&amp;"),
+                    '<' => out.push_str("&lt;"),
+                    '>' => out.push_str("&gt;"),
+                    '"' => out.push_str("&quot;"),
+                    '\n' => out.push_str("&#10;"),
+                    '\t' => out.push_str("&#9;"),
+                    '\r' => out.push_str("&#13;"),
+                    c => out.push(c),
+                }
+            }
+            out.push('"');
+        }
+        if self.children.is_empty() {
+            out.push_str("/>\n");
+            return;
+        }
+        out.push_str(">\n");
+        for c in &self.children {
+            c.write(out, depth + 1);
+        }
+        out.push_str(&pad);
+        out.push_str("</");
+        out.push_str(&self.tag);
+        out.push_str(">\n");
+    }
+
     fn attr(&self, name: &str) -> Option<&str> {
         self.attrs
             .iter()

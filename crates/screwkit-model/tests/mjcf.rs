@@ -217,3 +217,49 @@ fn the_qpos_layout_counts_the_props_as_mujoco_does() {
     let want: Vec<(String, usize)> = vec![("a".into(), 11), ("b".into(), 12), ("c".into(), 13)];
     assert_eq!(layout.joints, want);
 }
+
+#[test]
+fn the_text_kept_is_self_contained() {
+    // Without includes the text is the file's own; with includes, every include spliced in
+    // (attribute values escaped), and it reads to the same tree where the parts are gone.
+    let text = std::fs::read_to_string(asset()).unwrap();
+    let (tree, kept) = mjcf::read_str(&text, "m.xml", Path::new(".")).unwrap();
+    assert_eq!(kept, text);
+    let dir = std::env::temp_dir().join(format!("sk-mjcf-flat-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("parts")).unwrap();
+    let (head, rest) = text.split_once("<worldbody>").unwrap();
+    let head = head.replacen("<mujoco model=\"two_arm_constructs\">", "", 1);
+    assert_ne!(
+        head,
+        text.split_once("<worldbody>").unwrap().0,
+        "the model tag is as written"
+    );
+    std::fs::write(
+        dir.join("parts/head.xml"),
+        format!("<mujoco>{head}</mujoco>"),
+    )
+    .unwrap();
+    let main = format!(
+        "<mujoco model=\"two_arm_constructs\"><include file=\"parts/head.xml\"/><worldbody>{rest}"
+    );
+    let (from_parts, flat) = mjcf::read_str(&main, "main.xml", &dir).unwrap();
+    assert!(!flat.contains("<include"), "{flat}");
+    std::fs::remove_dir_all(&dir).unwrap();
+    let again = mjcf::load_str(&flat, "flat.xml", &dir).unwrap();
+    for t in [&from_parts, &again] {
+        assert_eq!(t.links, tree.links);
+        assert_eq!(t.joints, tree.joints);
+        assert_eq!(t.inertials, tree.inertials);
+    }
+    let escaped =
+        "<mujoco model=\"a &amp; &quot;b&quot; &lt;c&gt;\"><include file=\"x.xml\"/></mujoco>";
+    let dir = std::env::temp_dir().join(format!("sk-mjcf-esc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("x.xml"), "<mujoco><worldbody/></mujoco>").unwrap();
+    let (_, flat) = mjcf::read_str(escaped, "e.xml", &dir).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(
+        mjcf::load_str(&flat, "f.xml", &dir).unwrap().name,
+        "a & \"b\" <c>"
+    );
+}

@@ -8,6 +8,7 @@ file as shipped."""
 from __future__ import annotations
 
 import os
+import pickle
 import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Any
@@ -283,6 +284,18 @@ def test_joint_coupling_and_includes_equal_mujoco(tmp_path: Path) -> None:
     )
     main = '<mujoco model="constructs"><include file="parts/defaults.xml"/><worldbody>' + rest
     assert compare(main, tmp_path, "main.xml") < 1e-12
+    # A pickled robot carries the model with its includes spliced in: it loads where the
+    # included file is gone (another machine, a Ray worker).
+    robot = screwkit.Robot.from_file(tmp_path / "main.xml")
+    data = pickle.dumps(robot)
+    (tmp_path / "parts" / "defaults.xml").unlink()
+    with pytest.raises(ValueError, match="defaults.xml"):
+        screwkit.Robot.from_file(tmp_path / "main.xml")
+    copy = pickle.loads(data)
+    assert copy.variable_names == robot.variable_names
+    for seed in range(5):
+        q = robot.random_configuration(seed)
+        np.testing.assert_array_equal(copy.fk_all_frames(q), robot.fk_all_frames(q))
 
 
 def test_the_bundled_construct_model_equals_mujoco() -> None:

@@ -120,12 +120,13 @@ impl Source {
     }
 
     /// The whole tree of the description, and its text: URDF (xacro expanded), or MJCF (a
-    /// `<mujoco>` root: [`screwkit_model::mjcf`], includes read from [`Source::dir`]), told
-    /// apart by content.
+    /// `<mujoco>` root: [`screwkit_model::mjcf`], includes read from [`Source::dir`] and
+    /// spliced into the text), told apart by content.
     pub fn tree(&self, xacro: &XacroOptions) -> Result<(Tree, String)> {
         let text = self.read()?;
         if screwkit_model::mjcf::is_mjcf(&text) {
-            let tree = screwkit_model::mjcf::load_str(&text, &self.label(), &self.dir())?;
+            // The text kept is self-contained: includes spliced in (pickling, copies).
+            let (tree, text) = screwkit_model::mjcf::read_str(&text, &self.label(), &self.dir())?;
             return Ok((tree, text));
         }
         let urdf = urdf::urdf_text(&text, &self.label(), &self.dir(), xacro)?;
