@@ -29,9 +29,11 @@
 //! **Refused** with an error naming the file, the line and the element: `ball` joints (three
 //! rotations about one point: not a one-variable joint), a free joint anywhere but on the only
 //! top-level body, an unknown joint type, numbers that do not parse, a missing or circular
-//! `<include>`, an unknown class, a polynomial coupling with terms above the linear.
-//! **Warned about** ([`Tree::warnings`]): tendons, and equalities other than joint
-//! couplings (`connect`, `weld`: loop closures the tree does not hold).
+//! `<include>`, an unknown class, a polynomial coupling with terms above the linear,
+//! `<replicate>` and `<attach>` (bodies MuJoCo generates: load the model MuJoCo saves).
+//! **Warned about** ([`Tree::warnings`]): tendons, equalities other than joint couplings
+//! (`connect`, `weld`: loop closures the tree does not hold), `<composite>` and `<flexcomp>`
+//! soft bodies (read past).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -863,6 +865,16 @@ impl Builder {
                     let pose = offset * self.pose(c, "main")?;
                     self.contents(c, link, &pose, &Context { class: &class })?;
                 }
+                "replicate" | "attach" => {
+                    return Err(c.error(format!(
+                        "<{}> (bodies MuJoCo generates when compiling) is not read: save the compiled model with MuJoCo's mj_saveLastXML and load that",
+                        c.tag
+                    )))
+                }
+                "composite" | "flexcomp" => self.warnings.push(format!(
+                    "line {}: <{}> read past (the soft body's generated bodies and joints are not in the tree)",
+                    c.line, c.tag
+                )),
                 "body" if self.skip.contains(&(c as *const El)) => {}
                 "body" => self.body(c, Some(link), offset, ctx)?,
                 "joint" | "freejoint" if holder.tag != "body" => {

@@ -75,6 +75,8 @@ fn refusals_name_the_file_line_and_element() {
         ("<robot name=\"x\"/>".to_string(), "expected <mujoco>"),
         (body("<joint name=\"j\" type=\"spin\"/>"), "m.xml:4: <joint name=\"j\">: unknown joint type \"spin\""),
         (body("<joint name=\"j\" type=\"ball\"/>"), "ball joints"),
+        (body("<replicate count=\"3\"><body name=\"r\"/></replicate>"), "m.xml:4: <replicate>: <replicate> (bodies MuJoCo generates when compiling) is not read"),
+        (body("<attach model=\"arm\" prefix=\"a_\"/>"), "<attach>: <attach> (bodies MuJoCo generates"),
         (body("<joint name=\"j\" ref=\"x\"/>"), "ref=\"x\": not 1 numbers"),
         (body("<joint name=\"j\" range=\"1 2 3\"/>"), "range=\"1 2 3\": expected 2 numbers"),
         (body("<joint name=\"j\" range=\"10 -10\"/>"), "range [10, -10] is empty"),
@@ -164,6 +166,16 @@ fn tendons_and_loop_closures_are_warnings() {
     assert_eq!(tree.warnings.len(), 2, "{:?}", tree.warnings);
     assert!(tree.warnings[0].contains("connect"), "{:?}", tree.warnings);
     assert!(tree.warnings[1].contains("tendon"), "{:?}", tree.warnings);
+    let tree = mjcf::load_str(
+        &body("<composite type=\"rope\" count=\"5 1 1\"/>"),
+        "m.xml",
+        Path::new("."),
+    )
+    .unwrap();
+    assert_eq!(
+        tree.warnings,
+        ["line 4: <composite> read past (the soft body's generated bodies and joints are not in the tree)"]
+    );
 }
 
 #[test]
