@@ -521,6 +521,9 @@ fn batch_result(
     })
 }
 
+/// What `ik_all` says of a target no solution within the limits reaches.
+const OUT_OF_REACH: &str = "out of reach (no exact solution within the limits)";
+
 #[pymethods]
 impl Robot {
     /// Loads the chain `base` → `tip` of a URDF or xacro file (default base: the root link;
@@ -1502,11 +1505,14 @@ impl Robot {
     /// locked. `target` (4, 4) → an array (K, dof), nearest to `seed` first (default: the
     /// midpoint of the limits); raises `ValueError` for a chain without an analytic solver
     /// (naming its family) and for a target out of reach. (N, 4, 4) → a list of N such arrays
-    /// (all cores, GIL released; a target out of reach gives an empty (0, dof) array; bad rows
-    /// raise `BatchError` whose `.result` is the list, empty arrays at the bad rows).
-    /// 7R arms: `lock` names the joint to lock (name or 0-based index; default: the last one
-    /// whose locking leaves a family screwkit solves), `lock_value` its value (default: the
-    /// seed's), or `sweep=n` solves at n values evenly spaced over its limits.
+    /// (all cores, GIL released; each row as its single call: a row out of reach or bad
+    /// raises `BatchError` naming the rows, whose `.result` is the list, empty (0, dof) arrays
+    /// at those rows).
+    /// 7R arms: `lock` names the joint to lock (name or 0-based index; default: among the
+    /// joints leaving the most specialised closed form, the one whose lock reaches the most
+    /// random poses), `lock_value` its value (default: the seed's), or `sweep=n` solves at n
+    /// values evenly spaced over its limits (the best samples that reach nothing refined
+    /// between their neighbours, so that a narrow band of reaching values is not missed).
     #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_all<'py>(
@@ -1565,9 +1571,7 @@ impl Robot {
                 .solve(self.kin()?, &mut ws, &t, &seed)
                 .map_err(solve_error)?;
             if !sols.is_exact() {
-                return Err(PyValueError::new_err(
-                    "target: out of reach (no exact solution within the limits)",
-                ));
+                return Err(PyValueError::new_err(format!("target: {OUT_OF_REACH}")));
             }
             return to_array(py, &sols);
         }
@@ -1580,7 +1584,14 @@ impl Robot {
         for (k, r) in results.into_iter().enumerate() {
             match r {
                 Ok((sols, _)) if sols.is_exact() => list.append(to_array(py, &sols)?)?,
-                Ok(_) => list.append(to_array(py, &Solutions::default())?)?,
+                // As the single call: out of reach is this row's error.
+                Ok(_) => {
+                    list.append(zeros(py, &[0, n])?)?;
+                    bad.push(screwkit_solve::RowError {
+                        row: k,
+                        error: screwkit_solve::SolveError::InvalidInput(OUT_OF_REACH.into()),
+                    });
+                }
                 Err(error) => {
                     list.append(zeros(py, &[0, n])?)?;
                     bad.push(screwkit_solve::RowError { row: k, error });

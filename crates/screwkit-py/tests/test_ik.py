@@ -142,8 +142,8 @@ def test_ik_all_seven_r_with_a_locked_joint() -> None:
 
 
 def test_ik_all_batch(ur5: screwkit.Robot) -> None:
-    """(N, 4, 4) targets: a list of arrays equal to the single calls; out of reach: empty;
-    a bad row: BatchError carrying the other rows."""
+    """(N, 4, 4) targets: a list of arrays equal to the single calls; a row out of reach or
+    bad (as its single call raises): BatchError naming it, carrying the other rows."""
     qs = configurations(ur5, 30, seed=3)
     targets = ur5.fk(qs)
     got = ur5.ik_all(targets, seed=qs[0])
@@ -152,7 +152,13 @@ def test_ik_all_batch(ur5: screwkit.Robot) -> None:
         np.testing.assert_array_equal(sols, ur5.ik_all(t, seed=qs[0]))
     far = np.eye(4)
     far[0, 3] = 5.0
-    out = ur5.ik_all(np.stack([targets[0], far]))
+    with pytest.raises(ValueError, match="out of reach"):
+        ur5.ik_all(far)
+    # Before: the batch gave an empty array for the row the single call raises on.
+    with pytest.raises(screwkit.BatchError, match="row 1: out of reach") as far_rows:
+        ur5.ik_all(np.stack([targets[0], far]))
+    assert far_rows.value.rows == [1]
+    out = far_rows.value.result
     assert isinstance(out, list) and out[1].shape == (0, 6) and len(out[0]) > 0
     bad = targets.copy()
     bad[4, 0, 3] = np.nan

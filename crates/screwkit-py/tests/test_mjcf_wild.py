@@ -1,6 +1,6 @@
 """MJCF files from the wild against MuJoCo: every model of dm_control's suite, robosuite's robots
 and gymnasium's MuJoCo environments, read as their packages ship them (the wheels, pinned and
-hash-checked, downloaded from PyPI into target/ once; nothing is copied into the repository).
+hash-checked, downloaded from PyPI into target/wheels once; nothing is copied into the repository).
 For random configurations within the limits, every body of the robot and every named site equals
 MuJoCo's `xpos`/`xmat` (`site_xpos`/`site_xmat`) to 1e-12, MuJoCo compiling a mesh-free copy
 (test_mjcf's `mesh_free`) and screwkit's q written into the model's `qpos0` by
@@ -9,11 +9,7 @@ the top-level bodies it names in its warnings."""
 
 from __future__ import annotations
 
-import hashlib
-import subprocess
-import sys
 import warnings
-import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +19,7 @@ from test_mjcf import mesh_free, mujoco, pose
 
 import screwkit
 
-from conftest import REPO
+from conftest import wheel_files
 
 # (distribution, version, sha256 of its PyPI wheel, the model files in it)
 WHEELS = [
@@ -47,38 +43,13 @@ WHEELS = [
     ),
 ]
 
-CACHE = REPO / "target" / "mjcf-wild"
-
-
-def unpacked(dist: str, version: str, sha256: str, prefix: str) -> Path:
-    """The wheel's model folder, downloaded and unpacked into target/ on first use."""
-    out = CACHE / f"{dist}-{version}"
-    done = out / ".unpacked"
-    if not done.exists():
-        CACHE.mkdir(parents=True, exist_ok=True)
-        wheel = CACHE / f"{dist}-{version}-py3-none-any.whl"
-        if not wheel.exists():
-            subprocess.run(
-                [sys.executable, "-m", "pip", "download", "--quiet", "--no-deps"]
-                + ["--only-binary=:all:", f"{dist}=={version}", "-d", str(CACHE)],
-                check=True,
-            )
-        digest = hashlib.sha256(wheel.read_bytes()).hexdigest()
-        assert digest == sha256, f"{wheel.name}: sha256 {digest}, expected {sha256}"
-        with zipfile.ZipFile(wheel) as z:
-            for member in z.namelist():
-                if member.startswith(prefix) and member.endswith(".xml"):
-                    z.extract(member, out)
-        done.touch()
-    return out / prefix
-
 
 def models() -> list[tuple[str, Path]]:
     """(id, path) of every model: dm_control's and gymnasium's top-level files, robosuite's
     robot.xml files."""
     out = []
     for dist, version, sha256, prefix in WHEELS:
-        root = unpacked(dist, version, sha256, prefix)
+        root = wheel_files(dist, version, sha256, prefix, ".xml")
         files = (
             sorted(root.glob("*/robot.xml")) if dist == "robosuite" else sorted(root.glob("*.xml"))
         )

@@ -65,8 +65,17 @@ def test_reached_poses_have_solutions(ur5: screwkit.Robot) -> None:
     for n, (v, k) in enumerate((v, k) for v in voxels for k in range(6)):
         targets[n, :3, :3] = m.orientations[k]
         targets[n, :3, 3] = m.centres[v]
-    sols = ur5.ik_all(targets)
+    # The poses out of reach are the batch's bad rows (as the single call raises on them).
+    with pytest.raises(screwkit.BatchError) as e:
+        ur5.ik_all(targets)
+    sols = e.value.result
     assert isinstance(sols, list)
+    unreached = [
+        n
+        for n, (v, k) in enumerate((v, k) for v in voxels for k in range(6))
+        if np.isnan(m.pose_manipulability[v, k])
+    ]
+    assert e.value.rows == unreached
     for n, (v, k) in enumerate((v, k) for v in voxels for k in range(6)):
         assert (len(sols[n]) > 0) == (not np.isnan(m.pose_manipulability[v, k])), (v, k)
         for q in sols[n]:

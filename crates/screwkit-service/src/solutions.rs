@@ -69,7 +69,8 @@ impl AllSolutions {
         &self.solver
     }
 
-    /// Every solution of `target`, nearest to `seed` first, and the lock values used.
+    /// Every solution of `target`, nearest to `seed` first, and the lock values used (a
+    /// sweep's samples, then the values its refinement added).
     pub fn solve(
         &self,
         kin: &Kinematics,
@@ -78,11 +79,12 @@ impl AllSolutions {
         seed: &[f64],
     ) -> Result<(Solutions, Vec<f64>), SolveError> {
         kin.check_q(seed)?;
-        let values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
+        let mut values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
         let mut sols = Solutions::default();
         self.solver
             .solve_swept(kin, ws, target, &values, &mut sols)?;
         sols.sort_nearest(seed, None);
+        values.extend_from_slice(&sols.refined);
         Ok((sols, values))
     }
 

@@ -61,6 +61,7 @@ mod wrist_parallel;
 
 use angles::*;
 use lock::*;
+pub use lock::{AUTO_POSES, AUTO_SWEEP};
 use prepared::*;
 use search::*;
 pub use solutions::{Posture, Postures, Solutions};

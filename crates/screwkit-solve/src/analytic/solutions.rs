@@ -76,6 +76,9 @@ pub struct Solutions {
     /// flip, shoulder left/right — at most 8. The solutions list every 2π shift of each that
     /// the limits allow (a UR5 with ±2π limits has up to 8 × 2⁶).
     pub branches: usize,
+    /// The lock values a sweep's refinement added ([`AnalyticIk::solve_swept`]): where the
+    /// pose is reached although no sampled value reaches it; empty without a sweep.
+    pub refined: Vec<f64>,
 }
 
 impl Solutions {
@@ -179,5 +182,6 @@ impl Solutions {
         self.residual.clear();
         self.singular = false;
         self.branches = 0;
+        self.refined.clear();
     }
 }

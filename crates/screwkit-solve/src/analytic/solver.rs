@@ -25,6 +25,16 @@ pub struct AnalyticIk {
 /// The most lock values one sweep may have ([`AnalyticIk::lock_values`]).
 pub const MAX_SWEEP: usize = 100_000;
 
+/// What [`AnalyticIk::lock_score`] adds where no posture is exact (above any limit excess).
+const OUT_OF_REACH: f64 = 1e3;
+/// The most local minima of a sweep refined ([`AnalyticIk::solve_swept`]).
+const REFINED: usize = 4;
+/// Golden-section steps per refined minimum (the bracket shrinks by 0.618 each: 40 steps
+/// take it below 1e-8 of the samples' spacing).
+const REFINE_STEPS: usize = 40;
+/// Parts the bracket of a refined minimum is first divided into.
+const SUBDIVIDE: usize = 16;
+
 impl AnalyticIk {
     /// The solver of a 6R chain of a family solved here; an error naming the family
     /// otherwise (a 7R chain: lock a joint with [`AnalyticIk::locked`]).
@@ -153,6 +163,11 @@ impl AnalyticIk {
     /// [`AnalyticIk::solve`] with the locked joint at each of `lock_values` in turn (a sweep
     /// of the self-motion of a 7R arm, [`AnalyticIk::sweep`]), all solutions in one list: the
     /// exact ones of every value, or the least-squares ones when no value gives an exact one.
+    /// With several values, the best samples that reach nothing within the limits are refined
+    /// by a golden-section search between their neighbours (at most 4 of them, each at most 60
+    /// steps), and the values so found that reach the pose are solved too
+    /// ([`Solutions::refined`]): a coarse sweep does not miss a reachable pose whose band of
+    /// lock values falls between its samples.
     pub fn solve_swept(
         &self,
         kin: &Kinematics,
@@ -181,43 +196,226 @@ impl AnalyticIk {
             }
         }
         out.clear(self.dof);
-        let mut raw = Postures::default();
-        // Exact postures are preferred over least-squares ones across all the values.
-        let mut any_exact = false;
-        if lock_values.len() > 1 {
-            for &v in lock_values {
+        if let [v] = lock_values {
+            // One value (the hot path, allocation-free for the closed forms).
+            let mut raw = Postures::default();
+            self.postures(target, *v, &mut raw);
+            let any_exact = raw.as_slice().iter().any(|p| p.exact);
+            self.collect(kin, ws, target, &raw, any_exact, out);
+            return Ok(());
+        }
+        // A sweep: every value's postures once; then, as its samples may all miss a narrow
+        // band of lock values where the pose is reachable within the limits, the best
+        // samples that reach nothing refined.
+        let mut raws: Vec<Postures> = lock_values
+            .iter()
+            .map(|&v| {
+                let mut raw = Postures::default();
                 self.postures(target, v, &mut raw);
-                any_exact |= raw.as_slice().iter().any(|p| p.exact);
-            }
+                raw
+            })
+            .collect();
+        let mut refined = Vec::new();
+        if self.lock.is_some() {
+            refined = self.refine(kin, target, lock_values, &mut raws);
         }
-        let n = self.dof;
-        for &v in lock_values {
-            self.postures(target, v, &mut raw);
-            out.singular |= raw.singular;
-            if lock_values.len() == 1 {
-                any_exact = raw.as_slice().iter().any(|p| p.exact);
-            }
-            // One entry per posture (modulo 2π); its shifts are then distinct by construction.
-            let mut distinct = [[0.0; MAX_DOF]; MAX_POSTURES];
-            let mut count = 0;
-            for p in raw.as_slice().iter().filter(|p| p.exact == any_exact) {
-                let same = |d: &[f64; MAX_DOF]| (0..n).all(|i| wrap(d[i] - p.q[i]).abs() < 1e-9);
-                if distinct[..count].iter().any(same) {
-                    continue;
-                }
-                let mut q = p.q;
-                let mut residual = fk_unchecked(kin, &q[..n]).max_abs_diff(target);
-                if p.exact && residual > POLISH * kin.length_scale.max(1.0) {
-                    residual = self.polish(kin, ws, &mut q[..n], target, residual);
-                }
-                if self.expand(kin, &q[..n], p.exact, residual, out) {
-                    distinct[count] = p.q;
-                    count += 1;
-                }
-            }
-            out.branches += count;
+        // Exact postures are preferred over least-squares ones across all the values.
+        let any_exact = raws.iter().any(|r| r.as_slice().iter().any(|p| p.exact));
+        for raw in &raws {
+            self.collect(kin, ws, target, raw, any_exact, out);
         }
+        out.refined = refined;
         Ok(())
+    }
+
+    /// Appends the solutions of one lock value's postures to `out`: those exact (or, when
+    /// `any_exact` is false, the least-squares ones), one per posture modulo 2π, each polished
+    /// if its residual is above [`POLISH`] and expanded to its 2π shifts within the limits.
+    fn collect(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        target: &Se3,
+        raw: &Postures,
+        any_exact: bool,
+        out: &mut Solutions,
+    ) {
+        let n = self.dof;
+        out.singular |= raw.singular;
+        // One entry per posture (modulo 2π); its shifts are then distinct by construction.
+        let mut distinct = [[0.0; MAX_DOF]; MAX_POSTURES];
+        let mut count = 0;
+        for p in raw.as_slice().iter().filter(|p| p.exact == any_exact) {
+            let same = |d: &[f64; MAX_DOF]| (0..n).all(|i| wrap(d[i] - p.q[i]).abs() < 1e-9);
+            if distinct[..count].iter().any(same) {
+                continue;
+            }
+            let mut q = p.q;
+            let mut residual = fk_unchecked(kin, &q[..n]).max_abs_diff(target);
+            if p.exact && residual > POLISH * kin.length_scale.max(1.0) {
+                residual = self.polish(kin, ws, &mut q[..n], target, residual);
+            }
+            if self.expand(kin, &q[..n], p.exact, residual, out) {
+                distinct[count] = p.q;
+                count += 1;
+            }
+        }
+        out.branches += count;
+    }
+
+    /// How far the postures of one lock value are from a solution within the limits: the
+    /// least over postures of (0 for an exact one, else its FK residual) plus how far its
+    /// nearest 2π shift of each joint lies outside that joint's limits. 0: solutions exist.
+    fn lock_score(&self, kin: &Kinematics, target: &Se3, raw: &Postures) -> f64 {
+        use std::f64::consts::TAU;
+        let n = self.dof;
+        let any_exact = raw.as_slice().iter().any(|p| p.exact);
+        raw.as_slice()
+            .iter()
+            .filter(|p| p.exact == any_exact)
+            .map(|p| {
+                // Where the pose is reached (ignoring limits), how far the exact postures are
+                // outside the limits; elsewhere, above any of those, the least-squares
+                // residual (towards where it is reached).
+                let mut score = if p.exact {
+                    0.0
+                } else {
+                    OUT_OF_REACH + fk_unchecked(kin, &p.q[..n]).max_abs_diff(target)
+                };
+                for i in 0..n {
+                    let (lo, hi) = (kin.lower[i], kin.upper[i]);
+                    if kin.continuous[i] || self.lock.is_some_and(|l| l.joint == i) {
+                        continue;
+                    }
+                    // How far the shift of q_i nearest the interval [lo, hi] is outside it.
+                    let m = ((0.5 * (lo + hi) - p.q[i]) / TAU).round();
+                    score += [m - 1.0, m, m + 1.0]
+                        .iter()
+                        .map(|k| {
+                            let x = p.q[i] + k * TAU;
+                            (lo - x).max(x - hi).max(0.0)
+                        })
+                        .fold(f64::INFINITY, f64::min);
+                }
+                score
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Lock values, found by golden-section search between a sweep's samples, where the pose
+    /// is reached within the limits although no sample nearby reaches it: around each of the
+    /// (at most [`REFINED`]) best samples that are a local minimum of [`Self::lock_score`]
+    /// and reach nothing. A band narrower than the samples' spacing (the PR2's elbow, locked,
+    /// reaches a pose over a few mrad) is so found, not silently missed.
+    fn refine(
+        &self,
+        kin: &Kinematics,
+        target: &Se3,
+        samples: &[f64],
+        raws: &mut Vec<Postures>,
+    ) -> Vec<f64> {
+        let scores: Vec<f64> = raws
+            .iter()
+            .map(|r| self.lock_score(kin, target, r))
+            .collect();
+        let k = samples.len();
+        let mut minima: Vec<usize> = (0..k)
+            .filter(|&i| {
+                scores[i] > 0.0
+                    && scores[i].is_finite()
+                    && (i == 0 || scores[i] <= scores[i - 1])
+                    && (i + 1 == k || scores[i] <= scores[i + 1])
+            })
+            .collect();
+        minima.sort_by(|&a, &b| scores[a].total_cmp(&scores[b]));
+        // A search kernel costs ms per value: a smaller budget.
+        let (most, steps) = if self.closed_form() {
+            (REFINED, REFINE_STEPS)
+        } else {
+            (1, 12)
+        };
+        minima.truncate(most);
+        let (lo, hi) = self.lock_range(kin);
+        let mut found = Vec::new();
+        let score = |v: f64, raw: &mut Postures| {
+            self.postures(target, v, raw);
+            self.lock_score(kin, target, raw)
+        };
+        let (mut rc, mut rd) = (Postures::default(), Postures::default());
+        for i in minima {
+            let a = if i == 0 { samples[0] } else { samples[i - 1] };
+            let b = if i + 1 == k {
+                samples[k - 1]
+            } else {
+                samples[i + 1]
+            };
+            let (mut a, mut b) = (a.min(b).max(lo), a.max(b).min(hi));
+            // First the bracket evenly subdivided (the score, made of least-squares
+            // residuals, may rise right beside a band where the pose is reached), then a
+            // golden-section search around the best point for a zero of the score.
+            let mut best = (f64::INFINITY, 0.5 * (a + b));
+            let mut hit = None;
+            for j in 1..SUBDIVIDE {
+                let v = a + (b - a) * j as f64 / SUBDIVIDE as f64;
+                let f = score(v, &mut rc);
+                if f == 0.0 {
+                    hit = Some(v);
+                    break;
+                }
+                if f < best.0 {
+                    best = (f, v);
+                }
+            }
+            if let Some(v) = hit {
+                found.push(v);
+                raws.push(rc.clone());
+                continue;
+            }
+            let h = (b - a) / SUBDIVIDE as f64;
+            (a, b) = ((best.1 - h).max(a), (best.1 + h).min(b));
+            let r = 0.5 * (5f64.sqrt() - 1.0);
+            let mut c = b - r * (b - a);
+            let mut d = a + r * (b - a);
+            let mut fc = score(c, &mut rc);
+            let mut fd = score(d, &mut rd);
+            for _ in 0..steps {
+                if fc == 0.0 || fd == 0.0 {
+                    break;
+                }
+                if fc < fd {
+                    (b, d, fd) = (d, c, fc);
+                    std::mem::swap(&mut rc, &mut rd);
+                    c = b - r * (b - a);
+                    fc = score(c, &mut rc);
+                } else {
+                    (a, c, fc) = (c, d, fd);
+                    std::mem::swap(&mut rc, &mut rd);
+                    d = a + r * (b - a);
+                    fd = score(d, &mut rd);
+                }
+            }
+            if fc == 0.0 {
+                found.push(c);
+                raws.push(rc.clone());
+            } else if fd == 0.0 {
+                found.push(d);
+                raws.push(rd.clone());
+            }
+        }
+        found
+    }
+
+    /// The locked joint's range as [`AnalyticIk::sweep`] covers it.
+    fn lock_range(&self, kin: &Kinematics) -> (f64, f64) {
+        let Some(l) = self.lock else {
+            return (0.0, 0.0);
+        };
+        let (lo, hi) = (kin.lower[l.joint], kin.upper[l.joint]);
+        if lo.is_finite() && hi.is_finite() {
+            (lo, hi)
+        } else {
+            (-std::f64::consts::PI, std::f64::consts::PI)
+        }
     }
 
     /// The values of the locked joint a caller means: `sweep` values evenly spaced over its
@@ -274,8 +472,12 @@ impl AnalyticIk {
             _ => {
                 // A continuous joint's ends are one angle: leave the upper one out.
                 let steps = if continuous { count } else { count - 1 };
+                // The ends exactly (lo + (hi − lo) · 1 may round past hi), the rest clamped.
                 (0..count)
-                    .map(|i| lo + (hi - lo) * i as f64 / steps as f64)
+                    .map(|i| match i {
+                        _ if i == steps => hi,
+                        _ => (lo + (hi - lo) * i as f64 / steps as f64).clamp(lo, hi),
+                    })
                     .collect()
             }
         }
@@ -285,7 +487,7 @@ impl AnalyticIk {
     /// that row's seed, in parallel on rayon's pool: row k's lock values are
     /// [`AnalyticIk::lock_values`] of its seed (`seeds`: N × dof, one seed per row, or dof: one
     /// for all), `value` and `sweep`; its solutions [`AnalyticIk::solve_swept`] over them,
-    /// sorted by [`Solutions::sort_nearest`]. Row k's result (solutions and lock values) equals
+    /// sorted by [`Solutions::sort_nearest`] (the values returned: those, then the refined ones). Row k's result (solutions and lock values) equals
     /// those calls on row k whatever the thread count; a bad row is its own error and every
     /// other row is solved. An error only for buffers of the wrong length.
     #[allow(clippy::type_complexity)]
@@ -315,10 +517,11 @@ impl AnalyticIk {
                 &seeds[k * n..(k + 1) * n]
             };
             kin.check_q(seed)?;
-            let values = self.lock_values(kin, seed, value, sweep)?;
+            let mut values = self.lock_values(kin, seed, value, sweep)?;
             let mut out = Solutions::default();
             self.solve_swept(kin, ws, t, &values, &mut out)?;
             out.sort_nearest(seed, None);
+            values.extend_from_slice(&out.refined);
             Ok((out, values))
         })
     }
