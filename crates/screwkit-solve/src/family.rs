@@ -198,8 +198,11 @@ pub fn classify_axes(axes: Vec<AxisLine>, all_revolute: bool, length: f64) -> Cl
 /// What [`relations`] finds in lines taken in one order.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Relations {
-    /// Their family.
+    /// Their family (the most specialised of `families`).
     pub(crate) family: Family,
+    /// Every family whose condition they meet (a chain of two parallel and two intersecting
+    /// axes is of both families), the most specialised first.
+    pub(crate) families: Vec<Family>,
     /// i where lines i and i+1 are parallel (0-based).
     pub(crate) parallel: Vec<usize>,
     /// i where lines i and i+1 meet, and where.
@@ -261,22 +264,33 @@ pub(crate) fn relations(axes: &[AxisLine], all_revolute: bool, l: f64) -> Relati
     let is_int = |i: usize| intersecting.iter().any(|&(j, _)| j == i);
     let three_parallel = (0..n.saturating_sub(2)).any(|i| is_par(i) && is_par(i + 1));
     let wrist = wrist_center.is_some();
-    let family = match (all_revolute, n) {
-        (true, 6) if wrist && is_par(1) => Family::SphericalWristTwoParallel,
-        (true, 6) if wrist && (is_int(0) || is_int(1)) => Family::SphericalWristTwoIntersecting,
-        (true, 6) if three_parallel && !intersecting.is_empty() => {
-            Family::ThreeParallelTwoIntersecting
-        }
-        (true, 6) if wrist => Family::SphericalWrist,
-        (true, 6) if three_parallel => Family::ThreeParallel,
-        (true, 6) if !intersecting.is_empty() => Family::TwoIntersecting,
-        (true, 6) if !parallel.is_empty() => Family::TwoParallel,
-        (true, 6) => Family::General6R,
-        (true, 7) => Family::Redundant7R,
-        _ => Family::NotAnalytic,
+    // Every family whose condition the lines meet, the most specialised first.
+    let families: Vec<Family> = match (all_revolute, n) {
+        (true, 6) => [
+            (Family::SphericalWristTwoParallel, wrist && is_par(1)),
+            (
+                Family::SphericalWristTwoIntersecting,
+                wrist && (is_int(0) || is_int(1)),
+            ),
+            (
+                Family::ThreeParallelTwoIntersecting,
+                three_parallel && !intersecting.is_empty(),
+            ),
+            (Family::SphericalWrist, wrist),
+            (Family::ThreeParallel, three_parallel),
+            (Family::TwoIntersecting, !intersecting.is_empty()),
+            (Family::TwoParallel, !parallel.is_empty()),
+            (Family::General6R, true),
+        ]
+        .into_iter()
+        .filter_map(|(f, holds)| holds.then_some(f))
+        .collect(),
+        (true, 7) => vec![Family::Redundant7R],
+        _ => vec![Family::NotAnalytic],
     };
     Relations {
-        family,
+        family: families[0],
+        families,
         parallel,
         intersecting,
         wrist_center,

@@ -304,6 +304,10 @@ pub fn sp2(
     }
 }
 
+/// QR iterations of a companion matrix's Schur decomposition at most (a 4 × 4 one converges
+/// in a few tens).
+const SCHUR_ITERATIONS: usize = 1000;
+
 /// The real roots of the polynomial c\[0\] + c\[1\] x + … + c\[n\] xⁿ (n ≤ 4), each polished by
 /// Newton steps, in no particular order: the eigenvalues of the companion matrix (real Schur
 /// form) whose imaginary part is below 1e-5 of the root's size (a double root splits into a
@@ -313,7 +317,8 @@ pub fn sp2(
 pub fn real_roots(c: &[f64]) -> Few<f64, 4> {
     let big = c.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let mut out = Few::default();
-    if big == 0.0 || !big.is_finite() {
+    // (f64::max passes NaN over: every coefficient is checked.)
+    if big == 0.0 || !c.iter().all(|x| x.is_finite()) {
         return out;
     }
     let mut n = c.len().min(5) - 1;
@@ -357,7 +362,13 @@ pub fn real_roots(c: &[f64]) -> Few<f64, 4> {
             for i in 0..n {
                 m[(i, n - 1)] = -c[i] / c[n];
             }
-            for (slot, z) in roots.iter_mut().zip(m.complex_eigenvalues().iter()) {
+            // Bounded iterations: a companion matrix whose QR iteration does not converge
+            // gives no roots, never a hang.
+            let Some(schur) = nalgebra::linalg::Schur::try_new(m, f64::EPSILON, SCHUR_ITERATIONS)
+            else {
+                return out;
+            };
+            for (slot, z) in roots.iter_mut().zip(schur.complex_eigenvalues().iter()) {
                 *slot = *z;
             }
         }};

@@ -234,6 +234,20 @@ fn real_roots_of_quartics() {
     // Degree drops: 2x − 4.
     assert_eq!(&*real_roots(&[-4.0, 2.0, 0.0, 0.0, 0.0]), &[2.0]);
     assert!(real_roots(&[1.0, 0.0, 1.0]).is_empty());
+    // Non-finite coefficients give no roots, never a hang (a NaN reached the companion
+    // matrix, whose unbounded QR iteration then never ended: the IRB 140 with an offset
+    // wrist hung `ik --all`).
+    for bad in [
+        [f64::NAN, 1.0, 2.0, 3.0, 1.0],
+        [1.0, 2.0, f64::NAN, 3.0, 1.0],
+        [1.0, 2.0, 3.0, f64::INFINITY, 1.0],
+        [1.0, 2.0, 3.0, 4.0, f64::NAN],
+    ] {
+        assert!(real_roots(&bad).is_empty(), "{bad:?}");
+    }
+    // Huge and tiny coefficients together: bounded, finite roots only.
+    let got = real_roots(&[1e-300, 1e300, -1e-300, 1e300, 1.0]);
+    assert!(got.iter().all(|x| x.is_finite()));
 }
 
 #[test]

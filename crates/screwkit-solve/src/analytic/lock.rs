@@ -60,8 +60,9 @@ impl AnalyticIk {
         }
         match (method_either(&a, l), method_either(&b, l)) {
             (Some(x), Some(y)) if x == y => {
-                if x.0 == Method::Search56 {
-                    search_guard(&a, x.1, l).map_err(|e| {
+                let (family, method, reversed) = x;
+                if method == Method::Search56 {
+                    search_guard(&a, reversed, l).map_err(|e| {
                         SolveError::InvalidInput(format!(
                             "locking {} (index {}): {}",
                             kin.names[joint],
@@ -70,9 +71,9 @@ impl AnalyticIk {
                         ))
                     })?;
                 }
-                solver.method = x.0;
-                solver.reversed = x.1;
-                solver.family = classify_axes(a.to_vec(), true, l).family;
+                solver.method = method;
+                solver.reversed = reversed;
+                solver.family = family;
                 Ok(solver)
             }
             _ => Err(SolveError::InvalidInput(format!(

@@ -1,8 +1,10 @@
 //! Analytic IK by subproblem decomposition: every solution of a 6R pose — or of a 7R pose with
 //! one joint locked — for the families that have a closed form ([`crate::family`]), and by a
 //! 1D search for two intersecting axes 5–6 (or 1–2, read from the tip) and two parallel axes
-//! 2 ∥ 3 (or 4 ∥ 5, read from the tip). Other placements of two intersecting or two parallel
-//! axes and the general 6R are not solved here: they get numerical IK ([`describe`] says so).
+//! 2 ∥ 3 (or 4 ∥ 5, read from the tip). A chain of several families (two parallel and two
+//! intersecting pairs) takes the first row of the table that applies to any of them. Other
+//! placements of two intersecting or two parallel axes and the general 6R are not solved
+//! here: they get numerical IK ([`describe`] says so; the refusal names the geometry).
 //!
 //! Solved here (with g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on
 //! them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i)), one decomposition per file, each file's

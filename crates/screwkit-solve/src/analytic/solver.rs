@@ -47,10 +47,18 @@ impl AnalyticIk {
             )));
         }
         let fail = || {
-            SolveError::InvalidInput(format!(
-                "no analytic solver for this chain: {}",
-                c.family.describe()
-            ))
+            SolveError::InvalidInput(match c.family {
+                Family::NotAnalytic => {
+                    format!("no analytic solver for this chain: {}", c.family.describe())
+                }
+                _ => format!(
+                    "no analytic solver for this chain: its axes have {}; no decomposition \
+                     screwkit has applies (the closed forms need a spherical wrist or three \
+                     parallel axes, the 1D searches axes 5-6 or 1-2 meeting, or 2 ∥ 3 or 4 ∥ 5): \
+                     numerical IK",
+                    geometry(&c)
+                ),
+            })
         };
         if c.family == Family::NotAnalytic || kin.dof() != 6 {
             return Err(fail());
@@ -62,13 +70,14 @@ impl AnalyticIk {
                     .into(),
             ));
         }
-        let (method, reversed) = method_either(&c.axes, kin.length_scale).ok_or_else(fail)?;
+        let (family, method, reversed) =
+            method_either(&c.axes, kin.length_scale).ok_or_else(fail)?;
         if method == Method::Search56 {
             search_guard(&c.axes, reversed, kin.length_scale)?;
         }
         let lines: [AxisLine; 6] = c.axes.clone().try_into().map_err(|_| fail())?;
         Ok(Self {
-            family: c.family,
+            family,
             method,
             reversed,
             lock: None,
@@ -650,6 +659,25 @@ impl AnalyticIk {
                 digit[i] = 0;
             }
         }
+    }
+}
+
+/// What a classification found, in words (1-based axes): "axes 4-5 meeting, 2 ∥ 3".
+fn geometry(c: &crate::family::Classification) -> String {
+    let mut parts: Vec<String> = Vec::new();
+    if c.wrist_center.is_some() {
+        parts.push("a spherical wrist (axes 4-6 meet)".into());
+    }
+    for &(i, _) in &c.intersecting {
+        parts.push(format!("axes {}-{} meeting", i + 1, i + 2));
+    }
+    for &i in &c.parallel {
+        parts.push(format!("axes {} ∥ {}", i + 1, i + 2));
+    }
+    if parts.is_empty() {
+        "no two consecutive axes parallel or meeting (the general 6R)".into()
+    } else {
+        parts.join(", ")
     }
 }
 

@@ -175,19 +175,21 @@ pub(super) fn has_row(family: Family) -> bool {
 }
 
 /// The decomposition the relations of six lines (in the order given) allow, if any: the
-/// first row of [`TABLE`] for their family whose arrangement holds.
+/// first row of [`TABLE`] (best first) for any family the lines are of whose arrangement
+/// holds, with that family (an ABB IRB 140 whose axis 6 is offset from axis 4 is of the
+/// two-intersecting family by axes 4–5, which no search takes, and of the two-parallel one by
+/// axes 2 ∥ 3, which the 2 ∥ 3 search takes).
 #[inline]
 pub(super) fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Method)> {
     let r = relations(lines, true, length);
-    let family = r.family;
     let a = Arrangement {
         parallel: r.parallel,
         intersecting: r.intersecting.iter().map(|&(j, _)| j).collect(),
     };
-    TABLE
-        .iter()
-        .find(|d| d.families.contains(&family) && (d.applies)(&a))
-        .map(|d| (family, d.method))
+    TABLE.iter().find_map(|d| {
+        let family = d.families.iter().find(|f| r.families.contains(f))?;
+        (d.applies)(&a).then_some((*family, d.method))
+    })
 }
 
 /// True when the first three lines and the last three each meet in a point: a 6R chain
@@ -201,16 +203,17 @@ pub(super) fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
         && relations(&back, true, length).wrist_center.is_some()
 }
 
-/// The method for six lines in chain order, read forward or reversed (true): the more
-/// specialised family of the two (a closed form before a search), forward on a tie.
+/// The family solved, the method and the reading (reversed: true) for six lines in chain
+/// order, read forward or reversed: the more specialised family of the two (a closed form
+/// before a search), forward on a tie.
 #[inline]
-pub(super) fn method_either(lines: &[AxisLine], length: f64) -> Option<(Method, bool)> {
+pub(super) fn method_either(lines: &[AxisLine], length: f64) -> Option<(Family, Method, bool)> {
     let mut back = lines.to_vec();
     back.reverse();
     match (method_of(lines, length), method_of(&back, length)) {
-        (Some((f, m)), Some((b, n))) => Some(if b < f { (n, true) } else { (m, false) }),
-        (Some((_, m)), None) => Some((m, false)),
-        (None, Some((_, n))) => Some((n, true)),
+        (Some((f, m)), Some((b, n))) => Some(if b < f { (b, n, true) } else { (f, m, false) }),
+        (Some((f, m)), None) => Some((f, m, false)),
+        (None, Some((b, n))) => Some((b, n, true)),
         (None, None) => None,
     }
 }
