@@ -217,7 +217,14 @@ pub fn check_rotation(r: &Matrix3<f64>, tolerance: f64) -> Result<(), LieError> 
 /// Use after [`check_rotation`] with a loose tolerance to turn user-typed, rounded matrices into
 /// exact rotations.
 pub fn nearest_rotation(m: &Matrix3<f64>) -> Matrix3<f64> {
-    let svd = m.svd(true, true);
+    // A non-finite M comes back unchanged (nalgebra's SVD could iterate without end or panic
+    // on it); the iterations are bounded besides.
+    if !m.iter().all(|x| x.is_finite()) {
+        return *m;
+    }
+    let Some(svd) = nalgebra::SVD::try_new(*m, true, true, f64::EPSILON, 1000) else {
+        return *m;
+    };
     let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
         return *m;
     };

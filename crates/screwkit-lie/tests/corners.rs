@@ -315,3 +315,15 @@ fn rpy_is_exact_at_and_near_the_gimbal_lock() {
     worst = worst.max((so3::from_rpy(a, b, c) - r).amax());
     assert!(worst < 1e-15, "{worst:e}");
 }
+
+#[test]
+fn nearest_rotation_of_non_finite_input_returns_never_hangs() {
+    // nalgebra's SVD iterates without bound on NaN: the projection bounds it and gives the
+    // matrix back.
+    let mut m = nalgebra::Matrix3::identity();
+    m[(1, 2)] = f64::NAN;
+    let r = screwkit_lie::so3::nearest_rotation(&m);
+    assert!(r[(1, 2)].is_nan());
+    let r = screwkit_lie::so3::nearest_rotation(&nalgebra::Matrix3::repeat(f64::INFINITY));
+    assert!(!r.iter().all(|x| x.is_finite()));
+}

@@ -68,7 +68,11 @@ pub fn canonical_sign<const D: usize>(x: nalgebra::SVector<f64, D>) -> nalgebra:
 }
 
 fn ellipsoid(a: Matrix3<f64>) -> Ellipsoid {
-    let eig = SymmetricEigen::new(a);
+    // Bounded iterations (a is finite: the Jacobian is checked; never a hang regardless).
+    let eig = SymmetricEigen::try_new(a, f64::EPSILON, 1000).unwrap_or(SymmetricEigen {
+        eigenvalues: Vector3::repeat(f64::NAN),
+        eigenvectors: Matrix3::repeat(f64::NAN),
+    });
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
     Ellipsoid {

@@ -304,8 +304,8 @@ pub fn sp2(
     }
 }
 
-/// QR iterations of a companion matrix's Schur decomposition at most (a 4 × 4 one converges
-/// in a few tens).
+/// Iterations of a companion matrix's Schur decomposition (and of subproblem 6's SVD) at
+/// most (a 4 × 4 one converges in a few tens).
 const SCHUR_ITERATIONS: usize = 1000;
 
 /// The real roots of the polynomial c\[0\] + c\[1\] x + … + c\[n\] xⁿ (n ≤ 4), each polished by
@@ -675,7 +675,16 @@ pub fn sp6(
     let a = Matrix2x4::new(r0.0, r0.1, r1.0, r1.1, r2.0, r2.1, r3.0, r3.1);
     let rhs = Vector2::new(d1 - r0.2 - r1.2, d2 - r2.2 - r3.2);
     let mut out: Few<(f64, f64), 4> = Few::default();
-    let svd = a.transpose().svd(true, true);
+    // Non-finite input has no solution (nalgebra's SVD would iterate without end on it, or
+    // panic sorting NaN singular values); the iterations are bounded besides.
+    if !a.iter().chain(rhs.iter()).all(|x| x.is_finite()) {
+        return out;
+    }
+    let Some(svd) =
+        nalgebra::SVD::try_new(a.transpose(), true, true, f64::EPSILON, SCHUR_ITERATIONS)
+    else {
+        return out;
+    };
     let Some(u) = svd.u else {
         return out;
     };

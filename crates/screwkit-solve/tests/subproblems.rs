@@ -337,3 +337,27 @@ fn sp6_recovers_angle_pairs() {
     }
     assert!(found >= 2990, "{found}");
 }
+
+#[test]
+fn sp6_of_non_finite_input_has_no_solution_and_returns() {
+    use nalgebra::Vector3;
+    use screwkit_solve::subproblem::sp6;
+    let (x, y, z) = (Vector3::x(), Vector3::y(), Vector3::z());
+    let bad = Vector3::new(f64::NAN, 0.0, 1.0);
+    assert!(sp6(
+        [&x, &y, &x, &y],
+        [&z, &x, &z, &x],
+        [&bad, &y, &x, &z],
+        0.1,
+        0.0
+    )
+    .is_empty());
+    assert!(sp6(
+        [&x, &y, &x, &y],
+        [&z, &x, &z, &x],
+        [&x, &y, &x, &z],
+        f64::NAN,
+        0.0
+    )
+    .is_empty());
+}
