@@ -5,7 +5,8 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, JacobianFrame, Method, OrientationMode, SolverChoice, TableFrames, View, Views, Word,
+    self, JacobianFrame, Method, OrientationMode, RepresentativesChoice, SolverChoice, TableFrames,
+    View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
 
@@ -455,14 +456,20 @@ pub struct IkArgs {
     #[arg(long, conflicts_with_all = ["output", "sequential"])]
     pub all: bool,
     /// With --all on a 7R arm: the joint to lock, by name or by its index in q (counted from
-    /// 0), and its value (JOINT=VALUE; default value: the seed's; default joint: the last one
-    /// whose locking leaves a family screwkit solves).
+    /// 0), and its value (JOINT=VALUE; default value: the seed's; default joint: among those
+    /// leaving the most specialised closed form, the one reaching the most poses).
     #[arg(long, requires = "all", value_name = "JOINT[=VALUE]", value_parser = Lock::parse)]
     pub lock: Option<Lock>,
     /// With --all on a 7R arm: solve with the locked joint at N values evenly spaced over its
     /// limits and list the solutions of all of them.
     #[arg(long, requires = "all", value_name = "N")]
     pub sweep: Option<usize>,
+    /// With --all: which 2π representatives of each posture to list (a joint with limits
+    /// wider than 2π reaches a posture at several angles): nearest (the seed's, one row per
+    /// posture), all (every one inside the limits), none (one row per posture, angles in
+    /// (−π, π] where the limits allow).
+    #[arg(long, requires = "all", value_parser = word::<RepresentativesChoice>(), default_value_t = RepresentativesChoice::Nearest)]
+    pub representatives: RepresentativesChoice,
 }
 
 /// `exp`.

@@ -225,7 +225,8 @@ fn all_solutions(
     format: Format,
 ) -> CliResult {
     kin.check_q(seed)?;
-    let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?;
+    let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?
+        .with_representatives(args.representatives);
     let mut ws = Workspace::new(kin);
     let (sols, values) = all.solve(kin, &mut ws, t, seed)?;
     if format == Format::Json {
@@ -268,7 +269,8 @@ fn all_solutions(
 /// solutions and gives the lock value).
 fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliResult {
     kin.check_q(seed)?;
-    let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?;
+    let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?
+        .with_representatives(args.representatives);
     let n = kin.dof();
     batch::stream(input, |lines, _first_row| {
         let parsed = batch::parse_rows(lines, |text| parse_line(kin, text));

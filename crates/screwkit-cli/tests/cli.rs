@@ -1015,22 +1015,42 @@ fn ik_all_lists_every_solution() {
     let m: Vec<String> = (0..16)
         .map(|i| format!("{:?}", t["pose"][i / 4][i % 4].as_f64().unwrap()))
         .collect();
-    let v = json(&[
+    let matrix = m.join(",");
+    let args = [
         "ik",
         &ur5,
         "--target-matrix",
-        &m.join(","),
+        &matrix,
         "--all",
         "--seed",
         q,
         "--format",
         "json",
-    ]);
+    ];
+    let v = json(&args);
     assert_eq!(v["family"], "three_parallel_two_intersecting");
     assert_eq!(v["reversed"], false);
     assert_eq!(v["exact"], true);
     let sols = v["solutions"].as_array().unwrap();
     assert!(sols.len() >= 8, "{}", sols.len());
+    // One row per posture by default (the UR5's ±2π limits would give up to 2⁶ each).
+    assert_eq!(v["postures"].as_u64().unwrap() as usize, sols.len());
+    let every = json(&[&args[..], &["--representatives", "all"]].concat());
+    assert!(every["solutions"].as_array().unwrap().len() > 4 * sols.len());
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_screwkit"))
+        .args([
+            "ik",
+            &ur5,
+            "--target-matrix",
+            &m.join(","),
+            "--all",
+            "--representatives",
+            "some",
+        ])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("representatives"));
     let first: Vec<f64> = serde_json::from_value(sols[0]["q"].clone()).unwrap();
     assert!(sols.iter().all(|s| s["exact"] == true));
     assert!(sols.iter().all(|s| s["residual"].as_f64().unwrap() < 1e-12));

@@ -1513,7 +1513,11 @@ impl Robot {
     /// random poses), `lock_value` its value (default: the seed's), or `sweep=n` solves at n
     /// values evenly spaced over its limits (the best samples that reach nothing refined
     /// between their neighbours, so that a narrow band of reaching values is not missed).
-    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None))]
+    /// `representatives`: "nearest" (the default: one row per posture, each joint at its 2π
+    /// representative nearest the seed), "all" (every representative inside the limits: a UR5
+    /// with ±2π limits lists up to 2⁶ rows per posture), "none" (one row per posture, angles
+    /// in (−π, π] where the limits allow).
+    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None, representatives = "nearest"))]
     #[allow(clippy::too_many_arguments)]
     fn ik_all<'py>(
         &self,
@@ -1523,7 +1527,11 @@ impl Robot {
         lock: Option<&Bound<'py, PyAny>>,
         lock_value: Option<f64>,
         sweep: Option<usize>,
+        representatives: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let reps: screwkit_service::words::RepresentativesChoice =
+            screwkit_service::words::parse(representatives)
+                .map_err(|e| PyValueError::new_err(format!("representatives: {e}")))?;
         use screwkit_solve::analytic::Solutions;
         let (targets, count) = poses(target, "target")?;
         let seed = match seed {
@@ -1552,7 +1560,8 @@ impl Robot {
             .as_ref()
             .ok();
         let all = AllSolutions::with_default(self.kin()?, joint.as_ref(), lock_value, sweep, auto)
-            .map_err(service_error)?;
+            .map_err(service_error)?
+            .with_representatives(reps);
         let n = self.kin()?.dof();
         let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
             Ok(new_array(py, &[sols.len(), n], |o| {

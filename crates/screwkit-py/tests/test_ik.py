@@ -168,3 +168,34 @@ def test_ik_all_batch(ur5: screwkit.Robot) -> None:
     result = e.value.result
     assert result[4].shape == (0, 6)
     np.testing.assert_array_equal(result[5], got[5])
+
+
+def test_ik_all_lists_postures_not_copies(ur5: screwkit.Robot) -> None:
+    """The bundled UR5 has ±2π limits: every posture at up to 2⁶ angles. By default one row
+    per posture, each joint at its representative nearest the seed; "all" lists every one;
+    "none" keeps the angles in (−π, π]."""
+    qs = configurations(ur5, 20, seed=8)
+    for q in qs:
+        t = ur5.fk(q)
+        seed = np.clip(q + 2.5, ur5.lower, ur5.upper)
+        near = ur5.ik_all(t, seed=seed)
+        every = ur5.ik_all(t, seed=seed, representatives="all")
+        none = ur5.ik_all(t, seed=seed, representatives="none")
+        assert isinstance(near, np.ndarray) and isinstance(every, np.ndarray)
+        assert isinstance(none, np.ndarray)
+        assert len(near) == len(none) <= 8 < len(every)
+        for rows in (near, none):
+            for row in rows:
+                assert np.abs(every - row).max(axis=1).min() < 1e-12  # one of "all"'s rows
+                np.testing.assert_allclose(ur5.fk(row), t, atol=1e-10)
+        assert np.all(np.abs(none) <= np.pi + 1e-12)
+        # Per joint, no other representative inside the limits is nearer the seed.
+        for row in near:
+            for k in (-1.0, 1.0):
+                other = row + k * 2 * np.pi
+                inside = (other >= ur5.lower) & (other <= ur5.upper)
+                assert np.all(~inside | (np.abs(row - seed) <= np.abs(other - seed) + 1e-12))
+        # The configuration the pose came from is a posture nearest to itself.
+        assert np.abs(ur5.ik_all(t, seed=q) - q).max(axis=1).min() < 1e-8
+    with pytest.raises(ValueError, match="representatives"):
+        ur5.ik_all(ur5.fk(qs[0]), representatives="some")  # type: ignore[arg-type]

@@ -408,8 +408,7 @@ def test_ik_on_mjcf_arms(name: str, solutions: int | None) -> None:
         r = robot.ik(target)
         assert r.converged
         assert np.abs(mujoco_pose(r.q) - target).max() < 1e-8
-        lock = {} if solutions is None else {"lock": solutions}
-        every = robot.ik_all(target, q, **lock)
+        every = robot.ik_all(target, q, lock=solutions)
         assert len(every) >= 1
         for s in every:
             assert np.abs(mujoco_pose(s) - target).max() < 1e-9

@@ -22,7 +22,7 @@ pub mod slices;
 use nalgebra::Matrix3;
 
 use screwkit_model::{Chain, JointKind};
-use screwkit_solve::analytic::AnalyticIk;
+use screwkit_solve::analytic::{AnalyticIk, Representatives};
 use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
 use screwkit_solve::{Frame, Kinematics, SolveError};
 
@@ -245,16 +245,16 @@ impl Plan {
         let base = voxels.start * k;
         match &self.solver {
             Solver::Analytic(ik) => {
-                let results = ik.solve_batch(kin, &targets, None)?;
-                // One Jacobian per posture: the 2π representatives that joints with limits
-                // wider than ±π add have the same manipulability. Per pose, in parallel.
-                let distinct: Vec<Vec<f64>> = {
-                    use rayon::prelude::*;
-                    results
-                        .par_iter()
-                        .map(|r| r.as_ref().map_or_else(|_| Vec::new(), |s| postures(s, n)))
-                        .collect()
-                };
+                // One row per posture (the 2π representatives that joints with limits wider
+                // than ±π add have the same manipulability: not listed).
+                let results = ik.solve_batch_postures(kin, &targets, None, Representatives::One)?;
+                let distinct: Vec<Vec<f64>> = results
+                    .iter()
+                    .map(|r| match r {
+                        Ok(s) if s.is_exact() => s.iter().flatten().copied().collect(),
+                        _ => Vec::new(),
+                    })
+                    .collect();
                 let mut row = 0;
                 for &(first, count) in &runs {
                     for p in first..first + count {
@@ -312,28 +312,6 @@ impl Plan {
         Ok(())
     }
 }
-
-/// The exact solutions of `sol` that differ by more than 2π shifts (to 1e-9 rad), flat.
-fn postures(sol: &screwkit_solve::analytic::Solutions, n: usize) -> Vec<f64> {
-    let (mut kept, mut wrapped) = (Vec::new(), Vec::new());
-    for i in (0..sol.len()).filter(|&i| sol.exact(i)) {
-        let q = sol.q(i);
-        let w: Vec<f64> = q.iter().map(|&x| wrap(x)).collect();
-        let seen = wrapped.chunks(n.max(1)).any(|k: &[f64]| {
-            k.iter().zip(&w).all(|(a, b)| {
-                let d = (a - b).abs();
-                d < 1e-9 || (std::f64::consts::TAU - d).abs() < 1e-9
-            })
-        });
-        if !seen {
-            wrapped.extend_from_slice(&w);
-            kept.extend_from_slice(q);
-        }
-    }
-    kept
-}
-
-use screwkit_lie::angle::wrap;
 
 /// The reachable ball of a chain: centre at the first joint's origin (which no joint moves),
 /// radius Σ |o_{j+1} − o_j| + |tip − o_last| over the joint origins at home (each distance is

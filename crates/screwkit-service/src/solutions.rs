@@ -10,6 +10,7 @@ use screwkit_solve::{Kinematics, SolveError, Workspace};
 use crate::error::Result;
 use crate::joint::{JointRef, Lock};
 use crate::report::{AllSolutionsReport, LockedReport, SolutionReport};
+use crate::words::RepresentativesChoice;
 
 /// The analytic solver with its lock options.
 #[derive(Debug, Clone)]
@@ -17,6 +18,7 @@ pub struct AllSolutions {
     solver: AnalyticIk,
     value: Option<f64>,
     sweep: Option<usize>,
+    reps: RepresentativesChoice,
 }
 
 impl AllSolutions {
@@ -61,7 +63,14 @@ impl AllSolutions {
             solver,
             value,
             sweep,
+            reps: RepresentativesChoice::Nearest,
         })
+    }
+
+    /// Which 2π representatives are listed (default: the one nearest the seed per posture).
+    pub fn with_representatives(mut self, reps: RepresentativesChoice) -> Self {
+        self.reps = reps;
+        self
     }
 
     /// The solver.
@@ -81,8 +90,14 @@ impl AllSolutions {
         kin.check_q(seed)?;
         let mut values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
         let mut sols = Solutions::default();
-        self.solver
-            .solve_swept(kin, ws, target, &values, &mut sols)?;
+        self.solver.solve_postures(
+            kin,
+            ws,
+            target,
+            &values,
+            self.reps.kind().with_seed(seed),
+            &mut sols,
+        )?;
         sols.sort_nearest(seed, None);
         values.extend_from_slice(&sols.refined);
         Ok((sols, values))
@@ -97,8 +112,14 @@ impl AllSolutions {
         targets: &[f64],
         seeds: &[f64],
     ) -> Result<Vec<Result<(Solutions, Vec<f64>), SolveError>>, SolveError> {
-        self.solver
-            .solve_nearest_batch(kin, targets, seeds, self.value, self.sweep)
+        self.solver.solve_nearest_batch(
+            kin,
+            targets,
+            seeds,
+            self.value,
+            self.sweep,
+            self.reps.kind(),
+        )
     }
 
     /// The report of one target's solutions (`values`: the lock values used).

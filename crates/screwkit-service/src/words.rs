@@ -316,6 +316,32 @@ words! {
 }
 
 words! {
+    /// Which 2π representatives of each analytic posture are listed (`screwkit ik --all
+    /// --representatives`, `Robot.ik_all(representatives=…)`): a joint whose limits are wider
+    /// than 2π reaches a posture at several angles.
+    RepresentativesChoice, "representatives" {
+        /// One row per posture, each joint at its representative nearest the seed (the default).
+        Nearest = "nearest",
+        /// Every 2π shift inside the limits (a UR5 with ±2π limits: up to 2⁶ rows per posture).
+        All = "all",
+        /// One row per posture, each angle in (−π, π] where the limits allow.
+        Principal = "none",
+    }
+}
+
+impl RepresentativesChoice {
+    /// The library's choice.
+    pub fn kind(self) -> screwkit_solve::analytic::RepresentativeKind {
+        use screwkit_solve::analytic::RepresentativeKind;
+        match self {
+            RepresentativesChoice::Nearest => RepresentativeKind::Nearest,
+            RepresentativesChoice::All => RepresentativeKind::All,
+            RepresentativesChoice::Principal => RepresentativeKind::One,
+        }
+    }
+}
+
+words! {
     /// Which IK a map uses.
     SolverChoice, "map solver" {
         /// Analytic when the chain is a 6R arm with a closed form, numerical otherwise.

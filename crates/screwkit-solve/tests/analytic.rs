@@ -628,3 +628,67 @@ fn two_parallel_and_two_intersecting_axes_take_the_search_that_applies() {
         "{e}"
     );
 }
+
+#[test]
+fn postures_not_copies_one_row_per_posture() {
+    use screwkit_solve::analytic::Representatives;
+    // The bundled UR5 has ±2π limits: every posture at up to 2⁶ angles.
+    let (_, _, kin) = common::load("ur5.urdf", None, None);
+    let solver = AnalyticIk::new(&kin).unwrap();
+    let mut ws = Workspace::new(&kin);
+    let mut sampler = Sampler::new(21);
+    let tau = std::f64::consts::TAU;
+    for _ in 0..50 {
+        let q_star = sampler.config(&kin);
+        let target = fk1(&kin, &q_star).unwrap();
+        let seed = sampler.config(&kin);
+        let (mut all, mut one, mut near) = (
+            Solutions::default(),
+            Solutions::default(),
+            Solutions::default(),
+        );
+        for (reps, out) in [
+            (Representatives::All, &mut all),
+            (Representatives::One, &mut one),
+            (Representatives::Nearest(&seed), &mut near),
+        ] {
+            solver
+                .solve_postures(&kin, &mut ws, &target, &[0.0], reps, out)
+                .unwrap();
+            verify(&kin, "ur5", out, &target);
+        }
+        assert!(all.len() > one.len());
+        assert_eq!(one.len(), one.branches);
+        assert_eq!(near.len(), near.branches);
+        assert_eq!(one.branches, all.branches);
+        // Each row is one of all's rows; `none`'s angles are in (−π, π] where the limits
+        // allow; `nearest`'s are, per joint, the representative nearest the seed.
+        for (rows, reference) in [(&one, None), (&near, Some(&seed))] {
+            for q in rows.iter() {
+                assert!(all.iter().any(|a| same(a, q, 1e-12)));
+                for (i, &x) in q.iter().enumerate() {
+                    let r = reference.map_or(0.0, |s| s[i]);
+                    for k in [-2.0, -1.0, 1.0, 2.0] {
+                        let other = x + k * tau;
+                        if other >= kin.lower()[i] && other <= kin.upper()[i] {
+                            assert!((x - r).abs() <= (other - r).abs() + 1e-12, "{q:?}");
+                        }
+                    }
+                }
+            }
+        }
+        // q* is among the postures, as the one nearest to itself.
+        let mut at_star = Solutions::default();
+        solver
+            .solve_postures(
+                &kin,
+                &mut ws,
+                &target,
+                &[0.0],
+                Representatives::Nearest(&q_star),
+                &mut at_star,
+            )
+            .unwrap();
+        assert!(at_star.iter().any(|q| same(q, &q_star, 1e-8)));
+    }
+}

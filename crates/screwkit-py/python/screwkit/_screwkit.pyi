@@ -40,6 +40,7 @@ _TableFormat: TypeAlias = Literal["markdown", "md", "text", "csv", "json"]
 _TableFrames: TypeAlias = Literal["space", "body", "both"]
 _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
+_Representatives: TypeAlias = Literal["nearest", "all", "none"]
 _F64: TypeAlias = npt.NDArray[np.float64]
 _ArrayLike: TypeAlias = npt.ArrayLike
 _Weights: TypeAlias = float | Sequence[float]
@@ -428,6 +429,7 @@ class Robot:
         lock: str | int | None = None,
         lock_value: float | None = None,
         sweep: int | None = None,
+        representatives: _Representatives = "nearest",
     ) -> _F64 | list[_F64]:
         """One target (4, 4) -> its solutions (K, dof); N targets (N, 4, 4) -> a list of N."""
     def ik(

@@ -66,7 +66,7 @@ use lock::*;
 pub use lock::{AUTO_POSES, AUTO_SWEEP};
 use prepared::*;
 use search::*;
-pub use solutions::{Posture, Postures, Solutions};
+pub use solutions::{Posture, Postures, RepresentativeKind, Representatives, Solutions};
 pub use solver::{AnalyticIk, MAX_SWEEP};
 use table::*;
 use three_parallel::*;

@@ -61,6 +61,45 @@ impl Postures {
     }
 }
 
+/// Which 2π representatives of each posture a solve lists (a joint whose limits are wider
+/// than 2π reaches a posture at several angles: a UR5 with ±2π limits has up to 2⁶ rows per
+/// posture). The front ends' words: `all`, `nearest`, `none`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Representatives<'a> {
+    /// Every 2π shift of every joint inside the limits (each combination a row).
+    All,
+    /// One row per posture: per joint, the shift inside the limits nearest to this seed's
+    /// value (the posture as the arm at the seed would move to it).
+    Nearest(&'a [f64]),
+    /// One row per posture: per joint, its angle in (−π, π] when inside the limits, else the
+    /// shift inside them nearest to it (`none`: no representatives added).
+    One,
+}
+
+/// [`Representatives`] without the seed, for calls that take one seed per target
+/// ([`AnalyticIk::solve_nearest_batch`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RepresentativeKind {
+    /// [`Representatives::All`].
+    #[default]
+    All,
+    /// [`Representatives::Nearest`] to each target's seed.
+    Nearest,
+    /// [`Representatives::One`].
+    One,
+}
+
+impl RepresentativeKind {
+    /// The choice with its seed.
+    pub fn with_seed(self, seed: &[f64]) -> Representatives<'_> {
+        match self {
+            RepresentativeKind::All => Representatives::All,
+            RepresentativeKind::Nearest => Representatives::Nearest(seed),
+            RepresentativeKind::One => Representatives::One,
+        }
+    }
+}
+
 /// Every solution of one pose, nearest-first after [`Solutions::sort_nearest`]. Storage is
 /// flat and reused: [`AnalyticIk::solve`] refills it without allocating once it has grown.
 #[derive(Debug, Clone, Default, PartialEq)]

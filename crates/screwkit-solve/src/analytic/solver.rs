@@ -185,6 +185,23 @@ impl AnalyticIk {
         lock_values: &[f64],
         out: &mut Solutions,
     ) -> Result<(), SolveError> {
+        self.solve_postures(kin, ws, target, lock_values, Representatives::All, out)
+    }
+
+    /// [`AnalyticIk::solve_swept`] listing the 2π representatives `reps` asks for
+    /// ([`Representatives`]: every one, or one row per posture).
+    pub fn solve_postures(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        target: &Se3,
+        lock_values: &[f64],
+        reps: Representatives<'_>,
+        out: &mut Solutions,
+    ) -> Result<(), SolveError> {
+        if let Representatives::Nearest(seed) = reps {
+            kin.check_q(seed)?;
+        }
         if kin.dof() != self.dof {
             return Err(SolveError::InvalidInput(format!(
                 "this analytic solver is for a {}-joint chain, not {}",
@@ -210,7 +227,7 @@ impl AnalyticIk {
             let mut raw = Postures::default();
             self.postures(target, *v, &mut raw);
             let any_exact = raw.as_slice().iter().any(|p| p.exact);
-            self.collect(kin, ws, target, &raw, any_exact, out);
+            self.collect(kin, ws, target, &raw, any_exact, reps, out);
             return Ok(());
         }
         // A sweep: every value's postures once; then, as its samples may all miss a narrow
@@ -231,7 +248,7 @@ impl AnalyticIk {
         // Exact postures are preferred over least-squares ones across all the values.
         let any_exact = raws.iter().any(|r| r.as_slice().iter().any(|p| p.exact));
         for raw in &raws {
-            self.collect(kin, ws, target, raw, any_exact, out);
+            self.collect(kin, ws, target, raw, any_exact, reps, out);
         }
         out.refined = refined;
         Ok(())
@@ -239,7 +256,9 @@ impl AnalyticIk {
 
     /// Appends the solutions of one lock value's postures to `out`: those exact (or, when
     /// `any_exact` is false, the least-squares ones), one per posture modulo 2π, each polished
-    /// if its residual is above [`POLISH`] and expanded to its 2π shifts within the limits.
+    /// if its residual is above [`POLISH`] and expanded to the 2π shifts within the limits
+    /// that `reps` asks for.
+    #[allow(clippy::too_many_arguments)]
     fn collect(
         &self,
         kin: &Kinematics,
@@ -247,6 +266,7 @@ impl AnalyticIk {
         target: &Se3,
         raw: &Postures,
         any_exact: bool,
+        reps: Representatives<'_>,
         out: &mut Solutions,
     ) {
         let n = self.dof;
@@ -264,7 +284,7 @@ impl AnalyticIk {
             if p.exact && residual > POLISH * kin.length_scale.max(1.0) {
                 residual = self.polish(kin, ws, &mut q[..n], target, residual);
             }
-            if self.expand(kin, &q[..n], p.exact, residual, out) {
+            if self.expand(kin, &q[..n], p.exact, residual, reps, out) {
                 distinct[count] = p.q;
                 count += 1;
             }
@@ -496,7 +516,8 @@ impl AnalyticIk {
     /// that row's seed, in parallel on rayon's pool: row k's lock values are
     /// [`AnalyticIk::lock_values`] of its seed (`seeds`: N × dof, one seed per row, or dof: one
     /// for all), `value` and `sweep`; its solutions [`AnalyticIk::solve_swept`] over them,
-    /// sorted by [`Solutions::sort_nearest`] (the values returned: those, then the refined ones). Row k's result (solutions and lock values) equals
+    /// sorted by [`Solutions::sort_nearest`] (the values returned: those, then the refined ones),
+    /// with the 2π representatives `reps` asks for (nearest: to the row's seed). Row k's result (solutions and lock values) equals
     /// those calls on row k whatever the thread count; a bad row is its own error and every
     /// other row is solved. An error only for buffers of the wrong length.
     #[allow(clippy::type_complexity)]
@@ -507,6 +528,7 @@ impl AnalyticIk {
         seeds: &[f64],
         value: Option<f64>,
         sweep: Option<usize>,
+        reps: RepresentativeKind,
     ) -> Result<Vec<Result<(Solutions, Vec<f64>), SolveError>>, SolveError> {
         let rows = target_rows(targets)?;
         let n = kin.dof();
@@ -528,7 +550,7 @@ impl AnalyticIk {
             kin.check_q(seed)?;
             let mut values = self.lock_values(kin, seed, value, sweep)?;
             let mut out = Solutions::default();
-            self.solve_swept(kin, ws, t, &values, &mut out)?;
+            self.solve_postures(kin, ws, t, &values, reps.with_seed(seed), &mut out)?;
             out.sort_nearest(seed, None);
             values.extend_from_slice(&out.refined);
             Ok((out, values))
@@ -547,6 +569,18 @@ impl AnalyticIk {
         targets: &[f64],
         lock_values: Option<&[f64]>,
     ) -> Result<Vec<Result<Solutions, SolveError>>, SolveError> {
+        self.solve_batch_postures(kin, targets, lock_values, Representatives::All)
+    }
+
+    /// [`AnalyticIk::solve_batch`] listing the 2π representatives `reps` asks for (row k's
+    /// result equals [`AnalyticIk::solve_postures`] on row k).
+    pub fn solve_batch_postures(
+        &self,
+        kin: &Kinematics,
+        targets: &[f64],
+        lock_values: Option<&[f64]>,
+        reps: Representatives<'_>,
+    ) -> Result<Vec<Result<Solutions, SolveError>>, SolveError> {
         let rows = target_rows(targets)?;
         if let Some(v) = lock_values {
             if v.len() != rows {
@@ -560,7 +594,8 @@ impl AnalyticIk {
         }
         per_target(kin, targets, |ws, k, t| {
             let mut out = Solutions::default();
-            self.solve(kin, ws, t, lock_values.map_or(0.0, |v| v[k]), &mut out)?;
+            let value = [lock_values.map_or(0.0, |v| v[k])];
+            self.solve_postures(kin, ws, t, &value, reps, &mut out)?;
             Ok(out)
         })
     }
@@ -605,14 +640,16 @@ impl AnalyticIk {
         residual
     }
 
-    /// Appends every 2π shift of posture `q` inside the limits (continuous joints: the
-    /// wrapped angle; the locked joint: its value); false when there is none.
+    /// Appends the 2π shifts of posture `q` inside the limits that `reps` asks for
+    /// (continuous joints: the wrapped angle; the locked joint: its value); false when there
+    /// is none.
     fn expand(
         &self,
         kin: &Kinematics,
         q: &[f64],
         exact: bool,
         residual: f64,
+        reps: Representatives<'_>,
         out: &mut Solutions,
     ) -> bool {
         use std::f64::consts::TAU;
@@ -637,6 +674,24 @@ impl AnalyticIk {
             }
             first[i] = q[i] + m0 * TAU;
             count[i] = c;
+        }
+        // One row: per joint, the shift nearest the reference (the seed, or the angle).
+        let reference = match reps {
+            Representatives::All => None,
+            Representatives::Nearest(seed) => Some(seed),
+            Representatives::One => Some(q),
+        };
+        if let Some(r) = reference {
+            for i in 0..n {
+                let k = ((r[i] - first[i]) / TAU)
+                    .round()
+                    .clamp(0.0, (count[i] - 1) as f64);
+                let x = first[i] + k * TAU;
+                out.q.push(x.clamp(kin.lower[i], kin.upper[i]));
+            }
+            out.exact.push(exact);
+            out.residual.push(residual);
+            return true;
         }
         let mut digit = [0usize; MAX_DOF];
         loop {
