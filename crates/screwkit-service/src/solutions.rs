@@ -87,20 +87,15 @@ impl AllSolutions {
         target: &Se3,
         seed: &[f64],
     ) -> Result<(Solutions, Vec<f64>), SolveError> {
-        kin.check_q(seed)?;
-        let mut values = self.solver.lock_values(kin, seed, self.value, self.sweep)?;
-        let mut sols = Solutions::default();
-        self.solver.solve_postures(
+        self.solver.solve_nearest(
             kin,
             ws,
             target,
-            &values,
-            self.reps.kind().with_seed(seed),
-            &mut sols,
-        )?;
-        sols.sort_nearest(seed, None);
-        values.extend_from_slice(&sols.refined);
-        Ok((sols, values))
+            seed,
+            self.value,
+            self.sweep,
+            self.reps.kind(),
+        )
     }
 
     /// [`AllSolutions::solve`] of every row of `targets` (N × 16) with `seeds` (one dof row

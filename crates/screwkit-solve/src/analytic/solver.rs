@@ -292,9 +292,10 @@ impl AnalyticIk {
         out.branches += count;
     }
 
-    /// How far the postures of one lock value are from a solution within the limits: the
-    /// least over postures of (0 for an exact one, else its FK residual) plus how far its
-    /// nearest 2π shift of each joint lies outside that joint's limits. 0: solutions exist.
+    /// How far the postures of one lock value are from a solution within the limits: where
+    /// some posture is exact, the least over the exact ones of how far each joint's nearest
+    /// 2π shift lies outside its limits; else [`OUT_OF_REACH`] plus the least over the
+    /// least-squares ones of FK residual plus that excess. 0: solutions exist.
     fn lock_score(&self, kin: &Kinematics, target: &Se3, raw: &Postures) -> f64 {
         use std::f64::consts::TAU;
         let n = self.dof;
@@ -331,10 +332,11 @@ impl AnalyticIk {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Lock values, found by golden-section search between a sweep's samples, where the pose
-    /// is reached within the limits although no sample nearby reaches it: around each of the
-    /// (at most [`REFINED`]) best samples that are a local minimum of [`Self::lock_score`]
-    /// and reach nothing. A band narrower than the samples' spacing (the PR2's elbow, locked,
+    /// Lock values between a sweep's samples where the pose is reached within the limits
+    /// although no sample nearby reaches it: around each of the (at most [`REFINED`]) best
+    /// samples that are a local minimum of [`Self::lock_score`] and reach nothing, the
+    /// bracket of its neighbours divided in [`SUBDIVIDE`] parts, then a golden-section search
+    /// around the best part. A band narrower than the samples' spacing (the PR2's elbow, locked,
     /// reaches a pose over a few mrad) is so found, not silently missed.
     fn refine(
         &self,
@@ -490,11 +492,8 @@ impl AnalyticIk {
         let Some(l) = self.lock else {
             return Vec::new();
         };
-        let (mut lo, mut hi) = (kin.lower[l.joint], kin.upper[l.joint]);
-        let continuous = !(lo.is_finite() && hi.is_finite());
-        if continuous {
-            (lo, hi) = (-std::f64::consts::PI, std::f64::consts::PI);
-        }
+        let continuous = !(kin.lower[l.joint].is_finite() && kin.upper[l.joint].is_finite());
+        let (lo, hi) = self.lock_range(kin);
         match count {
             0 => Vec::new(),
             1 => vec![0.5 * (lo + hi)],
@@ -516,10 +515,11 @@ impl AnalyticIk {
     /// that row's seed, in parallel on rayon's pool: row k's lock values are
     /// [`AnalyticIk::lock_values`] of its seed (`seeds`: N × dof, one seed per row, or dof: one
     /// for all), `value` and `sweep`; its solutions [`AnalyticIk::solve_swept`] over them,
-    /// sorted by [`Solutions::sort_nearest`] (the values returned: those, then the refined ones),
-    /// with the 2π representatives `reps` asks for (nearest: to the row's seed). Row k's result (solutions and lock values) equals
-    /// those calls on row k whatever the thread count; a bad row is its own error and every
-    /// other row is solved. An error only for buffers of the wrong length.
+    /// sorted by [`Solutions::sort_nearest`] (the values returned: those, then the refined
+    /// ones), with the 2π representatives `reps` asks for (nearest: to the row's seed) — row
+    /// k is [`AnalyticIk::solve_nearest`] on row k, whatever the thread count; a bad row is
+    /// its own error and every other row is solved. An error only for buffers of the wrong
+    /// length.
     #[allow(clippy::type_complexity)]
     pub fn solve_nearest_batch(
         &self,
@@ -547,14 +547,33 @@ impl AnalyticIk {
             } else {
                 &seeds[k * n..(k + 1) * n]
             };
-            kin.check_q(seed)?;
-            let mut values = self.lock_values(kin, seed, value, sweep)?;
-            let mut out = Solutions::default();
-            self.solve_postures(kin, ws, t, &values, reps.with_seed(seed), &mut out)?;
-            out.sort_nearest(seed, None);
-            values.extend_from_slice(&out.refined);
-            Ok((out, values))
+            self.solve_nearest(kin, ws, t, seed, value, sweep, reps)
         })
+    }
+
+    /// Every solution of `target`, nearest to `seed` first, and the lock values used: the
+    /// values [`AnalyticIk::lock_values`] gives for `seed`, `value` and `sweep`, then those
+    /// the sweep's refinement added; the 2π representatives `reps` asks for (nearest: to
+    /// `seed`). What a front end calls for one target (row k of
+    /// [`AnalyticIk::solve_nearest_batch`] is this call).
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_nearest(
+        &self,
+        kin: &Kinematics,
+        ws: &mut Workspace,
+        target: &Se3,
+        seed: &[f64],
+        value: Option<f64>,
+        sweep: Option<usize>,
+        reps: RepresentativeKind,
+    ) -> Result<(Solutions, Vec<f64>), SolveError> {
+        kin.check_q(seed)?;
+        let mut values = self.lock_values(kin, seed, value, sweep)?;
+        let mut out = Solutions::default();
+        self.solve_postures(kin, ws, target, &values, reps.with_seed(seed), &mut out)?;
+        out.sort_nearest(seed, None);
+        values.extend_from_slice(&out.refined);
+        Ok((out, values))
     }
 
     /// [`AnalyticIk::solve`] for every row of `targets` (N × 16, row-major 4 × 4), in parallel
