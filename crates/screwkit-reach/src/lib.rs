@@ -136,7 +136,7 @@ impl Plan {
         let solver = match spec.solver {
             SolverChoice::Numerical => numerical(),
             SolverChoice::Auto => match AnalyticIk::new(kin) {
-                Ok(ik) if ik.closed_form() => Solver::Analytic(Box::new(ik)),
+                Ok(ik) => Solver::Analytic(Box::new(ik)),
                 _ => numerical(),
             },
             SolverChoice::Analytic => match AnalyticIk::new(kin) {

@@ -132,6 +132,18 @@ fn main() {
             &screwkit_model::load_chain(screwkit_testkit::bundled(f), None, None).unwrap(),
         )
     };
+    // The general 6R (no two consecutive axes parallel or meeting): a fixed arm of
+    // cobot-like offsets, every axis turned off the last.
+    let z = [0.0, 0.0, 1.0];
+    let general = screwkit_testkit::serial_arm(&[
+        ([0.0, 0.0, 0.0], [0.0, 0.0, 0.0], z),
+        ([0.05, 0.02, 0.27], [1.2, 0.1, 0.0], z),
+        ([0.29, 0.03, 0.01], [0.1, 0.3, 0.2], z),
+        ([0.08, -0.04, 0.34], [-1.1, 0.2, 0.1], z),
+        ([0.02, 0.03, 0.09], [1.3, -0.2, 0.3], z),
+        ([0.01, 0.07, 0.05], [-1.2, 0.1, 0.2], z),
+    ]);
+    bench("general 6R", &general, &AnalyticIk::new(&general).unwrap());
     let ur5 = load("ur5.urdf");
     bench("ur5", &ur5, &AnalyticIk::new(&ur5).unwrap());
     let panda = load("panda.urdf");

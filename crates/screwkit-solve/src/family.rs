@@ -41,11 +41,13 @@ pub enum Family {
     /// 6R, three consecutive parallel axes: closed form through a quartic (subproblem 6), up
     /// to 8 solutions.
     ThreeParallel,
-    /// 6R, two consecutive intersecting axes: a 1D search (then polished), up to 16.
+    /// 6R, two consecutive intersecting axes (no closed form): the general 6R's elimination,
+    /// up to 16 solutions.
     TwoIntersecting,
-    /// 6R, two consecutive parallel axes: a 1D search, up to 16.
+    /// 6R, two consecutive parallel axes (no closed form): the general 6R's elimination, up
+    /// to 16 solutions.
     TwoParallel,
-    /// 6R with none of the above: numerical IK only.
+    /// 6R with none of the above: algebraic elimination (Raghavan–Roth), up to 16 solutions.
     General6R,
     /// A 7R chain: lock one joint (the caller's value, or swept) to make it a 6R one.
     Redundant7R,
@@ -86,9 +88,8 @@ impl Family {
     }
 
     /// The family in words, with what it means for IK (and what screwkit does with it:
-    /// [`crate::analytic`] solves the five closed forms, two intersecting axes 5–6 (or 1–2,
-    /// read from the tip) and two parallel axes 2 ∥ 3 (or 4 ∥ 5, read from the tip) by a 1D
-    /// search; the others use numerical IK: [`crate::analytic::describe`] says which).
+    /// [`crate::analytic`] solves the five closed forms and, for every other 6R, the general
+    /// 6R's elimination; [`crate::analytic::describe`] says which a chain gets).
     pub fn describe(self) -> &'static str {
         match self {
             Family::SphericalWristTwoParallel => {
@@ -107,13 +108,11 @@ impl Family {
             Family::ThreeParallel => {
                 "three parallel axes: closed form by a quartic (subproblem 6), up to 8 solutions"
             }
-            Family::TwoIntersecting => {
-                "two intersecting axes: 1D search (sampled, then polished), up to 16 solutions"
+            Family::TwoIntersecting => "two intersecting axes, no closed form: up to 16 solutions",
+            Family::TwoParallel => "two parallel axes, no closed form: up to 16 solutions",
+            Family::General6R => {
+                "general 6R (no two consecutive axes parallel or meeting): up to 16 solutions"
             }
-            Family::TwoParallel => {
-                "two parallel axes: 1D search (sampled, then polished), up to 16 solutions"
-            }
-            Family::General6R => "general 6R: no analytic solver, numerical IK only",
             Family::Redundant7R => "7R (redundant): analytic with one joint locked",
             Family::NotAnalytic => "no analytic solver: numerical IK only",
         }

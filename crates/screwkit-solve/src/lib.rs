@@ -55,6 +55,7 @@ pub mod batch;
 pub mod box_qp;
 mod columns;
 mod dls;
+mod eigen;
 pub mod error;
 pub mod family;
 pub mod fk;

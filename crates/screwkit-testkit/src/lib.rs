@@ -104,6 +104,26 @@ pub fn scaled_chain(file: &str, s: f64) -> Chain {
     Chain::from_tree(&tree, None, None).expect("default chain")
 }
 
+/// A serial arm of revolute joints written as URDF, one joint per (origin xyz, origin rpy,
+/// axis), limits ±3 rad, and a fixed tool frame after the last (xyz 0.05 0.02 0.1, rpy
+/// 0.3 0.2 0.1): random and constructed arms for the analytic-IK tests and benchmark.
+pub fn serial_arm(joints: &[([f64; 3], [f64; 3], [f64; 3])]) -> Kinematics {
+    let mut s = String::from(r#"<robot name="random"><link name="l0"/>"#);
+    for (i, (xyz, rpy, axis)) in joints.iter().enumerate() {
+        s.push_str(&format!(
+            r#"<link name="l{n}"/><joint name="j{n}" type="revolute"><parent link="l{i}"/><child link="l{n}"/><origin xyz="{} {} {}" rpy="{} {} {}"/><axis xyz="{} {} {}"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>"#,
+            xyz[0], xyz[1], xyz[2], rpy[0], rpy[1], rpy[2], axis[0], axis[1], axis[2],
+            n = i + 1
+        ));
+    }
+    s.push_str(&format!(
+        r#"<link name="tool"/><joint name="t" type="fixed"><parent link="l{}"/><child link="tool"/><origin xyz="0.05 0.02 0.1" rpy="0.3 0.2 0.1"/></joint></robot>"#,
+        joints.len()
+    ));
+    let tree = screwkit_model::urdf::load_str(&s, "random.urdf").expect("the arm parses");
+    Kinematics::new(&Chain::from_tree(&tree, None, Some("tool")).expect("a serial chain"))
+}
+
 /// A float64 `.npy` file's bytes written by hand (format 1.0), independent of the code under
 /// test: `shape` is the header's Python tuple as text (`"(3, 6)"`, `"(7,)"`), so a test can
 /// also write a header that lies about its data.

@@ -44,6 +44,7 @@ impl AnalyticIk {
             lines: c.axes,
             home: kin.home,
             fixed: None,
+            shift: 0,
         };
         for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
             solver.free[slot] = j;
@@ -58,62 +59,58 @@ impl AnalyticIk {
                 kin.names[joint], joint
             )));
         }
-        match (method_either(&a, l), method_either(&b, l)) {
-            (Some(x), Some(y)) if x == y => {
-                let (family, method, reversed) = x;
-                if method == Method::Search56 {
-                    search_guard(&a, reversed, l).map_err(|e| {
-                        SolveError::InvalidInput(format!(
-                            "locking {} (index {}): {}",
-                            kin.names[joint],
-                            joint,
-                            e.to_string().trim_start_matches("invalid input: ")
-                        ))
-                    })?;
-                }
-                solver.method = method;
-                solver.reversed = reversed;
-                solver.family = family;
-                Ok(solver)
+        // The method that solves the six free joints at every locked value: the one both
+        // values take, else (a relation across the locked joint that holds at one value
+        // only) the general 6R.
+        let (family, method, reversed) = match (method_either(&a, l), method_either(&b, l)) {
+            (Some(x), Some(y)) if x == y => x,
+            (Some(_), Some(_)) => (Family::General6R, Method::General, false),
+            _ => {
+                return Err(SolveError::InvalidInput(format!(
+                    "locking {} (index {}) does not leave a 6R chain that screwkit solves \
+                     analytically ({})",
+                    kin.names[joint],
+                    joint,
+                    classify_axes(a.to_vec(), true, l).family.describe()
+                )))
             }
-            _ => Err(SolveError::InvalidInput(format!(
-                "locking {} (index {}) does not leave a 6R chain that screwkit solves \
-                 analytically ({})",
-                kin.names[joint],
-                joint,
-                classify_axes(a.to_vec(), true, l).family.describe()
-            ))),
+        };
+        if method == Method::General {
+            let (_, home) = solver.locked_lines(0.7);
+            solver.shift = choose_shift(&a, home, reversed);
         }
+        solver.method = method;
+        solver.reversed = reversed;
+        solver.family = family;
+        Ok(solver)
     }
 
     /// The solver of any chain screwkit solves analytically: a 6R chain as
     /// [`AnalyticIk::new`]; a 7R chain with one joint locked, chosen among those whose locking
-    /// leaves the most specialised closed-form family by how well it covers the self-motion:
-    /// the one whose [`AUTO_SWEEP`]-value sweep reaches the most of [`AUTO_POSES`] random
-    /// poses of the arm within the limits, counted per value — the chance that a lock at a
-    /// random seed's value reaches a random pose — (deterministic: fixed configurations), ties
-    /// to the later joint. (An elbow whose value the pose nearly fixes — the PR2's, reaching a
-    /// pose over a few mrad — loses to the shoulder pan, which reaches it over most of its
-    /// range.) Without a closed-form lock, the last joint whose locking leaves a 1D search.
+    /// leaves a special family's closed form (else among the general 6R locks), the most
+    /// specialised family first, by how well it covers the self-motion: the one whose
+    /// [`AUTO_SWEEP`]-value sweep reaches the most of [`AUTO_POSES`] random poses of the arm
+    /// within the limits, counted per value — the chance that a lock at a random seed's value
+    /// reaches a random pose — (deterministic: fixed configurations), ties to the later
+    /// joint. (An elbow whose value the pose nearly fixes — the PR2's, reaching a pose over a
+    /// few mrad — loses to the shoulder pan, which reaches it over most of its range.)
     pub fn auto(kin: &Kinematics) -> Result<Self, SolveError> {
         if kin.dof() != 7 {
             return Self::new(kin);
         }
         let mut last = None;
-        let mut search = None;
         let mut closed = Vec::new();
         for j in (0..7).rev() {
             match Self::locked(kin, j) {
-                Ok(s) if s.closed_form() => closed.push(s),
-                Ok(s) => {
-                    search.get_or_insert(s);
-                }
+                Ok(s) => closed.push(s),
                 Err(e) => last = Some(e),
             }
         }
-        // The most specialised family first (its kernel is the simplest, fastest one).
-        if let Some(best) = closed.iter().map(|s| s.family).min() {
-            closed.retain(|s| s.family == best);
+        // The special closed forms before the general 6R, the most specialised family first
+        // (its kernel is the simplest, fastest one).
+        let rank = |s: &AnalyticIk| (s.method == Method::General, s.family);
+        if let Some(best) = closed.iter().map(rank).min() {
+            closed.retain(|s| rank(s) == best);
         }
         if closed.len() > 1 {
             let poses = crate::sample::configurations(kin, AUTO_POSES, 0x5eed_a17c);
@@ -143,7 +140,7 @@ impl AnalyticIk {
                 .unwrap_or(0);
             return Ok(closed.swap_remove(best));
         }
-        if let Some(s) = closed.pop().or(search) {
+        if let Some(s) = closed.pop() {
             return Ok(s);
         }
         Err(last.unwrap_or_else(|| SolveError::InvalidInput("no joint to lock".into())))

@@ -1,15 +1,15 @@
-//! Analytic IK by subproblem decomposition: every solution of a 6R pose — or of a 7R pose with
-//! one joint locked — for the families that have a closed form ([`crate::family`]), and by a
-//! 1D search for two intersecting axes 5–6 (or 1–2, read from the tip) and two parallel axes
-//! 2 ∥ 3 (or 4 ∥ 5, read from the tip). A chain of several families (two parallel and two
-//! intersecting pairs) takes the first row of the table that applies to any of them. Other
-//! placements of two intersecting or two parallel axes and the general 6R are not solved
-//! here: they get numerical IK ([`describe`] says so; the refusal names the geometry).
+//! Analytic IK: every solution of a 6R pose — or of a 7R pose with one joint locked — by
+//! subproblem decomposition for the families that have a closed form ([`crate::family`]), and
+//! by algebraic elimination for any other six revolute axes (the general 6R: two
+//! intersecting or two parallel axes anywhere, or none). A chain of several families takes the
+//! first row of the table that applies to any of them; the general 6R's row, last, applies to
+//! all. Only a 6R chain with a spherical shoulder and a spherical wrist (a self-motion, no
+//! finite solution set) and chains that are not 6R or 7R revolute are refused.
 //!
 //! Solved here (with g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on
 //! them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i)), one decomposition per file, each file's
 //! documentation saying which subproblem gives which angle, all listed in ONE table
-//! ([`table`]: family, arrangement, kernel, closed form or search, words):
+//! ([`table`]: family, arrangement, kernel, words):
 //!
 //! | decomposition | family | file |
 //! |---|---|---|
@@ -18,10 +18,9 @@
 //! | 2 ∥ 3 ∥ 4 and axes 5–6 meeting (UR-type); 2 ∥ 3 ∥ 4 only | `three_parallel_two_intersecting`, `three_parallel` | `three_parallel.rs` |
 //! | spherical wrist only (subproblem 5) | `spherical_wrist` | `wrist_only.rs` |
 //! | the wrist step of the wrist families | | `wrist.rs` |
-//! | two intersecting axes 5–6: 1D search over θ₄ | `two_intersecting` | `two_intersecting.rs`, `search.rs` |
-//! | two parallel axes 2 ∥ 3: 1D search over θ₁ | `two_parallel` | `two_parallel.rs`, `search.rs` |
+//! | any six revolute axes: Raghavan–Roth elimination, a 24 × 24 eigenproblem | every 6R family (`general_6r`, `two_intersecting`, `two_parallel`, the others' unsolved arrangements) | `general.rs` (its eigenvalues: `crate::eigen`) |
 //!
-//! A closed form has up to 8 postures (solutions modulo 2π), a search up to 16. A chain whose *reversed*
+//! A closed form has up to 8 postures (solutions modulo 2π), the general 6R up to 16. A chain whose *reversed*
 //! order is of one of these (a spherical shoulder is a spherical wrist seen from the tip) is
 //! solved as M T_d⁻¹ = e^\[−S₆\]θ₆ ⋯ e^\[−S₁\]θ₁: the lines in reverse order, directions
 //! negated. A 7R chain with joint j locked at v is the 6R chain of the other joints with the
@@ -47,31 +46,27 @@ use crate::subproblem::{
 use crate::workspace::Workspace;
 
 mod angles;
+mod general;
 mod lock;
 mod prepared;
-mod search;
 mod solutions;
 mod solver;
 mod table;
 mod three_parallel;
-mod two_intersecting;
-mod two_parallel;
 mod wrist;
 mod wrist_intersecting;
 mod wrist_only;
 mod wrist_parallel;
 
 use angles::*;
+use general::*;
 use lock::*;
 pub use lock::{AUTO_POSES, AUTO_SWEEP};
 use prepared::*;
-use search::*;
 pub use solutions::{Posture, Postures, RepresentativeKind, Representatives, Solutions};
 pub use solver::{AnalyticIk, MAX_SWEEP};
 use table::*;
 use three_parallel::*;
-use two_intersecting::*;
-use two_parallel::*;
 use wrist::*;
 use wrist_intersecting::*;
 use wrist_only::*;
@@ -82,30 +77,27 @@ type M3 = Matrix3<f64>;
 
 /// The most variables an analytic solution has (a 7R chain with one joint locked).
 pub const MAX_DOF: usize = 7;
-/// The most postures (solutions modulo 2π) of one pose for the families solved here (8 in
-/// closed form, 16 for a 1D search).
+/// The most postures (solutions modulo 2π) of one pose: 8 for the special families, 16 for
+/// the general 6R.
 pub const MAX_POSTURES: usize = 16;
-
-/// Samples of the searched angle over (−π, π] for the 1D-search family.
-const SEARCH_SAMPLES: usize = 512;
 
 /// An exact posture whose FK residual exceeds this (× max(1, L)) is polished by Newton steps.
 const POLISH: f64 = 1e-13;
 
-/// What analytic IK screwkit offers for a chain, in words: the family and, for a 6R chain of
-/// a closed-form family in an arrangement not solved here, that it falls back to numerical IK;
-/// for a 7R chain, which joints can be locked (by name).
+/// What analytic IK screwkit offers for a chain, in words: the family and how it is solved
+/// (a special family's closed form, or the general 6R's elimination); for a 7R chain, which
+/// joints can be locked (by name) and how each lock is solved.
 pub fn describe(kin: &Kinematics) -> String {
     let c = classify(kin);
     match c.family {
         Family::Redundant7R => {
-            let (mut closed, mut search) = (Vec::new(), Vec::new());
+            let (mut closed, mut general) = (Vec::new(), Vec::new());
             for j in 0..7 {
                 if let Ok(s) = AnalyticIk::locked(kin, j) {
-                    let list = if s.closed_form() {
-                        &mut closed
+                    let list = if s.method == Method::General {
+                        &mut general
                     } else {
-                        &mut search
+                        &mut closed
                     };
                     list.push(kin.names()[j].clone());
                 }
@@ -114,11 +106,14 @@ pub fn describe(kin: &Kinematics) -> String {
             if !closed.is_empty() {
                 parts.push(format!("closed form with {} locked", closed.join(", ")));
             }
-            if !search.is_empty() {
-                parts.push(format!("a 1D search with {} locked", search.join(", ")));
+            if !general.is_empty() {
+                parts.push(format!(
+                    "the general 6R (algebraic) with {} locked",
+                    general.join(", ")
+                ));
             }
             if parts.is_empty() {
-                "7R (redundant): no joint whose locking leaves a family screwkit solves: \
+                "7R (redundant): no joint whose locking leaves a 6R chain screwkit solves: \
                  numerical IK only"
                     .into()
             } else {
@@ -136,11 +131,7 @@ pub fn describe(kin: &Kinematics) -> String {
                     ""
                 }
             ),
-            Err(e) if has_row(f) => format!(
-                "{}; this arrangement is not solved by screwkit yet ({e}): {}",
-                f.describe(),
-                fallback(f)
-            ),
+            Err(e) if kin.dof() == 6 => format!("{}; {e}", f.describe()),
             Err(_) => f.describe().into(),
         },
     }

@@ -16,12 +16,23 @@ pub(super) struct Prepared {
     pub(super) meet: V3,
     /// A unit vector ⊥ k₂ (three-parallel family).
     pub(super) perp: V3,
+    /// The problem's length L (general 6R: lengths are solved in units of L).
+    pub(super) scale: f64,
+    /// The general 6R's reading: roles 1…6 are joints shift+1, … (`general::choose_shift`).
+    pub(super) shift: usize,
 }
 
 impl Prepared {
     /// From six lines in chain order and their home; reversed: solve tip to base.
     #[inline]
-    pub(super) fn new(method: Method, lines: &[AxisLine; 6], home: Se3, reversed: bool) -> Self {
+    /// `shift`: the general 6R's reading ([`choose_shift`]; ignored by the other methods).
+    pub(super) fn new(
+        method: Method,
+        lines: &[AxisLine; 6],
+        home: Se3,
+        reversed: bool,
+        shift: usize,
+    ) -> Self {
         let mut k = [V3::zeros(); 6];
         let mut r = [V3::zeros(); 6];
         for i in 0..6 {
@@ -35,8 +46,8 @@ impl Prepared {
         };
         let meet = |i: usize| closest_points(&line(i), &line(i + 1)).0;
         let center = match method {
-            Method::ThreeParallel | Method::Search56 => meet(4),
-            Method::ThreeParallelGeneral => V3::zeros(),
+            Method::ThreeParallel => meet(4),
+            Method::ThreeParallelGeneral | Method::General => V3::zeros(),
             _ => (meet(3) + meet(4)) / 2.0,
         };
         let pair = match method {
@@ -45,6 +56,7 @@ impl Prepared {
             _ => V3::zeros(),
         };
         let a = if k[1].x.abs() < 0.9 { V3::x() } else { V3::y() };
+        let scale = scale_of(&r, &home);
         Self {
             k,
             r,
@@ -52,6 +64,8 @@ impl Prepared {
             center,
             meet: pair,
             perp: (a - k[1] * k[1].dot(&a)).normalize(),
+            scale,
+            shift,
         }
     }
 }

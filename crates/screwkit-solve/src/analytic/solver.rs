@@ -20,6 +20,9 @@ pub struct AnalyticIk {
     pub(super) home: Se3,
     /// The prepared problem of an unlocked chain.
     pub(super) fixed: Option<Prepared>,
+    /// The general 6R's reading (`general::choose_shift`, chosen once per solver); 0 for
+    /// the other methods.
+    pub(super) shift: usize,
 }
 
 /// The most lock values one sweep may have ([`AnalyticIk::lock_values`]).
@@ -47,18 +50,10 @@ impl AnalyticIk {
             )));
         }
         let fail = || {
-            SolveError::InvalidInput(match c.family {
-                Family::NotAnalytic => {
-                    format!("no analytic solver for this chain: {}", c.family.describe())
-                }
-                _ => format!(
-                    "no analytic solver for this chain: its axes have {}; no decomposition \
-                     screwkit has applies (the closed forms need a spherical wrist or three \
-                     parallel axes, the 1D searches axes 5-6 or 1-2 meeting, or 2 ∥ 3 or 4 ∥ 5): \
-                     numerical IK",
-                    geometry(&c)
-                ),
-            })
+            SolveError::InvalidInput(format!(
+                "no analytic solver for this chain: {}",
+                c.family.describe()
+            ))
         };
         if c.family == Family::NotAnalytic || kin.dof() != 6 {
             return Err(fail());
@@ -72,10 +67,12 @@ impl AnalyticIk {
         }
         let (family, method, reversed) =
             method_either(&c.axes, kin.length_scale).ok_or_else(fail)?;
-        if method == Method::Search56 {
-            search_guard(&c.axes, reversed, kin.length_scale)?;
-        }
         let lines: [AxisLine; 6] = c.axes.clone().try_into().map_err(|_| fail())?;
+        let shift = if method == Method::General {
+            choose_shift(&lines, kin.home, reversed)
+        } else {
+            0
+        };
         Ok(Self {
             family,
             method,
@@ -83,16 +80,11 @@ impl AnalyticIk {
             lock: None,
             free: [0, 1, 2, 3, 4, 5],
             dof: 6,
-            fixed: Some(Prepared::new(method, &lines, kin.home, reversed)),
+            fixed: Some(Prepared::new(method, &lines, kin.home, reversed, shift)),
+            shift,
             lines: c.axes,
             home: kin.home,
         })
-    }
-
-    /// True when every solution comes in closed form; false for the sampled 1D searches
-    /// (1–3 ms per pose, roots may be missed where the error only touches zero).
-    pub fn closed_form(&self) -> bool {
-        row(self.method).closed_form
     }
 
     /// How it solves, in words (the row of the decomposition table).
@@ -125,7 +117,7 @@ impl AnalyticIk {
             Some(p) => p,
             None => {
                 let (lines, home) = self.locked_lines(lock_value);
-                prepared = Prepared::new(self.method, &lines, home, self.reversed);
+                prepared = Prepared::new(self.method, &lines, home, self.reversed, self.shift);
                 &prepared
             }
         };
@@ -359,13 +351,7 @@ impl AnalyticIk {
             })
             .collect();
         minima.sort_by(|&a, &b| scores[a].total_cmp(&scores[b]));
-        // A search kernel costs ms per value: a smaller budget.
-        let (most, steps) = if self.closed_form() {
-            (REFINED, REFINE_STEPS)
-        } else {
-            (1, 12)
-        };
-        minima.truncate(most);
+        minima.truncate(REFINED);
         let (lo, hi) = self.lock_range(kin);
         let mut found = Vec::new();
         let score = |v: f64, raw: &mut Postures| {
@@ -409,7 +395,7 @@ impl AnalyticIk {
             let mut d = a + r * (b - a);
             let mut fc = score(c, &mut rc);
             let mut fd = score(d, &mut rd);
-            for _ in 0..steps {
+            for _ in 0..REFINE_STEPS {
                 if fc == 0.0 || fd == 0.0 {
                     break;
                 }
@@ -733,25 +719,6 @@ impl AnalyticIk {
                 digit[i] = 0;
             }
         }
-    }
-}
-
-/// What a classification found, in words (1-based axes): "axes 4-5 meeting, 2 ∥ 3".
-fn geometry(c: &crate::family::Classification) -> String {
-    let mut parts: Vec<String> = Vec::new();
-    if c.wrist_center.is_some() {
-        parts.push("a spherical wrist (axes 4-6 meet)".into());
-    }
-    for &(i, _) in &c.intersecting {
-        parts.push(format!("axes {}-{} meeting", i + 1, i + 2));
-    }
-    for &i in &c.parallel {
-        parts.push(format!("axes {} ∥ {}", i + 1, i + 2));
-    }
-    if parts.is_empty() {
-        "no two consecutive axes parallel or meeting (the general 6R)".into()
-    } else {
-        parts.join(", ")
     }
 }
 

@@ -1,6 +1,7 @@
 //! THE table of decompositions: for each, the family and arrangement of axes it takes, its
-//! kernel, whether it is a closed form, and its words. [`method_of`] picks the first row that
-//! applies; `closed_form`, `auto` and `describe` read the rows instead of listing methods.
+//! kernel and its words. [`method_of`] picks the first row that applies (the general 6R, last,
+//! applies to every six revolute axes); `auto` and `describe` read the rows instead of
+//! listing methods.
 //!
 //! **Adding a decomposition**: write its kernel in a file of its own (the module
 //! documentation says which subproblem gives which angle), add a [`Method`] variant and its
@@ -24,10 +25,8 @@ pub(super) enum Method {
     Wrist,
     /// 2 ∥ 3 ∥ 4 only (subproblem 6).
     ThreeParallelGeneral,
-    /// Axes 5 and 6 meeting only: a 1D search over θ₄ (subproblem 5 inside).
-    Search56,
-    /// Axes 2 ∥ 3 only: a 1D search over θ₁ (subproblem 6 inside).
-    Search23,
+    /// Any six revolute axes: algebraic elimination (Raghavan–Roth), a 24 × 24 eigenproblem.
+    General,
 }
 
 /// The relations of six lines in the order solved, as the rows test them.
@@ -64,89 +63,68 @@ pub(super) struct Decomposition {
     pub(super) applies: fn(&Arrangement) -> bool,
     /// The kernel.
     pub(super) kernel: Kernel,
-    /// True for a closed form (every solution, µs); false for a sampled 1D search (ms, a root
-    /// where the residual only touches zero may be missed).
-    pub(super) closed_form: bool,
     /// What `screwkit info` says of it (`describe`).
     pub(super) words: &'static str,
-    /// When it does not apply (and no later row does): what the chain gets instead.
-    pub(super) fallback: &'static str,
 }
 
-/// Every decomposition, best first: closed forms before searches; within a family the more
-/// specific arrangement first.
+/// Every family of six revolute axes (the families before `Redundant7R` in [`Family::ALL`]).
+const SIX_R: &[Family] = Family::ALL.split_at(8).0;
+
+/// Every decomposition, best first: the closed forms of the special families (within a family
+/// the more specific arrangement first), then the general 6R, which applies to any six
+/// revolute axes (algebraic, every solution, tens of µs).
 pub(super) const TABLE: &[Decomposition] = &[
     Decomposition {
         method: Method::WristParallel,
         families: &[Family::SphericalWristTwoParallel],
         applies: |_| true,
         kernel: |p, g, s, e| wrist_parallel(p, g, s, &mut &mut *e),
-        closed_form: true,
         words: "closed form: subproblems 4, 3, 1, then the wrist",
-        fallback: "numerical IK",
     },
     Decomposition {
         method: Method::WristIntersecting12,
         families: &[Family::SphericalWristTwoIntersecting],
         applies: |a| a.int(0),
         kernel: |p, g, s, e| wrist_intersecting(p, g, true, s, &mut &mut *e),
-        closed_form: true,
         words: "closed form: axes 1-2 meet, subproblems 3, 2, then the wrist",
-        fallback: "the 2-3 row",
     },
     Decomposition {
         method: Method::WristIntersecting23,
         families: &[Family::SphericalWristTwoIntersecting],
         applies: |_| true,
         kernel: |p, g, s, e| wrist_intersecting(p, g, false, s, &mut &mut *e),
-        closed_form: true,
         words: "closed form: axes 2-3 meet, subproblems 3, 2, then the wrist",
-        fallback: "numerical IK",
     },
     Decomposition {
         method: Method::ThreeParallel,
         families: &[Family::ThreeParallelTwoIntersecting],
         applies: |a| a.par(1) && a.par(2) && a.int(4),
         kernel: |p, g, s, e| three_parallel(p, g, false, s, &mut &mut *e),
-        closed_form: true,
         words: "closed form: 2 ∥ 3 ∥ 4 and 5-6 meeting, subproblems 4, 4, 1, 3, 1",
-        fallback: "the three-parallel row",
     },
     Decomposition {
         method: Method::ThreeParallelGeneral,
         families: &[Family::ThreeParallelTwoIntersecting, Family::ThreeParallel],
         applies: |a| a.par(1) && a.par(2),
         kernel: |p, g, s, e| three_parallel(p, g, true, s, &mut &mut *e),
-        closed_form: true,
         words: "closed form: 2 ∥ 3 ∥ 4, subproblem 6, then the planar rest",
-        fallback: "numerical IK",
     },
     Decomposition {
         method: Method::Wrist,
         families: &[Family::SphericalWrist],
         applies: |_| true,
         kernel: |p, g, s, e| wrist_only(p, g, s, &mut &mut *e),
-        closed_form: true,
         words: "closed form: subproblem 5, then the wrist",
-        fallback: "numerical IK",
     },
     Decomposition {
-        method: Method::Search56,
-        families: &[Family::TwoIntersecting],
-        applies: |a| a.int(4),
-        kernel: |p, g, _, e| search56(p, g, &mut &mut *e),
-        closed_form: false,
-        words: "1D search over θ4 (axes 5-6 meet)",
-        fallback: "numerical IK (other placements of the intersecting pair are not solved)",
-    },
-    Decomposition {
-        method: Method::Search23,
-        families: &[Family::TwoParallel],
-        applies: |a| a.par(1),
-        kernel: |p, g, _, e| search23(p, g, &mut &mut *e),
-        closed_form: false,
-        words: "1D search over θ1 (axes 2 ∥ 3)",
-        fallback: "numerical IK (other placements of the parallel pair are not solved)",
+        method: Method::General,
+        // Every 6R family: what no closed form above takes (two intersecting or two
+        // parallel axes anywhere, three parallel axes 1 ∥ 2 ∥ 3, the general 6R).
+        families: SIX_R,
+        applies: |_| true,
+        kernel: |p, g, s, e| general(p, g, s, &mut &mut *e),
+        words: "algebraic elimination (Raghavan–Roth): a 24 × 24 eigenproblem, up to 16 \
+                solutions, each polished by Newton steps",
     },
 ];
 
@@ -159,26 +137,10 @@ pub(super) fn row(method: Method) -> &'static Decomposition {
         .expect("every method has a row")
 }
 
-/// What a chain of `family` gets when no row's arrangement holds (the last row's fallback).
-#[inline]
-pub(super) fn fallback(family: Family) -> &'static str {
-    TABLE
-        .iter()
-        .rfind(|d| d.families.contains(&family))
-        .map_or("numerical IK", |d| d.fallback)
-}
-
-/// True when some row solves `family` (in some arrangement).
-#[inline]
-pub(super) fn has_row(family: Family) -> bool {
-    TABLE.iter().any(|d| d.families.contains(&family))
-}
-
 /// The decomposition the relations of six lines (in the order given) allow, if any: the
 /// first row of [`TABLE`] (best first) for any family the lines are of whose arrangement
-/// holds, with that family (an ABB IRB 140 whose axis 6 is offset from axis 4 is of the
-/// two-intersecting family by axes 4–5, which no search takes, and of the two-parallel one by
-/// axes 2 ∥ 3, which the 2 ∥ 3 search takes).
+/// holds, with that family (the general 6R's row takes every family, so any six revolute
+/// axes get a method).
 #[inline]
 pub(super) fn method_of(lines: &[AxisLine], length: f64) -> Option<(Family, Method)> {
     let r = relations(lines, true, length);
@@ -215,5 +177,19 @@ pub(super) fn method_either(lines: &[AxisLine], length: f64) -> Option<(Family, 
         (Some((f, m)), None) => Some((f, m, false)),
         (None, Some((b, n))) => Some((b, n, true)),
         (None, None) => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_general_row_takes_every_six_r_family_and_no_other() {
+        assert_eq!(SIX_R.len(), 8);
+        assert!(SIX_R.contains(&Family::General6R));
+        assert!(SIX_R.contains(&Family::SphericalWristTwoParallel));
+        assert!(!SIX_R.contains(&Family::Redundant7R) && !SIX_R.contains(&Family::NotAnalytic));
+        assert_eq!(TABLE.last().map(|d| d.method), Some(Method::General));
     }
 }

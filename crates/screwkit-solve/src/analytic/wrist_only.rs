@@ -1,8 +1,5 @@
 //! **Spherical wrist only**: R(k₁, −θ₁)(y − r₁) + r₁ − r₂ = R₂ ((r₃ − r₂) + R₃ (p_w − r₃))
 //! is subproblem 5 (up to 4 triples), then the wrist.
-//!
-//! [`position_3r`] (the position of a 3R chain by subproblem 5) is shared with the 1D search
-//! of two intersecting axes.
 
 use super::*;
 

@@ -23,3 +23,7 @@ pub fn load(file: &str, base: Option<&str>, tip: Option<&str>) -> (Tree, Chain, 
 pub fn fk1(kin: &Kinematics, q: &[f64]) -> Result<Se3, SolveError> {
     screwkit_solve::fk::fk(kin, &mut Workspace::new(kin), q)
 }
+
+/// A serial arm from per-joint (origin xyz, origin rpy, axis), limits ±3, a tool frame.
+#[allow(unused_imports)]
+pub use screwkit_testkit::serial_arm as arm;
