@@ -450,18 +450,23 @@ pub struct IkArgs {
     /// followed without branch flips. One thread.
     #[arg(long, requires = "input")]
     pub sequential: bool,
-    /// Every solution, from the analytic solver (6R arms of a closed-form family — spherical
-    /// wrist with axes 2 ∥ 3 or two intersecting axes, UR-type — and 7R arms with one joint
-    /// locked), nearest to --seed first. With --input: one JSON line per target.
+    /// Every solution, from the analytic solver (any 6R arm of revolute joints: the special
+    /// families in closed form, the others by algebraic elimination; 7R arms with one joint
+    /// locked or at an arm angle), nearest to --seed first. With --input: one JSON line per
+    /// target.
     #[arg(long, conflicts_with_all = ["output", "sequential"])]
     pub all: bool,
     /// With --all on a 7R arm: the joint to lock, by name or by its index in q (counted from
     /// 0), and its value (JOINT=VALUE; default value: the seed's; default joint: among those
-    /// leaving the most specialised closed form, the one reaching the most poses).
+    /// leaving the most specialised closed form, the one reaching the most poses); or
+    /// arm_angle[=ψ] for an arm with a spherical shoulder and wrist (the iiwa): the solutions
+    /// at arm angle ψ (default: the seed's; ψ = 0 puts the elbow in the plane of axis 1 and
+    /// the shoulder–wrist line, on axis 1's side).
     #[arg(long, requires = "all", value_name = "JOINT[=VALUE]", value_parser = Lock::parse)]
     pub lock: Option<Lock>,
-    /// With --all on a 7R arm: solve with the locked joint at N values evenly spaced over its
-    /// limits and list the solutions of all of them.
+    /// With --all on a 7R arm: solve with the locked joint (or the arm angle) at N values
+    /// evenly spaced over its limits ((−π, π] for the arm angle) and list the solutions of
+    /// all of them.
     #[arg(long, requires = "all", value_name = "N")]
     pub sweep: Option<usize>,
     /// With --all: which 2π representatives of each posture to list (a joint with limits

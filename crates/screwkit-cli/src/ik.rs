@@ -240,6 +240,9 @@ fn all_solutions(
             sols.len(),
             sols.branches,
             match all.solver().locked_joint() {
+                None if all.solver().by_arm_angle() && values.len() == 1 => format!("; at arm angle {}", values[0]),
+                None if all.solver().by_arm_angle() => format!("; at {} arm angles from {} to {}", values.len(),
+                    values.first().copied().unwrap_or(0.0), values.last().copied().unwrap_or(0.0)),
                 Some(j) if values.len() == 1 => format!("; {} locked at {}", kin.names()[j], values[0]),
                 Some(j) => format!("; {} locked at {} values from {} to {}", kin.names()[j], values.len(),
                     values.first().copied().unwrap_or(0.0), values.last().copied().unwrap_or(0.0)),

@@ -1060,20 +1060,7 @@ fn ik_all_lists_every_solution() {
         "{first:?}"
     );
     for s in sols.iter().take(16) {
-        let qs: Vec<String> = s["q"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| format!("{:?}", x.as_f64().unwrap()))
-            .collect();
-        let reached = json(&["fk", &ur5, "--q", &qs.join(","), "--format", "json"]);
-        for i in 0..16 {
-            let (a, b) = (
-                reached["pose"][i / 4][i % 4].as_f64().unwrap(),
-                t["pose"][i / 4][i % 4].as_f64().unwrap(),
-            );
-            assert!((a - b).abs() < 1e-10);
-        }
+        assert_reaches(&ur5, &s["q"], &t["pose"]);
     }
     // A 7R arm: joint 7 locked at the seed's value by default, or swept, or another joint.
     let panda = asset("panda.urdf");
@@ -1120,6 +1107,106 @@ fn ik_all_lists_every_solution() {
         assert_eq!(o.code, 1, "{args:?}");
         assert!(o.stderr.contains(msg), "{args:?}: {}", o.stderr);
     }
+}
+
+/// `fk FILE --q q` (a separate call) gives `pose` to 1e-10.
+fn assert_reaches(file: &str, q: &Value, pose: &Value) {
+    let qs: Vec<String> = q
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| format!("{:?}", x.as_f64().unwrap()))
+        .collect();
+    let reached = json(&["fk", file, "--q", &qs.join(","), "--format", "json"]);
+    for i in 0..16 {
+        let (a, b) = (
+            reached["pose"][i / 4][i % 4].as_f64().unwrap(),
+            pose[i / 4][i % 4].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() < 1e-10, "{q}: {a} vs {b}");
+    }
+}
+
+#[test]
+fn ik_all_by_the_arm_angle() {
+    // The iiwa at the seed's arm angle: the seed's own configuration comes back first, every
+    // solution reaches the target (fk, a separate call) and the report says the angle.
+    let iiwa = asset("iiwa14.urdf");
+    let seed = "0.3,0.6,-0.4,-1.2,0.5,0.8,-0.2";
+    let t = json(&["fk", &iiwa, "--q", seed, "--format", "json"]);
+    let pose = t["pose"].to_string();
+    let input = format!("{{\"target\": {pose}, \"seed\": [{seed}]}}\n");
+    let o = run(
+        &["ik", &iiwa, "--all", "--lock", "arm_angle", "--input", "-"],
+        Some(&input),
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let v: Value = serde_json::from_str(o.stdout.lines().next().unwrap()).unwrap();
+    assert!(v["locked"].is_null());
+    let psi = v["arm_angle"]["values"][0].as_f64().unwrap();
+    assert!(psi.is_finite());
+    let sols = v["solutions"].as_array().unwrap();
+    let first: Vec<f64> = sols[0]["q"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    let want: Vec<f64> = seed.split(',').map(|x| x.parse().unwrap()).collect();
+    assert!(first.iter().zip(&want).all(|(a, b)| (a - b).abs() < 1e-7));
+    for s in sols {
+        assert_reaches(&iiwa, &s["q"], &t["pose"]);
+    }
+    // A given angle, in words; a sweep; an arm without a spherical shoulder and wrist.
+    let o = run(
+        &[
+            "ik",
+            &iiwa,
+            "--all",
+            "--lock",
+            "arm_angle=0.25",
+            "--seed",
+            seed,
+            "--target-xyz-rpy",
+            "0.4,0.2,0.6,3.1,0.2,0.1",
+        ],
+        None,
+    );
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    assert!(o.stdout.contains("; at arm angle 0.25,"), "{}", o.stdout);
+    let v = json(&[
+        "ik",
+        &iiwa,
+        "--all",
+        "--lock",
+        "arm_angle",
+        "--sweep",
+        "6",
+        "--format",
+        "json",
+        "--target-xyz-rpy",
+        "0.4,0.2,0.6,3.1,0.2,0.1",
+    ]);
+    assert!(v["arm_angle"]["values"].as_array().unwrap().len() >= 6);
+    let o = run(
+        &[
+            "ik",
+            &asset("panda.urdf"),
+            "--all",
+            "--lock",
+            "arm_angle=0.1",
+            "--target-xyz-rpy",
+            "0.4,0.2,0.6,3.1,0.2,0.1",
+        ],
+        None,
+    );
+    assert_eq!(o.code, 1);
+    assert!(
+        o.stderr.contains("no arm angle for this chain"),
+        "{}",
+        o.stderr
+    );
+    assert_eq!(o.stderr.lines().count(), 1);
 }
 
 #[test]

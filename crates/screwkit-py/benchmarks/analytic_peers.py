@@ -171,11 +171,78 @@ def compare(
     screwkit.set_num_threads(None)
 
 
+# The general 6R of `cargo bench --bench analytic` (no two consecutive axes parallel or
+# meeting): per joint (origin xyz, origin rpy), every axis z of its frame.
+GENERAL = [
+    ("0 0 0", "0 0 0"),
+    ("0.05 0.02 0.27", "1.2 0.1 0"),
+    ("0.29 0.03 0.01", "0.1 0.3 0.2"),
+    ("0.08 -0.04 0.34", "-1.1 0.2 0.1"),
+    ("0.02 0.03 0.09", "1.3 -0.2 0.3"),
+    ("0.01 0.07 0.05", "-1.2 0.1 0.2"),
+]
+
+
+def general_6r(poses: int, peer_poses: int, rounds: int) -> None:
+    """The general 6R: screwkit's algebraic elimination next to ik-geo's `gen_six_dof` (its
+    2D search: EAIK has no decomposition for it), same geometry and poses; solution sets
+    compared on `peer_poses` poses (the 2D search takes long), timed on as many."""
+    import ik_geo as _ik_geo
+
+    ik_geo: Any = _ik_geo
+    joints = "".join(
+        f'<link name="l{i + 1}"/><joint name="j{i + 1}" type="continuous"><parent link="l{i}"/>'
+        f'<child link="l{i + 1}"/><origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="0 0 1"/></joint>'
+        for i, (xyz, rpy) in enumerate(GENERAL)
+    )
+    free = screwkit.Robot.from_string(f'<robot name="g"><link name="l0"/>{joints}</robot>')
+    h, p, rm = hp(free)
+    g = ik_geo.Robot.gen_six_dof(h.tolist(), p.tolist())
+    rng = np.random.default_rng(1)
+    qs = -np.pi + 2 * np.pi * rng.random((poses, 6))
+    ts = free.fk(qs)
+    tp = ts.copy()
+    tp[:, :3, :3] = ts[:, :3, :3] @ rm.T
+    agree, more, counts = 0, 0, []
+    for k in range(peer_poses):
+        ours = free.ik_all(ts[k], seed=qs[k])
+        assert isinstance(ours, np.ndarray)
+        counts.append(len(ours))
+        r = g.get_ik(tp[k][:3, :3].T.tolist(), tp[k][:3, 3].tolist())
+        theirs = [
+            np.asarray(x) for x, _ in r if np.max(np.abs(free.fk(np.asarray(x)) - ts[k])) < 1e-8
+        ]
+        distinct: list[F64] = []
+        for x in theirs:
+            if not any(same_posture(x, d) for d in distinct):
+                distinct.append(x)
+        agree += int(all(any(same_posture(x, o) for o in ours) for x in distinct))
+        more += int(len(ours) > len(distinct))
+    print(
+        f"general 6R: screwkit postures per pose {min(counts)}-{max(counts)}; every ik-geo "
+        f"gen_six_dof solution among screwkit's on {agree}/{peer_poses} poses, screwkit found "
+        f"more on {more}"
+    )
+    screwkit.set_num_threads(1)
+    fns: dict[str, Callable[[], object]] = {
+        "screwkit ik_all, one call": lambda: [free.ik_all(t) for t in ts[:peer_poses]],
+        "screwkit ik_all, batch": lambda: free.ik_all(ts[:peer_poses]),
+        "ik-geo gen_six_dof, one call": lambda: (
+            [g.get_ik(t[:3, :3].T.tolist(), t[:3, 3].tolist()) for t in tp[:peer_poses]]
+        ),
+    }
+    for label, us in best(rounds, fns, peer_poses).items():
+        print(f"  {label:<28} {us:10.2f} us/pose")
+    screwkit.set_num_threads(None)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--poses", type=int, default=2000)
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--general-poses", type=int, default=20)
     a = ap.parse_args()
+    general_6r(a.poses, a.general_poses, a.rounds)
     assets = REPO / "assets" / "urdf"
     compare(
         "ur5",

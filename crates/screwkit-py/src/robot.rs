@@ -1500,9 +1500,21 @@ impl Robot {
         Ok(text)
     }
 
-    /// Every IK solution from the analytic solver: 6R arms of a closed-form family (spherical
-    /// wrist with axes 2 ∥ 3 or two intersecting axes, UR-type) and 7R arms with one joint
-    /// locked. `target` (4, 4) → an array (K, dof), nearest to `seed` first (default: the
+    /// The arm angle ψ (rad, in (−π, π]) of configuration `q` of a 7R arm with a spherical
+    /// shoulder (axes 1–3 meet at S) and a spherical wrist (axes 5–7 meet at W), the iiwa
+    /// type: the angle about u = (W − S)/‖W − S‖ from r, axis 1's direction made ⊥ u, to
+    /// the elbow's offset from the shoulder–wrist line (ψ = 0: the elbow in the plane of axis
+    /// 1 and the line, on axis 1's side; right-handed about u). NaN where undefined (the elbow
+    /// on the line); raises `ValueError` for another chain.
+    fn arm_angle(&self, q: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let a = f64_array(q, "q")?;
+        let r = a.readonly();
+        screwkit_service::solutions::arm_angle_of(self.kin()?, r.as_slice()?).map_err(service_error)
+    }
+
+    /// Every IK solution from the analytic solver: any 6R arm of revolute joints (the special
+    /// families in closed form, the others by algebraic elimination) and 7R arms with one
+    /// joint locked or at an arm angle. `target` (4, 4) → an array (K, dof), nearest to `seed` first (default: the
     /// midpoint of the limits); raises `ValueError` for a chain without an analytic solver
     /// (naming its family) and for a target out of reach. (N, 4, 4) → a list of N such arrays
     /// (all cores, GIL released; each row as its single call: a row out of reach or bad
@@ -1513,11 +1525,14 @@ impl Robot {
     /// random poses), `lock_value` its value (default: the seed's), or `sweep=n` solves at n
     /// values evenly spaced over its limits (the best samples that reach nothing refined
     /// between their neighbours, so that a narrow band of reaching values is not missed).
+    /// 7R arms with a spherical shoulder and wrist (the iiwa): `arm_angle=ψ` (or
+    /// `lock="arm_angle"` with `lock_value`/`sweep`, default the seed's arm angle) gives the
+    /// solutions at arm angle ψ (`Robot.arm_angle`: its definition).
     /// `representatives`: "nearest" (the default: one row per posture, each joint at its 2π
     /// representative nearest the seed), "all" (every representative inside the limits: a UR5
     /// with ±2π limits lists up to 2⁶ rows per posture), "none" (one row per posture, angles
     /// in (−π, π] where the limits allow).
-    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None, representatives = "nearest"))]
+    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None, representatives = "nearest", arm_angle = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_all<'py>(
         &self,
@@ -1528,7 +1543,14 @@ impl Robot {
         lock_value: Option<f64>,
         sweep: Option<usize>,
         representatives: &str,
+        arm_angle: Option<f64>,
     ) -> PyResult<Bound<'py, PyAny>> {
+        if arm_angle.is_some() && (lock.is_some() || lock_value.is_some()) {
+            return Err(PyValueError::new_err(
+                "arm_angle: give it alone (it stands for lock=\"arm_angle\", lock_value=ψ)",
+            ));
+        }
+        let lock_value = lock_value.or(arm_angle);
         let reps: screwkit_service::words::RepresentativesChoice =
             screwkit_service::words::parse(representatives)
                 .map_err(|e| PyValueError::new_err(format!("representatives: {e}")))?;
@@ -1544,6 +1566,9 @@ impl Robot {
         };
         self.kin()?.check_q(&seed).map_err(solve_error)?;
         let joint = match lock {
+            None if arm_angle.is_some() => {
+                Some(JointRef::Name(screwkit_service::joint::ARM_ANGLE.into()))
+            }
             None => None,
             Some(j) => Some(if let Ok(name) = j.extract::<String>() {
                 JointRef::Name(name)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -199,3 +201,97 @@ def test_ik_all_lists_postures_not_copies(ur5: screwkit.Robot) -> None:
         assert np.abs(ur5.ik_all(t, seed=q) - q).max(axis=1).min() < 1e-8
     with pytest.raises(ValueError, match="representatives"):
         ur5.ik_all(ur5.fk(qs[0]), representatives="some")  # type: ignore[arg-type]
+
+
+GENERAL_6R = """<robot name="gen6"><link name="l0"/>{joints}</robot>"""
+GENERAL_JOINTS = [
+    ("0 0 0", "0 0 0"),
+    ("0.05 0.02 0.27", "1.2 0.1 0"),
+    ("0.29 0.03 0.01", "0.1 0.3 0.2"),
+    ("0.08 -0.04 0.34", "-1.1 0.2 0.1"),
+    ("0.02 0.03 0.09", "1.3 -0.2 0.3"),
+    ("0.01 0.07 0.05", "-1.2 0.1 0.2"),
+]
+
+
+def test_ik_all_general_6r(tmp_path: Path) -> None:
+    """A 6R arm of no special geometry (no two consecutive axes parallel or meeting): every
+    solution checked by the numpy URDF oracle, the sampled configuration among them, and every
+    solution numerical IK finds from 300 random seeds is one of them (modulo 2π)."""
+    joints = "".join(
+        f'<link name="l{i + 1}"/><joint name="j{i + 1}" type="revolute"><parent link="l{i}"/>'
+        f'<child link="l{i + 1}"/><origin xyz="{xyz}" rpy="{rpy}"/><axis xyz="0 0 1"/>'
+        f'<limit lower="-3.1" upper="3.1" effort="1" velocity="1"/></joint>'
+        for i, (xyz, rpy) in enumerate(GENERAL_JOINTS)
+    )
+    path = tmp_path / "gen6.urdf"
+    path.write_text(GENERAL_6R.format(joints=joints))
+    robot = screwkit.Robot.from_urdf(path)
+    oracle = UrdfChain(str(path), robot.base, robot.tip)
+
+    def wrap(a: np.ndarray) -> np.ndarray:
+        return np.asarray((a + np.pi) % (2 * np.pi) - np.pi)
+
+    for q in configurations(robot, 10, seed=8):
+        t = robot.fk(q)
+        sols = robot.ik_all(t, seed=q)
+        assert isinstance(sols, np.ndarray) and sols.shape[1] == 6
+        np.testing.assert_allclose(sols[0], q, atol=1e-7)
+        for s in sols:
+            np.testing.assert_allclose(oracle.fk(robot.joint_names, s), t, atol=1e-10)
+    numerical = robot.ik(
+        np.repeat(t[None], 300, axis=0), seed=configurations(robot, 300, seed=2), max_restarts=0
+    )
+    assert isinstance(numerical, screwkit.IkBatchResult)
+    found = numerical.q[numerical.converged]
+    assert len(found) > 0
+    for x in found:
+        assert np.min(np.max(np.abs(wrap(sols - x)), axis=1)) < 1e-6, x
+
+
+def test_ik_all_by_arm_angle() -> None:
+    """The iiwa by its arm angle: Robot.arm_angle equals the definition computed here from
+    the oracle's link poses; every solution at ψ reaches the target (oracle), has arm angle ψ,
+    and the sampled configuration comes first; lock="arm_angle" sweeps; misuse raises."""
+    from conftest import ASSETS
+
+    iiwa = screwkit.Robot.from_urdf(ASSETS / "iiwa14.urdf")
+    oracle = UrdfChain(str(ASSETS / "iiwa14.urdf"), iiwa.base, iiwa.tip)
+    s = np.array([0.0, 0.0, 0.36])
+    home = oracle.poses(iiwa.joint_names, np.zeros(7))
+    elbow, wrist = np.array([0.0, 0.0, 0.78]), np.array([0.0, 0.0, 1.18])
+
+    def by_links(q: np.ndarray) -> float:
+        now = oracle.poses(iiwa.joint_names, q)
+
+        def carry(i: int, x: np.ndarray) -> np.ndarray:
+            return np.asarray((now[i] @ np.linalg.inv(home[i]) @ np.append(x, 1.0))[:3])
+
+        e, w = carry(4, elbow), carry(5, wrist)
+        u = (w - s) / np.linalg.norm(w - s)
+        r = np.array([0.0, 0.0, 1.0]) - u[2] * u
+        r /= np.linalg.norm(r)
+        off = (e - s) - np.dot(e - s, u) * u
+        return float(np.arctan2(np.dot(u, np.cross(r, off)), np.dot(r, off)))
+
+    for q in configurations(iiwa, 20, seed=12):
+        psi = iiwa.arm_angle(q)
+        assert abs(psi - by_links(q)) < 1e-9
+        t = iiwa.fk(q)
+        sols = iiwa.ik_all(t, seed=q, arm_angle=psi)
+        assert isinstance(sols, np.ndarray)
+        np.testing.assert_allclose(sols[0], q, atol=1e-7)
+        for x in sols:
+            np.testing.assert_allclose(oracle.fk(iiwa.joint_names, x), t, atol=1e-10)
+            assert abs(np.angle(np.exp(1j * (by_links(x) - psi)))) < 1e-7
+    swept = iiwa.ik_all(t, lock="arm_angle", sweep=8)
+    assert isinstance(swept, np.ndarray) and len(swept) > 0
+    for x in swept:
+        np.testing.assert_allclose(oracle.fk(iiwa.joint_names, x), t, atol=1e-10)
+    with pytest.raises(ValueError, match="give it alone"):
+        iiwa.ik_all(t, arm_angle=0.1, lock=2)
+    panda = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
+    with pytest.raises(ValueError, match="no arm angle"):
+        panda.arm_angle(np.zeros(7))
+    with pytest.raises(ValueError, match="no arm angle"):
+        panda.ik_all(panda.fk(np.zeros(7)), arm_angle=0.0)

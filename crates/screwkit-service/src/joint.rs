@@ -56,6 +56,18 @@ impl JointRef {
     }
 }
 
+/// The lock word for a 7R arm's arm angle instead of a joint (`--lock arm_angle[=ψ]`,
+/// Python's `lock="arm_angle"` or `arm_angle=ψ`): a joint of that name, if the chain has one,
+/// wins.
+pub const ARM_ANGLE: &str = "arm_angle";
+
+impl JointRef {
+    /// True when this names the arm angle ([`ARM_ANGLE`]) and no joint of `kin` has that name.
+    pub fn is_arm_angle(&self, kin: &Kinematics) -> bool {
+        matches!(self, JointRef::Name(n) if n == ARM_ANGLE && !kin.names().iter().any(|x| x == n))
+    }
+}
+
 /// A locked joint and, optionally, its value: `JOINT[=VALUE]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lock {

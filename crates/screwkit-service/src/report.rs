@@ -67,6 +67,15 @@ pub struct LockedReport {
     pub values: Vec<f64>,
 }
 
+/// The arm angles a 7R arm was solved at (`"arm_angle": {"values": [...]}`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ArmAngleReport {
+    /// The arm angles ψ (rad): the one asked for, a sweep's samples then the values its
+    /// refinement added, or the seed's.
+    #[serde(serialize_with = "numbers")]
+    pub values: Vec<f64>,
+}
+
 /// One analytic solution.
 #[derive(Debug, Clone, Serialize)]
 pub struct SolutionReport {
@@ -89,6 +98,9 @@ pub struct AllSolutionsReport {
     pub reversed: bool,
     /// The locked joint of a 7R arm.
     pub locked: Option<LockedReport>,
+    /// The arm angles solved at (a 7R arm by its arm angle; omitted otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub arm_angle: Option<ArmAngleReport>,
     /// True when every solution is exact (the target is reached).
     pub exact: bool,
     /// True when a free angle was chosen (a singular target).

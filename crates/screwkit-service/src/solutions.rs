@@ -9,7 +9,7 @@ use screwkit_solve::{Kinematics, SolveError, Workspace};
 
 use crate::error::Result;
 use crate::joint::{JointRef, Lock};
-use crate::report::{AllSolutionsReport, LockedReport, SolutionReport};
+use crate::report::{AllSolutionsReport, ArmAngleReport, LockedReport, SolutionReport};
 use crate::words::RepresentativesChoice;
 
 /// The analytic solver with its lock options.
@@ -36,8 +36,10 @@ impl AllSolutions {
     }
 
     /// The solver with `joint` locked (None: the default solver, which for a 7R arm locks a
-    /// joint of its own choice) at `value` (None: the seed's per target) or swept over `sweep`
-    /// values; `auto`, a prepared [`AnalyticIk::auto`], is reused when it fits.
+    /// joint of its own choice; [`crate::joint::ARM_ANGLE`]: a 7R arm with a spherical
+    /// shoulder and wrist by its arm angle, [`AnalyticIk::arm_angle`]) at `value` (None: the
+    /// seed's per target) or swept over `sweep` values; `auto`, a prepared
+    /// [`AnalyticIk::auto`], is reused when it fits.
     pub fn with_default(
         kin: &Kinematics,
         joint: Option<&JointRef>,
@@ -50,6 +52,7 @@ impl AllSolutions {
                 Some(a) => a.clone(),
                 None => AnalyticIk::auto(kin)?,
             },
+            Some(joint) if joint.is_arm_angle(kin) => AnalyticIk::arm_angle(kin)?,
             Some(joint) => {
                 let j = joint.resolve(kin, "lock")?;
                 match auto {
@@ -127,6 +130,9 @@ impl AllSolutions {
                 index: j,
                 values: values.to_vec(),
             }),
+            arm_angle: self.solver.by_arm_angle().then(|| ArmAngleReport {
+                values: values.to_vec(),
+            }),
             exact: sols.is_exact(),
             singular: sols.singular,
             postures: sols.branches,
@@ -139,4 +145,13 @@ impl AllSolutions {
                 .collect(),
         }
     }
+}
+
+/// The arm angle ψ of configuration `q` of a 7R arm with a spherical shoulder and wrist
+/// ([`AnalyticIk::arm_angle_of`]: the definition and its reference plane); NaN where it is
+/// undefined; an error for another chain or a bad `q`.
+pub fn arm_angle_of(kin: &Kinematics, q: &[f64]) -> Result<f64> {
+    kin.check_q(q)?;
+    let solver = AnalyticIk::arm_angle(kin)?;
+    Ok(solver.arm_angle_of(q).unwrap_or(f64::NAN))
 }

@@ -1,6 +1,7 @@
 //! All IK solutions of a pose with the analytic solver, per pose, next to one numerical (LM)
 //! solve of the same poses in the same run: the UR5 and the Panda with joint 7 locked
-//! (bundled) and, when ../shared/xacro is beside the clone, a KUKA KR 16 (spherical wrist).
+//! (bundled), a general 6R (no special geometry: the algebraic elimination), the iiwa by its
+//! arm angle and, when ../shared/xacro is beside the clone, a KUKA KR 16 (spherical wrist).
 //! Three figures per arm: `postures` (the kernel: every posture, exact or least squares, as
 //! IK-Geo and EAIK return them), `solve` (postures deduplicated, each checked by FK, every 2π
 //! shift within the limits listed) and one LM solve. Interleaved rounds, minimum kept.
@@ -20,7 +21,11 @@ fn bench(name: &str, kin: &Kinematics, solver: &AnalyticIk) {
     let cases: Vec<_> = (0..2000)
         .map(|_| {
             let q = rng.config(kin);
-            (fk(kin, &mut ws, &q).unwrap(), lock.map_or(0.0, |j| q[j]))
+            let value = match lock {
+                Some(j) => q[j],
+                None => solver.arm_angle_of(&q).unwrap_or(0.0),
+            };
+            (fk(kin, &mut ws, &q).unwrap(), value)
         })
         .collect();
     let (mut best_p, mut best_s, mut best_lm) = (f64::INFINITY, f64::INFINITY, f64::INFINITY);
@@ -153,6 +158,13 @@ fn main() {
         &AnalyticIk::locked(&panda, 6).unwrap(),
     );
     seven_r_strategies(&panda, &AnalyticIk::locked(&panda, 6).unwrap());
+    // The iiwa by its arm angle (each pose at its own configuration's ψ).
+    let iiwa = load("iiwa14.urdf");
+    bench(
+        "iiwa, arm angle",
+        &iiwa,
+        &AnalyticIk::arm_angle(&iiwa).unwrap(),
+    );
     // Joint 5 locked: a spherical wrist only, by subproblem 5 (a quartic).
     bench(
         "panda, j5 lock",

@@ -430,8 +430,11 @@ class Robot:
         lock_value: float | None = None,
         sweep: int | None = None,
         representatives: _Representatives = "nearest",
+        arm_angle: float | None = None,
     ) -> _F64 | list[_F64]:
         """One target (4, 4) -> its solutions (K, dof); N targets (N, 4, 4) -> a list of N."""
+    def arm_angle(self, q: _ArrayLike) -> float:
+        """The arm angle (rad) of q for a 7R arm with a spherical shoulder and wrist."""
     def ik(
         self,
         target: _ArrayLike,

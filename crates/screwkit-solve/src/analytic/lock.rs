@@ -45,6 +45,7 @@ impl AnalyticIk {
             home: kin.home,
             fixed: None,
             shift: 0,
+            arm: None,
         };
         for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
             solver.free[slot] = j;

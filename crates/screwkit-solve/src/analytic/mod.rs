@@ -18,6 +18,7 @@
 //! | 2 ∥ 3 ∥ 4 and axes 5–6 meeting (UR-type); 2 ∥ 3 ∥ 4 only | `three_parallel_two_intersecting`, `three_parallel` | `three_parallel.rs` |
 //! | spherical wrist only (subproblem 5) | `spherical_wrist` | `wrist_only.rs` |
 //! | the wrist step of the wrist families | | `wrist.rs` |
+//! | a 7R arm with a spherical shoulder and wrist (iiwa) at a given arm angle ψ (not a row: [`AnalyticIk::arm_angle`]) | `redundant_7r` | `arm_angle.rs` |
 //! | any six revolute axes: Raghavan–Roth elimination, a 24 × 24 eigenproblem | every 6R family (`general_6r`, `two_intersecting`, `two_parallel`, the others' unsolved arrangements) | `general.rs` (its eigenvalues: `crate::eigen`) |
 //!
 //! A closed form has up to 8 postures (solutions modulo 2π), the general 6R up to 16. A chain whose *reversed*
@@ -46,6 +47,7 @@ use crate::subproblem::{
 use crate::workspace::Workspace;
 
 mod angles;
+mod arm_angle;
 mod general;
 mod lock;
 mod prepared;
@@ -59,6 +61,8 @@ mod wrist_only;
 mod wrist_parallel;
 
 use angles::*;
+pub use arm_angle::SNAP as ARM_ANGLE_SNAP;
+use arm_angle::*;
 use general::*;
 use lock::*;
 pub use lock::{AUTO_POSES, AUTO_SWEEP};

@@ -23,7 +23,13 @@ pub struct AnalyticIk {
     /// The general 6R's reading (`general::choose_shift`, chosen once per solver); 0 for
     /// the other methods.
     pub(super) shift: usize,
+    /// A 7R arm solved by its arm angle (the "lock value" is ψ; [`AnalyticIk::arm_angle`]).
+    pub(super) arm: Option<ArmAngle>,
 }
+
+/// What the arm-angle solver says of itself.
+const ARM_WORDS: &str = "closed form at an arm angle ψ (spherical shoulder and wrist): \
+                         subproblem 3, then the shoulder and the wrist, up to 8 solutions per ψ";
 
 /// The most lock values one sweep may have ([`AnalyticIk::lock_values`]).
 pub const MAX_SWEEP: usize = 100_000;
@@ -82,13 +88,67 @@ impl AnalyticIk {
             dof: 6,
             fixed: Some(Prepared::new(method, &lines, kin.home, reversed, shift)),
             shift,
+            arm: None,
             lines: c.axes,
             home: kin.home,
         })
     }
 
+    /// The solver of a 7R arm with a spherical shoulder (axes 1–3 meet) and a spherical
+    /// wrist (axes 5–7 meet) — the iiwa type — at a given *arm angle* ψ (module `arm_angle`:
+    /// the definition of ψ and its reference plane), which takes the place of the lock value
+    /// in every call ([`AnalyticIk::solve`], sweeps over (−π, π], batches; by default the
+    /// seed's arm angle). Axes that meet within [`ARM_ANGLE_SNAP`] × L count as meeting: the
+    /// postures of the snapped geometry are polished on the real chain. An error naming what
+    /// is missing otherwise.
+    pub fn arm_angle(kin: &Kinematics) -> Result<Self, SolveError> {
+        let c = classify(kin);
+        let all_revolute = kin.space.iter().all(|j| !j.prismatic) && kin.identity_map;
+        let arm = (kin.dof() == 7 && all_revolute)
+            .then(|| ArmAngle::new(&c.axes, kin.home, kin.length_scale))
+            .flatten()
+            .ok_or_else(|| {
+                SolveError::InvalidInput(format!(
+                    "no arm angle for this chain: it needs 7 revolute joints whose axes 1-3 \
+                     and 5-7 each meet in a point (a spherical shoulder and wrist, within \
+                     {ARM_ANGLE_SNAP:e} L) and an elbow axis through neither; this one is: {}",
+                    c.family.describe()
+                ))
+            })?;
+        Ok(Self {
+            family: c.family,
+            method: Method::ArmAngle,
+            reversed: false,
+            lock: None,
+            // Polishing holds joint 3 (the elbow's axis 4 must stay free).
+            free: [0, 1, 3, 4, 5, 6],
+            dof: 7,
+            fixed: None,
+            shift: 0,
+            arm: Some(arm),
+            lines: c.axes,
+            home: kin.home,
+        })
+    }
+
+    /// True for a solver by the arm angle ([`AnalyticIk::arm_angle`]).
+    pub fn by_arm_angle(&self) -> bool {
+        self.arm.is_some()
+    }
+
+    /// The arm angle ψ of configuration `q` (module `arm_angle`), in (−π, π]: None for a
+    /// solver not by the arm angle; NaN where ψ is undefined (the wrist centre at the
+    /// shoulder, the elbow on the shoulder–wrist line).
+    pub fn arm_angle_of(&self, q: &[f64]) -> Option<f64> {
+        let a = self.arm.as_ref()?;
+        (q.len() == 7).then(|| a.angle_of(q))
+    }
+
     /// How it solves, in words (the row of the decomposition table).
     pub fn words(&self) -> &'static str {
+        if self.arm.is_some() {
+            return ARM_WORDS;
+        }
         row(self.method).words
     }
 
@@ -112,6 +172,20 @@ impl AnalyticIk {
     /// locked joint's value (ignored without a lock). The target must be finite (checked by
     /// [`AnalyticIk::solve`]).
     pub fn postures(&self, target: &Se3, lock_value: f64, out: &mut Postures) {
+        if let Some(a) = &self.arm {
+            out.len = 0;
+            out.dof = 7;
+            let mut singular = false;
+            a.postures(target, lock_value, &mut singular, &mut |t, exact| {
+                let mut q = [0.0; MAX_DOF];
+                for (x, v) in q.iter_mut().zip(t) {
+                    *x = wrap(v);
+                }
+                out.push(q, exact);
+            });
+            out.singular = singular;
+            return;
+        }
         let prepared;
         let p = match &self.fixed {
             Some(p) => p,
@@ -204,6 +278,13 @@ impl AnalyticIk {
         if !target.is_finite() {
             return Err(SolveError::BadTarget(crate::BadTarget::NonFinite));
         }
+        if self.arm.is_some() {
+            if let Some(v) = lock_values.iter().find(|v| !v.is_finite()) {
+                return Err(SolveError::InvalidInput(format!(
+                    "arm angle {v} is not a finite number"
+                )));
+            }
+        }
         if let Some(l) = self.lock {
             let (lo, hi) = (kin.lower[l.joint], kin.upper[l.joint]);
             if let Some(v) = lock_values.iter().find(|&&v| !(v >= lo && v <= hi)) {
@@ -234,7 +315,7 @@ impl AnalyticIk {
             })
             .collect();
         let mut refined = Vec::new();
-        if self.lock.is_some() {
+        if self.lock.is_some() || self.arm.is_some() {
             refined = self.refine(kin, target, lock_values, &mut raws);
         }
         // Exact postures are preferred over least-squares ones across all the values.
@@ -422,22 +503,32 @@ impl AnalyticIk {
         found
     }
 
-    /// The locked joint's range as [`AnalyticIk::sweep`] covers it.
-    fn lock_range(&self, kin: &Kinematics) -> (f64, f64) {
-        let Some(l) = self.lock else {
-            return (0.0, 0.0);
-        };
-        let (lo, hi) = (kin.lower[l.joint], kin.upper[l.joint]);
-        if lo.is_finite() && hi.is_finite() {
-            (lo, hi)
-        } else {
-            (-std::f64::consts::PI, std::f64::consts::PI)
+    /// The locked joint's range as [`AnalyticIk::sweep`] covers it, and whether its ends are
+    /// one angle (a continuous joint; the arm angle's (−π, π]); None without a lock.
+    fn lock_span(&self, kin: &Kinematics) -> Option<(f64, f64, bool)> {
+        use std::f64::consts::PI;
+        if self.arm.is_some() {
+            return Some((-PI, PI, true));
         }
+        let l = self.lock?;
+        let (lo, hi) = (kin.lower[l.joint], kin.upper[l.joint]);
+        Some(if lo.is_finite() && hi.is_finite() {
+            (lo, hi, false)
+        } else {
+            (-PI, PI, true)
+        })
     }
 
-    /// The values of the locked joint a caller means: `sweep` values evenly spaced over its
-    /// limits ([`AnalyticIk::sweep`]), or `value`, or else the seed's value of that joint; \[0\]
-    /// without a lock (where a value or a sweep is an error, as are both at once).
+    /// The locked joint's range as [`AnalyticIk::sweep`] covers it.
+    fn lock_range(&self, kin: &Kinematics) -> (f64, f64) {
+        self.lock_span(kin)
+            .map_or((0.0, 0.0), |(lo, hi, _)| (lo, hi))
+    }
+
+    /// The values of the locked joint (or arm angle) a caller means: `sweep` values evenly
+    /// spaced over its limits ([`AnalyticIk::sweep`]), or `value`, or else the seed's value of
+    /// that joint (the seed's arm angle); \[0\] without a lock (where a value or a sweep is an
+    /// error, as are both at once).
     pub fn lock_values(
         &self,
         kin: &Kinematics,
@@ -445,14 +536,16 @@ impl AnalyticIk {
         value: Option<f64>,
         sweep: Option<usize>,
     ) -> Result<Vec<f64>, SolveError> {
-        let Some(l) = self.lock else {
+        if self.lock_span(kin).is_none() {
             if value.is_some() || sweep.is_some() {
                 return Err(SolveError::InvalidInput(
-                    "a lock value or a sweep is for a 7R chain with a locked joint".into(),
+                    "a lock value or a sweep is for a 7R chain with a locked joint or an arm \
+                     angle"
+                        .into(),
                 ));
             }
             return Ok(vec![0.0]);
-        };
+        }
         match (value, sweep) {
             (Some(_), Some(_)) => Err(SolveError::InvalidInput(
                 "a lock value and a sweep exclude each other".into(),
@@ -467,19 +560,25 @@ impl AnalyticIk {
             (Some(v), None) => Ok(vec![v]),
             (None, None) => {
                 kin.check_q(seed)?;
-                Ok(vec![seed[l.joint]])
+                match (&self.arm, self.lock) {
+                    (Some(a), _) => {
+                        let psi = a.angle_of(seed);
+                        // Undefined at the seed (elbow on the shoulder–wrist line): 0.
+                        Ok(vec![if psi.is_finite() { psi } else { 0.0 }])
+                    }
+                    (None, Some(l)) => Ok(vec![seed[l.joint]]),
+                    (None, None) => Ok(vec![0.0]),
+                }
             }
         }
     }
 
-    /// `count` values of the locked joint evenly spaced over its limits, ends included
-    /// ([−π, π) for a continuous joint); empty without a lock.
+    /// `count` values of the locked joint (or the arm angle) evenly spaced over its limits,
+    /// ends included ([−π, π) for a continuous joint and the arm angle); empty without a lock.
     pub fn sweep(&self, kin: &Kinematics, count: usize) -> Vec<f64> {
-        let Some(l) = self.lock else {
+        let Some((lo, hi, continuous)) = self.lock_span(kin) else {
             return Vec::new();
         };
-        let continuous = !(kin.lower[l.joint].is_finite() && kin.upper[l.joint].is_finite());
-        let (lo, hi) = self.lock_range(kin);
         match count {
             0 => Vec::new(),
             1 => vec![0.5 * (lo + hi)],

@@ -27,6 +27,9 @@ pub(super) enum Method {
     ThreeParallelGeneral,
     /// Any six revolute axes: algebraic elimination (Raghavan–Roth), a 24 × 24 eigenproblem.
     General,
+    /// A 7R arm with a spherical shoulder and wrist at an arm angle (`arm_angle.rs`; not a
+    /// row of the table: [`AnalyticIk::arm_angle`] builds it).
+    ArmAngle,
 }
 
 /// The relations of six lines in the order solved, as the rows test them.
@@ -128,7 +131,8 @@ pub(super) const TABLE: &[Decomposition] = &[
     },
 ];
 
-/// The row of `method`.
+/// The row of `method` (every method but [`Method::ArmAngle`], which the solver handles
+/// itself).
 #[inline]
 pub(super) fn row(method: Method) -> &'static Decomposition {
     TABLE

@@ -10,9 +10,20 @@ pub(super) fn wrist(
     p: &Prepared,
     rw: &M3,
     singular: &mut bool,
+    emit: impl FnMut(f64, f64, f64, bool),
+) {
+    three_axes([&p.k[3], &p.k[4], &p.k[5]], rw, singular, emit);
+}
+
+/// Three rotations about unit axes k₄, k₅, k₆ (through one point) making `rw`: (θ₄, θ₅, θ₆)
+/// with R(k₄, θ₄) R(k₅, θ₅) R(k₆, θ₆) = `rw` (the wrist; a spherical shoulder too), up to 2.
+#[inline]
+pub(super) fn three_axes(
+    [k4, k5, k6]: [&V3; 3],
+    rw: &M3,
+    singular: &mut bool,
     mut emit: impl FnMut(f64, f64, f64, bool),
 ) {
-    let (k4, k5, k6) = (&p.k[3], &p.k[4], &p.k[5]);
     let rwk6 = rw * k6;
     let rwtk4 = rw.transpose() * k4;
     let five = sp4_unit(k4, k6, k5, &rwk6).unwrap_or_else(|| sp4(k4, k6, k5, k4.dot(&rwk6)));
