@@ -232,7 +232,7 @@ fn sigma_conditioning(p: &Prepared, g: &Se3) -> f64 {
         Some((_, h)) => {
             let m = sigma(&h);
             let (s, c) = 1f64.sin_cos();
-            pivot_ratio(&(m[0] + m[1] * c + m[2] * s))
+            pivot_ratio(&(m[0] + m[1] * c + m[2] * s).lu())
         }
         None => 0.0,
     }
@@ -550,9 +550,8 @@ fn quadratic(m: &[M12; 3], delta: f64) -> [M12; 3] {
     [m[0] - mc, ms * 2.0, m[0] + mc]
 }
 
-/// How well conditioned a 12 × 12 matrix is, by its LU pivots: min |u_ii| / max |u_ii|.
-fn pivot_ratio(a: &M12) -> f64 {
-    let lu = a.lu();
+/// How well conditioned a 12 × 12 matrix is, by the pivots of its LU: min |u_ii| / max |u_ii|.
+fn pivot_ratio(lu: &nalgebra::LU<f64, nalgebra::U12, nalgebra::U12>) -> f64 {
     let u = lu.u();
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for i in 0..12 {
@@ -574,23 +573,24 @@ const OFFSETS: [f64; 6] = [0.7, 2.3, 4.1, 5.5, 1.6, 3.3];
 /// companion eigenproblem (module documentation). None when no offset gives an invertible
 /// A or the Schur iteration does not converge.
 fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool), 24>> {
-    let mut best = (0.0, 0.0);
+    // The first offset whose A is well conditioned (else the best), its LU kept.
+    let mut best: Option<(f64, f64, nalgebra::LU<f64, nalgebra::U12, nalgebra::U12>)> = None;
     for &delta in &OFFSETS {
-        let a = quadratic(m, delta)[0];
-        let ratio = pivot_ratio(&a);
-        if ratio > best.0 {
-            best = (ratio, delta);
+        let lu = quadratic(m, delta)[0].lu();
+        let ratio = pivot_ratio(&lu);
+        let better = best.as_ref().is_none_or(|b| ratio > b.0);
+        if better {
+            best = Some((ratio, delta, lu));
         }
         if ratio > 1e-3 {
             break;
         }
     }
-    let delta = best.1;
-    if best.0 < 1e-14 {
+    let (ratio, delta, lu) = best?;
+    if ratio < 1e-14 {
         return None;
     }
-    let [a, b, c] = quadratic(m, delta);
-    let lu = a.lu();
+    let [_, b, c] = quadratic(m, delta);
     let x = lu.solve(&c)?;
     let y = lu.solve(&b)?;
     let mut companion = [[0.0; 24]; 24];
@@ -639,27 +639,27 @@ fn back_substitute(el: &Eliminated, m: &[M12; 3], x: f64, delta: f64) -> Few<[f6
 /// The six angles from θ₃ and a null vector `n` of Σ(θ₃) (n\[3 i + j\] ∝ x₄ⁱ x₅ʲ).
 fn angles_of(el: &Eliminated, t3: f64, n: &[f64; 12]) -> Option<[f64; 6]> {
     // Each tangent as the ratio of the largest neighbouring pair.
-    let mut best4 = (-1.0, 0.0);
+    let mut best4 = (-1.0, 0.0, 0.0);
     for i in 0..3 {
         for j in 0..3 {
             let (lo, hi) = (n[3 * i + j], n[3 * (i + 1) + j]);
             let size = lo * lo + hi * hi;
             if size > best4.0 {
-                best4 = (size, 2.0 * hi.atan2(lo));
+                best4 = (size, hi, lo);
             }
         }
     }
-    let mut best5 = (-1.0, 0.0);
+    let mut best5 = (-1.0, 0.0, 0.0);
     for i in 0..4 {
         for j in 0..2 {
             let (lo, hi) = (n[3 * i + j], n[3 * i + j + 1]);
             let size = lo * lo + hi * hi;
             if size > best5.0 {
-                best5 = (size, 2.0 * hi.atan2(lo));
+                best5 = (size, hi, lo);
             }
         }
     }
-    let (t4, t5) = (best4.1, best5.1);
+    let (t4, t5) = (2.0 * best4.1.atan2(best4.2), 2.0 * best5.1.atan2(best5.2));
     let (t1, t2) = el.first_two(el.left([t3, t4, t5]));
     // R₆ = (R₁ K₁ R₂ K₂ R₃ K₃ R₄ K₄ R₅ K₅)⁻¹ K₆⁻¹: its angle about z.
     let mut chain = Rigid {
