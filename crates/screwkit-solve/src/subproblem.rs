@@ -471,9 +471,11 @@ pub fn sp5(
     let gg3 = g3.0 * g3.0 + g3.1 * g3.1;
     let tol = 1e-12 * scale * scale;
     let mut accept = |x1: (f64, f64), x3: (f64, f64)| {
+        // A loose first test (two close roots of the quartic carry √ε errors into their
+        // points: a stretched elbow), then Newton steps and a tight one on the equation.
         let (v1, v3) = (one.at(x1), three.at(x3));
-        if (v1.norm_squared() - v3.norm_squared()).abs() > 1e-7 * scale * scale
-            || (k2.dot(&v1) - k2.dot(&v3)).abs() > 1e-7 * scale
+        if (v1.norm_squared() - v3.norm_squared()).abs() > 1e-5 * scale * scale
+            || (k2.dot(&v1) - k2.dot(&v3)).abs() > 1e-5 * scale
         {
             return;
         }
@@ -488,6 +490,10 @@ pub fn sp5(
             k3,
             (x1.1.atan2(x1.0), t2, x3.1.atan2(x3.0)),
         );
+        let residual = p0 + rotate(k1, t.0, p1) - rotate(k2, t.1, &(p2 + rotate(k3, t.2, p3)));
+        if residual.norm() > 1e-7 * scale {
+            return;
+        }
         let near = |a: &(f64, f64, f64)| {
             wrap(a.0 - t.0).abs() < 1e-9
                 && wrap(a.1 - t.1).abs() < 1e-9

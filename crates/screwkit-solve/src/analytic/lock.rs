@@ -46,6 +46,7 @@ impl AnalyticIk {
             fixed: None,
             shift: 0,
             arm: None,
+            fallback_shift: 0,
         };
         for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
             solver.free[slot] = j;
@@ -76,9 +77,11 @@ impl AnalyticIk {
                 )))
             }
         };
+        let (_, home) = solver.locked_lines(0.7);
         if method == Method::General {
-            let (_, home) = solver.locked_lines(0.7);
             solver.shift = choose_shift(&a, home, reversed);
+        } else {
+            solver.fallback_shift = choose_shift(&a, home, false);
         }
         solver.method = method;
         solver.reversed = reversed;

@@ -25,6 +25,9 @@ pub struct AnalyticIk {
     pub(super) shift: usize,
     /// A 7R arm solved by its arm angle (the "lock value" is ψ; [`AnalyticIk::arm_angle`]).
     pub(super) arm: Option<ArmAngle>,
+    /// A locked chain's general-6R reading (forward), for lock values where its closed form
+    /// finds nothing ([`AnalyticIk::postures`]).
+    pub(super) fallback_shift: usize,
 }
 
 /// What the arm-angle solver says of itself.
@@ -89,6 +92,7 @@ impl AnalyticIk {
             fixed: Some(Prepared::new(method, &lines, kin.home, reversed, shift)),
             shift,
             arm: None,
+            fallback_shift: 0,
             lines: c.axes,
             home: kin.home,
         })
@@ -126,6 +130,7 @@ impl AnalyticIk {
             fixed: None,
             shift: 0,
             arm: Some(arm),
+            fallback_shift: 0,
             lines: c.axes,
             home: kin.home,
         })
@@ -195,7 +200,44 @@ impl AnalyticIk {
                 &prepared
             }
         };
-        let g = if self.reversed {
+        self.run(self.method, self.reversed, p, target, lock_value, out);
+        // A closed form on a locked chain can lose every posture at lock values where two of
+        // the six lines come close to a relation they do not have elsewhere (TALOS's shoulder
+        // axes 1 and 3 nearly parallel with joint 2 near its limit, where subproblem 5 degenerates):
+        // then the general 6R, which needs no relation, solves the chain at that value.
+        if self.lock.is_some()
+            && self.method != Method::General
+            && !out.as_slice().iter().any(|q| q.exact)
+        {
+            let (lines, home) = self.locked_lines(lock_value);
+            let general = Prepared::new(Method::General, &lines, home, false, self.fallback_shift);
+            let mut alt = Postures::default();
+            self.run(
+                Method::General,
+                false,
+                &general,
+                target,
+                lock_value,
+                &mut alt,
+            );
+            if alt.as_slice().iter().any(|q| q.exact) {
+                *out = alt;
+            }
+        }
+    }
+
+    /// The kernel of `method` on the prepared problem `p` (read tip to base when `reversed`)
+    /// into `out`, the postures mapped to the chain's variables.
+    fn run(
+        &self,
+        method: Method,
+        reversed: bool,
+        p: &Prepared,
+        target: &Se3,
+        lock_value: f64,
+        out: &mut Postures,
+    ) {
+        let g = if reversed {
             p.home.compose(&target.inverse())
         } else {
             target.compose(&p.home.inverse())
@@ -207,14 +249,14 @@ impl AnalyticIk {
         let mut emit = |t: [f64; 6], exact: bool| {
             let mut q = [0.0; MAX_DOF];
             for (slot, &j) in self.free.iter().enumerate() {
-                q[j] = wrap(if self.reversed { t[5 - slot] } else { t[slot] });
+                q[j] = wrap(if reversed { t[5 - slot] } else { t[slot] });
             }
             if let Some(l) = self.lock {
                 q[l.joint] = lock_value;
             }
             out.push(q, exact);
         };
-        (row(self.method).kernel)(p, &g, &mut singular, &mut emit);
+        (row(method).kernel)(p, &g, &mut singular, &mut emit);
         out.singular = singular;
     }
 
