@@ -164,6 +164,11 @@ fn numerical_ik_from_2000_seeds_finds_no_other_solution() {
         "numerical IK found {} distinct solutions, the analytic solver {}",
         found.0, found.1
     );
+    // The IRB 140-type arm with its wrist 2 cm off (2 ∥ 3, 4-5 meeting: no closed form).
+    let kin = arm(&irb140_offset());
+    let target = fk1(&kin, &Sampler::new(6).config(&kin)).unwrap();
+    let (numerical, analytic) = numerical_finds_nothing_else(&kin, "IRB 140 offset", &target, 2000);
+    eprintln!("IRB 140 offset: numerical IK found {numerical} of {analytic}");
     let kin = arm(&fourteen().0);
     let target = fk1(&kin, &fourteen().1).unwrap();
     let solver = AnalyticIk::new(&kin).unwrap();
@@ -296,16 +301,7 @@ fn special_pairs_anywhere_and_arrangements_no_closed_form_takes() {
     let kin = arm(&joints);
     assert_eq!(classify(&kin).family, Family::ThreeParallel);
     check(&kin, "1 ∥ 2 ∥ 3", 20, 2);
-    let z = [0.0; 3];
-    let irb = vec![
-        (z, z, [0.0, 0.0, 1.0]),
-        ([0.07, 0.0, 0.352], z, [0.0, 1.0, 0.0]),
-        ([0.0, 0.0, 0.36], z, [0.0, 1.0, 0.0]),
-        ([0.0, 0.0, 0.0], z, [1.0, 0.0, 0.0]),
-        ([0.38, 0.0, 0.0], z, [0.0, 1.0, 0.0]),
-        ([0.065, 0.0, 0.02], z, [1.0, 0.0, 0.0]),
-    ];
-    let kin = arm(&irb);
+    let kin = arm(&irb140_offset());
     assert_eq!(classify(&kin).family, Family::TwoIntersecting);
     check(&kin, "IRB 140 with an offset wrist", 40, 3);
 }
@@ -378,4 +374,75 @@ fn a_7r_arm_of_no_special_geometry_is_solved_with_any_joint_locked() {
         words.starts_with("7R (redundant): analytic, the general 6R (algebraic) with j1, j2"),
         "{words}"
     );
+}
+
+#[test]
+fn singular_configurations_give_finite_flagged_answers() {
+    // A configuration where det J = 0 (found by bisection along a line in joint space) has two
+    // solutions merging there: the answers stay finite and exact, and the set is flagged.
+    use screwkit_solve::jacobian::jacobian;
+    let kin = arm(&random_joints(&mut Sampler::new(21), 0.4));
+    let solver = AnalyticIk::new(&kin).unwrap();
+    let mut ws = Workspace::new(&kin);
+    let mut det = |q: &[f64]| {
+        jacobian(&kin, &mut ws, q, screwkit_solve::Frame::Space)
+            .unwrap()
+            .fixed_view::<6, 6>(0, 0)
+            .determinant()
+    };
+    let mut rng = Sampler::new(4);
+    let mut flagged = 0;
+    let mut tried = 0;
+    while tried < 10 {
+        let (a, b) = (rng.config(&kin), rng.config(&kin));
+        let at = |t: f64| -> Vec<f64> { a.iter().zip(&b).map(|(x, y)| x + t * (y - x)).collect() };
+        let (mut lo, mut hi) = (0.0, 1.0);
+        let (dl, dh) = (det(&at(lo)), det(&at(hi)));
+        if dl.signum() == dh.signum() {
+            continue;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if det(&at(mid)).signum() == dl.signum() {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        tried += 1;
+        let q_s = at(0.5 * (lo + hi));
+        let target = fk1(&kin, &q_s).unwrap();
+        let mut sols = Solutions::default();
+        solver
+            .solve(&kin, &mut Workspace::new(&kin), &target, 0.0, &mut sols)
+            .unwrap();
+        assert!(sols.iter().flatten().all(|x| x.is_finite()));
+        assert!(sols.is_exact(), "{q_s:?}");
+        for q in sols.iter() {
+            assert!(fk1(&kin, q).unwrap().max_abs_diff(&target) < 1e-10);
+        }
+        // q_s itself (a double root: found to √ε of it).
+        assert!(
+            sols.iter().any(|q| same_mod(q, &q_s, 1e-5)),
+            "{q_s:?} not among {:?}",
+            sols.to_vecs()
+        );
+        flagged += usize::from(sols.singular);
+    }
+    eprintln!("{tried} singular poses, {flagged} flagged");
+    assert_eq!(flagged, tried, "every singular pose flagged");
+}
+
+/// An ABB IRB 140-type arm (its link lengths, axes 2 ∥ 3, axes 4-5 meeting) whose axis 6 is
+/// 2 cm off axis 4: no closed form applies.
+fn irb140_offset() -> Joints {
+    let z = [0.0; 3];
+    vec![
+        (z, z, [0.0, 0.0, 1.0]),
+        ([0.07, 0.0, 0.352], z, [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, 0.36], z, [0.0, 1.0, 0.0]),
+        ([0.0, 0.0, 0.0], z, [1.0, 0.0, 0.0]),
+        ([0.38, 0.0, 0.0], z, [0.0, 1.0, 0.0]),
+        ([0.065, 0.0, 0.02], z, [1.0, 0.0, 0.0]),
+    ]
 }
