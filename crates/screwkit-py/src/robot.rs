@@ -43,10 +43,8 @@ pub struct Robot {
     tree_ws: Mutex<Option<TreeWorkspace>>,
     /// Scratch of whole-body IK steps.
     diff_ws: Mutex<Option<DiffIkWorkspace>>,
-    /// The default analytic solver (`AnalyticIk::auto`), built on first use.
-    analytic: std::sync::OnceLock<
-        Result<screwkit_solve::analytic::AnalyticIk, screwkit_solve::SolveError>,
-    >,
+    /// The analytic solvers (the default one, each lock, the arm angle), built on first use.
+    analytic: screwkit_service::solutions::Solvers,
 }
 
 /// A refused target as `ValueError` naming the argument and the reason (a typed
@@ -142,7 +140,7 @@ impl Robot {
             whole,
             tree_ws: Mutex::new(None),
             diff_ws: Mutex::new(None),
-            analytic: std::sync::OnceLock::new(),
+            analytic: screwkit_service::solutions::Solvers::default(),
         })
     }
 
@@ -1578,15 +1576,15 @@ impl Robot {
                 })?)
             }),
         };
-        let kin = self.kin()?;
-        let auto = self
-            .analytic
-            .get_or_init(|| screwkit_solve::analytic::AnalyticIk::auto(kin))
-            .as_ref()
-            .ok();
-        let all = AllSolutions::with_default(self.kin()?, joint.as_ref(), lock_value, sweep, auto)
-            .map_err(service_error)?
-            .with_representatives(reps);
+        let all = AllSolutions::with_solvers(
+            self.kin()?,
+            joint.as_ref(),
+            lock_value,
+            sweep,
+            &self.analytic,
+        )
+        .map_err(service_error)?
+        .with_representatives(reps);
         let n = self.kin()?.dof();
         let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
             Ok(new_array(py, &[sols.len(), n], |o| {

@@ -4,13 +4,49 @@
 //! [`AnalyticIk::solve_nearest_batch`], and the report.
 
 use screwkit_lie::Se3;
-use screwkit_solve::analytic::{AnalyticIk, Solutions};
+use std::sync::OnceLock;
+
+use screwkit_solve::analytic::{AnalyticIk, Solutions, MAX_DOF};
 use screwkit_solve::{Kinematics, SolveError, Workspace};
 
 use crate::error::Result;
 use crate::joint::{JointRef, Lock};
 use crate::report::{AllSolutionsReport, ArmAngleReport, LockedReport, SolutionReport};
 use crate::words::RepresentativesChoice;
+
+/// The analytic solvers of one chain, each built on first use and kept: a front end that
+/// answers many calls holds one (building a solver can take milliseconds: the default's choice
+/// of lock, the general 6R's reading). The chain must be the same at every call.
+#[derive(Debug, Default)]
+pub struct Solvers {
+    auto: OnceLock<std::result::Result<AnalyticIk, SolveError>>,
+    locked: [OnceLock<std::result::Result<AnalyticIk, SolveError>>; MAX_DOF],
+    arm_angle: OnceLock<std::result::Result<AnalyticIk, SolveError>>,
+}
+
+impl Solvers {
+    /// The solver for `joint` (module documentation of [`AllSolutions::with_solvers`]).
+    pub fn get(&self, kin: &Kinematics, joint: Option<&JointRef>) -> Result<AnalyticIk> {
+        let kept =
+            |cell: &OnceLock<_>,
+             build: &dyn Fn() -> std::result::Result<AnalyticIk, SolveError>| {
+                cell.get_or_init(build).clone()
+            };
+        Ok(match joint {
+            None => kept(&self.auto, &|| AnalyticIk::auto(kin))?,
+            Some(joint) if joint.is_arm_angle(kin) => {
+                kept(&self.arm_angle, &|| AnalyticIk::arm_angle(kin))?
+            }
+            Some(joint) => {
+                let j = joint.resolve(kin, "lock")?;
+                match self.locked.get(j) {
+                    Some(cell) => kept(cell, &|| AnalyticIk::locked(kin, j))?,
+                    None => AnalyticIk::locked(kin, j)?,
+                }
+            }
+        })
+    }
+}
 
 /// The analytic solver with its lock options.
 #[derive(Debug, Clone)]
@@ -26,41 +62,28 @@ impl AllSolutions {
     /// locked (its value, or the seed's per target; `sweep`: that many values over its
     /// limits). The options are checked here, before any target.
     pub fn new(kin: &Kinematics, lock: Option<&Lock>, sweep: Option<usize>) -> Result<Self> {
-        Self::with_default(
+        Self::with_solvers(
             kin,
             lock.map(|l| &l.joint),
             lock.and_then(|l| l.value),
             sweep,
-            None,
+            &Solvers::default(),
         )
     }
 
     /// The solver with `joint` locked (None: the default solver, which for a 7R arm locks a
     /// joint of its own choice; [`crate::joint::ARM_ANGLE`]: a 7R arm with a spherical
     /// shoulder and wrist by its arm angle, [`AnalyticIk::arm_angle`]) at `value` (None: the
-    /// seed's per target) or swept over `sweep` values; `auto`, a prepared
-    /// [`AnalyticIk::auto`], is reused when it fits.
-    pub fn with_default(
+    /// seed's per target) or swept over `sweep` values, taken from `solvers` (built there on
+    /// first use and kept for the next call).
+    pub fn with_solvers(
         kin: &Kinematics,
         joint: Option<&JointRef>,
         value: Option<f64>,
         sweep: Option<usize>,
-        auto: Option<&AnalyticIk>,
+        solvers: &Solvers,
     ) -> Result<Self> {
-        let solver = match joint {
-            None => match auto {
-                Some(a) => a.clone(),
-                None => AnalyticIk::auto(kin)?,
-            },
-            Some(joint) if joint.is_arm_angle(kin) => AnalyticIk::arm_angle(kin)?,
-            Some(joint) => {
-                let j = joint.resolve(kin, "lock")?;
-                match auto {
-                    Some(a) if a.locked_joint() == Some(j) => a.clone(),
-                    _ => AnalyticIk::locked(kin, j)?,
-                }
-            }
-        };
+        let solver = solvers.get(kin, joint)?;
         solver.lock_values(kin, &kin.midpoint(), value, sweep)?;
         Ok(Self {
             solver,

@@ -46,7 +46,7 @@ impl AnalyticIk {
             fixed: None,
             shift: 0,
             arm: None,
-            fallback_shift: 0,
+            fallback_shift: std::sync::OnceLock::new(),
         };
         for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
             solver.free[slot] = j;
@@ -77,11 +77,9 @@ impl AnalyticIk {
                 )))
             }
         };
-        let (_, home) = solver.locked_lines(0.7);
         if method == Method::General {
+            let (_, home) = solver.locked_lines(0.7);
             solver.shift = choose_shift(&a, home, reversed);
-        } else {
-            solver.fallback_shift = choose_shift(&a, home, false);
         }
         solver.method = method;
         solver.reversed = reversed;

@@ -25,9 +25,9 @@ pub struct AnalyticIk {
     pub(super) shift: usize,
     /// A 7R arm solved by its arm angle (the "lock value" is ψ; [`AnalyticIk::arm_angle`]).
     pub(super) arm: Option<ArmAngle>,
-    /// A locked chain's general-6R reading (forward), for lock values where its closed form
-    /// finds nothing ([`AnalyticIk::postures`]).
-    pub(super) fallback_shift: usize,
+    /// A locked chain's general-6R reading (forward), chosen on first use, for lock values
+    /// where its subproblem-5 closed form finds nothing ([`AnalyticIk::postures`]).
+    pub(super) fallback_shift: std::sync::OnceLock<usize>,
 }
 
 /// What the arm-angle solver says of itself.
@@ -92,7 +92,7 @@ impl AnalyticIk {
             fixed: Some(Prepared::new(method, &lines, kin.home, reversed, shift)),
             shift,
             arm: None,
-            fallback_shift: 0,
+            fallback_shift: std::sync::OnceLock::new(),
             lines: c.axes,
             home: kin.home,
         })
@@ -130,7 +130,7 @@ impl AnalyticIk {
             fixed: None,
             shift: 0,
             arm: Some(arm),
-            fallback_shift: 0,
+            fallback_shift: std::sync::OnceLock::new(),
             lines: c.axes,
             home: kin.home,
         })
@@ -201,16 +201,21 @@ impl AnalyticIk {
             }
         };
         self.run(self.method, self.reversed, p, target, lock_value, out);
-        // A closed form on a locked chain can lose every posture at lock values where two of
-        // the six lines come close to a relation they do not have elsewhere (TALOS's shoulder
-        // axes 1 and 3 nearly parallel with joint 2 near its limit, where subproblem 5 degenerates):
-        // then the general 6R, which needs no relation, solves the chain at that value.
+        // Subproblem 5 on a locked chain can lose every posture at lock values where two of
+        // the six lines come close to a relation they do not have elsewhere (TALOS's arm with
+        // joint 2 or 3 locked: 0.35 % and 0.015 % of random reachable poses): there the general
+        // 6R, which needs no relation, solves the chain. (Only this closed form: the others
+        // showed no such loss; each fallback costs a general solve, ~50 µs.)
         if self.lock.is_some()
-            && self.method != Method::General
+            && self.method == Method::Wrist
             && !out.as_slice().iter().any(|q| q.exact)
         {
             let (lines, home) = self.locked_lines(lock_value);
-            let general = Prepared::new(Method::General, &lines, home, false, self.fallback_shift);
+            let shift = *self.fallback_shift.get_or_init(|| {
+                let (a, h) = self.locked_lines(0.7);
+                choose_shift(&a, h, false)
+            });
+            let general = Prepared::new(Method::General, &lines, home, false, shift);
             let mut alt = Postures::default();
             self.run(
                 Method::General,
