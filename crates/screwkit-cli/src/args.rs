@@ -465,7 +465,7 @@ pub struct IkArgs {
     #[arg(long, requires = "all", value_name = "JOINT[=VALUE]", value_parser = Lock::parse)]
     pub lock: Option<Lock>,
     /// With --all on a 7R arm: solve with the locked joint (or the arm angle) at N values
-    /// evenly spaced over its limits ((−π, π] for the arm angle) and list the solutions of
+    /// evenly spaced over its limits ([−π, π) for the arm angle) and list the solutions of
     /// all of them.
     #[arg(long, requires = "all", value_name = "N")]
     pub sweep: Option<usize>,

@@ -1498,7 +1498,7 @@ impl Robot {
         Ok(text)
     }
 
-    /// The arm angle ψ (rad, in (−π, π]) of configuration `q` of a 7R arm with a spherical
+    /// The arm angle ψ (rad, in [−π, π]) of configuration `q` of a 7R arm with a spherical
     /// shoulder (axes 1–3 meet at S) and a spherical wrist (axes 5–7 meet at W), the iiwa
     /// type: the angle about u = (W − S)/‖W − S‖ from r, axis 1's direction made ⊥ u, to
     /// the elbow's offset from the shoulder–wrist line (ψ = 0: the elbow in the plane of axis

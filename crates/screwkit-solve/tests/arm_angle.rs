@@ -169,9 +169,9 @@ fn a_shoulder_one_micrometre_off_is_snapped_then_polished() {
                     .fold(0.0, f64::max)
             })
             .fold(f64::INFINITY, f64::min);
-        // Polished with joint 3 held, a solution lands on the real chain's self-motion a
-        // little off ψ: measured ≤ 1.2e-4 rad from q* (near the shoulder singularity θ₂ ≈ 0,
-        // where a micrometre moves the joints most), 1e-6 elsewhere.
+        // Polished on the real chain, a solution lands on its self-motion a little off ψ:
+        // measured ≤ 1.2e-4 rad from q* (near the shoulder singularity θ₂ ≈ 0, where a
+        // micrometre moves the joints most), 1e-6 elsewhere.
         assert!(nearest < 1e-3, "q* = {q_star:?}: nearest {nearest:e}");
         worst = worst.max(nearest);
     }

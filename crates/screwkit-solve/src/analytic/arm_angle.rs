@@ -22,8 +22,8 @@
 //!
 //! **Near-special geometry** is snapped: axes that meet within [`SNAP`] × L (a file that
 //! writes π/2 as 1.5708, 1e-6 off) are solved as meeting at the midpoint of their closest
-//! points, and each posture is then polished by Newton steps on the real chain (with joint 3
-//! held), so the answers are exact for the file as written.
+//! points, and each posture is then polished by Newton steps on the real chain (least-norm
+//! steps of all seven joints), so the answers are exact for the file as written.
 
 use super::*;
 
@@ -109,7 +109,7 @@ impl ArmAngle {
         Some((u, r))
     }
 
-    /// The arm angle ψ of configuration `q` (7 values), in (−π, π]; NaN where the wrist
+    /// The arm angle ψ of configuration `q` (7 values), in [−π, π]; NaN where the wrist
     /// centre is at the shoulder or the elbow on the shoulder–wrist line.
     pub(super) fn angle_of(&self, q: &[f64]) -> f64 {
         let mut w = self.turn(3, q[3], &self.wrist);

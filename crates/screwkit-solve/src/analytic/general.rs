@@ -43,8 +43,6 @@ use nalgebra::SMatrix;
 
 use super::*;
 
-/// A posture whose polished FK residual is at most this (× max(1, L)) is exact.
-pub(super) const EXACT: f64 = 1e-9;
 /// Newton steps at most per posture.
 const NEWTON_STEPS: usize = 12;
 /// An eigenvalue is taken as real when its imaginary part, as an angle (2 |Im x| / (1 + |x|²)),
@@ -53,6 +51,13 @@ const NEWTON_STEPS: usize = 12;
 const IMAGINARY: f64 = 1e-4;
 /// Pairs of consecutive lines whose sine and distance (/ L) are both above this are general.
 const GENERAL_PAIR: f64 = 1e-3;
+/// Q (14 × 8) counts as of full rank when its R's smallest diagonal entry is above this × the
+/// largest.
+const RANK: f64 = 1e-9;
+/// Σ(θ₃) whose LU pivot ratio stays below this at every offset tried is singular for every θ₃.
+const SINGULAR_SIGMA: f64 = 1e-10;
+/// Exact candidates closer than this (each joint, mod 2π) are one posture: the better kept.
+const SAME_POSTURE: f64 = 1e-6;
 
 type M12 = SMatrix<f64, 12, 12>;
 
@@ -228,7 +233,7 @@ pub(super) fn choose_shift(lines: &[AxisLine; 6], home: Se3, reversed: bool) -> 
 /// How well conditioned the problem's Σ(θ₃) is away from its roots: the LU pivot ratio at
 /// θ₃ = 1 (0 where the elimination fails).
 fn sigma_conditioning(p: &Prepared, g: &Se3) -> f64 {
-    match eliminate(links(p, g)) {
+    match eliminate(links(p, g, p.shift)) {
         Some((_, h)) => {
             let m = sigma(&h);
             let (s, c) = 1f64.sin_cos();
@@ -252,8 +257,9 @@ pub(super) fn scale_of(r: &[V3; 6], home: &Se3) -> f64 {
     }
 }
 
-/// The loop's links in roles (lengths / L) for the target g (module documentation).
-fn links(p: &Prepared, g: &Se3) -> [Rigid; 6] {
+/// The loop's links in roles (lengths / L) for the target g, read from joint `shift` + 1
+/// (module documentation).
+fn links(p: &Prepared, g: &Se3, shift: usize) -> [Rigid; 6] {
     let scale = p.scale;
     let frames: [Rigid; 6] = std::array::from_fn(|i| Rigid::on_line(&p.k[i], p.r[i] / scale));
     let gs = Rigid {
@@ -270,7 +276,7 @@ fn links(p: &Prepared, g: &Se3) -> [Rigid; 6] {
                 .compose(&frames[0])
         }
     });
-    std::array::from_fn(|j| d[(p.shift + j) % 6])
+    std::array::from_fn(|j| d[(shift + j) % 6])
 }
 
 /// The eliminated problem of one target: the links in roles (lengths / L), the θ₁ θ₂ side's
@@ -355,8 +361,8 @@ impl Eliminated {
     }
 }
 
-/// Every posture of the general 6R problem g (module documentation): at most 16, the exact
-/// ones first; `singular` set where a root was (nearly) double or the Jacobian at a posture
+/// Every posture of the general 6R problem g (module documentation): the exact ones first
+/// (at most 16 real solutions; [`Postures`] keeps 16); `singular` set where a root was (nearly) double or the Jacobian at a posture
 /// (nearly) singular.
 pub(super) fn general(
     p: &Prepared,
@@ -365,17 +371,25 @@ pub(super) fn general(
     emit: &mut impl FnMut([f64; 6], bool),
 ) {
     let scale = p.scale;
-    let s = p.shift;
-    let k = links(p, g);
-    let Some((e, h)) = eliminate(k) else {
-        return;
-    };
-    let m = sigma(&h);
-    let Some(roots) = roots(&m) else {
+    // The solver's reading first; where it fails for this target (roles 1 and 2 parallel or
+    // meeting here, no well-conditioned offset, a QR iteration that does not converge), the
+    // others in turn.
+    let mut solved = None;
+    for s in (0..6).map(|i| (p.shift + i) % 6) {
+        let Some((e, h)) = eliminate(links(p, g, s)) else {
+            continue;
+        };
+        let m = sigma(&h);
+        if let Some(r) = roots(&m) {
+            solved = Some((s, e, m, r));
+            break;
+        }
+    }
+    let Some((s, e, m, roots)) = solved else {
         return;
     };
     // Candidates in joint order, polished; the exact ones emitted first.
-    let mut found: [([f64; 6], bool); 48] = [([0.0; 6], false); 48];
+    let mut found: [([f64; 6], bool, f64); 48] = [([0.0; 6], false, 0.0); 48];
     let mut count = 0;
     for &(x3, delta, near_double) in roots.iter() {
         for t in back_substitute(&e, &m, x3, delta).iter() {
@@ -388,10 +402,20 @@ pub(super) fn general(
             if exact && (near_double || !conditioned) {
                 *singular = true;
             }
-            let same = |f: &([f64; 6], bool)| (0..6).all(|i| wrap(f.0[i] - q[i]).abs() < 1e-9);
-            if !found[..count].iter().any(same) && count < found.len() {
-                found[count] = (q, exact);
-                count += 1;
+            // One entry per posture: candidates of one solution (the two eigenvalues of a
+            // near-double root, two null vectors) merge, the smaller residual kept.
+            let same = |f: &([f64; 6], bool, f64)| {
+                (0..6).all(|i| wrap(f.0[i] - q[i]).abs() < SAME_POSTURE)
+            };
+            let capacity = found.len();
+            match found[..count].iter_mut().find(|f| same(f)) {
+                Some(f) if (exact, -residual) > (f.1, -f.2) => *f = (q, exact, residual),
+                Some(_) => {}
+                None if count < capacity => {
+                    found[count] = (q, exact, residual);
+                    count += 1;
+                }
+                None => {}
             }
         }
     }
@@ -454,6 +478,13 @@ fn eliminate(k: [Rigid; 6]) -> Option<(Eliminated, [[f64; 27]; 6])> {
     for i in 0..8 {
         r[i][i..8].copy_from_slice(&q[i][i..8]);
     }
+    // Roles 1 and 2 parallel or meeting for this target leave Q of rank < 8: θ₁ and θ₂ are
+    // then not eliminated (another reading is tried).
+    let diagonal = (0..8).map(|i| r[i][i].abs());
+    let (lo, hi) = diagonal.fold((f64::INFINITY, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    if lo.is_nan() || lo <= RANK * hi {
+        return None;
+    }
     let e = Eliminated {
         k,
         v,
@@ -503,7 +534,7 @@ fn eliminate(k: [Rigid; 6]) -> Option<(Eliminated, [[f64; 27]; 6])> {
     // Each equation scaled to its largest coefficient.
     for row in h.iter_mut() {
         let big = row.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        if !(big > 0.0 && big.is_finite()) {
+        if !(big > 0.0 && big.is_finite() && row.iter().all(|x| x.is_finite())) {
             return None;
         }
         for x in row.iter_mut() {
@@ -571,7 +602,7 @@ const OFFSETS: [f64; 6] = [0.7, 2.3, 4.1, 5.5, 1.6, 3.3];
 
 /// The real roots of det Σ(θ₃) = 0 as (x, δ, near-double) with θ₃ = δ + 2 atan x, from the
 /// companion eigenproblem (module documentation). None when no offset gives an invertible
-/// A or the Schur iteration does not converge.
+/// A or the QR iteration does not converge.
 fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool), 24>> {
     // The first offset whose A is well conditioned (else the best), its LU kept.
     let mut best: Option<(f64, f64, nalgebra::LU<f64, nalgebra::U12, nalgebra::U12>)> = None;
@@ -587,7 +618,9 @@ fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool), 24>> {
         }
     }
     let (ratio, delta, lu) = best?;
-    if ratio < 1e-14 {
+    // Σ(θ₃) singular at every offset: the reading is degenerate for this target (roles 1
+    // and 2 parallel or meeting make the 6 equations dependent).
+    if ratio < SINGULAR_SIGMA {
         return None;
     }
     let [_, b, c] = quadratic(m, delta);
@@ -857,4 +890,43 @@ pub(super) fn newton(p: &Prepared, g: &Se3, q: &mut [f64; 6]) -> (f64, bool) {
         (a.min(u[(i, i)].abs()), b.max(u[(i, i)].abs()))
     });
     (residual, lo > 1e-6 * hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Six lines, axes 1 ∥ 2 (roles 1 and 2 of reading 0: a degenerate reading).
+    fn lines() -> [AxisLine; 6] {
+        let mut x = 0.37_f64;
+        let mut next = || {
+            x = (x * 997.0 + 0.131).fract();
+            x - 0.5
+        };
+        let mut out: [AxisLine; 6] = std::array::from_fn(|_| AxisLine {
+            direction: V3::new(next(), next(), next()).normalize(),
+            point: V3::new(next(), next(), next()) * 0.6,
+        });
+        out[1].direction = out[0].direction;
+        out
+    }
+
+    #[test]
+    fn a_reading_that_fails_for_a_target_gives_way_to_another() {
+        let home = Se3::from_translation(V3::new(0.2, 0.1, 0.4));
+        let bad = Prepared::new(Method::General, &lines(), home, false, 0);
+        let good = choose_shift(&lines(), home, false);
+        assert_ne!(good, 0, "roles 1 and 2 of reading 0 are parallel");
+        let q = [0.4, -1.1, 0.7, 2.0, -0.3, 1.3];
+        let (g, _) = poe(&bad, &mut q.clone());
+        let mut hit = false;
+        general(&bad, &g, &mut false, &mut |t, exact| {
+            hit |= exact && (0..6).all(|i| wrap(t[i] - q[i]).abs() < 1e-9);
+        });
+        assert!(hit, "q among the postures through another reading");
+        // Reading 0 alone: its Σ(θ₃) is singular at every θ₃ (the 6 equations dependent), so
+        // it gives no roots.
+        let (_, h) = eliminate(links(&bad, &g, 0)).unwrap();
+        assert!(roots(&sigma(&h)).is_none());
+    }
 }

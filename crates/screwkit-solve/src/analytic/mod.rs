@@ -87,6 +87,9 @@ pub const MAX_POSTURES: usize = 16;
 
 /// An exact posture whose FK residual exceeds this (× max(1, L)) is polished by Newton steps.
 const POLISH: f64 = 1e-13;
+/// A posture is exact when its (polished) FK residual is at most this (× max(1, L)): the
+/// general 6R's candidates, and any posture after its polish.
+const EXACT: f64 = 1e-9;
 
 /// What analytic IK screwkit offers for a chain, in words: the family and how it is solved
 /// (a special family's closed form, or the general 6R's elimination); for a 7R chain, which

@@ -101,7 +101,7 @@ impl AnalyticIk {
     /// The solver of a 7R arm with a spherical shoulder (axes 1–3 meet) and a spherical
     /// wrist (axes 5–7 meet) — the iiwa type — at a given *arm angle* ψ (module `arm_angle`:
     /// the definition of ψ and its reference plane), which takes the place of the lock value
-    /// in every call ([`AnalyticIk::solve`], sweeps over (−π, π], batches; by default the
+    /// in every call ([`AnalyticIk::solve`], sweeps over [−π, π), batches; by default the
     /// seed's arm angle). Axes that meet within [`ARM_ANGLE_SNAP`] × L count as meeting: the
     /// postures of the snapped geometry are polished on the real chain. An error naming what
     /// is missing otherwise.
@@ -124,7 +124,7 @@ impl AnalyticIk {
             method: Method::ArmAngle,
             reversed: false,
             lock: None,
-            // Polishing holds joint 3 (the elbow's axis 4 must stay free).
+            // (Polishing moves all seven joints: the least-norm step.)
             free: [0, 1, 3, 4, 5, 6],
             dof: 7,
             fixed: None,
@@ -141,7 +141,7 @@ impl AnalyticIk {
         self.arm.is_some()
     }
 
-    /// The arm angle ψ of configuration `q` (module `arm_angle`), in (−π, π]: None for a
+    /// The arm angle ψ of configuration `q` (module `arm_angle`), in [−π, π]: None for a
     /// solver not by the arm angle; NaN where ψ is undefined (the wrist centre at the
     /// shoulder, the elbow on the shoulder–wrist line).
     pub fn arm_angle_of(&self, q: &[f64]) -> Option<f64> {
@@ -403,6 +403,11 @@ impl AnalyticIk {
             let mut residual = fk_unchecked(kin, &q[..n]).max_abs_diff(target);
             if p.exact && residual > POLISH * kin.length_scale.max(1.0) {
                 residual = self.polish(kin, ws, &mut q[..n], target, residual);
+                // A posture its polish cannot bring to the target is not one (a snapped
+                // geometry near a singularity of the polished joints): left out.
+                if residual > EXACT * kin.length_scale.max(1.0) {
+                    continue;
+                }
             }
             if self.expand(kin, &q[..n], p.exact, residual, reps, out) {
                 distinct[count] = p.q;
@@ -551,7 +556,7 @@ impl AnalyticIk {
     }
 
     /// The locked joint's range as [`AnalyticIk::sweep`] covers it, and whether its ends are
-    /// one angle (a continuous joint; the arm angle's (−π, π]); None without a lock.
+    /// one angle (a continuous joint; the arm angle's [−π, π)); None without a lock.
     fn lock_span(&self, kin: &Kinematics) -> Option<(f64, f64, bool)> {
         use std::f64::consts::PI;
         if self.arm.is_some() {
@@ -755,6 +760,7 @@ impl AnalyticIk {
     /// locked column left out), while the residual falls (at most 4): for the rare posture
     /// whose subproblems were ill-conditioned (two intersecting axes nearly parallel at the
     /// locked value, …). Returns the residual of `q`, which holds the best iterate.
+    #[inline(never)]
     fn polish(
         &self,
         kin: &Kinematics,
@@ -769,17 +775,32 @@ impl AnalyticIk {
                 break;
             };
             let err = pj.pose.inverse_compose(target).log();
-            let mut j6 = nalgebra::Matrix6::zeros();
-            for (slot, &j) in self.free.iter().enumerate() {
-                j6.set_column(slot, &pj.jacobian.column(j));
-            }
             let rhs = nalgebra::Vector6::new(err.w.x, err.w.y, err.w.z, err.v.x, err.v.y, err.v.z);
-            let Some(step) = j6.lu().solve(&rhs) else {
-                break;
-            };
             trial[..q.len()].copy_from_slice(q);
-            for (slot, &j) in self.free.iter().enumerate() {
-                trial[j] = wrap(trial[j] + step[slot]);
+            if self.arm.is_some() {
+                // By the arm angle every joint moves: the least-norm step J⁺ e (7 columns), no
+                // column whose loss would make the 6 × 6 system singular.
+                let j = pj.jacobian;
+                let jjt: nalgebra::Matrix6<f64> =
+                    (j * j.transpose()).fixed_view::<6, 6>(0, 0).into_owned();
+                let Some(y) = jjt.lu().solve(&rhs) else {
+                    break;
+                };
+                let step = j.transpose() * y;
+                for (t, d) in trial[..q.len()].iter_mut().zip(step.iter()) {
+                    *t = wrap(*t + d);
+                }
+            } else {
+                let mut j6 = nalgebra::Matrix6::zeros();
+                for (slot, &j) in self.free.iter().enumerate() {
+                    j6.set_column(slot, &pj.jacobian.column(j));
+                }
+                let Some(step) = j6.lu().solve(&rhs) else {
+                    break;
+                };
+                for (slot, &j) in self.free.iter().enumerate() {
+                    trial[j] = wrap(trial[j] + step[slot]);
+                }
             }
             let r = fk_unchecked(kin, &trial[..q.len()]).max_abs_diff(target);
             if r.partial_cmp(&residual) != Some(std::cmp::Ordering::Less) {
