@@ -334,7 +334,8 @@ fn real_arms_of_shared_urdf() {
     // xArm7: axes 1-3 are a spherical shoulder written with 1.5708 for π/2 (they miss one
     // point by 1e-6). Every lock but the elbow's leaves a chain of no closed-form family: the
     // general 6R solves it (before: two intersecting axes by a sampled 1D search, which missed
-    // 12 of 40 poses with joint 1 locked, and refused joint 7 locked).
+    // 12 of 40 poses with joint 1 locked, and refused joint 7 locked). The two shoulders of a
+    // pose nearly share θ₃ here: joint 6 locked needs the double-root step (two null vectors).
     let xarm = load("xarm7.urdf", "link_base", "link_eef");
     for j in [0, 1, 2, 4, 5, 6] {
         check_locked(&xarm, "xarm7", j, 100);
