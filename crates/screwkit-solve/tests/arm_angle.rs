@@ -189,3 +189,49 @@ fn arms_without_a_spherical_shoulder_and_wrist_are_refused() {
     let s = AnalyticIk::auto(&panda).unwrap();
     assert_eq!(s.arm_angle_of(&[0.0; 7]), None);
 }
+
+#[test]
+fn a_sweep_refines_across_plus_minus_pi() {
+    // Three samples (−π, −π/3, π/3): a pose reached within the limits only for arm angles
+    // between π/3 and π lies in the gap that closes the circle, bracketed by the last sample
+    // and the first one + 2π (before: never searched).
+    let (_, _, kin) = common::load("iiwa14.urdf", None, None);
+    let solver = AnalyticIk::arm_angle(&kin).unwrap();
+    let mut ws = Workspace::new(&kin);
+    let mut sols = Solutions::default();
+    let samples = solver.sweep(&kin, 3);
+    let mut rng = Sampler::new(31);
+    let mut tried = 0;
+    for _ in 0..20_000 {
+        let q = rng.config(&kin);
+        let psi = solver.arm_angle_of(&q).unwrap();
+        if !(psi > 1.3 && psi < 2.9) {
+            continue;
+        }
+        let target = fk1(&kin, &q).unwrap();
+        let missed = samples.iter().all(|&v| {
+            solver.solve(&kin, &mut ws, &target, v, &mut sols).unwrap();
+            !sols.is_exact() || sols.is_empty()
+        });
+        if !missed {
+            continue;
+        }
+        tried += 1;
+        solver
+            .solve_swept(&kin, &mut ws, &target, &samples, &mut sols)
+            .unwrap();
+        assert!(sols.is_exact() && !sols.is_empty(), "{q:?}: ψ = {psi}");
+        assert!(sols
+            .refined
+            .iter()
+            .all(|v| (-std::f64::consts::PI..=std::f64::consts::PI).contains(v)));
+        for x in sols.iter() {
+            assert!(fk1(&kin, x).unwrap().max_abs_diff(&target) < 1e-10);
+        }
+        if tried == 5 {
+            break;
+        }
+    }
+    eprintln!("{tried} poses reached only between the last sample and π");
+    assert!(tried >= 1);
+}

@@ -475,30 +475,45 @@ impl AnalyticIk {
             .map(|r| self.lock_score(kin, target, r))
             .collect();
         let k = samples.len();
+        // A continuous joint's or the arm angle's samples close a circle: the first and the
+        // last are neighbours across ±π (a band between them is bracketed too).
+        let round = k > 2 && self.lock_span(kin).is_some_and(|(_, _, c)| c);
+        let before = |i: usize| match i {
+            0 if round => Some((k - 1, -std::f64::consts::TAU)),
+            0 => None,
+            _ => Some((i - 1, 0.0)),
+        };
+        let after = |i: usize| match i {
+            _ if i + 1 == k && round => Some((0, std::f64::consts::TAU)),
+            _ if i + 1 == k => None,
+            _ => Some((i + 1, 0.0)),
+        };
         let mut minima: Vec<usize> = (0..k)
             .filter(|&i| {
                 scores[i] > 0.0
                     && scores[i].is_finite()
-                    && (i == 0 || scores[i] <= scores[i - 1])
-                    && (i + 1 == k || scores[i] <= scores[i + 1])
+                    && before(i).is_none_or(|(j, _)| scores[i] <= scores[j])
+                    && after(i).is_none_or(|(j, _)| scores[i] <= scores[j])
             })
             .collect();
         minima.sort_by(|&a, &b| scores[a].total_cmp(&scores[b]));
         minima.truncate(REFINED);
-        let (lo, hi) = self.lock_range(kin);
+        let (lo, hi) = if round {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            self.lock_range(kin)
+        };
         let mut found = Vec::new();
+        // (Across ±π a value is brought back into (−π, π].)
+        let norm = |v: f64| if round { wrap(v) } else { v };
         let score = |v: f64, raw: &mut Postures| {
-            self.postures(target, v, raw);
+            self.postures(target, norm(v), raw);
             self.lock_score(kin, target, raw)
         };
         let (mut rc, mut rd) = (Postures::default(), Postures::default());
         for i in minima {
-            let a = if i == 0 { samples[0] } else { samples[i - 1] };
-            let b = if i + 1 == k {
-                samples[k - 1]
-            } else {
-                samples[i + 1]
-            };
+            let a = before(i).map_or(samples[i], |(j, shift)| samples[j] + shift);
+            let b = after(i).map_or(samples[i], |(j, shift)| samples[j] + shift);
             let (mut a, mut b) = (a.min(b).max(lo), a.max(b).min(hi));
             // First the bracket evenly subdivided (the score, made of least-squares
             // residuals, may rise right beside a band where the pose is reached), then a
@@ -517,7 +532,7 @@ impl AnalyticIk {
                 }
             }
             if let Some(v) = hit {
-                found.push(v);
+                found.push(norm(v));
                 raws.push(rc.clone());
                 continue;
             }
@@ -545,10 +560,10 @@ impl AnalyticIk {
                 }
             }
             if fc == 0.0 {
-                found.push(c);
+                found.push(norm(c));
                 raws.push(rc.clone());
             } else if fd == 0.0 {
-                found.push(d);
+                found.push(norm(d));
                 raws.push(rd.clone());
             }
         }
