@@ -170,14 +170,21 @@ pub(super) fn shoulder_and_wrist(lines: &[AxisLine], length: f64) -> bool {
 }
 
 /// The family solved, the method and the reading (reversed: true) for six lines in chain
-/// order, read forward or reversed: the more specialised family of the two (a closed form
-/// before a search), forward on a tie.
+/// order, read forward or reversed: a special family's closed form before the general 6R,
+/// then the more specialised family of the two, forward on a tie.
 #[inline]
 pub(super) fn method_either(lines: &[AxisLine], length: f64) -> Option<(Family, Method, bool)> {
     let mut back = lines.to_vec();
     back.reverse();
     match (method_of(lines, length), method_of(&back, length)) {
-        (Some((f, m)), Some((b, n))) => Some(if b < f { (b, n, true) } else { (f, m, false) }),
+        (Some((f, m)), Some((b, n))) => {
+            let rank = |family: Family, method: Method| (method == Method::General, family);
+            Some(if rank(b, n) < rank(f, m) {
+                (b, n, true)
+            } else {
+                (f, m, false)
+            })
+        }
         (Some((f, m)), None) => Some((f, m, false)),
         (None, Some((b, n))) => Some((b, n, true)),
         (None, None) => None,
