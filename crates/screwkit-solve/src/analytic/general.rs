@@ -34,7 +34,9 @@
 //! well conditioned. Each real eigenvalue gives θ₃; the null vector of Σ gives θ₄ and θ₅ (as
 //! ratios of its monomials); the least-squares x₁₂ gives θ₁ and θ₂; the loop gives θ₆. Newton
 //! steps on the chain polish each to machine precision; a posture is exact when its polished
-//! residual is below [`EXACT`] (× max(1, L)); the others are least-squares answers.
+//! residual is below [`EXACT`] (× max(1, L)). Where no real root gives an exact posture (the
+//! pose out of reach), the complex roots' real parts seed damped Newton steps: least-squares
+//! configurations, as the closed forms give theirs.
 
 // Index loops on purpose: the matrix algorithms read as in their references.
 #![allow(clippy::needless_range_loop)]
@@ -388,34 +390,44 @@ pub(super) fn general(
     let Some((s, e, m, roots)) = solved else {
         return;
     };
-    // Candidates in joint order, polished; the exact ones emitted first.
+    // Candidates in joint order, polished; the exact ones emitted first. The real roots give
+    // the solutions; where none is exact (the pose out of reach), the real parts of the
+    // complex ones seed damped Newton steps: least-squares configurations.
     let mut found: [([f64; 6], bool, f64); 48] = [([0.0; 6], false, 0.0); 48];
     let mut count = 0;
-    for &(x3, delta, near_double) in roots.iter() {
-        for t in back_substitute(&e, &m, x3, delta).iter() {
-            let mut q = [0.0; 6];
-            for (j, &v) in t.iter().enumerate() {
-                q[(s + j) % 6] = wrap(v);
+    for pass in [true, false] {
+        if !pass && found[..count].iter().any(|f| f.1) {
+            break;
+        }
+        for &(x3, delta, near_double, real) in roots.iter() {
+            if real != pass {
+                continue;
             }
-            let (residual, conditioned) = newton(p, g, &mut q);
-            let exact = residual <= EXACT * scale.max(1.0);
-            if exact && (near_double || !conditioned) {
-                *singular = true;
-            }
-            // One entry per posture: candidates of one solution (the two eigenvalues of a
-            // near-double root, two null vectors) merge, the smaller residual kept.
-            let same = |f: &([f64; 6], bool, f64)| {
-                (0..6).all(|i| wrap(f.0[i] - q[i]).abs() < SAME_POSTURE)
-            };
-            let capacity = found.len();
-            match found[..count].iter_mut().find(|f| same(f)) {
-                Some(f) if (exact, -residual) > (f.1, -f.2) => *f = (q, exact, residual),
-                Some(_) => {}
-                None if count < capacity => {
-                    found[count] = (q, exact, residual);
-                    count += 1;
+            for t in back_substitute(&e, &m, x3, delta).iter() {
+                let mut q = [0.0; 6];
+                for (j, &v) in t.iter().enumerate() {
+                    q[(s + j) % 6] = wrap(v);
                 }
-                None => {}
+                let (residual, conditioned) = newton(p, g, &mut q);
+                let exact = residual <= EXACT * scale.max(1.0);
+                if exact && (near_double || !conditioned) {
+                    *singular = true;
+                }
+                // One entry per posture: candidates of one solution (the two eigenvalues of a
+                // near-double root, two null vectors) merge, the smaller residual kept.
+                let same = |f: &([f64; 6], bool, f64)| {
+                    (0..6).all(|i| wrap(f.0[i] - q[i]).abs() < SAME_POSTURE)
+                };
+                let capacity = found.len();
+                match found[..count].iter_mut().find(|f| same(f)) {
+                    Some(f) if (exact, -residual) > (f.1, -f.2) => *f = (q, exact, residual),
+                    Some(_) => {}
+                    None if count < capacity => {
+                        found[count] = (q, exact, residual);
+                        count += 1;
+                    }
+                    None => {}
+                }
             }
         }
     }
@@ -600,10 +612,11 @@ fn pivot_ratio(lu: &nalgebra::LU<f64, nalgebra::U12, nalgebra::U12>) -> f64 {
 /// Offsets δ of θ₃ tried, in turn, for a well-conditioned leading matrix A = Σ(δ + π).
 const OFFSETS: [f64; 6] = [0.7, 2.3, 4.1, 5.5, 1.6, 3.3];
 
-/// The real roots of det Σ(θ₃) = 0 as (x, δ, near-double) with θ₃ = δ + 2 atan x, from the
-/// companion eigenproblem (module documentation). None when no offset gives an invertible
-/// A or the QR iteration does not converge.
-fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool), 24>> {
+/// The roots of det Σ(θ₃) = 0 as (x, δ, near-double, real) with θ₃ = δ + 2 atan x (for a
+/// complex root, its real part), from the companion eigenproblem (module documentation); real:
+/// within [`IMAGINARY`] of the real line. None when no offset gives an invertible A or the QR
+/// iteration does not converge.
+fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool, bool), 24>> {
     // The first offset whose A is well conditioned (else the best), its LU kept.
     let mut best: Option<(f64, f64, nalgebra::LU<f64, nalgebra::U12, nalgebra::U12>)> = None;
     for &delta in &OFFSETS {
@@ -638,8 +651,8 @@ fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool), 24>> {
     let mut out = Few::default();
     for &(re, im) in values.iter() {
         let angle = 2.0 * im.abs() / (1.0 + re * re);
-        if angle <= IMAGINARY && re.is_finite() {
-            out.push((re, delta, im != 0.0));
+        if re.is_finite() {
+            out.push((re, delta, im != 0.0, angle <= IMAGINARY));
         }
     }
     Some(out)
