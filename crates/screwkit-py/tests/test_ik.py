@@ -290,6 +290,12 @@ def test_ik_all_by_arm_angle() -> None:
         np.testing.assert_allclose(oracle.fk(iiwa.joint_names, x), t, atol=1e-10)
     with pytest.raises(ValueError, match="give it alone"):
         iiwa.ik_all(t, arm_angle=0.1, lock=2)
+    with pytest.raises(ValueError, match="not a finite number"):
+        iiwa.ik_all(t, arm_angle=float("nan"))
+    with pytest.raises(ValueError, match="expected 7 joint values"):
+        iiwa.arm_angle(np.zeros(6))
+    with pytest.raises(ValueError, match="not finite"):
+        iiwa.arm_angle(np.full(7, np.nan))
     panda = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
     with pytest.raises(ValueError, match="no arm angle"):
         panda.arm_angle(np.zeros(7))
