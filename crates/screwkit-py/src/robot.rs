@@ -1507,7 +1507,9 @@ impl Robot {
     fn arm_angle(&self, q: &Bound<'_, PyAny>) -> PyResult<f64> {
         let a = f64_array(q, "q")?;
         let r = a.readonly();
-        screwkit_service::solutions::arm_angle_of(self.kin()?, r.as_slice()?).map_err(service_error)
+        self.analytic
+            .arm_angle_of(self.kin()?, r.as_slice()?)
+            .map_err(service_error)
     }
 
     /// Every IK solution from the analytic solver: any 6R arm of revolute joints (the special

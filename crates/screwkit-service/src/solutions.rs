@@ -25,6 +25,18 @@ pub struct Solvers {
 }
 
 impl Solvers {
+    /// The arm angle ψ of configuration `q` of a 7R arm with a spherical shoulder and wrist
+    /// ([`AnalyticIk::arm_angle_of`]: the definition and its reference plane), by the kept
+    /// arm-angle solver; NaN where it is undefined; an error for another chain or a bad `q`.
+    pub fn arm_angle_of(&self, kin: &Kinematics, q: &[f64]) -> Result<f64> {
+        kin.check_q(q)?;
+        let arm = JointRef::Name(crate::joint::ARM_ANGLE.into());
+        Ok(self
+            .get(kin, Some(&arm))?
+            .arm_angle_of(q)
+            .unwrap_or(f64::NAN))
+    }
+
     /// The solver for `joint` (module documentation of [`AllSolutions::with_solvers`]).
     pub fn get(&self, kin: &Kinematics, joint: Option<&JointRef>) -> Result<AnalyticIk> {
         let kept =
@@ -168,13 +180,4 @@ impl AllSolutions {
                 .collect(),
         }
     }
-}
-
-/// The arm angle ψ of configuration `q` of a 7R arm with a spherical shoulder and wrist
-/// ([`AnalyticIk::arm_angle_of`]: the definition and its reference plane); NaN where it is
-/// undefined; an error for another chain or a bad `q`.
-pub fn arm_angle_of(kin: &Kinematics, q: &[f64]) -> Result<f64> {
-    kin.check_q(q)?;
-    let solver = AnalyticIk::arm_angle(kin)?;
-    Ok(solver.arm_angle_of(q).unwrap_or(f64::NAN))
 }
