@@ -80,6 +80,11 @@ impl Case {
             "{:<15} FK: single {:6.1} ns, batch 1 thread {:6.1} ns, 2 threads {:6.1} ns ({:.2}x) | FK+J: single {:6.1} ns, batch 1 thread {:6.1} ns, 2 threads {:6.1} ns ({:.2}x)",
             self.name, b[0], b[1], b[2], b[1] / b[2], b[3], b[4], b[5], b[4] / b[5]
         );
+        // One machine-readable line per chain (the minimum over the interleaved rounds).
+        println!(
+            "RESULT chain={} fk_single_ns={:.2} fk_batch1_ns={:.2} fk_batch2_ns={:.2} fkj_single_ns={:.2} fkj_batch1_ns={:.2} fkj_batch2_ns={:.2}",
+            self.name, b[0], b[1], b[2], b[3], b[4], b[5]
+        );
     }
 }
 

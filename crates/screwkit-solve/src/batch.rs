@@ -168,8 +168,11 @@ fn for_each_block(
                 let mut r = 0;
                 while r < here {
                     let size = (here - r).min(W);
-                    let ok = (r..r + size).all(|i| kin.check_q(&q[i * n..(i + 1) * n]).is_ok());
                     let rows = |w: usize| r * w..(r + size) * w;
+                    // Every value of the block finite (the rows' lengths are whole by
+                    // construction): one branch-free pass the compiler vectorises, where a
+                    // check_q per row (an early-exit scan) took 13 % of the FK block's time.
+                    let ok = q[rows(n)].iter().fold(true, |ok, x| ok & x.is_finite());
                     if let (Some(block), true) = (block, size == W && ok) {
                         block(
                             &q[rows(n)],

@@ -138,6 +138,31 @@ impl Columns {
         self.0[3] = madd::<A>(a, t[0], madd::<A>(b, t[1], madd::<A>(c, t[2], p)));
     }
 
+    /// [`Columns::translate`] for t in the plane of e_I and e_J (t_K = 0): p ← R_I t_I + R_J t_J + p.
+    #[inline(always)]
+    pub(crate) fn translate_pair<A: MulAdd, const I: usize, const J: usize>(
+        &mut self,
+        t: &[f64; 3],
+    ) {
+        let [ri, rj, p] = [self.0[I], self.0[J], self.0[3]];
+        self.0[3] = madd::<A>(ri, t[I], madd::<A>(rj, t[J], p));
+    }
+
+    /// R x for x in the plane of e_I and e_J (x_K = 0): x_I R e_I + x_J R e_J.
+    #[inline(always)]
+    pub(crate) fn rotate_pair<A: MulAdd, const I: usize, const J: usize>(
+        &self,
+        x: &[f64; 3],
+    ) -> Lane {
+        madd::<A>(self.0[I], x[I], scale(self.0[J], x[J]))
+    }
+
+    /// Column k of R scaled by g.
+    #[inline(always)]
+    pub(crate) fn column_scaled(&self, k: usize, g: f64) -> Lane {
+        scale(self.0[k], g)
+    }
+
     /// T · [[E, t], [0, 1]] for any 3x3 E: column k of R E is Σᵢ E_ik R eᵢ; p ← R t + p.
     #[inline(always)]
     pub(crate) fn compose<A: MulAdd>(&self, e: &Matrix3<f64>, t: &[f64; 3]) -> Self {
@@ -243,6 +268,50 @@ impl Block {
                 );
             }
         }
+    }
+
+    /// [`Columns::translate_pair`] per lane: p ← R_I t_I + R_J t_J + p.
+    #[inline(always)]
+    pub(crate) fn translate_pair<A: MulAdd, const I: usize, const J: usize>(
+        &mut self,
+        t: &[Lanes; 3],
+    ) {
+        for i in 0..3 {
+            for l in 0..W {
+                self.c[3][i][l] = A::madd(
+                    self.c[I][i][l],
+                    t[I][l],
+                    A::madd(self.c[J][i][l], t[J][l], self.c[3][i][l]),
+                );
+            }
+        }
+    }
+
+    /// [`Columns::rotate_pair`] per lane: x_I R e_I + x_J R e_J.
+    #[inline(always)]
+    pub(crate) fn rotate_pair<A: MulAdd, const I: usize, const J: usize>(
+        &self,
+        x: &[f64; 3],
+    ) -> [Lanes; 3] {
+        let mut out = [[0.0; W]; 3];
+        for i in 0..3 {
+            for l in 0..W {
+                out[i][l] = A::madd(self.c[I][i][l], x[I], self.c[J][i][l] * x[J]);
+            }
+        }
+        out
+    }
+
+    /// [`Columns::column_scaled`] per lane: g R e_k.
+    #[inline(always)]
+    pub(crate) fn column_scaled(&self, k: usize, g: f64) -> [Lanes; 3] {
+        let mut out = [[0.0; W]; 3];
+        for i in 0..3 {
+            for l in 0..W {
+                out[i][l] = self.c[k][i][l] * g;
+            }
+        }
+        out
     }
 
     /// [`Columns::compose`] per lane with a per-lane E (`e[row][col][lane]`) and t.

@@ -211,6 +211,9 @@ pub(crate) struct SpaceJacobianBlock<'a> {
 /// T the product of the joints before j ([`PoeJoint::adjoint_column_block`]), then T ← T e^{[S_j]θ_j}.
 struct JacobianStep<'a> {
     t: Block,
+    /// Scratch for the column (ω, v) of every lane.
+    w: [Lanes; 3],
+    v: [Lanes; 3],
     jac: &'a mut [f64],
     n: usize,
 }
@@ -220,7 +223,8 @@ impl BlockStep for JacobianStep<'_> {
     #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
     fn step<A: MulAdd>(&mut self, j: usize, jc: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes) {
         let n = self.n;
-        let (w, v) = jc.adjoint_column_block::<A>(&self.t);
+        let (w, v) = (&mut self.w, &mut self.v);
+        jc.adjoint_column_block::<A>(&self.t, w, v);
         for l in 0..W {
             let out = &mut self.jac[6 * n * l..6 * n * (l + 1)];
             for i in 0..3 {
@@ -246,6 +250,8 @@ impl Kernel for SpaceJacobianBlock<'_> {
         let n = kin.dof();
         let mut step = JacobianStep {
             t: Block::identity(),
+            w: [[0.0; W]; 3],
+            v: [[0.0; W]; 3],
             jac,
             n,
         };

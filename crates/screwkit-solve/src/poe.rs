@@ -10,7 +10,7 @@
 
 use nalgebra::Vector3;
 use screwkit_lie::fma::MulAdd;
-use screwkit_lie::se3::translation_from_coefficients;
+use screwkit_lie::se3::{translation_from_coefficients, translation_of_rotation};
 use screwkit_lie::{so3, trig, Twist};
 use screwkit_model::Drive;
 
@@ -20,6 +20,10 @@ use crate::columns::{add, cross, Block, Columns, Lane, Lanes, W};
 /// near-axis update ([`Columns::rotate_near_axis`]): the terms that update drops are
 /// O(|δ|²) ≤ 1e-18, far below the rounding of the general update.
 pub(crate) const NEAR_AXIS: f64 = 1e-9;
+
+/// Largest |ω · v| / max(‖v‖, 1) of a revolute screw taken as pitch 0: 64 ε, the rounding of
+/// v = −ω × q (a helical joint's pitch, metres per radian, is orders of magnitude above).
+const PITCH_ZERO: f64 = 64.0 * f64::EPSILON;
 
 /// A revolute axis ω that is a coordinate axis (to within 1e-15 per component), with its sign:
 /// then T e^{[S]θ} only mixes two columns of R. Or one that is within [`NEAR_AXIS`] of one —
@@ -70,6 +74,13 @@ impl Aligned {
 pub(crate) struct PoeJoint {
     pub(crate) prismatic: bool,
     aligned: Aligned,
+    /// A revolute joint of pitch 0 (|ω · v| at rounding level): its translation is
+    /// [`translation_of_rotation`].
+    pitch_zero: bool,
+    /// Pitch 0 about an exact coordinate axis e_K (`aligned` with u = 0): e^{[S]θ} moves p
+    /// within the plane of the other two axes only, and R ω is ±column K of R, so the updates
+    /// skip the K components (zero, or rounding of v = −ω × q, which the axis update drops too).
+    planar: bool,
     w: [f64; 3],
     v: [f64; 3],
     wv: [f64; 3],
@@ -92,13 +103,20 @@ impl PoeJoint {
     pub(crate) fn new(s: Twist, prismatic: bool, drive: Drive) -> Self {
         let wv = s.w.cross(&s.v);
         let wwv = s.w.cross(&wv);
+        let aligned = if prismatic {
+            Aligned::General
+        } else {
+            Aligned::of(&s.w)
+        };
+        // ω · v of a revolute axis written v = −ω × q is rounding (≈ ε‖q‖); a deliberate pitch
+        // is many orders above it.
+        let pitch_zero = !prismatic && s.w.dot(&s.v).abs() <= PITCH_ZERO * s.v.norm().max(1.0);
+        let exact_axis = matches!(aligned, Aligned::X(_, u) | Aligned::Y(_, u) | Aligned::Z(_, u) if u == [0.0; 2]);
         Self {
             prismatic,
-            aligned: if prismatic {
-                Aligned::General
-            } else {
-                Aligned::of(&s.w)
-            },
+            aligned,
+            pitch_zero,
+            planar: pitch_zero && exact_axis,
             w: s.w.into(),
             v: s.v.into(),
             wv: wv.into(),
@@ -120,43 +138,63 @@ impl PoeJoint {
             t.translate::<A>(&self.v.map(|x| x * theta));
             return;
         }
-        let p_local = translation_from_coefficients::<A>(
-            &self.v,
-            &self.wv,
-            &self.wwv,
-            theta,
-            1.0 - c,
-            theta - s,
-        );
+        let b = 1.0 - c;
+        let p_local = self.translation::<A>(theta, s, b);
         match self.aligned {
             Aligned::General => {
-                let e = so3::rotation_from_coefficients(&self.w.into(), 1.0, s, 1.0 - c);
+                let e = so3::rotation_from_coefficients(&self.w.into(), 1.0, s, b);
                 *t = t.compose::<A>(&e, &p_local);
             }
             Aligned::X(g, u) => {
-                t.translate::<A>(&p_local);
-                if u == [0.0; 2] {
+                if self.planar {
+                    t.translate_pair::<A, 1, 2>(&p_local);
                     t.rotate_axis::<A, 1, 2>(g * s, c);
                 } else {
-                    t.rotate_near_axis::<A, 1, 2, 0>(g * s, c, &u);
+                    t.translate::<A>(&p_local);
+                    if u == [0.0; 2] {
+                        t.rotate_axis::<A, 1, 2>(g * s, c);
+                    } else {
+                        t.rotate_near_axis::<A, 1, 2, 0>(g * s, c, &u);
+                    }
                 }
             }
             Aligned::Y(g, u) => {
-                t.translate::<A>(&p_local);
-                if u == [0.0; 2] {
+                if self.planar {
+                    t.translate_pair::<A, 2, 0>(&p_local);
                     t.rotate_axis::<A, 2, 0>(g * s, c);
                 } else {
-                    t.rotate_near_axis::<A, 2, 0, 1>(g * s, c, &u);
+                    t.translate::<A>(&p_local);
+                    if u == [0.0; 2] {
+                        t.rotate_axis::<A, 2, 0>(g * s, c);
+                    } else {
+                        t.rotate_near_axis::<A, 2, 0, 1>(g * s, c, &u);
+                    }
                 }
             }
             Aligned::Z(g, u) => {
-                t.translate::<A>(&p_local);
-                if u == [0.0; 2] {
+                if self.planar {
+                    t.translate_pair::<A, 0, 1>(&p_local);
                     t.rotate_axis::<A, 0, 1>(g * s, c);
                 } else {
-                    t.rotate_near_axis::<A, 0, 1, 2>(g * s, c, &u);
+                    t.translate::<A>(&p_local);
+                    if u == [0.0; 2] {
+                        t.rotate_axis::<A, 0, 1>(g * s, c);
+                    } else {
+                        t.rotate_near_axis::<A, 0, 1, 2>(g * s, c, &u);
+                    }
                 }
             }
+        }
+    }
+
+    /// The translation of e^{[S]θ} (b = 1 − cos θ): [`translation_of_rotation`] at pitch 0,
+    /// else the general G(θ) v ([`translation_from_coefficients`]).
+    #[inline(always)]
+    fn translation<A: MulAdd>(&self, theta: f64, s: f64, b: f64) -> [f64; 3] {
+        if self.pitch_zero {
+            translation_of_rotation::<A>(&self.v, &self.wv, s, b)
+        } else {
+            translation_from_coefficients::<A>(&self.v, &self.wv, &self.wwv, theta, b, theta - s)
         }
     }
 
@@ -184,14 +222,23 @@ impl PoeJoint {
             t.translate::<A>(&step);
             return;
         }
-        // translation_from_coefficients per lane: v θ + (ω × v)(1 − c) + (ω × ω × v)(θ − s).
-        for i in 0..3 {
-            for l in 0..W {
-                step[i][l] = A::madd(
-                    self.v[i],
-                    theta[l],
-                    A::madd(self.wv[i], 1.0 - c[l], self.wwv[i] * (theta[l] - s[l])),
-                );
+        // `translation` per lane (the same operations as `translation_of_rotation` or
+        // `translation_from_coefficients`).
+        if self.pitch_zero {
+            for i in 0..3 {
+                for l in 0..W {
+                    step[i][l] = A::madd(self.wv[i], 1.0 - c[l], self.v[i] * s[l]);
+                }
+            }
+        } else {
+            for i in 0..3 {
+                for l in 0..W {
+                    step[i][l] = A::madd(
+                        self.v[i],
+                        theta[l],
+                        A::madd(self.wv[i], 1.0 - c[l], self.wwv[i] * (theta[l] - s[l])),
+                    );
+                }
             }
         }
         let p_local = step;
@@ -233,10 +280,27 @@ impl PoeJoint {
                 t.compose::<A>(&e, &p_local);
             }
             Aligned::X(g, u) | Aligned::Y(g, u) | Aligned::Z(g, u) => {
-                t.translate::<A>(&p_local);
                 for l in 0..W {
                     gs[l] = g * s[l];
                 }
+                if self.planar {
+                    match self.aligned {
+                        Aligned::X(..) => {
+                            t.translate_pair::<A, 1, 2>(&p_local);
+                            t.rotate_axis::<A, 1, 2>(&gs, c);
+                        }
+                        Aligned::Y(..) => {
+                            t.translate_pair::<A, 2, 0>(&p_local);
+                            t.rotate_axis::<A, 2, 0>(&gs, c);
+                        }
+                        _ => {
+                            t.translate_pair::<A, 0, 1>(&p_local);
+                            t.rotate_axis::<A, 0, 1>(&gs, c);
+                        }
+                    }
+                    return;
+                }
+                t.translate::<A>(&p_local);
                 // One arm for the three axes, then the axis and exactness: written as separate
                 // top-level arms (or with a guard) this block came out 8–10 % slower on the
                 // exact-axes Panda (measured); the scalar `apply` is the other way round.
@@ -256,30 +320,67 @@ impl PoeJoint {
     /// per lane, the same operations in the same order.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-    pub(crate) fn adjoint_column_block<A: MulAdd>(&self, t: &Block) -> ([Lanes; 3], [Lanes; 3]) {
-        let w = t.rotate::<A>(&self.w);
-        let mut v = t.rotate::<A>(&self.v);
-        let p = &t.c[3];
-        for l in 0..W {
-            let cross = [
-                p[1][l] * w[2][l] - p[2][l] * w[1][l],
-                p[2][l] * w[0][l] - p[0][l] * w[2][l],
-                p[0][l] * w[1][l] - p[1][l] * w[0][l],
-            ];
-            for i in 0..3 {
-                v[i][l] += cross[i];
+    pub(crate) fn adjoint_column_block<A: MulAdd>(
+        &self,
+        t: &Block,
+        w: &mut [Lanes; 3],
+        v: &mut [Lanes; 3],
+    ) {
+        match (self.planar, self.aligned) {
+            (true, Aligned::X(g, _)) => self.planar_adjoint_block::<A, 1, 2, 0>(t, g, w, v),
+            (true, Aligned::Y(g, _)) => self.planar_adjoint_block::<A, 2, 0, 1>(t, g, w, v),
+            (true, Aligned::Z(g, _)) => self.planar_adjoint_block::<A, 0, 1, 2>(t, g, w, v),
+            _ => {
+                *w = t.rotate::<A>(&self.w);
+                *v = t.rotate::<A>(&self.v);
+                cross_add_block(&t.c[3], w, v);
             }
         }
-        (w, v)
+    }
+
+    /// [`PoeJoint::adjoint_column_block`] of a planar joint about ±e_K.
+    #[inline(always)]
+    fn planar_adjoint_block<A: MulAdd, const I: usize, const J: usize, const K: usize>(
+        &self,
+        t: &Block,
+        g: f64,
+        w: &mut [Lanes; 3],
+        v: &mut [Lanes; 3],
+    ) {
+        *w = t.column_scaled(K, g);
+        *v = t.rotate_pair::<A, I, J>(&self.v);
+        cross_add_block(&t.c[3], w, v);
     }
 
     /// \[Ad_T\] S = (R ω, R v + p × R ω) as two lanes (w = 0): the Jacobian column of this joint
     /// when the joints before it make T ([`screwkit_lie::Se3::adjoint_apply`] on columns).
     #[inline(always)]
     pub(crate) fn adjoint_column<A: MulAdd>(&self, t: &Columns) -> (Lane, Lane) {
-        let w = t.rotate::<A>(&self.w);
-        let v = add(t.rotate::<A>(&self.v), cross(t.p(), w));
+        // A planar joint about ±e_K: R ω = ±R e_K, and v has no K component.
+        let (w, v) = match (self.planar, self.aligned) {
+            (true, Aligned::X(g, _)) => (t.column_scaled(0, g), t.rotate_pair::<A, 1, 2>(&self.v)),
+            (true, Aligned::Y(g, _)) => (t.column_scaled(1, g), t.rotate_pair::<A, 2, 0>(&self.v)),
+            (true, Aligned::Z(g, _)) => (t.column_scaled(2, g), t.rotate_pair::<A, 0, 1>(&self.v)),
+            _ => (t.rotate::<A>(&self.w), t.rotate::<A>(&self.v)),
+        };
+        let v = add(v, cross(t.p(), w));
         (w, v)
+    }
+}
+
+/// v ← v + p × w lane by lane ([`crate::columns::cross`]'s operations).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
+fn cross_add_block(p: &[Lanes; 3], w: &[Lanes; 3], v: &mut [Lanes; 3]) {
+    for l in 0..W {
+        let cross = [
+            p[1][l] * w[2][l] - p[2][l] * w[1][l],
+            p[2][l] * w[0][l] - p[0][l] * w[2][l],
+            p[0][l] * w[1][l] - p[1][l] * w[0][l],
+        ];
+        for i in 0..3 {
+            v[i][l] += cross[i];
+        }
     }
 }
 
@@ -454,6 +555,10 @@ mod tests {
                     off > 0 && jc.aligned != Aligned::General,
                     "{axis:?}"
                 );
+                // Planar (the lean translation and adjoint column): pitch 0 about an exact axis.
+                let exact = matches!(jc.aligned, Aligned::X(_, u) | Aligned::Y(_, u) | Aligned::Z(_, u) if u == [0.0; 2]);
+                assert_eq!(jc.pitch_zero, pitch == 0.0, "{axis:?}");
+                assert_eq!(jc.planar, pitch == 0.0 && exact, "{axis:?}");
                 cases.push((*s.twist(), jc));
             }
         }
