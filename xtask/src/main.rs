@@ -8,13 +8,18 @@
 //!   check`, `mypy --strict` (package stubs and tests), `mypy.stubtest` (the stubs against the
 //!   built module) and `pytest`.
 //! - `cargo xtask test --rust` or `--python`: one half.
+//! - `cargo xtask features`: checks that the CLI and the Python package ask for the same
+//!   features of every dependency they share (`cargo tree`, no build), so that
+//!   `pip install ./crates/screwkit-py` after `cargo build --release -p screwkit-cli` reuses
+//!   its compiled dependencies instead of building them a second time (see
+//!   `crates/workspace-hack/Cargo.toml`); a difference names the crates and what to add there.
 //!
 //! The Python interpreter is `$PYTHON`, else `python3`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
-const USAGE: &str = "usage: cargo xtask test [--rust | --python]";
+const USAGE: &str = "usage: cargo xtask test [--rust | --python] | cargo xtask features";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -23,6 +28,7 @@ fn main() -> ExitCode {
         ["test"] => test(true, true),
         ["test", "--rust"] => test(true, false),
         ["test", "--python"] => test(false, true),
+        ["features"] => features(),
         _ => Err(USAGE.to_string()),
     };
     match result {
@@ -134,4 +140,70 @@ fn test_python() -> Result<(), String> {
         }
     }
     run(&mut pytest)
+}
+
+/// The front ends whose dependency builds must coincide.
+const FRONT_ENDS: [&str; 2] = ["screwkit-cli", "screwkit-py"];
+
+/// Each dependency of `package` (normal and build edges, as `cargo build -p` resolves them)
+/// with the feature sets it is built with: "name vX.Y.Z [(source)]" → {"f1,f2", …}.
+fn dependency_features(
+    package: &str,
+) -> Result<std::collections::BTreeMap<String, std::collections::BTreeSet<String>>, String> {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .current_dir(root())
+        .args([
+            "tree",
+            "-p",
+            package,
+            "-e",
+            "normal,build",
+            "--prefix",
+            "none",
+        ])
+        .args(["--no-dedupe", "-f", "{p}|{f}"])
+        .output()
+        .map_err(|e| format!("cannot run cargo tree: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "cargo tree -p {package} failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    let mut map = std::collections::BTreeMap::<_, std::collections::BTreeSet<_>>::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        if let Some((crate_, features)) = line.split_once('|') {
+            map.entry(crate_.trim().to_string())
+                .or_default()
+                .insert(features.trim().to_string());
+        }
+    }
+    Ok(map)
+}
+
+fn features() -> Result<(), String> {
+    let [a, b] = FRONT_ENDS;
+    let (fa, fb) = (dependency_features(a)?, dependency_features(b)?);
+    let differing: Vec<String> = fa
+        .iter()
+        .filter_map(|(k, va)| {
+            let vb = fb.get(k)?;
+            (va != vb).then(|| format!("  {k}: {a} {va:?}, {b} {vb:?}"))
+        })
+        .collect();
+    if differing.is_empty() {
+        eprintln!(
+            "xtask: {a} and {b} share {} dependencies, each with the same features",
+            fa.keys().filter(|k| fb.contains_key(*k)).count()
+        );
+        Ok(())
+    } else {
+        Err(format!(
+            "{a} and {b} build these shared dependencies with different features, so \
+             `pip install` after the CLI build compiles them (and everything above them) \
+             again; add the union to crates/workspace-hack/Cargo.toml:\n{}",
+            differing.join("\n")
+        ))
+    }
 }

@@ -1,9 +1,8 @@
-//! Singularity analysis of a Jacobian from its SVD (faer).
+//! Singularity analysis of a Jacobian from its SVD ([`crate::svd`]).
 //!
 //! Caveat of the field: J mixes units (rad/s and m/s rows), so singular values and the condition
 //! number depend on the length unit; the rank and the lost directions do not.
 
-use faer::Mat;
 use nalgebra::{Matrix3, Matrix6xX, SymmetricEigen, Vector3, Vector6};
 
 use screwkit_lie::display::fixed_list;
@@ -38,7 +37,9 @@ pub struct Analysis {
     pub rank: usize,
     /// σ_i ≤ max(6, n) · ε · σ₁ counts as zero (the LAPACK/NumPy `matrix_rank` convention).
     pub rank_tolerance: f64,
-    /// Yoshikawa's manipulability √det(J Jᵀ) = σ₁ ⋯ σ₆ (0 when n < 6).
+    /// Yoshikawa's manipulability √det(J Jᵀ) = σ₁ ⋯ σ₆; 0 when n < 6 or the Jacobian is rank
+    /// deficient (a σ within the rank tolerance counts as zero, as for the condition number:
+    /// the product would be rounding noise).
     pub manipulability: f64,
     /// σ₁ / σ_min(6,n); ∞ when the Jacobian is rank deficient (σ_min within the rank tolerance
     /// is numerically zero: its value is rounding noise, so the ratio would be too).
@@ -152,20 +153,16 @@ pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
             "the Jacobian has non-finite entries".into(),
         ));
     }
-    let m = Mat::<f64>::from_fn(6, n, |r, c| j[(r, c)]);
-    let svd = m
-        .svd()
-        .map_err(|e| SolveError::Numerical(format!("the SVD did not converge: {e:?}")))?;
+    let svd = crate::svd::jacobian_svd(j, None)?;
     let k = n.min(6);
-    let s = svd.S().column_vector();
-    let singular_values: Vec<f64> = (0..k).map(|i| s[i]).collect();
+    let singular_values = svd.s;
     let s1 = singular_values.first().copied().unwrap_or(0.0);
     let rank_tolerance = 6.max(n) as f64 * f64::EPSILON * s1;
     let rank = singular_values
         .iter()
         .filter(|&&x| x > rank_tolerance)
         .count();
-    let u = svd.U();
+    let u = svd.u;
     let col = |i: usize| canonical_sign(Vector6::from_fn(|r, _| u[(r, i)]));
     let lost_directions = (0..6)
         .filter(|&i| i >= k || singular_values[i] <= rank_tolerance)
@@ -176,7 +173,7 @@ pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
     let jv = j.fixed_rows::<3>(3);
     Ok(Analysis {
         columns: n,
-        manipulability: if n >= 6 {
+        manipulability: if n >= 6 && rank == 6 {
             singular_values.iter().product()
         } else {
             0.0

@@ -5,7 +5,7 @@
 //! and ‖v_b‖ ≤ ε_v (over the components whose weight is not 0; position-only uses
 //! (0, R_sbᵀ(p_d − p))). They differ in the step:
 //!
-//! - [`IkMethod::NewtonRaphson`]: Δq = J_b⁺ V_b, SVD pseudo-inverse (faer).
+//! - [`IkMethod::NewtonRaphson`]: Δq = J_b⁺ V_b, SVD pseudo-inverse ([`crate::svd`]).
 //! - [`IkMethod::Dls`]: Δq = J_bᵀ (J_b J_bᵀ + λ² I)⁻¹ V_b with a fixed damping λ.
 //! - [`IkMethod::LevenbergMarquardt`] (default): Δq = J_bᵀ (J_b J_bᵀ + μ I)⁻¹ V_b with the
 //!   adaptive diagonal term μ = 0.05 ‖V_b‖² + μ̄ (after Sugihara, "Solvability-unconcerned
@@ -297,7 +297,7 @@ fn step(
     dq: &mut [f64],
 ) -> Result<(), SolveError> {
     let mu = match method {
-        // Δq = J⁺ e with the faer SVD; σ ≤ 1e-10 σ₁ dropped.
+        // Δq = J⁺ e with the SVD; σ ≤ 1e-10 σ₁ dropped.
         IkMethod::NewtonRaphson => {
             return crate::velocity::pinv_into(jac, e, locked, |s1| 1e-10 * s1, dq);
         }

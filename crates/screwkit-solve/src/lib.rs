@@ -65,6 +65,7 @@ mod kinematics;
 mod poe;
 pub mod sample;
 pub mod subproblem;
+mod svd;
 pub mod tree;
 pub mod velocity;
 mod workspace;

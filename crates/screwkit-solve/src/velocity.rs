@@ -2,7 +2,6 @@
 //! V = J(q) q̇ and τ = J(q)ᵀ F (*Modern Robotics* eqs. 5.1 and 5.26), with the twist or wrench
 //! expressed in the Jacobian's frame — (J_s, V_s, F_s) or (J_b, V_b, F_b).
 
-use faer::Mat;
 use nalgebra::{DVector, Matrix6, Matrix6xX, Vector6};
 use screwkit_lie::{Frame, Twist, Wrench};
 
@@ -16,7 +15,7 @@ pub enum VelocitySolver {
     /// q̇ = J⁻¹ V for a square (6-DoF), non-singular J (LU); an error otherwise (rank decided by
     /// the SVD with the analysis's tolerance, 6 ε σ₁).
     Exact,
-    /// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ (faer): least squares and minimum
+    /// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ ([`crate::svd`]): least squares and minimum
     /// norm. σ_i ≤ `tolerance` count as 0 (`None`: max(6, n) · ε · σ₁).
     PseudoInverse {
         /// Singular values at or below this are dropped.
@@ -100,7 +99,7 @@ fn exact(j: &Matrix6xX<f64>, v: &Vector6<f64>) -> Result<DVector<f64>, SolveErro
     Ok(DVector::from_column_slice(x.as_slice()))
 }
 
-/// x = J⁺ b = Σ_i (u_iᵀ b / σ_i) v_i over the σ_i > `tolerance(σ₁)` of the faer SVD, with the
+/// x = J⁺ b = Σ_i (u_iᵀ b / σ_i) v_i over the σ_i > `tolerance(σ₁)` of the SVD ([`crate::svd`]), with the
 /// columns whose `locked` flag is set treated as zero (their x is 0). The one pseudo-inverse of
 /// the crate: [`VelocitySolver::PseudoInverse`] and the Newton–Raphson IK step.
 pub(crate) fn pinv_into(
@@ -111,11 +110,8 @@ pub(crate) fn pinv_into(
     x: &mut [f64],
 ) -> Result<(), SolveError> {
     let n = j.ncols();
-    let m = Mat::<f64>::from_fn(6, n, |r, c| if locked[c] { 0.0 } else { j[(r, c)] });
-    let svd = m
-        .thin_svd()
-        .map_err(|e| SolveError::Numerical(format!("the SVD did not converge: {e:?}")))?;
-    let (u, s, v) = (svd.U(), svd.S().column_vector(), svd.V());
+    let svd = crate::svd::jacobian_svd(j, Some(locked))?;
+    let (u, s, v) = (&svd.u, &svd.s, &svd.v);
     let k = n.min(6);
     let tol = if k > 0 { tolerance(s[0]) } else { 0.0 };
     x.iter_mut().for_each(|x| *x = 0.0);
