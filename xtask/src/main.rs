@@ -11,8 +11,10 @@
 //! - `cargo xtask features`: checks that the CLI and the Python package ask for the same
 //!   features of every dependency they share (`cargo tree`, no build), so that
 //!   `pip install ./crates/screwkit-py` after `cargo build --release -p screwkit-cli` reuses
-//!   its compiled dependencies instead of building them a second time (see
-//!   `crates/workspace-hack/Cargo.toml`); a difference names the crates and what to add there.
+//!   its compiled dependencies instead of building them a second time, and that the CLI alone
+//!   asks for what the workspace's test build does (so the CLI the Python tests call is the
+//!   one `cargo test --workspace` built); see `crates/workspace-hack/Cargo.toml`. A difference
+//!   names the crates and what to add there.
 //!
 //! The Python interpreter is `$PYTHON`, else `python3`.
 
@@ -145,35 +147,42 @@ fn test_python() -> Result<(), String> {
 /// The front ends whose dependency builds must coincide.
 const FRONT_ENDS: [&str; 2] = ["screwkit-cli", "screwkit-py"];
 
-/// Each dependency of `package` (normal and build edges, as `cargo build -p` resolves them)
-/// with the feature sets it is built with: "name vX.Y.Z [(source)]" → {"f1,f2", …}.
-fn dependency_features(
-    package: &str,
-) -> Result<std::collections::BTreeMap<String, std::collections::BTreeSet<String>>, String> {
+/// Feature sets per dependency: "name vX.Y.Z [(source)]" → {"f1,f2", …}.
+type Features = std::collections::BTreeMap<String, std::collections::BTreeSet<String>>;
+
+/// Each dependency of a build (`selection`: `-p PACKAGE` or `--workspace`; `edges`:
+/// `normal,build` as `cargo build` resolves them, with `dev` as `cargo test` does) with the
+/// feature sets it is built with.
+fn dependency_features(selection: &[&str], edges: &str) -> Result<Features, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
         .current_dir(root())
+        .arg("tree")
+        .args(selection)
         .args([
-            "tree",
-            "-p",
-            package,
             "-e",
-            "normal,build",
+            edges,
             "--prefix",
             "none",
+            "--no-dedupe",
+            "-f",
+            "{p}|{f}",
         ])
-        .args(["--no-dedupe", "-f", "{p}|{f}"])
         .output()
         .map_err(|e| format!("cannot run cargo tree: {e}"))?;
     if !out.status.success() {
         return Err(format!(
-            "cargo tree -p {package} failed: {}",
+            "cargo tree {} failed: {}",
+            selection.join(" "),
             String::from_utf8_lossy(&out.stderr)
         ));
     }
-    let mut map = std::collections::BTreeMap::<_, std::collections::BTreeSet<_>>::new();
+    let mut map = Features::new();
     for line in String::from_utf8_lossy(&out.stdout).lines() {
         if let Some((crate_, features)) = line.split_once('|') {
+            if features.trim() == "(*)" {
+                continue;
+            }
             map.entry(crate_.trim().to_string())
                 .or_default()
                 .insert(features.trim().to_string());
@@ -182,28 +191,36 @@ fn dependency_features(
     Ok(map)
 }
 
+/// The shared dependencies whose feature sets differ between two builds, one line each.
+fn differing(a: (&str, &Features), b: (&str, &Features)) -> Vec<String> {
+    a.1.iter()
+        .filter_map(|(k, va)| {
+            let vb = b.1.get(k)?;
+            (va != vb).then(|| format!("  {k}: {} {va:?}, {} {vb:?}", a.0, b.0))
+        })
+        .collect()
+}
+
 fn features() -> Result<(), String> {
     let [a, b] = FRONT_ENDS;
-    let (fa, fb) = (dependency_features(a)?, dependency_features(b)?);
-    let differing: Vec<String> = fa
-        .iter()
-        .filter_map(|(k, va)| {
-            let vb = fb.get(k)?;
-            (va != vb).then(|| format!("  {k}: {a} {va:?}, {b} {vb:?}"))
-        })
-        .collect();
-    if differing.is_empty() {
+    let fa = dependency_features(&["-p", a], "normal,build")?;
+    let fb = dependency_features(&["-p", b], "normal,build")?;
+    let tests = dependency_features(&["--workspace"], "normal,build,dev")?;
+    let mut problems = differing((a, &fa), (b, &fb));
+    problems.extend(differing((a, &fa), ("the test build", &tests)));
+    if problems.is_empty() {
         eprintln!(
-            "xtask: {a} and {b} share {} dependencies, each with the same features",
+            "xtask: {a} and {b} share {} dependencies, each with the same features, also in \
+             the workspace's test build",
             fa.keys().filter(|k| fb.contains_key(*k)).count()
         );
         Ok(())
     } else {
         Err(format!(
-            "{a} and {b} build these shared dependencies with different features, so \
-             `pip install` after the CLI build compiles them (and everything above them) \
-             again; add the union to crates/workspace-hack/Cargo.toml:\n{}",
-            differing.join("\n")
+            "these shared dependencies are built with different features, so one build \
+             compiles them (and everything above them) again after the other; add the union \
+             to crates/workspace-hack/Cargo.toml:\n{}",
+            problems.join("\n")
         ))
     }
 }
