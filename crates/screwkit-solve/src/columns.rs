@@ -227,6 +227,30 @@ pub(crate) const W: usize = screwkit_lie::trig::LANES;
 /// One value per configuration of a [`Block`].
 pub(crate) type Lanes = [f64; W];
 
+/// A value aligned to 64 bytes, as the rows of a [`Block`] are: the block kernels' scratch
+/// arrays, so that they are stored and loaded as whole aligned vectors.
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct Align64<T>(pub(crate) T);
+
+/// Lanes g..g + 4 of `x`.
+#[inline(always)]
+pub(crate) fn quad(x: &Lanes, g: usize) -> [f64; 4] {
+    [x[g], x[g + 1], x[g + 2], x[g + 3]]
+}
+
+/// The 4 × 4 transpose: row m of the result is (a[m], b[m], c[m], d[m]). Written as whole
+/// arrays so that it compiles to shuffles (never gathers).
+#[inline(always)]
+pub(crate) fn transpose4(a: &[f64; 4], b: &[f64; 4], c: &[f64; 4], d: &[f64; 4]) -> [[f64; 4]; 4] {
+    [
+        [a[0], b[0], c[0], d[0]],
+        [a[1], b[1], c[1], d[1]],
+        [a[2], b[2], c[2], d[2]],
+        [a[3], b[3], c[3], d[3]],
+    ]
+}
+
 /// W poses at once, structure of arrays: `c[k][i][l]` is row i of column k (k = 3: p) of
 /// configuration l. Every operation is the [`Columns`] operation of the same name applied lane
 /// by lane with the same multiply-adds in the same order, so configuration l's result is
@@ -256,17 +280,16 @@ impl Block {
     #[inline(always)]
     pub(crate) fn translate<A: MulAdd>(&mut self, t: &[Lanes; 3]) {
         for i in 0..3 {
+            let (a, b, c, p) = (self.c[0][i], self.c[1][i], self.c[2][i], self.c[3][i]);
+            let mut out = [0.0; W];
             for l in 0..W {
-                self.c[3][i][l] = A::madd(
-                    self.c[0][i][l],
+                out[l] = A::madd(
+                    a[l],
                     t[0][l],
-                    A::madd(
-                        self.c[1][i][l],
-                        t[1][l],
-                        A::madd(self.c[2][i][l], t[2][l], self.c[3][i][l]),
-                    ),
+                    A::madd(b[l], t[1][l], A::madd(c[l], t[2][l], p[l])),
                 );
             }
+            self.c[3][i] = out;
         }
     }
 
@@ -276,14 +299,15 @@ impl Block {
         &mut self,
         t: &[Lanes; 3],
     ) {
+        // Whole rows into locals, then back (as `compose`): indexing the block in place let
+        // the AVX-512 build read rows at shifted offsets (stalled store forwarding).
         for i in 0..3 {
+            let (a, b, p) = (self.c[I][i], self.c[J][i], self.c[3][i]);
+            let mut out = [0.0; W];
             for l in 0..W {
-                self.c[3][i][l] = A::madd(
-                    self.c[I][i][l],
-                    t[I][l],
-                    A::madd(self.c[J][i][l], t[J][l], self.c[3][i][l]),
-                );
+                out[l] = A::madd(a[l], t[I][l], A::madd(b[l], t[J][l], p[l]));
             }
+            self.c[3][i] = out;
         }
     }
 
@@ -367,11 +391,14 @@ impl Block {
         c: &Lanes,
     ) {
         for i in 0..3 {
+            let (u, w) = (self.c[I][i], self.c[J][i]);
+            let (mut ou, mut ow) = ([0.0; W], [0.0; W]);
             for l in 0..W {
-                let (u, w) = (self.c[I][i][l], self.c[J][i][l]);
-                self.c[I][i][l] = A::madd(w, s[l], u * c[l]);
-                self.c[J][i][l] = A::madd(u, -s[l], w * c[l]);
+                ou[l] = A::madd(w[l], s[l], u[l] * c[l]);
+                ow[l] = A::madd(u[l], -s[l], w[l] * c[l]);
             }
+            self.c[I][i] = ou;
+            self.c[J][i] = ow;
         }
     }
 
@@ -393,12 +420,14 @@ impl Block {
             ij[l] = A::madd(b, uj, -(s[l] * ui));
         }
         for i in 0..3 {
+            let (ri, rj, rk) = (self.c[I][i], self.c[J][i], self.c[K][i]);
+            let (mut oi, mut oj, mut ok) = ([0.0; W], [0.0; W], [0.0; W]);
             for l in 0..W {
-                let (ri, rj, rk) = (self.c[I][i][l], self.c[J][i][l], self.c[K][i][l]);
-                self.c[I][i][l] = A::madd(rk, ki[l], A::madd(rj, s[l], ri * c[l]));
-                self.c[J][i][l] = A::madd(rk, kj[l], A::madd(ri, -s[l], rj * c[l]));
-                self.c[K][i][l] = A::madd(ri, ii[l], A::madd(rj, ij[l], rk));
+                oi[l] = A::madd(rk[l], ki[l], A::madd(rj[l], s[l], ri[l] * c[l]));
+                oj[l] = A::madd(rk[l], kj[l], A::madd(ri[l], -s[l], rj[l] * c[l]));
+                ok[l] = A::madd(ri[l], ii[l], A::madd(rj[l], ij[l], rk[l]));
             }
+            (self.c[I][i], self.c[J][i], self.c[K][i]) = (oi, oj, ok);
         }
     }
 
@@ -418,14 +447,30 @@ impl Block {
         out
     }
 
-    /// Configuration `l` as a row-major 4 × 4 ([`Se3::write_row_major`]'s layout).
+    /// Every configuration as a row-major 4 × 4 ([`Se3::write_row_major`]'s layout), lane l
+    /// at `out[16 l..16 l + 16]`. Row i of lane l is (R_i0, R_i1, R_i2, p_i)[l]: four columns'
+    /// entries, so four lanes at a time go through a 4 × 4 transpose and are stored as whole
+    /// rows (a loop over lanes storing entry by entry became AVX-512 scatters in native builds,
+    /// slow on this class of CPU, and 12 extract-and-store pairs per pose elsewhere).
     #[inline(always)]
-    pub(crate) fn write_row_major(&self, l: usize, out: &mut [f64]) {
-        for i in 0..3 {
-            for k in 0..4 {
-                out[4 * i + k] = self.c[k][i][l];
+    pub(crate) fn write_all_row_major(&self, out: &mut [f64]) {
+        for g in (0..W).step_by(4) {
+            for i in 0..3 {
+                let rows = transpose4(
+                    &quad(&self.c[0][i], g),
+                    &quad(&self.c[1][i], g),
+                    &quad(&self.c[2][i], g),
+                    &quad(&self.c[3][i], g),
+                );
+                for m in 0..4 {
+                    let at = 16 * (g + m) + 4 * i;
+                    out[at..at + 4].copy_from_slice(&rows[m]);
+                }
+            }
+            for m in 0..4 {
+                let at = 16 * (g + m) + 12;
+                out[at..at + 4].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
             }
         }
-        out[12..16].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
     }
 }

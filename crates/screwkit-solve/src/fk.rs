@@ -79,9 +79,7 @@ impl Kernel for TipBlock<'_> {
         let mut t = Block::identity();
         walk_block::<A>(&kin.space, kin.identity_map, &self.qs[..W * n], n, &mut t);
         t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
-        for l in 0..W {
-            t.write_row_major(l, &mut self.out[16 * l..16 * (l + 1)]);
-        }
+        t.write_all_row_major(&mut self.out[..16 * W]);
     }
 }
 

@@ -259,9 +259,7 @@ impl Kernel for SpaceJacobianBlock<'_> {
         let mut t = step.t;
         if let Some(p) = poses {
             t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
-            for l in 0..W {
-                t.write_row_major(l, &mut p[16 * l..16 * (l + 1)]);
-            }
+            t.write_all_row_major(&mut p[..16 * W]);
         }
     }
 }

@@ -14,7 +14,7 @@ use screwkit_lie::se3::{translation_from_coefficients, translation_of_rotation};
 use screwkit_lie::{so3, trig, Twist};
 use screwkit_model::Drive;
 
-use crate::columns::{add, cross, Block, Columns, Lane, Lanes, W};
+use crate::columns::{add, cross, Align64, Block, Columns, Lane, Lanes, W};
 
 /// Largest off-axis component |δ| of a revolute axis ω = ±e_k + δ that still takes the
 /// near-axis update ([`Columns::rotate_near_axis`]): the terms that update drops are
@@ -212,14 +212,16 @@ impl PoeJoint {
     ) {
         // Plain loops only: iterator adaptors and `array::from_fn` may stay out of line, and
         // then their `mul_add` is compiled without FMA (a library call) outside the clone.
-        let mut step = [[0.0; W]; 3];
+        // Scratch aligned like the block's rows: built and read as whole vectors (an 8-byte
+        // aligned array read back as 512-bit loads stalled the AVX-512 build).
+        let mut step = Align64([[0.0; W]; 3]);
         if self.prismatic {
             for i in 0..3 {
                 for l in 0..W {
-                    step[i][l] = self.v[i] * theta[l];
+                    step.0[i][l] = self.v[i] * theta[l];
                 }
             }
-            t.translate::<A>(&step);
+            t.translate::<A>(&step.0);
             return;
         }
         // `translation` per lane (the same operations as `translation_of_rotation` or
@@ -227,13 +229,13 @@ impl PoeJoint {
         if self.pitch_zero {
             for i in 0..3 {
                 for l in 0..W {
-                    step[i][l] = A::madd(self.wv[i], 1.0 - c[l], self.v[i] * s[l]);
+                    step.0[i][l] = A::madd(self.wv[i], 1.0 - c[l], self.v[i] * s[l]);
                 }
             }
         } else {
             for i in 0..3 {
                 for l in 0..W {
-                    step[i][l] = A::madd(
+                    step.0[i][l] = A::madd(
                         self.v[i],
                         theta[l],
                         A::madd(self.wv[i], 1.0 - c[l], self.wwv[i] * (theta[l] - s[l])),
@@ -241,8 +243,8 @@ impl PoeJoint {
                 }
             }
         }
-        let p_local = step;
-        let mut gs = [0.0; W];
+        let p_local = &step.0;
+        let mut gs = Align64([0.0; W]);
         match self.aligned {
             Aligned::General => {
                 // so3::rotation_from_coefficients(ω, 1, s, 1 − c) per lane.
@@ -277,40 +279,40 @@ impl PoeJoint {
                         lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * z * z),
                     ],
                 ];
-                t.compose::<A>(&e, &p_local);
+                t.compose::<A>(&e, p_local);
             }
             Aligned::X(g, u) | Aligned::Y(g, u) | Aligned::Z(g, u) => {
                 for l in 0..W {
-                    gs[l] = g * s[l];
+                    gs.0[l] = g * s[l];
                 }
                 if self.planar {
                     match self.aligned {
                         Aligned::X(..) => {
-                            t.translate_pair::<A, 1, 2>(&p_local);
-                            t.rotate_axis::<A, 1, 2>(&gs, c);
+                            t.translate_pair::<A, 1, 2>(p_local);
+                            t.rotate_axis::<A, 1, 2>(&gs.0, c);
                         }
                         Aligned::Y(..) => {
-                            t.translate_pair::<A, 2, 0>(&p_local);
-                            t.rotate_axis::<A, 2, 0>(&gs, c);
+                            t.translate_pair::<A, 2, 0>(p_local);
+                            t.rotate_axis::<A, 2, 0>(&gs.0, c);
                         }
                         _ => {
-                            t.translate_pair::<A, 0, 1>(&p_local);
-                            t.rotate_axis::<A, 0, 1>(&gs, c);
+                            t.translate_pair::<A, 0, 1>(p_local);
+                            t.rotate_axis::<A, 0, 1>(&gs.0, c);
                         }
                     }
                     return;
                 }
-                t.translate::<A>(&p_local);
+                t.translate::<A>(p_local);
                 // One arm for the three axes, then the axis and exactness: written as separate
                 // top-level arms (or with a guard) this block came out 8–10 % slower on the
                 // exact-axes Panda (measured); the scalar `apply` is the other way round.
                 match (self.aligned, u == [0.0; 2]) {
-                    (Aligned::X(..), true) => t.rotate_axis::<A, 1, 2>(&gs, c),
-                    (Aligned::Y(..), true) => t.rotate_axis::<A, 2, 0>(&gs, c),
-                    (Aligned::Z(..), true) => t.rotate_axis::<A, 0, 1>(&gs, c),
-                    (Aligned::X(..), false) => t.rotate_near_axis::<A, 1, 2, 0>(&gs, c, &u),
-                    (Aligned::Y(..), false) => t.rotate_near_axis::<A, 2, 0, 1>(&gs, c, &u),
-                    _ => t.rotate_near_axis::<A, 0, 1, 2>(&gs, c, &u),
+                    (Aligned::X(..), true) => t.rotate_axis::<A, 1, 2>(&gs.0, c),
+                    (Aligned::Y(..), true) => t.rotate_axis::<A, 2, 0>(&gs.0, c),
+                    (Aligned::Z(..), true) => t.rotate_axis::<A, 0, 1>(&gs.0, c),
+                    (Aligned::X(..), false) => t.rotate_near_axis::<A, 1, 2, 0>(&gs.0, c, &u),
+                    (Aligned::Y(..), false) => t.rotate_near_axis::<A, 2, 0, 1>(&gs.0, c, &u),
+                    _ => t.rotate_near_axis::<A, 0, 1, 2>(&gs.0, c, &u),
                 }
             }
         }
@@ -423,9 +425,9 @@ pub(crate) fn walk_block<A: MulAdd>(
     visit: &mut impl BlockStep,
 ) {
     const AHEAD: usize = 8;
-    let mut theta = [[0.0; W]; AHEAD];
-    let mut s = [[0.0; W]; AHEAD];
-    let mut c = [[0.0; W]; AHEAD];
+    let mut theta = Align64([[0.0; W]; AHEAD]);
+    let mut s = Align64([[0.0; W]; AHEAD]);
+    let mut c = Align64([[0.0; W]; AHEAD]);
     let mut start = 0;
     while start < joints.len() {
         let end = (start + AHEAD).min(joints.len());
@@ -436,21 +438,21 @@ pub(crate) fn walk_block<A: MulAdd>(
             let row = &qs[l * n..(l + 1) * n];
             if identity_map {
                 for (k, &v) in row[start..end].iter().enumerate() {
-                    theta[k][l] = v;
+                    theta.0[k][l] = v;
                 }
             } else {
                 for j in start..end {
-                    theta[j - start][l] = joint_theta(joints, false, j, row);
+                    theta.0[j - start][l] = joint_theta(joints, false, j, row);
                 }
             }
         }
         for j in start..end {
             let k = j - start;
-            trig::sin_cos_lanes_with::<A>(&theta[k], &mut s[k], &mut c[k]);
+            trig::sin_cos_lanes_with::<A>(&theta.0[k], &mut s.0[k], &mut c.0[k]);
         }
         for j in start..end {
             let k = j - start;
-            visit.step::<A>(j, &joints[j], &theta[k], &s[k], &c[k]);
+            visit.step::<A>(j, &joints[j], &theta.0[k], &s.0[k], &c.0[k]);
         }
         start = end;
     }
