@@ -161,9 +161,41 @@ fn ik(name: &str, kin: &Kinematics) {
         }
     }
     println!(
-        "{name:<15} IK: single loop {:6.2} µs, batch 1 thread {:6.2} µs, 2 threads {:6.2} µs ({:.2}x)",
-        best[0], best[1], best[2], best[1] / best[2]
+        "{name:<15} IK: single loop {:6.2} µs, batch 1 thread {:6.2} µs, 2 threads {:6.2} µs ({:.2}x); host: {:.2}x",
+        best[0], best[1], best[2], best[1] / best[2], host_scaling()
     );
+}
+
+/// What 2 threads give on this host right now: the same fixed arithmetic (no memory traffic,
+/// no sharing) on 1 and then 2 threads of one pool, best of 5 rounds, as work per second on 2
+/// threads over 1. A shared host whose second core is busy, or whose two vCPUs are one core's
+/// two hyperthreads at that moment, shows it here, next to the IK batch's own ratio.
+fn host_scaling() -> f64 {
+    // Eight independent multiply-add chains: throughput-bound like the kernels, so two threads
+    // that share one physical core (SMT siblings) show it.
+    let work = |seed: f64| {
+        let mut x = [seed; 8];
+        for _ in 0..4_000_000 {
+            for (k, v) in x.iter_mut().enumerate() {
+                *v = v.mul_add(0.999_999_9, 1e-9 * k as f64);
+            }
+        }
+        std::hint::black_box(x)
+    };
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap();
+    let (mut one, mut two) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..5 {
+        let t0 = Instant::now();
+        pool.install(|| work(1.0));
+        one = one.min(t0.elapsed().as_secs_f64());
+        let t0 = Instant::now();
+        pool.install(|| rayon::join(|| work(1.0), || work(2.0)));
+        two = two.min(t0.elapsed().as_secs_f64());
+    }
+    2.0 * one / two
 }
 
 fn main() {

@@ -1,7 +1,9 @@
 // Pinocchio's C++ on the whole tree, the protocol of `benches/tree.rs`: every frame's pose
 // (forwardKinematics + updateFramePlacements) and one frame's world-aligned Jacobian
 // (computeFrameJacobian(..., LOCAL_WORLD_ALIGNED)), in ns per call: the minimum over 30 rounds of
-// 20,000 calls on 256 random configurations (pinocchio::randomConfiguration), one thread.
+// 20,000 calls on 256 random configurations (pinocchio::randomConfiguration), one thread. Also
+// the one frame's pose alone (forwardKinematics + updateFramePlacement of that frame:
+// `tip_fk_ns`), the single call that `benches/batch_kernels.rs` times for an arm's tip.
 //
 // Built and run by run_pinocchio.sh (header-compiled with -O3 -march=native, no Pinocchio
 // shared library: see there). Usage: pinocchio_tree URDF FRAME
@@ -42,6 +44,7 @@ int main(int argc, char **argv) {
   const int calls = 20000;
   double best_fk = std::numeric_limits<double>::infinity();
   double best_j = best_fk;
+  double best_tip = best_fk;
   volatile double sink = 0.0;
   for (int round = 0; round < 30; ++round) {
     const auto t0 = clock::now();
@@ -57,12 +60,19 @@ int main(int argc, char **argv) {
       sink = J(0, 0);
     }
     const auto t2 = clock::now();
+    for (int k = 0; k < calls; ++k) {
+      pinocchio::forwardKinematics(model, data, qs[k % 256]);
+      sink = pinocchio::updateFramePlacement(model, data, fid).translation()[0];
+    }
+    const auto t3 = clock::now();
     best_fk = std::min(best_fk, std::chrono::duration<double, std::nano>(t1 - t0).count() / calls);
     best_j = std::min(best_j, std::chrono::duration<double, std::nano>(t2 - t1).count() / calls);
+    best_tip = std::min(best_tip, std::chrono::duration<double, std::nano>(t3 - t2).count() / calls);
   }
   (void)sink;
-  std::printf("PINOCCHIO %s joints=%d frames=%zu nq=%d all_frames_fk_ns=%.1f frame_jacobian_ns=%.1f\n",
+  std::printf("PINOCCHIO %s joints=%d frames=%zu nq=%d all_frames_fk_ns=%.1f frame_jacobian_ns=%.1f "
+              "tip_fk_ns=%.1f\n",
               PINOCCHIO_VERSION, (int)model.njoints - 1, model.frames.size(), (int)model.nq,
-              best_fk, best_j);
+              best_fk, best_j, best_tip);
   return 0;
 }
