@@ -43,14 +43,16 @@ pub(crate) fn jacobian_svd(
         ));
     }
     let n = j.ncols();
-    // A = Jᵀ (n × 6, column-major: column p is row p of J, contiguous).
-    let mut a = DMatrix::from_fn(n, 6, |r, c| {
-        if locked.is_some_and(|l| l[r]) {
-            0.0
-        } else {
-            j[(c, r)]
-        }
-    });
+    // A = Jᵀ / m (n × 6, column-major: column p is row p of J, contiguous), m the largest
+    // |entry|: the squared norms below neither overflow nor underflow whatever J's scale (a
+    // robot file with 1e200 m links); σ is scaled back at the end.
+    let free = |c: usize| !locked.is_some_and(|l| l[c]);
+    let m = (0..n)
+        .filter(|&c| free(c))
+        .map(|c| j.column(c).amax())
+        .fold(0.0, f64::max);
+    let inv = if m > 0.0 { 1.0 / m } else { 1.0 };
+    let mut a = DMatrix::from_fn(n, 6, |r, c| if free(r) { j[(c, r)] * inv } else { 0.0 });
     // A pair counts as orthogonal at |a_p · a_q| ≤ tol ‖a_p‖ ‖a_q‖, the rounding level of the
     // inner product of n-vectors (LAPACK's one-sided Jacobi uses √m ε; this is tighter).
     let tol = n.max(6) as f64 * f64::EPSILON;
@@ -100,12 +102,13 @@ pub(crate) fn jacobian_svd(
         ));
     }
     let sigma: Vec<f64> = (0..6).map(|c| a.column(c).norm()).collect();
+    let scale = if m > 0.0 { m } else { 1.0 };
     let mut order: Vec<usize> = (0..6).collect();
     order.sort_by(|&x, &y| sigma[y].total_cmp(&sigma[x]));
     let k = n.min(6);
     Ok(JacobianSvd {
         u: Matrix6::from_fn(|r, c| g[(r, order[c])]),
-        s: order[..k].iter().map(|&i| sigma[i]).collect(),
+        s: order[..k].iter().map(|&i| sigma[i] * scale).collect(),
         v: DMatrix::from_fn(n, k, |r, c| {
             let (i, s) = (order[c], sigma[order[c]]);
             if s > 0.0 {
@@ -172,6 +175,23 @@ mod tests {
                 }
             }
         }
+        // Any scale: the same decomposition of J · 1e±200 (no overflow or underflow in the
+        // squared norms), and the zero matrix.
+        let j = Matrix6xX::from_fn(7, |r, c| ((r * 7 + c) as f64 * 0.37).sin());
+        let base = jacobian_svd(&j, None).unwrap();
+        for scale in [1e200, 1e-200] {
+            let scaled = jacobian_svd(&(j.clone() * scale), None).unwrap();
+            for (x, y) in base.s.iter().zip(&scaled.s) {
+                assert!(
+                    (y / scale - x).abs() <= 1e-14 * base.s[0],
+                    "{scale}: {x} {y}"
+                );
+            }
+            assert!((scaled.u.transpose() * scaled.u - Matrix6::identity()).norm() < 1e-14);
+        }
+        let zero = jacobian_svd(&Matrix6xX::zeros(4), None).unwrap();
+        assert_eq!(zero.s, vec![0.0; 4]);
+        assert_eq!(zero.u, Matrix6::identity());
         let mut bad = Matrix6xX::<f64>::zeros(3);
         bad[(2, 1)] = f64::NAN;
         assert!(matches!(
