@@ -66,7 +66,7 @@ pub fn translation_from_coefficients<M: MulAdd>(
     std::array::from_fn(|i| M::madd(v[i], a, M::madd(w_x_v[i], b, w_x_w_x_v[i] * c)))
 }
 
-/// The translation of e^{[S]θ} for a unit screw of pitch 0 (a rotation, ω̂ · v = 0), given
+/// The translation of e^{\[S\]θ} for a unit screw of pitch 0 (a rotation, ω̂ · v = 0), given
 /// sin θ, b = 1 − cos θ and ω̂ × v: p = G(θ) v = sin θ v + (1 − cos θ) (ω̂ × v). It is
 /// [`translation_from_coefficients`] with a = θ, c = θ − sin θ, where ω̂ × (ω̂ × v) =
 /// ω̂ (ω̂ · v) − v = −v cancels the θ terms exactly: two products per component instead of
@@ -84,6 +84,38 @@ pub fn translation_of_rotation<M: MulAdd>(
         M::madd(w_x_v[1], b, v[1] * s),
         M::madd(w_x_v[2], b, v[2] * s),
     ]
+}
+
+/// How far a 4 × 4 matrix is from SE(3): ‖[[RᵀR, 0], [last row]] − I‖_F for its upper-left R
+/// when det R > 0 (so a bottom row other than (0, 0, 0, 1) counts), +∞ otherwise — *Modern
+/// Robotics*' `DistanceToSE3`, which returns 1e9 there. Non-finite input: NaN.
+pub fn distance_to_se3(m: &Matrix4<f64>) -> f64 {
+    if !m.iter().all(|x| x.is_finite()) {
+        return f64::NAN;
+    }
+    let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
+    if r.determinant() <= 0.0 {
+        return f64::INFINITY;
+    }
+    let mut d = Matrix4::zeros();
+    d.fixed_view_mut::<3, 3>(0, 0)
+        .copy_from(&(r.transpose() * r));
+    d.set_row(3, &m.row(3));
+    (d - Matrix4::identity()).norm()
+}
+
+/// The transform nearest to a 4 × 4 matrix: its upper-left block replaced by the nearest
+/// rotation ([`crate::so3::nearest_rotation`], proper: det = +1 always), its translation kept
+/// and the bottom row (0, 0, 0, 1). Non-finite input is an error.
+pub fn project_to_se3(m: &Matrix4<f64>) -> Result<Se3, LieError> {
+    if !m.iter().all(|x| x.is_finite()) {
+        return Err(LieError::NonFinite { what: "matrix" });
+    }
+    let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
+    Ok(Se3::from_parts_unchecked(
+        so3::nearest_rotation(&r),
+        m.fixed_view::<3, 1>(0, 3).into_owned(),
+    ))
 }
 
 impl Se3 {
@@ -502,7 +534,7 @@ fn left_jacobian_coupling(xi: &Twist, k: &[f64; 4]) -> Matrix3<f64> {
 
 /// The left Jacobian of SE(3)'s exponential at ξ = (ω, v): exp(ξ + δ) ≈ exp(J_l(ξ) δ) exp(ξ),
 ///
-/// J_l = [[J, 0], [Q, J]],  J = I + (1 − cos θ)/θ² [ω] + (θ − sin θ)/θ³ [ω]² (SO(3)'s left
+/// J_l = [[J, 0], [Q, J]],  J = I + (1 − cos θ)/θ² \[ω\] + (θ − sin θ)/θ³ \[ω\]² (SO(3)'s left
 /// Jacobian, the V of [`Se3::exp`]), Q the coupling block of Barfoot's eq. 7.86b; the right
 /// Jacobian is J_r(ξ) = J_l(−ξ) (exp(ξ + δ) ≈ exp(ξ) exp(J_r δ)). J_l(ξ) ξ = ξ.
 pub fn left_jacobian(xi: &Twist) -> Matrix6<f64> {
@@ -517,7 +549,7 @@ pub fn left_jacobian(xi: &Twist) -> Matrix6<f64> {
     out
 }
 
-/// J_l(ξ)⁻¹ = [[J⁻¹, 0], [−J⁻¹ Q J⁻¹, J⁻¹]] with J⁻¹ = I − ½[ω] + D[ω]² (the V⁻¹ of
+/// J_l(ξ)⁻¹ = [[J⁻¹, 0], [−J⁻¹ Q J⁻¹, J⁻¹]] with J⁻¹ = I − ½\[ω\] + D\[ω\]² (the V⁻¹ of
 /// [`Se3::log`], D = (1 − (θ/2) cot(θ/2))/θ²), defined for θ < 2π (log's θ ≤ π). With
 /// ξ = log(T_F⁻¹ T*) it is the derivative of that error: moving T_F by T_F exp(δ) changes ξ by
 /// −J_l(ξ)⁻¹ δ (whole-body IK's frame task rows).

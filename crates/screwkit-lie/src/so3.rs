@@ -235,6 +235,20 @@ pub fn nearest_rotation(m: &Matrix3<f64>) -> Matrix3<f64> {
     u * v_t
 }
 
+/// How far M is from SO(3): ‖MᵀM − I‖_F when det M > 0, +∞ otherwise (an improper or singular
+/// matrix is no rotation however orthogonal; *Modern Robotics*' `DistanceToSO3` returns 1e9
+/// there). 0 exactly for the identity; about 2‖E‖ for R + E with E small. Non-finite M: NaN.
+pub fn distance_to_so3(m: &Matrix3<f64>) -> f64 {
+    if !m.iter().all(|x| x.is_finite()) {
+        return f64::NAN;
+    }
+    if m.determinant() > 0.0 {
+        (m.transpose() * m - Matrix3::identity()).norm()
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// R_x(a): rotation by angle a about x.
 pub fn rot_x(a: f64) -> Matrix3<f64> {
     let (s, c) = a.sin_cos();
