@@ -205,12 +205,7 @@ impl Se3 {
             return Err(LieError::BadLastRow { row });
         }
         let r: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
-        so3::check_rotation(&r, tolerance)?;
-        let r = if (r.transpose() * r - Matrix3::identity()).amax() > 1e-14 {
-            so3::nearest_rotation(&r)
-        } else {
-            r
-        };
+        let r = so3::rotation_from_matrix(&r, tolerance)?;
         Ok(Self::from_parts_unchecked(
             r,
             m.fixed_view::<3, 1>(0, 3).into_owned(),

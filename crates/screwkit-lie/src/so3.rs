@@ -211,6 +211,20 @@ pub fn check_rotation(r: &Matrix3<f64>, tolerance: f64) -> Result<(), LieError> 
     Ok(())
 }
 
+/// A rotation read from user input: [`check_rotation`] within `tolerance`, then replaced by
+/// [`nearest_rotation`] when it is more than 1e-14 from orthonormal (so rounded input becomes
+/// an exact rotation, and an exact one is kept bit for bit).
+pub fn rotation_from_matrix(r: &Matrix3<f64>, tolerance: f64) -> Result<Matrix3<f64>, LieError> {
+    check_rotation(r, tolerance)?;
+    Ok(
+        if (r.transpose() * r - Matrix3::identity()).amax() > 1e-14 {
+            nearest_rotation(r)
+        } else {
+            *r
+        },
+    )
+}
+
 /// The rotation nearest to M in the Frobenius norm: U Vᵀ from the SVD M = U Σ Vᵀ
 /// (with the sign of the last singular direction flipped if det(UVᵀ) < 0).
 ///

@@ -96,24 +96,47 @@ pub fn solve_error(e: SolveError) -> PyErr {
     }
 }
 
+/// A `BatchError` for the bad rows of a stack (row index, message), with the whole result
+/// attached (the bad rows NaN).
+pub fn rows_error(
+    py: Python<'_>,
+    what: &str,
+    bad: Vec<(usize, String)>,
+    result: Bound<'_, PyAny>,
+) -> PyErr {
+    let more = match bad.len() {
+        1 => String::new(),
+        n => format!(" (and {} more failed row(s))", n - 1),
+    };
+    let err = BatchError::new_err(format!("{what}: row {}: {}{more}", bad[0].0, bad[0].1));
+    attach(py, err, result, bad)
+}
+
+fn attach(
+    py: Python<'_>,
+    err: PyErr,
+    result: Bound<'_, PyAny>,
+    bad: Vec<(usize, String)>,
+) -> PyErr {
+    let value = err.value(py);
+    let set = || -> PyResult<()> {
+        value.setattr("result", result)?;
+        value.setattr("rows", bad.iter().map(|r| r.0).collect::<Vec<_>>())?;
+        value.setattr("messages", bad.into_iter().map(|r| r.1).collect::<Vec<_>>())?;
+        Ok(())
+    };
+    match set() {
+        Ok(()) => err,
+        Err(other) => other,
+    }
+}
+
 /// The error of a batch call, with its result attached when only some rows failed.
 pub fn batch_error(py: Python<'_>, e: SolveError, result: Bound<'_, PyAny>) -> PyErr {
     let SolveError::Rows(rows) = &e else {
         return solve_error(e);
     };
     let err = BatchError::new_err(e.to_string());
-    let value = err.value(py);
-    let attach = || -> PyResult<()> {
-        value.setattr("result", result)?;
-        value.setattr("rows", rows.iter().map(|r| r.row).collect::<Vec<_>>())?;
-        value.setattr(
-            "messages",
-            rows.iter().map(|r| r.error.to_string()).collect::<Vec<_>>(),
-        )?;
-        Ok(())
-    };
-    match attach() {
-        Ok(()) => err,
-        Err(other) => other,
-    }
+    let bad = rows.iter().map(|r| (r.row, r.error.to_string())).collect();
+    attach(py, err, result, bad)
 }

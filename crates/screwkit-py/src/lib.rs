@@ -7,6 +7,7 @@
 
 mod array;
 mod errors;
+mod lie;
 mod pool;
 mod reach;
 mod results;
@@ -16,9 +17,9 @@ mod tasks;
 use numpy::{PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Se3, Twist};
+use screwkit_lie::{so3::DEFAULT_ROTATION_TOLERANCE, Se3};
 
-use array::{f64_array, new_array, shape_str};
+use array::{f64_array, shape_str};
 
 /// A rigid transform from a (4, 4) array-like (rotation orthonormal to 1e-6, then projected).
 pub(crate) fn se3_arg(t: &Bound<'_, PyAny>, what: &str) -> PyResult<Se3> {
@@ -32,46 +33,6 @@ pub(crate) fn se3_arg(t: &Bound<'_, PyAny>, what: &str) -> PyResult<Se3> {
     let r = a.readonly();
     Se3::from_row_major(r.as_slice()?, DEFAULT_ROTATION_TOLERANCE)
         .map_err(|e| PyValueError::new_err(format!("{what}: not a rigid transform: {e}")))
-}
-
-/// e^{[ξ]θ}: the rigid transform (4, 4) of moving along the twist ξ = (ω, v) (shape (6,))
-/// for θ (for a unit screw axis S, θ is the angle in rad, or the distance in m if ω = 0).
-#[pyfunction]
-#[pyo3(signature = (twist, theta = 1.0))]
-fn exp<'py>(py: Python<'py>, twist: &Bound<'py, PyAny>, theta: f64) -> PyResult<Bound<'py, PyAny>> {
-    let a = f64_array(twist, "twist")?;
-    let r = a.readonly();
-    let x = Twist::try_from_slice(r.as_slice()?)
-        .map_err(|e| PyValueError::new_err(format!("twist: {e}")))?;
-    if !theta.is_finite() {
-        return Err(PyValueError::new_err(format!("theta: not finite: {theta}")));
-    }
-    let t = Se3::exp(&Twist::new(x.w * theta, x.v * theta));
-    Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
-}
-
-/// The matrix logarithm: the exponential coordinates ξ = Sθ (shape (6,), (ω, v)) with
-/// exp(ξ) = T, rotation angle ‖ω‖ in [0, π].
-#[pyfunction]
-fn log<'py>(py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-    let t = se3_arg(t, "T")?;
-    let x = t.log().to_vector();
-    Ok(new_array(py, &[6], |o| o.copy_from_slice(x.as_slice()))?.into_any())
-}
-
-/// The adjoint [Ad_T] (6 × 6) mapping twists (ω, v) from the frame of T to the frame T is
-/// expressed in: V_a = [Ad_{T_ab}] V_b.
-#[pyfunction]
-fn adjoint<'py>(py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
-    let ad = se3_arg(t, "T")?.adjoint();
-    Ok(new_array(py, &[6, 6], |o| {
-        for r in 0..6 {
-            for c in 0..6 {
-                o[6 * r + c] = ad[(r, c)];
-            }
-        }
-    })?
-    .into_any())
 }
 
 /// The restart seed IK row k of a batch uses: batch row k with `seed_rng=s` equals the single
@@ -170,9 +131,10 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<tasks::DampingTask>()?;
     m.add_class::<tasks::TasksResult>()?;
     m.add("BatchError", m.py().get_type::<errors::BatchError>())?;
-    m.add_function(wrap_pyfunction!(exp, m)?)?;
-    m.add_function(wrap_pyfunction!(log, m)?)?;
-    m.add_function(wrap_pyfunction!(adjoint, m)?)?;
+    lie::register(m)?;
+    // The names the package had before `screwkit.lie`: the same functions.
+    m.add("exp", m.getattr("exp6")?)?;
+    m.add("log", m.getattr("log6")?)?;
     m.add_function(wrap_pyfunction!(row_seed, m)?)?;
     m.add_function(wrap_pyfunction!(xacro, m)?)?;
     // Plumbing of the Python layer, not public API: set as attributes (not in `__all__`).

@@ -11,6 +11,7 @@ body frame its tip link.
 >>> robot.fk([0.1, -0.5, 1.0, 0.2, 0.3, -0.4])             # doctest: +SKIP
 """
 
+from . import lie
 from ._screwkit import (
     Analysis,
     AxisTask,
@@ -52,6 +53,7 @@ __all__ = [
     "__version__",
     "adjoint",
     "exp",
+    "lie",
     "log",
     "merge",
     "num_threads",
