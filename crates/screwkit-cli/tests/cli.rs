@@ -1239,3 +1239,59 @@ fn ik_all_batch_one_line_per_target() {
     assert_eq!(lines[2]["line"], 3);
     assert!(lines[2]["error"].as_str().unwrap().contains("target"));
 }
+
+/// The screw table `table --format json|csv` writes is a robot file for every subcommand: the
+/// JSON one gives the same robot bit for bit (FK and the table itself, mimic joints included),
+/// the CSV one to its six decimals; a table that is not one is a one-line error.
+#[test]
+fn screw_tables_are_robot_files() {
+    let dir = std::env::temp_dir().join(format!("screwkit-tables-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    for (file, tip) in ROBOTS {
+        let urdf = asset(file);
+        for format in ["json", "csv"] {
+            let table = ok(&with_tip(vec!["table", &urdf, "--format", format], *tip));
+            let path = dir.join(format!("{file}.{format}"));
+            std::fs::write(&path, &table).unwrap();
+            let path = path.to_str().unwrap();
+            let (_, kin) = chain(file, *tip);
+            // Every subcommand that takes a robot file takes the table.
+            assert!(ok(&["info", path]).contains("tip"), "{file}");
+            let q: Vec<f64> = (0..kin.dof()).map(|k| 0.3 - 0.17 * k as f64).collect();
+            let q = q_arg(&q);
+            let a = json(&with_tip(
+                vec!["fk", &urdf, "--q", &q, "--format", "json"],
+                *tip,
+            ));
+            let b = json(&["fk", path, "--q", &q, "--format", "json"]);
+            let (ma, mb) = (matrix(&a["pose"]), matrix(&b["pose"]));
+            if format == "json" {
+                assert_eq!(ma, mb, "{file}");
+                let again = ok(&["table", path, "--format", "json"]);
+                let t0: Value = serde_json::from_str(&table).unwrap();
+                let t1: Value = serde_json::from_str(&again).unwrap();
+                assert_eq!(t0["joints"], t1["joints"], "{file}");
+                assert_eq!(t0["home"], t1["home"], "{file}");
+            } else {
+                // Six decimals (three for a mimic joint's multiplier and offset).
+                assert!((ma - mb).amax() < 1e-5, "{file}: {}", (ma - mb).amax());
+            }
+        }
+    }
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"home": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]], "joints": [{"name": "a", "screw": [0,0,2,0,0,0]}]}"#,
+    )
+    .unwrap();
+    let o = run(&["fk", bad.to_str().unwrap(), "--q", "0"], None);
+    assert_eq!(o.code, 1, "{}", o.stderr);
+    assert_eq!(o.stderr.lines().count(), 1, "{}", o.stderr);
+    assert!(
+        o.stderr
+            .contains("bad.json: screw row 0 (joint \"a\"): ‖ω‖ = 2"),
+        "{}",
+        o.stderr
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -35,6 +35,7 @@ fn kind_word(kind: JointKind) -> &'static str {
     match kind {
         JointKind::Prismatic => "prismatic",
         JointKind::Continuous => "continuous",
+        JointKind::Helical => "helical",
         _ => "revolute",
     }
 }

@@ -93,6 +93,7 @@ fn kind_name(kind: JointKind) -> &'static str {
         JointKind::Revolute => "revolute",
         JointKind::Continuous => "continuous",
         JointKind::Prismatic => "prismatic",
+        JointKind::Helical => "helical",
         _ => "fixed",
     }
 }
@@ -187,7 +188,8 @@ fn line(out: &mut String, a: (f64, f64), b: (f64, f64), stroke: &str, width: f64
     );
 }
 
-/// A joint's mark: revolute a circle, continuous a double circle, prismatic a square.
+/// A joint's mark: revolute a circle, continuous a double circle, prismatic a square,
+/// helical a circle crossed by a thread (its screw axis is dotted).
 fn joint_mark(out: &mut String, kind: JointKind, c: (f64, f64)) {
     let (x, y) = (px(c.0), px(c.1));
     match kind {
@@ -197,6 +199,17 @@ fn joint_mark(out: &mut String, kind: JointKind, c: (f64, f64)) {
                 "<rect x=\"{}\" y=\"{}\" width=\"12\" height=\"12\" fill=\"#ffffff\" stroke=\"{LINK}\" stroke-width=\"2\"/>",
                 px(c.0 - 6.0),
                 px(c.1 - 6.0)
+            );
+        }
+        JointKind::Helical => {
+            let _ = writeln!(out, "<circle cx=\"{x}\" cy=\"{y}\" r=\"6\" fill=\"#ffffff\" stroke=\"{LINK}\" stroke-width=\"2\"/>");
+            let _ = writeln!(
+                out,
+                "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" stroke=\"{LINK}\" stroke-width=\"1.5\"/>",
+                px(c.0 - 4.0),
+                px(c.1 + 4.0),
+                px(c.0 + 4.0),
+                px(c.1 - 4.0)
             );
         }
         JointKind::Continuous => {
@@ -494,6 +507,17 @@ const LEGEND: [Entry; 7] = [
     }),
 ];
 
+/// The legend's entry for helical joints, shown when a picture has one.
+const HELICAL: Entry = (170.0, |o, x, y| {
+    joint_mark(o, JointKind::Helical, (x + 6.0, y));
+    legend_text(o, x + 18.0, y, "helical (dotted axis)");
+});
+
+/// The legend's entries for a scene.
+fn entries(helical: bool) -> impl Iterator<Item = Entry> {
+    LEGEND.into_iter().chain(helical.then_some(HELICAL))
+}
+
 fn legend_text(out: &mut String, x: f64, y: f64, s: &str) {
     let _ = writeln!(
         out,
@@ -514,10 +538,10 @@ fn axis_toward_viewer(out: &mut String, c: (f64, f64)) {
 }
 
 /// The legend from (14, y), wrapped to lines of `width`; returns the rows used.
-fn legend(out: &mut String, y: f64, width: f64) {
+fn legend(out: &mut String, y: f64, width: f64, helical: bool) {
     let _ = writeln!(out, "<g id=\"legend\" class=\"legend\">");
     let (mut x, mut y) = (14.0, y);
-    for (w, draw) in LEGEND {
+    for (w, draw) in entries(helical) {
         if x + w > width - 10.0 && x > 14.0 {
             x = 14.0;
             y += LEGEND_ROW;
@@ -529,9 +553,9 @@ fn legend(out: &mut String, y: f64, width: f64) {
 }
 
 /// How many legend rows a sheet of `width` needs.
-fn legend_rows(width: f64) -> usize {
+fn legend_rows(width: f64, helical: bool) -> usize {
     let (mut x, mut rows) = (14.0, 1);
-    for (w, _) in LEGEND {
+    for (w, _) in entries(helical) {
         if x + w > width - 10.0 && x > 14.0 {
             x = 14.0;
             rows += 1;
@@ -571,7 +595,8 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
     let cols = if views.len() > 1 { 2 } else { 1 };
     let rows = views.len().div_ceil(cols);
     let width = cols as f64 * PANEL_W + (cols as f64 + 1.0) * 10.0;
-    let legend_h = legend_rows(width) as f64 * LEGEND_ROW + 16.0;
+    let helical = scene.joints.iter().any(|j| j.kind == JointKind::Helical);
+    let legend_h = legend_rows(width, helical) as f64 * LEGEND_ROW + 16.0;
     let q: Vec<String> = scene.q.iter().map(|x| num(*x)).collect();
     let caption = format!("{}: {}, q = [{}]", scene.robot, scene.subject, q.join(", "));
     // The caption wrapped to the sheet's width (a single 580 px panel cut a 7-joint one).
@@ -609,7 +634,12 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
         let y0 = 38.0 + extra + r as f64 * (PANEL_H + 10.0);
         panel(&mut out, scene, *view, x0, y0);
     }
-    legend(&mut out, height - legend_h + LEGEND_ROW / 2.0 + 4.0, width);
+    legend(
+        &mut out,
+        height - legend_h + LEGEND_ROW / 2.0 + 4.0,
+        width,
+        helical,
+    );
     let _ = writeln!(out, "</svg>");
     out
 }

@@ -189,14 +189,7 @@ fn build(tree: &Tree, base: usize, tip: usize, path: &[usize]) -> Result<Chain, 
         match joint.kind {
             JointKind::Fixed => {}
             k if k.is_movable() => {
-                let axis = t.rotation() * joint.unit_axis()?;
-                let s = if k == JointKind::Prismatic {
-                    ScrewAxis::prismatic(axis)
-                } else {
-                    ScrewAxis::revolute(*t.translation(), axis)
-                }
-                .map_err(|_| ErrorKind::ZeroAxis(joint.name.clone()))?;
-                specs.push((j, s, t));
+                specs.push((j, joint.screw_at(&t)?, t));
             }
             k => {
                 return Err(ErrorKind::UnsupportedJoint {

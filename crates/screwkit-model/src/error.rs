@@ -180,6 +180,20 @@ pub enum ErrorKind {
     /// A movable joint whose axis is zero or shorter than 1e-9.
     #[error("joint \"{0}\" has a zero axis (norm below 1e-9)")]
     ZeroAxis(String),
+    /// A row of a robot given by screw axes that is not a screw axis.
+    #[error("screw row {row} (joint \"{joint}\"): {problem}")]
+    Screw {
+        /// The row (0-based).
+        row: usize,
+        /// The joint's name.
+        joint: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// A robot given by screw axes that cannot be built (its home pose, no rows, a table that
+    /// cannot be read).
+    #[error("{0}")]
+    Screws(String),
     /// A revolute or prismatic joint without `<limit>`.
     #[error("joint \"{0}\" is revolute/prismatic but has no <limit> element (URDF requires lower/upper; use type=\"continuous\" for an unbounded revolute joint)")]
     MissingLimit(String),

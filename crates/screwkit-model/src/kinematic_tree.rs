@@ -300,13 +300,7 @@ fn build(tree: &Tree) -> Result<KinematicTree, ErrorKind> {
             let mut child_support = support;
             if joint.kind.is_movable() {
                 let local_axis = joint.unit_axis()?;
-                let axis = t.rotation() * local_axis;
-                let s = if joint.kind == JointKind::Prismatic {
-                    ScrewAxis::prismatic(axis)
-                } else {
-                    ScrewAxis::revolute(*t.translation(), axis)
-                }
-                .map_err(|_| ErrorKind::ZeroAxis(joint.name.clone()))?;
+                let s = joint.screw_at(&t)?;
                 let (leader, multiplier, offset) = resolve_mimic(tree, j)?;
                 let variable = *variable_of_joint
                     .get(&leader)

@@ -29,6 +29,7 @@ pub mod error;
 pub mod input;
 pub mod kinematic_tree;
 pub mod mjcf;
+pub mod screws;
 pub mod table;
 pub mod tree;
 pub mod urdf;
@@ -37,6 +38,7 @@ pub mod xacro;
 pub use chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 pub use error::{ErrorKind, ModelError};
 pub use kinematic_tree::{KinematicTree, TreeFrame, TreeLink, TreeScrew};
+pub use screws::{ScrewJoint, ScrewLeader, ScrewRobot};
 pub use tree::{Inertial, JointKind, Limit, Mimic, QposLayout, Tree, TreeJoint};
 pub use xacro::XacroOptions;
 

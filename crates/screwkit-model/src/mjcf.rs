@@ -1201,5 +1201,6 @@ fn spec(
         axis,
         limit,
         mimic: None,
+        pitch: 0.0,
     }
 }

@@ -12,6 +12,9 @@ use screwkit_lie::{Frame, Se3};
 use serde_json::{json, Value};
 
 use crate::chain::{Chain, ChainJoint};
+use crate::error::{ErrorKind, ModelError};
+use crate::screws::{ScrewJoint, ScrewLeader, ScrewRobot};
+use crate::tree::Mimic;
 
 /// Decimals printed in the Markdown and CSV tables.
 pub const PRECISION: usize = 6;
@@ -210,4 +213,325 @@ pub fn to_json(chain: &Chain) -> Value {
         "joints": joints,
         "home": json_matrix(&chain.home),
     })
+}
+
+/// True when `text` is a screw table rather than a robot file: JSON (`{` first) or the CSV of
+/// [`to_csv`] (its header first). URDF, xacro and MJCF begin with `<`.
+pub fn is_screw_table(text: &str) -> bool {
+    let t = text.trim_start_matches('\u{feff}').trim_start();
+    t.starts_with('{') || t.starts_with("frame,index,joint,type,")
+}
+
+/// Reads a robot from a screw table: the JSON of [`to_json`] (`screwkit table --format
+/// json`; the space screws `screw_space`, or `screw_body` when the object says `"frame":
+/// "body"`), the JSON of [`ScrewRobot::to_json`] (one `screw` per joint in `frame`), or the
+/// CSV of [`to_csv`] (the space rows when present, else the body rows; printed to
+/// [`PRECISION`] decimals, so the robot is that table's to its last digit; unbounded joints,
+/// as the CSV has no limits). Errors name `source` and the joint or row.
+pub fn read_screw_table(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
+    let t = text.trim_start_matches('\u{feff}').trim_start();
+    if t.starts_with('{') {
+        from_json(t, source)
+    } else {
+        from_csv(t, source)
+    }
+}
+
+fn table_error(source: &str, msg: String) -> ModelError {
+    ModelError::new(source, ErrorKind::Screws(msg))
+}
+
+fn from_json(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
+    let bad = |msg: String| table_error(source, format!("not a screw table: {msg}"));
+    let v: Value = serde_json::from_str(text).map_err(|e| bad(format!("JSON: {e}")))?;
+    let frame = match v.get("frame") {
+        None | Some(Value::Null) => Frame::Space,
+        Some(Value::String(s)) if s == "space" => Frame::Space,
+        Some(Value::String(s)) if s == "body" => Frame::Body,
+        Some(other) => {
+            return Err(bad(format!(
+                "\"frame\": {other} (expected \"space\" or \"body\")"
+            )))
+        }
+    };
+    let home = json_home(v.get("home")).map_err(|m| bad(format!("\"home\": {m}")))?;
+    let joints = v
+        .get("joints")
+        .and_then(Value::as_array)
+        .ok_or_else(|| bad("no \"joints\" array".into()))?;
+    let mut out = Vec::with_capacity(joints.len());
+    for (i, j) in joints.iter().enumerate() {
+        let at = |m: String| bad(format!("joint {i}: {m}"));
+        let name = j
+            .get("name")
+            .and_then(Value::as_str)
+            .ok_or_else(|| at("no \"name\"".into()))?
+            .to_string();
+        let key = if j.get("screw").is_some() {
+            "screw"
+        } else if frame == Frame::Body {
+            "screw_body"
+        } else {
+            "screw_space"
+        };
+        let screw = json_numbers::<6>(j.get(key)).map_err(|m| at(format!("\"{key}\": {m}")))?;
+        let limit = |k: &str, inf: f64| -> Result<Option<f64>, ModelError> {
+            match j.get(k) {
+                None | Some(Value::Null) => Ok(None),
+                Some(x) => x
+                    .as_f64()
+                    .map(|x| Some(if x.is_finite() { x } else { inf }))
+                    .ok_or_else(|| at(format!("\"{k}\": {x} is not a number"))),
+            }
+        };
+        let (lower, upper) = (
+            limit("lower", f64::NEG_INFINITY)?,
+            limit("upper", f64::INFINITY)?,
+        );
+        let limits = match (lower, upper) {
+            (None, None) => None,
+            (l, u) => Some((l.unwrap_or(f64::NEG_INFINITY), u.unwrap_or(f64::INFINITY))),
+        };
+        let mimic = match j.get("mimic") {
+            None | Some(Value::Null) => None,
+            Some(m) => Some(Mimic {
+                leader: m
+                    .get("leader")
+                    .and_then(Value::as_str)
+                    .ok_or_else(|| at("\"mimic\" without a \"leader\"".into()))?
+                    .to_string(),
+                multiplier: m.get("multiplier").and_then(Value::as_f64).unwrap_or(1.0),
+                offset: m.get("offset").and_then(Value::as_f64).unwrap_or(0.0),
+            }),
+        };
+        out.push(ScrewJoint {
+            name,
+            screw,
+            limits,
+            mimic,
+        });
+    }
+    // Leaders named by mimic joints but not in the table (off the chain): a variable each,
+    // with the limits the table gives its followers (the variable's), or as listed.
+    let mut leaders: Vec<ScrewLeader> = Vec::new();
+    if let Some(list) = v.get("leaders").and_then(Value::as_array) {
+        for (i, l) in list.iter().enumerate() {
+            let name = l
+                .get("name")
+                .and_then(Value::as_str)
+                .ok_or_else(|| bad(format!("leader {i}: no \"name\"")))?;
+            let lim = |k: &str, inf: f64| l.get(k).and_then(Value::as_f64).unwrap_or(inf);
+            let limits = (l.get("lower").is_some_and(|x| !x.is_null())
+                || l.get("upper").is_some_and(|x| !x.is_null()))
+            .then(|| (lim("lower", f64::NEG_INFINITY), lim("upper", f64::INFINITY)));
+            leaders.push(ScrewLeader {
+                name: name.to_string(),
+                limits,
+            });
+        }
+    }
+    let has_variables = joints.iter().all(|j| j.get("variable").is_some());
+    for j in &out {
+        if let Some(m) = &j.mimic {
+            let known = out.iter().any(|o| o.name == m.leader)
+                || leaders.iter().any(|l| l.name == m.leader);
+            // Only a table screwkit wrote (every joint with its "variable") names a leader
+            // off the chain; elsewhere an unknown leader stays an error (a typo).
+            if !known && has_variables {
+                leaders.push(ScrewLeader {
+                    name: m.leader.clone(),
+                    limits: j.limits,
+                });
+            }
+        }
+    }
+    Ok(ScrewRobot {
+        leaders,
+        name: v
+            .get("robot")
+            .and_then(Value::as_str)
+            .unwrap_or("screws")
+            .to_string(),
+        source: source.to_string(),
+        home,
+        frame,
+        joints: out,
+    })
+}
+
+fn json_numbers<const N: usize>(v: Option<&Value>) -> Result<[f64; N], String> {
+    let a = v
+        .and_then(Value::as_array)
+        .ok_or_else(|| format!("expected {N} numbers"))?;
+    if a.len() != N {
+        return Err(format!("expected {N} numbers, got {}", a.len()));
+    }
+    let mut out = [0.0; N];
+    for (o, x) in out.iter_mut().zip(a) {
+        *o = x.as_f64().ok_or_else(|| format!("{x} is not a number"))?;
+    }
+    Ok(out)
+}
+
+fn json_home(v: Option<&Value>) -> Result<[f64; 16], String> {
+    let rows = v
+        .and_then(Value::as_array)
+        .ok_or_else(|| "expected a 4 x 4 array of rows".to_string())?;
+    if rows.len() != 4 {
+        return Err(format!("expected 4 rows, got {}", rows.len()));
+    }
+    let mut out = [0.0; 16];
+    for (r, row) in rows.iter().enumerate() {
+        let row = json_numbers::<4>(Some(row)).map_err(|m| format!("row {r}: {m}"))?;
+        out[4 * r..4 * r + 4].copy_from_slice(&row);
+    }
+    Ok(out)
+}
+
+fn from_csv(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
+    let bad = |line: usize, msg: String| {
+        table_error(source, format!("line {line}: not a screw table: {msg}"))
+    };
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    match lines.next() {
+        Some((_, h))
+            if h.trim_end() == "frame,index,joint,type,w1,w2,w3,v1,v2,v3,qx,qy,qz,pitch" => {}
+        _ => {
+            return Err(bad(
+                1,
+                "expected the header of `screwkit table --format csv`".into(),
+            ))
+        }
+    }
+    type CsvRow = (usize, String, [f64; 6], Option<Mimic>);
+    let mut rows: [Vec<CsvRow>; 2] = [Vec::new(), Vec::new()];
+    let mut home = [f64::NAN; 16];
+    let mut home_rows = [false; 4];
+    for (n, line) in lines {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let fields = csv_fields(line).map_err(|m| bad(n, m))?;
+        if fields.len() != 14 {
+            return Err(bad(n, format!("expected 14 fields, got {}", fields.len())));
+        }
+        let num = |k: usize| -> Result<f64, ModelError> {
+            fields[k].trim().parse::<f64>().map_err(|_| {
+                bad(
+                    n,
+                    format!("field {} is not a number: {:?}", k + 1, fields[k]),
+                )
+            })
+        };
+        match fields[0].as_str() {
+            "M" => {
+                let r: usize = fields[1]
+                    .parse()
+                    .ok()
+                    .filter(|r| (1..=4).contains(r))
+                    .ok_or_else(|| bad(n, format!("M row {:?} (expected 1 to 4)", fields[1])))?;
+                for c in 0..4 {
+                    home[4 * (r - 1) + c] = num(2 + c)?;
+                }
+                home_rows[r - 1] = true;
+            }
+            f @ ("space" | "body") => {
+                let mut s = [0.0; 6];
+                for (k, x) in s.iter_mut().enumerate() {
+                    *x = num(4 + k)?;
+                }
+                let mimic = csv_mimic(&fields[3]).map_err(|m| bad(n, m))?;
+                rows[usize::from(f == "body")].push((n, fields[2].clone(), s, mimic));
+            }
+            other => return Err(bad(n, format!("unknown frame {other:?}"))),
+        }
+    }
+    if home_rows.contains(&false) {
+        return Err(table_error(
+            source,
+            "not a screw table: the four M rows are missing".into(),
+        ));
+    }
+    let (frame, rows) = if rows[0].is_empty() {
+        (Frame::Body, std::mem::take(&mut rows[1]))
+    } else {
+        (Frame::Space, std::mem::take(&mut rows[0]))
+    };
+    // A leader off the chain (a finger following the other finger): a variable of its own.
+    let mut leaders: Vec<ScrewLeader> = Vec::new();
+    for (_, _, _, m) in &rows {
+        if let Some(m) = m {
+            if !rows.iter().any(|r| r.1 == m.leader) && !leaders.iter().any(|l| l.name == m.leader)
+            {
+                leaders.push(ScrewLeader {
+                    name: m.leader.clone(),
+                    limits: None,
+                });
+            }
+        }
+    }
+    Ok(ScrewRobot {
+        name: "screws".into(),
+        source: source.to_string(),
+        home,
+        frame,
+        joints: rows
+            .into_iter()
+            .map(|(_, name, screw, mimic)| ScrewJoint {
+                name,
+                screw,
+                limits: None,
+                mimic,
+            })
+            .collect(),
+        leaders,
+    })
+}
+
+/// The drive in a CSV type field, `KIND (mimic: M × LEADER + O)` (as [`to_csv`] writes it, M
+/// and O to three decimals), or `None` for a plain `KIND`.
+fn csv_mimic(kind: &str) -> Result<Option<Mimic>, String> {
+    let Some((_, rest)) = kind.split_once(" (mimic: ") else {
+        return Ok(None);
+    };
+    let bad = || format!("cannot read the mimic drive in {kind:?}");
+    let rest = rest.strip_suffix(')').ok_or_else(bad)?;
+    let (m, rest) = rest.split_once(" × ").ok_or_else(bad)?;
+    let (leader, o) = rest.rsplit_once(" + ").ok_or_else(bad)?;
+    let (multiplier, offset) = (m.parse::<f64>(), o.parse::<f64>());
+    match (multiplier, offset) {
+        (Ok(multiplier), Ok(offset)) if multiplier.is_finite() && offset.is_finite() => {
+            Ok(Some(Mimic {
+                leader: leader.to_string(),
+                multiplier,
+                offset,
+            }))
+        }
+        _ => Err(bad()),
+    }
+}
+
+/// The fields of one CSV line (quotes as [`to_csv`] writes them).
+fn csv_fields(line: &str) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    let mut cur = String::new();
+    let mut chars = line.trim_end_matches('\r').chars().peekable();
+    let mut quoted = false;
+    while let Some(c) = chars.next() {
+        match (quoted, c) {
+            (false, ',') => out.push(std::mem::take(&mut cur)),
+            (false, '"') if cur.is_empty() => quoted = true,
+            (true, '"') if chars.peek() == Some(&'"') => {
+                chars.next();
+                cur.push('"');
+            }
+            (true, '"') => quoted = false,
+            (_, c) => cur.push(c),
+        }
+    }
+    if quoted {
+        return Err("an unclosed quote".into());
+    }
+    out.push(cur);
+    Ok(out)
 }

@@ -3,7 +3,7 @@
 use std::collections::HashMap;
 
 use nalgebra::Vector3;
-use screwkit_lie::Se3;
+use screwkit_lie::{ScrewAxis, Se3};
 
 use crate::error::{ErrorKind, ModelError};
 
@@ -16,6 +16,10 @@ pub enum JointKind {
     Continuous,
     /// Translation along the axis within limits.
     Prismatic,
+    /// A screw motion about the axis: rotation θ with translation hθ along it (pitch h ≠ 0,
+    /// [`TreeJoint::pitch`]), within limits (±∞ for an unbounded one, which is not periodic).
+    /// URDF and MJCF have no such joint; robots built from screw axes do.
+    Helical,
     /// No motion.
     Fixed,
     /// 6-DoF free joint (not supported on a chain).
@@ -33,6 +37,7 @@ impl JointKind {
             JointKind::Revolute => "revolute",
             JointKind::Continuous => "continuous",
             JointKind::Prismatic => "prismatic",
+            JointKind::Helical => "helical",
             JointKind::Fixed => "fixed",
             JointKind::Floating => "floating",
             JointKind::Planar => "planar",
@@ -40,11 +45,20 @@ impl JointKind {
         }
     }
 
-    /// True for the one-variable joints a chain can hold (revolute, continuous, prismatic).
+    /// True for the one-variable joints a chain can hold (revolute, continuous, prismatic,
+    /// helical).
     pub fn is_movable(self) -> bool {
         matches!(
             self,
-            JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic
+            JointKind::Revolute | JointKind::Continuous | JointKind::Prismatic | JointKind::Helical
+        )
+    }
+
+    /// True for a joint that rotates (revolute, continuous, helical).
+    pub fn rotates(self) -> bool {
+        matches!(
+            self,
+            JointKind::Revolute | JointKind::Continuous | JointKind::Helical
         )
     }
 }
@@ -108,9 +122,35 @@ pub struct TreeJoint {
     pub limit: Option<Limit>,
     /// `<mimic>`, if present.
     pub mimic: Option<Mimic>,
+    /// The pitch h of a helical joint (m/rad), 0 for every other kind.
+    pub pitch: f64,
 }
 
 impl TreeJoint {
+    /// The joint's screw axis in the base frame when its frame is at `t` (the base-frame pose
+    /// of the joint frame at home): (0, R a) for a prismatic joint, (ω, −ω × p + hω) with
+    /// ω = R a for a rotating one (h: [`TreeJoint::pitch`], 0 unless helical).
+    pub fn screw_at(&self, t: &Se3) -> Result<ScrewAxis, ErrorKind> {
+        let axis = t.rotation() * self.unit_axis()?;
+        let pitch = if self.kind == JointKind::Helical {
+            self.pitch
+        } else {
+            0.0
+        };
+        if !pitch.is_finite() {
+            return Err(ErrorKind::NonFinite {
+                joint: self.name.clone(),
+                what: "pitch".into(),
+            });
+        }
+        if self.kind == JointKind::Prismatic {
+            ScrewAxis::prismatic(axis)
+        } else {
+            ScrewAxis::from_point_direction_pitch(*t.translation(), axis, pitch)
+        }
+        .map_err(|_| ErrorKind::ZeroAxis(self.name.clone()))
+    }
+
     /// The joint frame in the parent link frame at zero position (`<origin>`), checked finite.
     pub fn origin(&self) -> Result<Se3, ErrorKind> {
         let bad = || ErrorKind::NonFinite {
@@ -519,6 +559,8 @@ pub struct TreeJointSpec {
     pub limit: Option<Limit>,
     /// `<mimic>`.
     pub mimic: Option<Mimic>,
+    /// The pitch of a helical joint (0 otherwise).
+    pub pitch: f64,
 }
 
 impl TreeJointSpec {
@@ -534,6 +576,7 @@ impl TreeJointSpec {
             axis: self.axis,
             limit: self.limit,
             mimic: self.mimic,
+            pitch: self.pitch,
         }
     }
 }

@@ -134,6 +134,7 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
                     multiplier: m.multiplier.unwrap_or(1.0),
                     offset: m.offset.unwrap_or(0.0),
                 }),
+                pitch: 0.0,
             };
             (spec, j.parent.link.clone(), j.child.link.clone())
         })
@@ -395,7 +396,40 @@ pub fn write(tree: &Tree) -> String {
             None => out.push_str(&format!("  <link name=\"{}\"/>\n", input::escape_xml(name))),
         }
     }
-    for j in &tree.joints {
+    // URDF has no helical joint: each is written as a rotating joint to a new link and a
+    // prismatic follower along the same axis (mimic, multiplier = the pitch), which reads back
+    // as the same screw motion.
+    let fresh = |base: String| {
+        let mut name = base;
+        while tree.link(&name).is_ok() || tree.joint(&name).is_some() {
+            name.push('_');
+        }
+        name
+    };
+    let screw_links: Vec<Option<(String, String)>> = tree
+        .joints
+        .iter()
+        .map(|j| {
+            (j.kind == JointKind::Helical).then(|| {
+                (
+                    fresh(format!("{}_screw", tree.links[j.child])),
+                    fresh(format!("{}_advance", j.name)),
+                )
+            })
+        })
+        .collect();
+    for (link, _) in screw_links.iter().flatten() {
+        out.push_str(&format!("  <link name=\"{}\"/>\n", input::escape_xml(link)));
+    }
+    for (j, screw) in tree.joints.iter().zip(&screw_links) {
+        let unbounded = j
+            .limit
+            .is_none_or(|l| l.lower == f64::NEG_INFINITY && l.upper == f64::INFINITY);
+        let (kind, child) = match screw {
+            Some((link, _)) if unbounded => ("continuous", link.as_str()),
+            Some((link, _)) => ("revolute", link.as_str()),
+            None => (j.kind.as_str(), tree.links[j.child].as_str()),
+        };
         let rpy = match j.origin() {
             Ok(t) => screwkit_lie::so3::to_rpy(t.rotation()),
             Err(_) => j.origin_rpy,
@@ -403,16 +437,16 @@ pub fn write(tree: &Tree) -> String {
         out.push_str(&format!(
             "  <joint name=\"{}\" type=\"{}\">\n    <origin xyz=\"{}\" rpy=\"{}\"/>\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n",
             input::escape_xml(&j.name),
-            j.kind.as_str(),
+            kind,
             vec3(j.origin_xyz),
             vec3(rpy),
             input::escape_xml(&tree.links[j.parent]),
-            input::escape_xml(&tree.links[j.child]),
+            input::escape_xml(child),
         ));
         if j.kind.is_movable() {
             out.push_str(&format!("    <axis xyz=\"{}\"/>\n", vec3(j.axis)));
         }
-        if let (Some(l), true) = (j.limit, j.kind != JointKind::Fixed) {
+        if let (Some(l), true) = (j.limit, j.kind != JointKind::Fixed && kind != "continuous") {
             let mut s = format!(
                 "    <limit lower=\"{}\" upper=\"{}\"",
                 num(l.lower),
@@ -436,6 +470,17 @@ pub fn write(tree: &Tree) -> String {
             ));
         }
         out.push_str("  </joint>\n");
+        if let Some((link, advance)) = screw {
+            out.push_str(&format!(
+                "  <joint name=\"{}\" type=\"prismatic\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    <axis xyz=\"{}\"/>\n    <limit lower=\"-1e300\" upper=\"1e300\" effort=\"0\" velocity=\"0\"/>\n    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"0\"/>\n  </joint>\n",
+                input::escape_xml(advance),
+                input::escape_xml(link),
+                input::escape_xml(&tree.links[j.child]),
+                vec3(j.axis),
+                input::escape_xml(&j.name),
+                num(j.pitch)
+            ));
+        }
     }
     out.push_str("</robot>\n");
     out

@@ -243,3 +243,71 @@ fn fuzz_mjcf() {
     });
     assert!(n > 0);
 }
+
+const SCREW_TOKENS: &[&[u8]] = &[
+    b"\"screw\": [0, 0, 1, 0, 0, 0.1]",
+    b"\"screw_space\": [0, 0, 0, 0, 0, 1]",
+    b"\"frame\": \"body\"",
+    b"\"lower\": null",
+    b"\"upper\": 1e308",
+    b"\"mimic\": {\"leader\": \"joint1\", \"multiplier\": -1}",
+    b"\"mimic\": {\"leader\": \"joint2\"}",
+    b"NaN",
+    b"1e999",
+    b"-0",
+    b"[[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]",
+    b"space,1,a,helical,0,0,1,0,0,0.1,,,,0.1\n",
+    b"M,1,1,0,0,0,,,,,,,,\n",
+    b"\"x,\"\"y\"\"\"",
+];
+
+/// Screw tables as `screwkit table --format json|csv` and `ScrewRobot::to_json` write them,
+/// mutated: the reader, then the chain and the tree of whatever it accepts, never panic.
+#[test]
+fn fuzz_screw_tables() {
+    let robot = screwkit_model::ScrewRobot::new(
+        "seed",
+        [
+            -1., 0., 0., 0., 0., 1., 0., 6., 0., 0., -1., 2., 0., 0., 0., 1.,
+        ],
+        vec![
+            [0., 0., 1., 4., 0., 0.],
+            [0., 0., 0., 0., 1., 0.],
+            [0., 0., -1., -6., 0., -0.1],
+        ],
+        screwkit_lie::Frame::Space,
+        Some(vec![
+            (-1.0, 1.0),
+            (0.0, 2.0),
+            (f64::NEG_INFINITY, f64::INFINITY),
+        ]),
+        None,
+    )
+    .unwrap();
+    let chain = robot.chain().unwrap();
+    let seeds = vec![
+        robot.to_json().to_string().into_bytes(),
+        screwkit_model::table::to_json(&chain)
+            .to_string()
+            .into_bytes(),
+        screwkit_model::table::to_csv(
+            &chain,
+            &[screwkit_lie::Frame::Space, screwkit_lie::Frame::Body],
+        )
+        .into_bytes(),
+    ];
+    let n = fuzz::run("screw-tables", 5, 3.0, &seeds, SCREW_TOKENS, |input| {
+        let text = String::from_utf8_lossy(input);
+        if screwkit_model::table::is_screw_table(&text) {
+            if let Ok(r) = screwkit_model::table::read_screw_table(&text, "fuzz") {
+                if r.chain().is_ok() {
+                    let tree = r
+                        .tree()
+                        .expect("a description whose chain builds has a tree");
+                    KinematicTree::from_tree(&tree).expect("and its whole tree builds");
+                }
+            }
+        }
+    });
+    assert!(n > 0);
+}

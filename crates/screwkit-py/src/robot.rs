@@ -115,7 +115,10 @@ impl Robot {
     }
 
     fn build(source: &Source, options: &LoadOptions) -> PyResult<Self> {
-        let robot = screwkit_service::Robot::load(source, options).map_err(service_error)?;
+        Self::wrap(screwkit_service::Robot::load(source, options).map_err(service_error)?)
+    }
+
+    fn wrap(robot: screwkit_service::Robot) -> PyResult<Self> {
         // What the reader read past that changes kinematics (an MJCF tendon, a loop closure).
         if !robot.tree().warnings.is_empty() {
             Python::attach(|py| -> PyResult<()> {
@@ -583,6 +586,99 @@ impl Robot {
             tool,
             floating_base,
         )
+    }
+
+    /// A robot from its home pose M (4, 4) and screw axes S (n, 6), one row (ω, v) per joint
+    /// base to tip, in the space frame (S_i) or the body frame (B_i), as *Modern Robotics*
+    /// writes robots (its `Slist`/`Blist` hold the axes as columns: pass `Slist.T`). A row
+    /// with ‖ω‖ = 1 is a revolute joint, or helical when its pitch h = ω · v is not 0; ω = 0
+    /// with ‖v‖ = 1 a prismatic joint (unit lengths to 1e-6, then normalised); anything else
+    /// is a `ValueError` naming the row. `limits`: (n, 2) lower and upper (±inf allowed;
+    /// `None`: unbounded, and a revolute joint is then continuous); `names`: n joint names
+    /// (default `joint1`, …). The chain runs from link `base` to link `tip`; every algorithm
+    /// works on it (analytic IK when its joints are revolute); `tool` as in `from_urdf`.
+    #[classmethod]
+    #[pyo3(signature = (m, s, frame = "space", limits = None, names = None, *, tool = None, floating_base = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_screws(
+        _cls: &Bound<'_, PyType>,
+        m: &Bound<'_, PyAny>,
+        s: &Bound<'_, PyAny>,
+        frame: &str,
+        limits: Option<&Bound<'_, PyAny>>,
+        names: Option<Vec<String>>,
+        tool: Option<Vec<f64>>,
+        floating_base: bool,
+    ) -> PyResult<Self> {
+        let frame: screwkit_lie::Frame = word::<ScrewFrame>("frame", frame)?.into();
+        let m = crate::array::f64_array(m, "M")?;
+        if m.shape() != [4, 4] {
+            return Err(PyValueError::new_err(format!(
+                "M: expected shape (4, 4), got {}",
+                crate::array::shape_str(m.shape())
+            )));
+        }
+        let home: [f64; 16] = m.readonly().as_slice()?.try_into().expect("16 values");
+        let rows = |x: &Bound<'_, PyAny>, what: &str, k: usize| -> PyResult<Vec<f64>> {
+            let a = crate::array::f64_array(x, what)?;
+            match a.shape() {
+                [_, c] if *c == k => Ok(a.readonly().as_slice()?.to_vec()),
+                shape => Err(PyValueError::new_err(format!(
+                    "{what}: expected shape (n, {k}), got {}",
+                    crate::array::shape_str(shape)
+                ))),
+            }
+        };
+        let screws: Vec<[f64; 6]> = rows(s, "S", 6)?
+            .chunks(6)
+            .map(|c| c.try_into().expect("6 values"))
+            .collect();
+        let limits = match limits {
+            Some(l) => Some(
+                rows(l, "limits", 2)?
+                    .chunks(2)
+                    .map(|c| (c[0], c[1]))
+                    .collect(),
+            ),
+            None => None,
+        };
+        let options = LoadOptions {
+            tool,
+            floating_base,
+            ..LoadOptions::default()
+        };
+        let build = |screws: Vec<[f64; 6]>| {
+            screwkit_model::ScrewRobot::new(
+                "<screws>",
+                home,
+                screws,
+                frame,
+                limits.clone(),
+                names.clone(),
+            )
+            .map_err(screwkit_service::Error::from)
+            .and_then(|d| screwkit_service::Robot::from_screws(d, &options))
+        };
+        match build(screws.clone()) {
+            Ok(robot) => Self::wrap(robot),
+            Err(e) => {
+                // Modern Robotics' Slist holds the axes as columns: say so when S.T would do.
+                let n = screws.len();
+                let transposed: Vec<[f64; 6]> = (0..6)
+                    .map(|r| std::array::from_fn(|c| if c < n { screws[c][r] } else { f64::NAN }))
+                    .collect();
+                let hint = n == 6 && build(transposed).is_ok();
+                let err = service_error(e);
+                if hint {
+                    let msg = format!(
+                        "{} (S's columns are screw axes: rows are expected, pass S.T)",
+                        err.value(_cls.py())
+                    );
+                    return Err(PyValueError::new_err(msg));
+                }
+                Err(err)
+            }
+        }
     }
 
     /// Loads the chain `base` → `tip` of URDF (or xacro) text; `source` names it in error

@@ -326,11 +326,21 @@ pub fn reach_ball(chain: &Chain) -> ([f64; 3], f64) {
         .collect();
     let centre = origins[0];
     let mut r: f64 = origins.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    for v in &chain.variables {
-        if v.kind == JointKind::Prismatic {
-            let travel = v.lower.abs().max(v.upper.abs());
-            r += if travel.is_finite() { travel } else { 0.0 };
-        }
+    // What joints add by sliding: a prismatic joint's travel, a helical joint's |h| θ (its
+    // rotation is in the link lengths). An unbounded one adds nothing here (no finite ball).
+    for (k, v) in chain.variables.iter().enumerate() {
+        let per_unit = match v.kind {
+            JointKind::Prismatic => 1.0,
+            JointKind::Helical => chain
+                .joints
+                .iter()
+                .filter(|j| j.drive.variable == k)
+                .filter_map(|j| j.s_space.pitch())
+                .fold(0.0, |a: f64, h| a.max(h.abs())),
+            _ => continue,
+        };
+        let travel = per_unit * v.lower.abs().max(v.upper.abs());
+        r += if travel.is_finite() { travel } else { 0.0 };
     }
     ([centre.x, centre.y, centre.z], r)
 }

@@ -5,7 +5,9 @@
 use std::path::{Path, PathBuf};
 
 use screwkit_lie::Se3;
-use screwkit_model::{input, urdf, Chain, KinematicTree, ModelError, Tree, XacroOptions};
+use screwkit_model::{
+    input, urdf, Chain, KinematicTree, ModelError, ScrewRobot, Tree, XacroOptions,
+};
 use screwkit_solve::{Kinematics, TreeKinematics, TreeWorkspace, Workspace};
 
 use crate::error::{Error, Result};
@@ -119,11 +121,19 @@ impl Source {
         )?)
     }
 
-    /// The whole tree of the description, and its text: URDF (xacro expanded), or MJCF (a
+    /// The whole tree of the description, and its text: URDF (xacro expanded), MJCF (a
     /// `<mujoco>` root: [`screwkit_model::mjcf`], includes read from [`Source::dir`] and
-    /// spliced into the text), told apart by content.
+    /// spliced into the text), or a screw table ([`ScrewRobot::tree`]), told apart by content.
     pub fn tree(&self, xacro: &XacroOptions) -> Result<(Tree, String)> {
-        let text = self.read()?;
+        self.tree_of(self.read()?, xacro)
+    }
+
+    /// [`Source::tree`] of this source's text, already read.
+    fn tree_of(&self, text: String, xacro: &XacroOptions) -> Result<(Tree, String)> {
+        if screwkit_model::table::is_screw_table(&text) {
+            let screws = screwkit_model::table::read_screw_table(&text, &self.label())?;
+            return Ok((screws.tree()?, text));
+        }
         if screwkit_model::mjcf::is_mjcf(&text) {
             // The text kept is self-contained: includes spliced in (pickling, copies).
             let (tree, text) = screwkit_model::mjcf::read_str(&text, &self.label(), &self.dir())?;
@@ -190,9 +200,58 @@ impl Robot {
     /// Reads `source` (see [`Source::read`]), expands xacro when the content is xacro, parses
     /// the URDF, builds the whole tree (with a floating base if asked) and the chain
     /// `options.base` → `options.tip` with the tool frame.
+    ///
+    /// A screw table (`screwkit table --format json|csv`, or [`ScrewRobot::to_json`]) is read
+    /// as the robot of its screws ([`Robot::from_screws`]).
     pub fn load(source: &Source, options: &LoadOptions) -> Result<Robot> {
-        let (tree, urdf) = source.tree(&options.xacro)?;
+        let text = source.read()?;
+        if screwkit_model::table::is_screw_table(&text) {
+            let screws = screwkit_model::table::read_screw_table(&text, &source.label())?;
+            return Robot::from_screws(screws, options);
+        }
+        let (tree, urdf) = source.tree_of(text, &options.xacro)?;
         Robot::from_tree(tree, urdf, options)
+    }
+
+    /// The robot of a home pose and screw axes ([`ScrewRobot`]): its chain `base → tip` holds
+    /// the screws as given, its whole tree the same robot with a frame at each joint
+    /// ([`ScrewRobot::tree`]). `options.base`/`tip` may only name `base` and `tip`; a tool
+    /// frame and a floating base apply as for a file. [`Robot::urdf`] is then the
+    /// description's JSON, which loads back into the same robot.
+    pub fn from_screws(screws: ScrewRobot, options: &LoadOptions) -> Result<Robot> {
+        for (what, given, only) in [
+            ("base", &options.base, "base"),
+            ("tip", &options.tip, "tip"),
+        ] {
+            if let Some(g) = given.as_deref().filter(|g| *g != only) {
+                return Err(Error::option(
+                    what,
+                    format!(
+                        "\"{g}\": a robot given by screw axes is one chain, from \"base\" to \
+                         \"tip\""
+                    ),
+                ));
+            }
+        }
+        let tool = options.tool_pose()?;
+        let chain = screws.chain()?;
+        let chain = match &tool {
+            Some(tool) => chain.with_tool(tool),
+            None => chain,
+        };
+        let kin = Kinematics::new(&chain);
+        let tree = screws.tree()?;
+        let whole = KinematicTree::from_tree(&tree)
+            .and_then(|m| TreeKinematics::new(&m.with_floating_base(options.floating_base)));
+        let text = serde_json::to_string_pretty(&screws.to_json())
+            .map_err(|e| Error::option("screws", e.to_string()))?;
+        Ok(Robot {
+            tree,
+            whole,
+            chain: Ok((chain, kin)),
+            urdf: text,
+            options: options.clone(),
+        })
     }
 
     /// The robot of an already parsed tree (`urdf`: its text, kept for [`Robot::urdf`]).
@@ -280,7 +339,8 @@ impl Robot {
         Ok(index)
     }
 
-    /// The URDF text (xacro expanded) the robot was read from.
+    /// The URDF text (xacro expanded) the robot was read from (the MJCF text with includes
+    /// spliced in; the JSON of a robot given by screw axes).
     pub fn urdf(&self) -> &str {
         &self.urdf
     }

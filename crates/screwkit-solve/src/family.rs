@@ -51,7 +51,8 @@ pub enum Family {
     General6R,
     /// A 7R chain: lock one joint (the caller's value, or swept) to make it a 6R one.
     Redundant7R,
-    /// Anything else (fewer or more joints, prismatic or mimic joints): numerical IK only.
+    /// Anything else (fewer or more joints, prismatic, helical or mimic joints): numerical IK
+    /// only.
     NotAnalytic,
 }
 
@@ -169,7 +170,7 @@ pub fn axis_lines(kin: &Kinematics) -> Vec<AxisLine> {
 
 /// Classifies a chain from its space screw axes at home.
 pub fn classify(kin: &Kinematics) -> Classification {
-    let all_revolute = kin.space.iter().all(|j| !j.prismatic) && kin.identity_map;
+    let all_revolute = kin.space.iter().all(|j| j.is_revolute()) && kin.identity_map;
     classify_axes(axis_lines(kin), all_revolute, kin.length_scale)
 }
 

@@ -32,6 +32,7 @@ use screwkit_lie::Se3;
 use screwkit_lie::Frame;
 
 use crate::error::SolveError;
+use crate::fk::fk_unchecked;
 use crate::jacobian::fk_jacobian_into;
 use crate::kinematics::Kinematics;
 use crate::sample::{configuration_into, SplitMix64};
@@ -401,6 +402,44 @@ pub(crate) fn solve_unchecked(
     status
 }
 
+/// Moves `q` by a whole turn (±2π) of the one screw variable ([`Kinematics::turns`]) that
+/// lowers the weighted error most, if one lowers it below `err2` (`trial`: scratch of q's
+/// length). Returns whether it moved.
+fn turn_hop(
+    kin: &Kinematics,
+    target: &Se3,
+    opts: &IkOptions,
+    weights: &[f64; 6],
+    err2: f64,
+    q: &mut [f64],
+    trial: &mut [f64],
+) -> bool {
+    let mut best: Option<(usize, f64, f64)> = None;
+    for k in (0..q.len()).filter(|&k| kin.turns[k]) {
+        for turn in [std::f64::consts::TAU, -std::f64::consts::TAU] {
+            let x = q[k] + turn;
+            if x < kin.lower[k] || x > kin.upper[k] {
+                continue;
+            }
+            trial.copy_from_slice(q);
+            trial[k] = x;
+            let e2 = error_state(&fk_unchecked(kin, trial), target, opts, weights)
+                .e
+                .norm_squared();
+            if e2 < best.map_or(err2, |b| b.2) {
+                best = Some((k, x, e2));
+            }
+        }
+    }
+    match best {
+        Some((k, x, _)) => {
+            q[k] = x;
+            true
+        }
+        None => false,
+    }
+}
+
 /// The best iterate's error so far.
 #[derive(Debug, Clone, Copy)]
 struct Best {
@@ -502,7 +541,12 @@ fn iterate(
                     break StopReason::RestartLimit;
                 }
                 restarts += 1;
-                configuration_into(kin, &mut rng, q);
+                // A screw joint (helical, or revolute with a prismatic follower) stalls where
+                // the rotation is right a whole turn away: the rotation error's minimum, with
+                // the position off by 2π h. Try the next turn before a random restart.
+                if !turn_hop(kin, target, opts, &row_weights, err2, q, dq) {
+                    configuration_into(kin, &mut rng, q);
+                }
                 attempt_iter = 0;
                 window_start_err2 = f64::INFINITY;
                 continue;

@@ -30,6 +30,11 @@ pub struct Kinematics {
     /// (−π, π] and analytic IK lists their 2π shifts; a continuous joint with a prismatic or
     /// non-integer follower is neither.
     pub(crate) continuous: Vec<bool>,
+    /// Variable k turns a screw: adding 2π to it keeps every driven joint's rotation (revolute
+    /// or helical joints with integer multipliers, prismatic followers) but not the pose (a
+    /// helical joint, or a revolute one with a prismatic follower). IK's stalls try q_k ± 2π
+    /// ([`crate::ik`]).
+    pub(crate) turns: Vec<bool>,
     pub(crate) names: Vec<String>,
     /// L: the power of ten nearest the chain's reach at home (the farthest link origin from
     /// the base; 1 when every link sits at the origin). IK measures position errors in units
@@ -47,13 +52,7 @@ impl Kinematics {
             chain
                 .joints
                 .iter()
-                .map(|j| {
-                    PoeJoint::new(
-                        *j.screw(frame).twist(),
-                        j.kind == JointKind::Prismatic,
-                        j.drive,
-                    )
-                })
+                .map(|j| PoeJoint::new(*j.screw(frame).twist(), j.kind, j.drive))
                 .collect()
         };
         Self {
@@ -75,6 +74,9 @@ impl Kinematics {
                 .enumerate()
                 .map(|(k, v)| v.kind == JointKind::Continuous && periodic(chain, k))
                 .collect(),
+            turns: (0..chain.variables.len())
+                .map(|k| turns(chain, k))
+                .collect(),
             names: chain.variables.iter().map(|v| v.name.clone()).collect(),
             length_scale: length_scale(chain),
             identity_map: !chain.has_mimic(),
@@ -88,6 +90,19 @@ impl Kinematics {
     /// makes a robot scaled by 10^k solve the very same normalised problem.
     pub fn length_scale(&self) -> f64 {
         self.length_scale
+    }
+
+    /// The first helical joint's variable name and pitch (m/rad), if the chain has one: such a
+    /// chain is solved by numerical IK only (the analytic solvers take revolute joints).
+    pub fn helical(&self) -> Option<(&str, f64)> {
+        self.space
+            .iter()
+            .find(|j| !j.prismatic && !j.is_revolute())
+            .map(|j| {
+                let (w, v) = j.axis();
+                let pitch = w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
+                (self.names[j.drive.variable].as_str(), pitch)
+            })
     }
 
     /// Number of independent variables (the length of q).
@@ -189,17 +204,33 @@ fn length_scale(chain: &Chain) -> f64 {
     }
 }
 
+/// Whether adding 2π to variable `k` keeps the rotation of every joint it drives but moves the
+/// tip: each is rotating with an integer multiplier or prismatic, and one is helical or
+/// prismatic.
+fn turns(chain: &screwkit_model::Chain, k: usize) -> bool {
+    let driven = || chain.joints.iter().filter(move |j| j.drive.variable == k);
+    let rotation_kept = driven().all(|j| {
+        j.kind == JointKind::Prismatic
+            || (j.kind.rotates()
+                && j.drive.multiplier.fract() == 0.0
+                && j.drive.multiplier.is_finite())
+    });
+    let rotates = driven().any(|j| j.kind.rotates());
+    let slides = driven().any(|j| matches!(j.kind, JointKind::Prismatic | JointKind::Helical));
+    rotation_kept && rotates && slides
+}
+
 /// Whether adding 2π to variable `k` leaves the pose unchanged: every joint it drives is
-/// rotational with an integer multiplier (θ = m q + o turns m whole turns). A continuous
-/// joint with a prismatic follower (a helical joint written as a mimic pair) or a
-/// non-integer multiplier is not periodic, and IK must not wrap it.
+/// revolute or continuous with an integer multiplier (θ = m q + o turns m whole turns). A
+/// continuous joint with a prismatic or helical follower (a helical joint written as a mimic
+/// pair) or a non-integer multiplier is not periodic, and IK must not wrap it.
 fn periodic(chain: &screwkit_model::Chain, k: usize) -> bool {
     chain
         .joints
         .iter()
         .filter(|j| j.drive.variable == k)
         .all(|j| {
-            j.kind != JointKind::Prismatic
+            matches!(j.kind, JointKind::Revolute | JointKind::Continuous)
                 && j.drive.multiplier.fract() == 0.0
                 && j.drive.multiplier.is_finite()
         })

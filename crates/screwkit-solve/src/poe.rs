@@ -12,7 +12,7 @@ use nalgebra::Vector3;
 use screwkit_lie::fma::MulAdd;
 use screwkit_lie::se3::{translation_from_coefficients, translation_of_rotation};
 use screwkit_lie::{so3, trig, Twist};
-use screwkit_model::Drive;
+use screwkit_model::{Drive, JointKind};
 
 use crate::columns::{add, cross, Align64, Block, Columns, Lane, Lanes, W};
 
@@ -20,10 +20,6 @@ use crate::columns::{add, cross, Align64, Block, Columns, Lane, Lanes, W};
 /// near-axis update ([`Columns::rotate_near_axis`]): the terms that update drops are
 /// O(|δ|²) ≤ 1e-18, far below the rounding of the general update.
 pub(crate) const NEAR_AXIS: f64 = 1e-9;
-
-/// Largest |ω · v| / max(‖v‖, 1) of a revolute screw taken as pitch 0: 64 ε, the rounding of
-/// v = −ω × q (a helical joint's pitch, metres per radian, is orders of magnitude above).
-const PITCH_ZERO: f64 = 64.0 * f64::EPSILON;
 
 /// A revolute axis ω that is a coordinate axis (to within 1e-15 per component), with its sign:
 /// then T e^{[S]θ} only mixes two columns of R. Or one that is within [`NEAR_AXIS`] of one —
@@ -74,8 +70,9 @@ impl Aligned {
 pub(crate) struct PoeJoint {
     pub(crate) prismatic: bool,
     aligned: Aligned,
-    /// A revolute joint of pitch 0 (|ω · v| at rounding level): its translation is
-    /// [`translation_of_rotation`].
+    /// A revolute or continuous joint (pitch 0: ω · v is the rounding of v = −ω × q, which the
+    /// update drops): its translation is [`translation_of_rotation`]. A helical joint takes the
+    /// general G(θ)v, whatever its pitch.
     pitch_zero: bool,
     /// Pitch 0 about an exact coordinate axis e_K (`aligned` with u = 0): e^{[S]θ} moves p
     /// within the plane of the other two axes only, and R ω is ±column K of R, so the updates
@@ -94,13 +91,22 @@ impl PoeJoint {
         Twist::new(self.w.into(), self.v.into())
     }
 
+    /// A revolute or continuous joint (pitch 0), not prismatic or helical.
+    pub(crate) fn is_revolute(&self) -> bool {
+        self.pitch_zero
+    }
+
     /// The screw axis (ω, v) as arrays.
     #[inline(always)]
     pub(crate) fn axis(&self) -> (&[f64; 3], &[f64; 3]) {
         (&self.w, &self.v)
     }
 
-    pub(crate) fn new(s: Twist, prismatic: bool, drive: Drive) -> Self {
+    /// Prepares joint `s` of `kind` (revolute, continuous, prismatic or helical) driven by
+    /// `drive`. The kind, not the numbers, says whether the pitch is 0: a helical joint keeps
+    /// its pitch however small.
+    pub(crate) fn new(s: Twist, kind: JointKind, drive: Drive) -> Self {
+        let prismatic = kind == JointKind::Prismatic;
         let wv = s.w.cross(&s.v);
         let wwv = s.w.cross(&wv);
         let aligned = if prismatic {
@@ -108,9 +114,7 @@ impl PoeJoint {
         } else {
             Aligned::of(&s.w)
         };
-        // ω · v of a revolute axis written v = −ω × q is rounding (≈ ε‖q‖); a deliberate pitch
-        // is many orders above it.
-        let pitch_zero = !prismatic && s.w.dot(&s.v).abs() <= PITCH_ZERO * s.v.norm().max(1.0);
+        let pitch_zero = matches!(kind, JointKind::Revolute | JointKind::Continuous);
         let exact_axis = matches!(aligned, Aligned::X(_, u) | Aligned::Y(_, u) | Aligned::Z(_, u) if u == [0.0; 2]);
         Self {
             prismatic,
@@ -544,7 +548,12 @@ mod tests {
         ] {
             for pitch in [0.0, 0.35] {
                 let s = ScrewAxis::from_point_direction_pitch(point, axis, pitch).unwrap();
-                let jc = PoeJoint::new(*s.twist(), false, Drive::independent(0));
+                let kind = if pitch == 0.0 {
+                    JointKind::Revolute
+                } else {
+                    JointKind::Helical
+                };
+                let jc = PoeJoint::new(*s.twist(), kind, Drive::independent(0));
                 assert_eq!(
                     jc.aligned == Aligned::General,
                     axis.x.abs() > 0.5 && axis.y.abs() > 0.5
@@ -568,7 +577,7 @@ mod tests {
         let slide = ScrewAxis::prismatic(Vector3::new(0.2, -0.4, 0.8).normalize()).unwrap();
         cases.push((
             *slide.twist(),
-            PoeJoint::new(*slide.twist(), true, Drive::independent(0)),
+            PoeJoint::new(*slide.twist(), JointKind::Prismatic, Drive::independent(0)),
         ));
         for (twist, jc) in &cases {
             for theta in [-2.5f64, -0.3, 0.0, 1e-9, 0.7, 3.0] {

@@ -293,6 +293,21 @@ class Robot:
         floating_base: bool = False,
     ) -> Robot: ...
     @classmethod
+    def from_screws(
+        cls,
+        m: _ArrayLike,
+        s: _ArrayLike,
+        frame: _Frame = "space",
+        limits: _ArrayLike | None = None,
+        names: Sequence[str] | None = None,
+        *,
+        tool: Sequence[float] | None = None,
+        floating_base: bool = False,
+    ) -> Robot:
+        """A robot from its home pose M (4, 4) and screw axes S (n, 6), rows (omega, v), in the
+        space or body frame (Modern Robotics' Slist/Blist are columns: pass Slist.T); helical
+        rows (pitch omega . v != 0) and prismatic rows (omega = 0) included."""
+    @classmethod
     def from_string(
         cls,
         xml: str,

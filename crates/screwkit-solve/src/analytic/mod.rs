@@ -138,6 +138,7 @@ pub fn describe(kin: &Kinematics) -> String {
                     ""
                 }
             ),
+            Err(_) if kin.helical().is_some() => solver::helical_or(kin, ""),
             Err(e) if kin.dof() == 6 => format!("{}; {e}", f.describe()),
             Err(_) => f.describe().into(),
         },

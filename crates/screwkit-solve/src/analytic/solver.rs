@@ -61,7 +61,7 @@ impl AnalyticIk {
         let fail = || {
             SolveError::InvalidInput(format!(
                 "no analytic solver for this chain: {}",
-                c.family.describe()
+                helical_or(kin, c.family.describe())
             ))
         };
         if c.family == Family::NotAnalytic || kin.dof() != 6 {
@@ -107,7 +107,7 @@ impl AnalyticIk {
     /// is missing otherwise.
     pub fn arm_angle(kin: &Kinematics) -> Result<Self, SolveError> {
         let c = classify(kin);
-        let all_revolute = kin.space.iter().all(|j| !j.prismatic) && kin.identity_map;
+        let all_revolute = kin.space.iter().all(|j| j.is_revolute()) && kin.identity_map;
         let arm = (kin.dof() == 7 && all_revolute)
             .then(|| ArmAngle::new(&c.axes, kin.home, kin.length_scale))
             .flatten()
@@ -936,4 +936,16 @@ fn per_target<T: Send>(
             |ws, (k, row)| f(ws, k, &crate::batch::target_row(row)?),
         )
         .collect())
+}
+
+/// What to say of a chain without an analytic solver: its helical joint when it has one (the
+/// analytic solvers take revolute joints only), else `otherwise`.
+pub(crate) fn helical_or(kin: &Kinematics, otherwise: &str) -> String {
+    match kin.helical() {
+        Some((name, h)) => format!(
+            "no analytic solver: numerical IK only (joint \"{name}\" is helical, pitch {h} m/rad; \
+             the analytic solvers take revolute joints)"
+        ),
+        None => otherwise.to_string(),
+    }
 }

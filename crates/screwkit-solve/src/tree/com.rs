@@ -122,10 +122,15 @@ pub(crate) fn com_jacobian_unchecked(
         let g = ws.joint_poses[k].to_se3();
         let w = g.rotation() * joint.axis;
         let (mk, sk) = ws.subtree[k];
-        let col = if joint.kind == screwkit_model::JointKind::Prismatic {
-            w * (mk / mass)
-        } else {
-            w.cross(&(sk - mk * g.translation())) / mass
+        // The subtree's centre of mass moves with the joint's twist (ω, v) at its points:
+        // ṁc = ω × (s − m p) + m h ω for a rotating joint of pitch h, m a for a prismatic one.
+        let col = match joint.kind {
+            screwkit_model::JointKind::Prismatic => w * (mk / mass),
+            screwkit_model::JointKind::Helical => {
+                let h = joint.s_space.pitch().unwrap_or(0.0);
+                (w.cross(&(sk - mk * g.translation())) + w * (mk * h)) / mass
+            }
+            _ => w.cross(&(sk - mk * g.translation())) / mass,
         };
         let d = joint.drive;
         let mut dst = jac.column_mut(vo + d.variable);

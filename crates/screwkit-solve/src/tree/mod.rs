@@ -133,28 +133,27 @@ impl TreeKinematics {
         let joints = model
             .joints
             .iter()
-            .map(|j| {
-                PoeJoint::new(
-                    *j.s_space.twist(),
-                    j.kind == screwkit_model::JointKind::Prismatic,
-                    j.drive,
-                )
-            })
+            .map(|j| PoeJoint::new(*j.s_space.twist(), j.kind, j.drive))
             .collect();
         let sweep = model
             .joints
             .iter()
             .map(|j| {
-                let prismatic = j.kind == screwkit_model::JointKind::Prismatic;
-                let zero = nalgebra::Vector3::zeros();
-                let local = if prismatic {
-                    screwkit_lie::Twist::new(zero, j.axis)
-                } else {
-                    screwkit_lie::Twist::new(j.axis, zero)
+                // The joint's screw in its own frame: (0, a), (a, 0), or (a, h a) for a
+                // helical joint of pitch h.
+                let local = match j.kind {
+                    screwkit_model::JointKind::Prismatic => {
+                        screwkit_lie::Twist::new(nalgebra::Vector3::zeros(), j.axis)
+                    }
+                    screwkit_model::JointKind::Helical => {
+                        let h = j.s_space.pitch().unwrap_or(0.0);
+                        screwkit_lie::Twist::new(j.axis, j.axis * h)
+                    }
+                    _ => screwkit_lie::Twist::new(j.axis, nalgebra::Vector3::zeros()),
                 };
                 fk::SweepJoint {
                     fixed: fk::Placement::of(&j.placement),
-                    motion: PoeJoint::new(local, prismatic, j.drive),
+                    motion: PoeJoint::new(local, j.kind, j.drive),
                 }
             })
             .collect();

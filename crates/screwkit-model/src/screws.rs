@@ -1,0 +1,581 @@
+//! Robots given by their screw axes, as *Modern Robotics* teaches them: a home pose M and one
+//! screw axis S_i = (ω, v) per joint, in the space (base) frame or the body (tip) frame.
+//!
+//! A row with ‖ω‖ = 1 is a rotating joint of pitch h = ω · v: revolute when h is rounding
+//! (|h| ≤ [`PITCH_ZERO`] · max(1, ‖v‖)), helical otherwise; a row with ω = 0 and ‖v‖ = 1 is
+//! prismatic. Unit lengths are accepted to [`UNIT_TOLERANCE`] and normalised (rows typed or
+//! printed to six decimals; a row unit to 4 ε is kept as it is); anything else is an error
+//! naming the row.
+//!
+//! The description gives no link frames. Each joint's frame is put, unrotated, at the point
+//! of its axis nearest the previous joint's (the base origin for the first; a prismatic joint
+//! keeps the previous point): these are the chain's link poses, what pictures draw, and the
+//! frames of the tree ([`ScrewRobot::tree`]) whole-robot algorithms use. The chain
+//! ([`ScrewRobot::chain`]) keeps the screws exactly as given (normalised); the tree rebuilds
+//! them from points and axes, equal to rounding.
+
+use nalgebra::Vector3;
+use screwkit_lie::{so3, Frame, ScrewAxis, Se3, Twist};
+
+use crate::chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
+use crate::error::{ErrorKind, ModelError};
+use crate::tree::{JointKind, Limit, Mimic, Tree, TreeJointSpec};
+
+/// Largest |ω · v| / max(1, ‖v‖) of a rotating row read as pitch 0 (revolute): 64 ε, the
+/// rounding of v = −ω × q. A deliberate pitch is orders of magnitude above it.
+pub const PITCH_ZERO: f64 = 64.0 * f64::EPSILON;
+
+/// How far ‖ω‖ (or a prismatic row's ‖v‖) may be from 1: 1e-6, so that axes printed to six
+/// decimals (`screwkit table --format csv`) are read back.
+pub const UNIT_TOLERANCE: f64 = 1e-6;
+
+/// One joint of a [`ScrewRobot`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScrewJoint {
+    /// Joint name (unique, not empty).
+    pub name: String,
+    /// Its screw axis (ω, v) at home, in the robot's [`ScrewRobot::frame`].
+    pub screw: [f64; 6],
+    /// (lower, upper) in rad or m; `None` for an unbounded joint (a revolute one is then
+    /// continuous). Infinite bounds are allowed.
+    pub limits: Option<(f64, f64)>,
+    /// The joint this one follows, θ = multiplier · q_leader + offset (the leader must be an
+    /// independent joint of the same robot).
+    pub mimic: Option<Mimic>,
+}
+
+/// A robot as a home pose and screw axes: T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M
+/// = M e^\[B₁\]θ₁ ⋯ e^\[Bₙ\]θₙ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScrewRobot {
+    /// The robot's name.
+    pub name: String,
+    /// Where it came from (a file path, or a label such as `<screws>`), for error messages.
+    pub source: String,
+    /// M, the tip pose at home, row-major 4 × 4: a rigid transform to 1e-3 (max |RᵀR − I|, as
+    /// IK targets: typed or printed to four or more decimals), replaced by the nearest one.
+    pub home: [f64; 16],
+    /// The frame the screws are given in: space (S_i) or body (B_i).
+    pub frame: Frame,
+    /// The joints, base to tip.
+    pub joints: Vec<ScrewJoint>,
+    /// Variables that drive mimic joints of the chain without being on it (a gripper finger
+    /// that follows the other finger), with their limits: a table of such a chain names them.
+    pub leaders: Vec<ScrewLeader>,
+}
+
+/// A variable of a [`ScrewRobot`] owned by a joint that is not on its chain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScrewLeader {
+    /// The leading joint's name.
+    pub name: String,
+    /// Its limits (`None`: unbounded).
+    pub limits: Option<(f64, f64)>,
+}
+
+/// A joint's space screw and its kind.
+type SpaceScrew = (Twist, JointKind);
+
+/// A row read: its unit screw in the given frame and its kind.
+struct Row {
+    screw: Twist,
+    kind: JointKind,
+}
+
+impl ScrewRobot {
+    /// A description from arrays as front ends take them: M row-major, one screw per joint,
+    /// `limits` one (lower, upper) per joint (`None`: every joint unbounded), `names` one per
+    /// joint (`None`: `joint1`, `joint2`, …). Counts that disagree are an error; everything
+    /// else is checked when the chain is built.
+    pub fn new(
+        source: &str,
+        home: [f64; 16],
+        screws: Vec<[f64; 6]>,
+        frame: Frame,
+        limits: Option<Vec<(f64, f64)>>,
+        names: Option<Vec<String>>,
+    ) -> Result<Self, ModelError> {
+        let n = screws.len();
+        let count = |what: &str, k: usize| {
+            ModelError::new(
+                source,
+                ErrorKind::Screws(format!("{what} has {k} rows for {n} screw axes")),
+            )
+        };
+        if let Some(l) = &limits {
+            if l.len() != n {
+                return Err(count("limits", l.len()));
+            }
+        }
+        if let Some(names) = &names {
+            if names.len() != n {
+                return Err(count("names", names.len()));
+            }
+        }
+        let names = names.unwrap_or_else(|| (1..=n).map(|i| format!("joint{i}")).collect());
+        Ok(Self {
+            name: "screws".into(),
+            source: source.into(),
+            home,
+            frame,
+            joints: screws
+                .into_iter()
+                .zip(names)
+                .enumerate()
+                .map(|(i, (screw, name))| ScrewJoint {
+                    name,
+                    screw,
+                    limits: limits.as_ref().map(|l| l[i]),
+                    mimic: None,
+                })
+                .collect(),
+            leaders: Vec::new(),
+        })
+    }
+
+    /// The description as JSON, exactly (shortest round-trip numbers; ±∞ limits as `null`):
+    /// `{"robot", "frame", "home": [[4 x 4]], "joints": [{"name", "screw": [6], "lower",
+    /// "upper", "mimic"}]}`, which [`crate::table::read_screw_table`] reads back into the same
+    /// description (so the same chain, bit for bit).
+    pub fn to_json(&self) -> serde_json::Value {
+        use serde_json::{json, Value};
+        let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+        let joints: Vec<Value> = self
+            .joints
+            .iter()
+            .map(|j| {
+                let (l, u) = j
+                    .limits
+                    .map_or((Value::Null, Value::Null), |(l, u)| (num(l), num(u)));
+                json!({
+                    "name": j.name,
+                    "screw": j.screw.to_vec(),
+                    "lower": l,
+                    "upper": u,
+                    "mimic": j.mimic.as_ref().map_or(Value::Null, |m| json!({
+                        "leader": m.leader, "multiplier": m.multiplier, "offset": m.offset,
+                    })),
+                })
+            })
+            .collect();
+        let mut out = json!({
+            "robot": self.name,
+            "frame": self.frame.as_str(),
+            "home": self.home.chunks(4).map(|r| r.to_vec()).collect::<Vec<_>>(),
+            "joints": joints,
+        });
+        if !self.leaders.is_empty() {
+            out["leaders"] = self
+                .leaders
+                .iter()
+                .map(|l| {
+                    let (lo, up) = l
+                        .limits
+                        .map_or((Value::Null, Value::Null), |(a, b)| (num(a), num(b)));
+                    json!({"name": l.name, "lower": lo, "upper": up})
+                })
+                .collect();
+        }
+        out
+    }
+
+    fn error(&self, kind: ErrorKind) -> ModelError {
+        ModelError::new(self.source.clone(), kind)
+    }
+
+    fn screw_error(&self, row: usize, problem: String) -> ModelError {
+        self.error(ErrorKind::Screw {
+            row,
+            joint: self.joints[row].name.clone(),
+            problem,
+        })
+    }
+
+    fn home(&self) -> Result<Se3, ModelError> {
+        Se3::from_row_major(&self.home, so3::TARGET_ROTATION_TOLERANCE).map_err(|e| {
+            self.error(ErrorKind::Screws(format!(
+                "the home pose M is not a rigid transform: {e}"
+            )))
+        })
+    }
+
+    /// Reads row `i`: finite; ‖ω‖ = 1 (revolute or helical) or ω = 0 and ‖v‖ = 1 (prismatic).
+    fn row(&self, i: usize) -> Result<Row, ModelError> {
+        let j = &self.joints[i];
+        if !j.screw.iter().all(|x| x.is_finite()) {
+            return Err(self.screw_error(i, "it holds NaN or infinity".into()));
+        }
+        let t = Twist::try_from_slice(&j.screw).map_err(|e| self.screw_error(i, e.to_string()))?;
+        let (wn, vn) = (t.w.norm(), t.v.norm());
+        if wn == 0.0 {
+            if (vn - 1.0).abs() > UNIT_TOLERANCE {
+                return Err(self.screw_error(
+                    i,
+                    format!(
+                        "ω = 0 and ‖v‖ = {vn}: a prismatic joint's v is a unit vector (a \
+                         screw axis has ‖ω‖ = 1, or ω = 0 and ‖v‖ = 1)"
+                    ),
+                ));
+            }
+            return Ok(Row {
+                screw: Twist::new(Vector3::zeros(), t.v * unit_scale(vn)),
+                kind: JointKind::Prismatic,
+            });
+        }
+        if (wn - 1.0).abs() > UNIT_TOLERANCE {
+            return Err(self.screw_error(
+                i,
+                format!(
+                    "‖ω‖ = {wn}: a screw axis has ‖ω‖ = 1 (revolute or helical), or ω = 0 and \
+                     ‖v‖ = 1 (prismatic)"
+                ),
+            ));
+        }
+        let s = t * unit_scale(wn);
+        let h = s.w.dot(&s.v);
+        let rotating = if h.abs() <= PITCH_ZERO * s.v.norm().max(1.0) {
+            let unbounded = j
+                .limits
+                .is_none_or(|(l, u)| l == f64::NEG_INFINITY && u == f64::INFINITY);
+            if unbounded {
+                JointKind::Continuous
+            } else {
+                JointKind::Revolute
+            }
+        } else {
+            JointKind::Helical
+        };
+        Ok(Row {
+            screw: s,
+            kind: rotating,
+        })
+    }
+
+    /// Checks names, limits and mimic leaders, and reads every row: (M, rows, the variable of
+    /// each joint's leader).
+    fn read(&self) -> Result<(Se3, Vec<Row>), ModelError> {
+        let m = self.home()?;
+        if self.joints.is_empty() {
+            return Err(self.error(ErrorKind::Screws("no joints: S has no rows".into())));
+        }
+        for (i, j) in self.joints.iter().enumerate() {
+            if j.name.is_empty() {
+                return Err(self.screw_error(i, "the joint has an empty name".into()));
+            }
+            if self.joints[..i].iter().any(|o| o.name == j.name) {
+                return Err(self.error(ErrorKind::Duplicate {
+                    what: "joint",
+                    name: j.name.clone(),
+                }));
+            }
+            if let Some((l, u)) = j.limits {
+                if l.is_nan() || u.is_nan() {
+                    return Err(self.error(ErrorKind::NonFinite {
+                        joint: j.name.clone(),
+                        what: "limit".into(),
+                    }));
+                }
+                if l > u {
+                    return Err(self.error(ErrorKind::LimitOrder {
+                        joint: j.name.clone(),
+                        lower: l,
+                        upper: u,
+                    }));
+                }
+            }
+            if let Some(mimic) = &j.mimic {
+                let problem = |p: String| {
+                    self.error(ErrorKind::Mimic {
+                        joint: j.name.clone(),
+                        problem: p,
+                    })
+                };
+                let on_chain = self.joints.iter().find(|o| o.name == mimic.leader);
+                let off_chain = self.leaders.iter().any(|l| l.name == mimic.leader);
+                if on_chain.is_none() && !off_chain {
+                    return Err(problem(format!(
+                        "joint \"{}\", which is not defined",
+                        mimic.leader
+                    )));
+                }
+                if on_chain.is_some_and(|o| o.mimic.is_some()) {
+                    return Err(problem(format!(
+                        "joint \"{}\", which follows another joint itself (name the \
+                         independent one)",
+                        mimic.leader
+                    )));
+                }
+                if !(mimic.multiplier.is_finite() && mimic.offset.is_finite()) {
+                    return Err(problem("with a non-finite multiplier or offset".into()));
+                }
+            }
+        }
+        let rows = (0..self.joints.len())
+            .map(|i| self.row(i))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((m, rows))
+    }
+
+    /// The joints' frames at home (see the module documentation): unrotated, at the point of
+    /// each space axis nearest the previous joint's point.
+    fn joint_points(spaces: &[SpaceScrew]) -> Vec<Vector3<f64>> {
+        let mut prev = Vector3::zeros();
+        spaces
+            .iter()
+            .map(|(s, kind)| {
+                if *kind != JointKind::Prismatic {
+                    // The axis: the point ω × v (nearest the origin; ‖ω‖ = 1) plus any
+                    // multiple of ω; the one nearest `prev`.
+                    let p0 = s.w.cross(&s.v);
+                    prev = p0 + s.w * s.w.dot(&(prev - p0));
+                }
+                prev
+            })
+            .collect()
+    }
+
+    /// The space screws with their kinds, and M.
+    fn space_rows(&self) -> Result<(Se3, Vec<Row>, Vec<SpaceScrew>), ModelError> {
+        let (m, rows) = self.read()?;
+        let spaces = rows
+            .iter()
+            .map(|r| {
+                let s = match self.frame {
+                    Frame::Space => r.screw,
+                    Frame::Body => m.adjoint_apply(&r.screw),
+                };
+                (s, r.kind)
+            })
+            .collect();
+        Ok((m, rows, spaces))
+    }
+
+    /// The variables in order of first appearance along the chain (a mimic joint's leader
+    /// where the joint comes first, as for a URDF chain) and every joint's drive.
+    fn variables(&self, rows: &[Row]) -> (Vec<Variable>, Vec<Drive>) {
+        let mut variables: Vec<Variable> = Vec::new();
+        let mut drives = Vec::with_capacity(rows.len());
+        for (j, r) in self.joints.iter().zip(rows) {
+            let (owner, multiplier, offset) = match &j.mimic {
+                None => (j.name.as_str(), 1.0, 0.0),
+                Some(m) => (m.leader.as_str(), m.multiplier, m.offset),
+            };
+            let variable = match variables.iter().position(|v| v.name == owner) {
+                Some(v) => v,
+                None => {
+                    let on_chain = self.joints.iter().zip(rows).find(|(o, _)| o.name == owner);
+                    let (limits, kind) = match on_chain {
+                        Some((o, or)) => (o.limits, or.kind),
+                        None => {
+                            let l = self.leaders.iter().find(|l| l.name == owner);
+                            (l.and_then(|l| l.limits), r.kind)
+                        }
+                    };
+                    let (lower, upper) = limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                    variables.push(Variable {
+                        name: owner.to_string(),
+                        kind,
+                        lower,
+                        upper,
+                        velocity: None,
+                        effort: None,
+                    });
+                    variables.len() - 1
+                }
+            };
+            drives.push(Drive {
+                variable,
+                multiplier,
+                offset,
+            });
+        }
+        (variables, drives)
+    }
+
+    /// The serial chain base → tip with the screws as given (normalised), the other frame's
+    /// screws by the adjoint (B_i = \[Ad_{M⁻¹}\] S_i, or S_i = \[Ad_M\] B_i), and link poses at
+    /// the joints' points. Its base link is `base`, its tip `tip`.
+    pub fn chain(&self) -> Result<Chain, ModelError> {
+        let (m, rows, spaces) = self.space_rows()?;
+        let points = Self::joint_points(&spaces);
+        let (variables, drives) = self.variables(&rows);
+        let mut links = vec![ChainLink {
+            name: "base".into(),
+            home: Se3::identity(),
+            joints_before: 0,
+        }];
+        let mut joints = Vec::with_capacity(rows.len());
+        for (i, (j, r)) in self.joints.iter().zip(&rows).enumerate() {
+            let (s, b) = match self.frame {
+                Frame::Space => (r.screw, m.adjoint_inverse_apply(&r.screw)),
+                Frame::Body => (spaces[i].0, r.screw),
+            };
+            let home = Se3::from_translation(points[i]);
+            joints.push(ChainJoint {
+                name: j.name.clone(),
+                kind: r.kind,
+                s_space: ScrewAxis::from_unit_twist_unchecked(s),
+                b_body: ScrewAxis::from_unit_twist_unchecked(b),
+                drive: drives[i],
+                home,
+            });
+            links.push(ChainLink {
+                name: link_name(&j.name),
+                home,
+                joints_before: i + 1,
+            });
+        }
+        links.push(ChainLink {
+            name: "tip".into(),
+            home: m,
+            joints_before: rows.len(),
+        });
+        Ok(Chain {
+            robot: self.name.clone(),
+            source: self.source.clone(),
+            base: "base".into(),
+            tip: "tip".into(),
+            joints,
+            variables,
+            home: m,
+            links,
+        })
+    }
+
+    /// The same robot as a [`Tree`] (links `base`, `<joint>_link` …, `tip`; unrotated joint
+    /// frames at the joints' points, a helical joint with its pitch, a fixed joint to `tip`
+    /// at M), for the algorithms that take a whole robot. Its screws equal the chain's to
+    /// rounding.
+    pub fn tree(&self) -> Result<Tree, ModelError> {
+        let (m, rows, spaces) = self.space_rows()?;
+        let points = Self::joint_points(&spaces);
+        let mut links = vec!["base".to_string()];
+        links.extend(self.joints.iter().map(|j| link_name(&j.name)));
+        links.push("tip".into());
+        let mut specs = Vec::with_capacity(rows.len() + 1);
+        let mut prev = Vector3::zeros();
+        for (i, (j, r)) in self.joints.iter().zip(&rows).enumerate() {
+            let (s, _) = spaces[i];
+            let axis = if r.kind == JointKind::Prismatic {
+                s.v
+            } else {
+                s.w
+            };
+            let pitch = if r.kind == JointKind::Helical {
+                s.w.dot(&s.v)
+            } else {
+                0.0
+            };
+            let limit = j.limits.map(|(lower, upper)| Limit {
+                lower,
+                upper,
+                velocity: None,
+                effort: None,
+            });
+            let limit = limit.or(Some(Limit {
+                lower: f64::NEG_INFINITY,
+                upper: f64::INFINITY,
+                velocity: None,
+                effort: None,
+            }));
+            specs.push((
+                TreeJointSpec {
+                    name: j.name.clone(),
+                    kind: r.kind,
+                    origin_xyz: (points[i] - prev).into(),
+                    origin_rpy: [0.0; 3],
+                    origin_quat: None,
+                    axis: axis.into(),
+                    limit,
+                    mimic: j.mimic.clone(),
+                    pitch,
+                },
+                links[i].clone(),
+                links[i + 1].clone(),
+            ));
+            prev = points[i];
+        }
+        // A leader off the chain: a branch of its own from the base (the table does not say
+        // where it is), moving a link of its name the way its first follower moves.
+        let mut leader_links = Vec::new();
+        for l in &self.leaders {
+            let Some(i) = self
+                .joints
+                .iter()
+                .position(|j| j.mimic.as_ref().is_some_and(|m| m.leader == l.name))
+            else {
+                continue;
+            };
+            let (s, kind) = spaces[i];
+            let link = format!("{}_link", l.name);
+            let (lower, upper) = l.limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+            specs.push((
+                TreeJointSpec {
+                    name: l.name.clone(),
+                    kind,
+                    origin_xyz: points[i].into(),
+                    origin_rpy: [0.0; 3],
+                    origin_quat: None,
+                    axis: if kind == JointKind::Prismatic {
+                        s.v
+                    } else {
+                        s.w
+                    }
+                    .into(),
+                    limit: Some(Limit {
+                        lower,
+                        upper,
+                        velocity: None,
+                        effort: None,
+                    }),
+                    mimic: None,
+                    pitch: if kind == JointKind::Helical {
+                        s.w.dot(&s.v)
+                    } else {
+                        0.0
+                    },
+                },
+                "base".into(),
+                link.clone(),
+            ));
+            leader_links.push(link);
+        }
+        let mut fixed = "tip_fixed".to_string();
+        while self.joints.iter().any(|j| j.name == fixed) {
+            fixed.push('_');
+        }
+        let [x, y, z, w] = m.quaternion();
+        specs.push((
+            TreeJointSpec {
+                name: fixed,
+                kind: JointKind::Fixed,
+                origin_xyz: (m.translation() - prev).into(),
+                origin_rpy: m.rpy(),
+                origin_quat: Some([w, x, y, z]),
+                axis: [1.0, 0.0, 0.0],
+                limit: None,
+                mimic: None,
+                pitch: 0.0,
+            },
+            links[rows.len()].clone(),
+            "tip".into(),
+        ));
+        links.extend(leader_links);
+        Tree::new(self.name.clone(), self.source.clone(), links, specs)
+    }
+}
+
+/// The factor that normalises a vector of norm `n` (≈ 1): 1/n, or exactly 1 when n is within
+/// 4 ε of 1 — a row that is already unit to rounding (a table screwkit printed) is kept bit
+/// for bit, so reading a table back gives the same robot.
+fn unit_scale(n: f64) -> f64 {
+    if (n - 1.0).abs() <= 4.0 * f64::EPSILON {
+        1.0
+    } else {
+        1.0 / n
+    }
+}
+
+fn link_name(joint: &str) -> String {
+    format!("{joint}_link")
+}

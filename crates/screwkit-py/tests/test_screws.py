@@ -1,0 +1,311 @@
+"""Robots built from their screw axes (`Robot.from_screws`), helical and prismatic joints
+included, against the library of the textbook's authors (`modern_robotics`: FKinSpace,
+FKinBody, JacobianSpace, JacobianBody) and a numpy product of exponentials (a Taylor-series
+matrix exponential): its documented examples and random arms."""
+
+from __future__ import annotations
+
+import json
+import pickle
+
+import modern_robotics as mr
+import numpy as np
+import numpy.typing as npt
+import pytest
+
+import screwkit
+from screwkit import lie
+
+Array = npt.NDArray[np.float64]
+
+
+def expm(a: Array) -> Array:
+    """Matrix exponential by scaling and squaring of a 30-term Taylor series (numpy only)."""
+    s = max(0, int(np.ceil(np.log2(max(np.abs(a).sum(), 1.0)))) + 1)
+    b = a / 2**s
+    out, term = np.eye(4), np.eye(4)
+    for k in range(1, 30):
+        term = term @ b / k
+        out = out + term
+    for _ in range(s):
+        out = out @ out
+    return out
+
+
+def se3(x: Array) -> Array:
+    return np.array(mr.VecTose3(x), dtype=float)
+
+
+def poe_space(m: Array, s: Array, q: Array) -> Array:
+    """e^[S1]q1 ... e^[Sn]qn M by numpy, S rows."""
+    t = np.eye(4)
+    for row, x in zip(s, q):
+        t = t @ expm(se3(row * x))
+    return t @ m
+
+
+# Modern Robotics' FKinBody/FKinSpace example: a revolute, a prismatic and a helical joint
+# (pitch 0.1).
+MR_M = np.array([[-1, 0, 0, 0], [0, 1, 0, 6], [0, 0, -1, 2], [0, 0, 0, 1]], dtype=float)
+MR_B = np.array([[0, 0, -1, 2, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 1, 0, 0, 0.1]], dtype=float)
+MR_S = np.array([[0, 0, 1, 4, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, -1, -6, 0, -0.1]], dtype=float)
+MR_Q = np.array([np.pi / 2.0, 3, np.pi])
+MR_T = np.array([[0, 1, 0, -5], [1, 0, 0, 4], [0, 0, -1, 1.68584073], [0, 0, 0, 1]])
+
+
+def test_documented_fk_examples() -> None:
+    space = screwkit.Robot.from_screws(MR_M, MR_S)
+    body = screwkit.Robot.from_screws(MR_M, MR_B, frame="body")
+    for robot in (space, body):
+        t = robot.fk(MR_Q)
+        np.testing.assert_allclose(t, MR_T, atol=1e-8)
+        np.testing.assert_allclose(t, mr.FKinSpace(MR_M, MR_S.T, MR_Q), atol=1e-14)
+        np.testing.assert_allclose(t, mr.FKinBody(MR_M, MR_B.T, MR_Q), atol=1e-14)
+    # The joints read as the book says: revolute (continuous: no limits), prismatic, helical.
+    table = json.loads(space.table(fmt="json"))
+    assert [j["type"] for j in table["joints"]] == ["continuous", "prismatic", "helical"]
+    assert "| 3 | joint3 | helical |" in space.table()
+    assert "| (0.000000, 6.000000, 0.000000) | 0.100000 |" in space.table()  # q, h
+    np.testing.assert_allclose(space.screw_axes("body"), MR_B, atol=1e-15)
+    np.testing.assert_allclose(body.screw_axes("space"), MR_S, atol=1e-15)
+
+
+def test_documented_jacobian_examples() -> None:
+    s = np.array(
+        [[0, 0, 1, 0, 0.2, 0.2], [1, 0, 0, 2, 0, 3], [0, 1, 0, 0, 2, 1], [1, 0, 0, 0.2, 0.3, 0.4]]
+    )
+    q = np.array([0.2, 1.1, 0.1, 1.2])
+    js = np.array(
+        [
+            [0, 0.98006658, -0.09011564, 0.95749426],
+            [0, 0.19866933, 0.4445544, 0.28487557],
+            [1, 0, 0.89120736, -0.04528405],
+            [0, 1.95218638, -2.21635216, -0.51161537],
+            [0.2, 0.43654132, -2.43712573, 2.77535713],
+            [0.2, 2.96026613, 3.23573065, 2.22512443],
+        ]
+    )
+    jb = np.array(
+        [
+            [-0.04528405, 0.99500417, 0, 1],
+            [0.74359313, 0.09304865, 0.36235775, 0],
+            [-0.66709716, 0.03617541, -0.93203909, 0],
+            [2.32586047, 1.66809, 0.56410831, 0.2],
+            [-1.44321167, 2.94561275, 1.43306521, 0.3],
+            [-2.06639565, 1.82881722, -1.58868628, 0.4],
+        ]
+    )
+    # The example gives S (or B) only; any M makes the same J_s from S (and J_b from B).
+    m = np.eye(4)
+    space = screwkit.Robot.from_screws(m, s)
+    body = screwkit.Robot.from_screws(m, s, frame="body")
+    np.testing.assert_allclose(space.jacobian(q, "space"), js, atol=1e-8)
+    np.testing.assert_allclose(space.jacobian(q, "space"), mr.JacobianSpace(s.T, q), atol=1e-14)
+    np.testing.assert_allclose(body.jacobian(q, "body"), jb, atol=1e-8)
+    np.testing.assert_allclose(body.jacobian(q, "body"), mr.JacobianBody(s.T, q), atol=1e-14)
+
+
+def random_arm(g: np.random.Generator, n: int) -> tuple[Array, Array, Array]:
+    """A random arm: M and n space screws, revolute, helical (pitch up to 0.3 m/rad) and
+    prismatic joints mixed, with limits."""
+    rows, limits = [], []
+    for _ in range(n):
+        kind = g.choice(["revolute", "helical", "prismatic"], p=[0.5, 0.3, 0.2])
+        if kind == "prismatic":
+            v = g.normal(size=3)
+            rows.append(np.concatenate([np.zeros(3), v / np.linalg.norm(v)]))
+            limits.append([-0.4, 0.4])
+        else:
+            h = 0.0 if kind == "revolute" else g.uniform(-0.3, 0.3)
+            rows.append(lie.screw_to_axis(g.uniform(-0.5, 0.5, 3), g.normal(size=3), h))
+            limits.append([-2.8, 2.8])
+    m = lie.exp6(g.normal(size=6))
+    m[:3, 3] += g.uniform(-1, 1, 3)
+    return m, np.array(rows), np.array(limits)
+
+
+def test_random_arms_equal_mr_and_numpy() -> None:
+    g = np.random.default_rng(29)
+    kinds: set[str] = set()
+    for _ in range(40):
+        n = int(g.integers(3, 8))
+        m, s, limits = random_arm(g, n)
+        b = lie.adjoint(lie.trans_inv(m)) @ s.T  # B_i = [Ad_M^-1] S_i (columns)
+        space = screwkit.Robot.from_screws(m, s, limits=limits)
+        body = screwkit.Robot.from_screws(m, b.T, frame="body", limits=limits)
+        kinds.update(t for t in ("revolute", "helical", "prismatic") if t in space.table())
+        qs = g.uniform(limits[:, 0], limits[:, 1], size=(25, n))
+        fk_s, fk_b = space.fk(qs), body.fk(qs)
+        js_s, jb_b = space.jacobian(qs, "space"), body.jacobian(qs, "body")
+        for k, q in enumerate(qs):
+            t = mr.FKinSpace(m, s.T, q)
+            np.testing.assert_allclose(fk_s[k], t, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(fk_b[k], t, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(fk_s[k], poe_space(m, s, q), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(js_s[k], mr.JacobianSpace(s.T, q), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(jb_b[k], mr.JacobianBody(b, q), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(
+                space.jacobian(q, "body"), mr.JacobianBody(b, q), rtol=0, atol=1e-12
+            )
+        # The whole-tree form (the robot's frames at each joint) is the same robot.
+        np.testing.assert_allclose(space.fk(qs[0], link="tip"), fk_s[0], atol=1e-13)
+    assert kinds == {"revolute", "helical", "prismatic"}
+
+
+def test_random_arms_ik() -> None:
+    """Numerical IK on random 6- and 7-joint arms with helical and prismatic joints: targets
+    are FK of random configurations within the limits (so reachable); >= 99.9 % must solve,
+    every answer within the limits and with FK equal to the target."""
+    g = np.random.default_rng(30)
+    solved = total = 0
+    for _ in range(12):
+        n = int(g.integers(6, 8))
+        m, s, limits = random_arm(g, n)
+        robot = screwkit.Robot.from_screws(m, s, limits=limits)
+        qs = g.uniform(limits[:, 0], limits[:, 1], size=(100, n))
+        targets = robot.fk(qs)
+        res = robot.ik(targets, max_restarts=200)
+        total += len(qs)
+        ok = np.asarray(res.converged)
+        solved += int(ok.sum())
+        assert np.all(res.q[ok] >= limits[:, 0] - 1e-12)
+        assert np.all(res.q[ok] <= limits[:, 1] + 1e-12)
+        err = np.abs(robot.fk(res.q[ok]) - targets[ok]).max()
+        assert err < 1e-8
+    assert solved >= 0.999 * total, f"{solved} of {total}"
+
+
+def test_continuous_helical_beyond_pi() -> None:
+    # An unbounded helical joint (no limits): q = 7 rad is 7 h along the axis, not q - 2 pi.
+    s = np.array([[0, 0, 1, 0, 0, 0.05], [0, 1, 0, -0.3, 0, 0.2], [1, 0, 0, 0, 0.4, -0.1]])
+    m = np.eye(4)
+    m[:3, 3] = [0.5, 0.1, 0.4]
+    robot = screwkit.Robot.from_screws(m, s)
+    q = np.array([7.0, -4.0, 9.5])
+    np.testing.assert_allclose(robot.fk(q), poe_space(m, s, q), atol=1e-13)
+    assert abs(robot.fk(q)[2, 3] - robot.fk(q - [2 * np.pi, 0, 0])[2, 3]) > 0.3
+    g = np.random.default_rng(31)
+    qs = g.uniform(-9, 9, size=(200, 3))
+    res = robot.ik(robot.fk(qs), max_restarts=400)
+    assert np.asarray(res.converged).mean() >= 0.999
+    np.testing.assert_allclose(robot.fk(res.q), robot.fk(qs), atol=1e-8)
+
+
+def test_round_trips() -> None:
+    m, s, limits = random_arm(np.random.default_rng(32), 6)
+    robot = screwkit.Robot.from_screws(m, s, limits=limits, names=list("abcdef"))
+    q = np.random.default_rng(33).uniform(-1, 1, size=(10, 6)) * 0.3
+    # The JSON table (`screwkit table --format json`) loads back into the same robot.
+    again = screwkit.Robot.from_string(robot.table(fmt="json"))
+    np.testing.assert_array_equal(again.fk(q), robot.fk(q))
+    assert again.joint_names == list("abcdef")
+    np.testing.assert_array_equal(again.lower, limits[:, 0])
+    # So does a pickle (Ray ships robots so).
+    copy = pickle.loads(pickle.dumps(robot))
+    np.testing.assert_array_equal(copy.fk(q), robot.fk(q))
+    np.testing.assert_array_equal(copy.jacobian(q, "body"), robot.jacobian(q, "body"))
+    # The CSV table prints 6 decimals: the robot comes back to that precision, unbounded.
+    csv = screwkit.Robot.from_string(robot.table(fmt="csv"))
+    np.testing.assert_allclose(csv.fk(q), robot.fk(q), atol=1e-5)
+
+
+def test_analytic_from_screws() -> None:
+    # Modern Robotics' UR5 (Example 4.5): W1, W2, L1, L2, H1, H2 in metres.
+    w1, w2, l1, l2, h1, h2 = 0.109, 0.082, 0.425, 0.392, 0.089, 0.095
+    m = np.array([[-1, 0, 0, l1 + l2], [0, 0, 1, w1 + w2], [0, 1, 0, h1 - h2], [0, 0, 0, 1]])
+    s = np.array(
+        [
+            [0, 0, 1, 0, 0, 0],
+            [0, 1, 0, -h1, 0, 0],
+            [0, 1, 0, -h1, 0, l1],
+            [0, 1, 0, -h1, 0, l1 + l2],
+            [0, 0, -1, -w1, l1 + l2, 0],
+            [0, 1, 0, h2 - h1, 0, l1 + l2],
+        ]
+    )
+    ur5 = screwkit.Robot.from_screws(m, s)
+    q = np.array([0.3, -0.8, 1.1, -0.4, 0.7, 0.2])
+    t = ur5.fk(q)
+    np.testing.assert_allclose(t, mr.FKinSpace(m, s.T, q), atol=1e-14)
+    sols = ur5.ik_all(t)
+    assert 1 <= len(sols) <= 8
+    for x in sols:
+        np.testing.assert_allclose(ur5.fk(x), t, atol=1e-10)
+    # A helical joint: numerical IK only, and said so.
+    helical = s.copy()
+    helical[0, 5] = 0.01
+    robot = screwkit.Robot.from_screws(m, helical)
+    with pytest.raises(ValueError, match=r'joint "joint1" is helical, pitch 0.01'):
+        robot.ik_all(t)
+
+
+def test_bad_screws() -> None:
+    m = np.eye(4)
+    with pytest.raises(ValueError, match=r'screw row 1 \(joint "joint2"\): ‖ω‖ = 2'):
+        screwkit.Robot.from_screws(m, [[0, 0, 1, 0, 0, 0], [0, 0, 2, 0, 0, 0]])
+    with pytest.raises(ValueError, match=r"screw row 0 .*ω = 0 and ‖v‖ = 0"):
+        screwkit.Robot.from_screws(m, [[0, 0, 0, 0, 0, 0]])
+    with pytest.raises(ValueError, match=r"screw row 0 .*NaN"):
+        screwkit.Robot.from_screws(m, [[0, 0, np.nan, 0, 0, 0]])
+    with pytest.raises(ValueError, match=r"S: expected shape \(n, 6\), got \(6,\)"):
+        screwkit.Robot.from_screws(m, [0, 0, 1, 0, 0, 0])
+    with pytest.raises(ValueError, match=r"home pose M is not a rigid transform"):
+        screwkit.Robot.from_screws(np.diag([2.0, 1, 1, 1]), [[0, 0, 1, 0, 0, 0]])
+    with pytest.raises(ValueError, match=r"limits has 1 rows for 2 screw axes"):
+        screwkit.Robot.from_screws(m, [[0, 0, 1, 0, 0, 0]] * 2, limits=[[0, 1]])
+    with pytest.raises(ValueError, match=r'joint "joint1": lower limit 1 is greater'):
+        screwkit.Robot.from_screws(m, [[0, 0, 1, 0, 0, 0]], limits=[[1, 0]])
+    with pytest.raises(ValueError, match=r'duplicate joint|joint.*"a"'):
+        screwkit.Robot.from_screws(m, [[0, 0, 1, 0, 0, 0]] * 2, names=["a", "a"])
+    with pytest.raises(ValueError, match=r"no joints"):
+        screwkit.Robot.from_screws(m, np.zeros((0, 6)))
+    # Modern Robotics' column layout, 6 joints: the error says to transpose.
+    ur5_cols = np.array([[0, 0, 1, 0, 0, 0]] * 6, dtype=float).T
+    with pytest.raises(ValueError, match=r"pass S.T"):
+        screwkit.Robot.from_screws(m, ur5_cols)
+
+
+MIMIC_PAIR = """<robot name="screw_pair">
+  <link name="base"/><link name="nut"/><link name="slider"/><link name="arm"/><link name="tip"/>
+  <joint name="turn" type="continuous">
+    <parent link="base"/><child link="nut"/><origin xyz="0.1 0 0.2"/><axis xyz="0 0 1"/>
+  </joint>
+  <joint name="advance" type="prismatic">
+    <parent link="nut"/><child link="slider"/><axis xyz="0 0 1"/>
+    <limit lower="-10" upper="10" effort="1" velocity="1"/>
+    <mimic joint="turn" multiplier="0.05"/>
+  </joint>
+  <joint name="elbow" type="revolute">
+    <parent link="slider"/><child link="arm"/><origin xyz="0.4 0 0"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/>
+  </joint>
+  <joint name="wrist" type="revolute">
+    <parent link="arm"/><child link="tip"/><origin xyz="0.3 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-2" upper="2" effort="1" velocity="1"/>
+  </joint>
+</robot>"""
+
+
+def test_helical_written_as_a_mimic_pair() -> None:
+    """A helical joint as URDF must write it (a continuous joint and a prismatic follower along
+    the same axis, multiplier = pitch) is the helical joint of pitch 0.05: FK equal, and IK
+    beyond +-pi (the whole turns are tried)."""
+    pair = screwkit.Robot.from_string(MIMIC_PAIR)
+    s = np.array(
+        [
+            lie.screw_to_axis([0.1, 0, 0.2], [0, 0, 1], 0.05),
+            lie.screw_to_axis([0.5, 0, 0.2], [0, 1, 0], 0),
+            lie.screw_to_axis([0.8, 0, 0.2], [1, 0, 0], 0),
+        ]
+    )
+    helical = screwkit.Robot.from_screws(pair.home, s, limits=[[-np.inf, np.inf], [-2, 2], [-2, 2]])
+    g = np.random.default_rng(34)
+    qs = np.column_stack([g.uniform(-12, 12, 500), g.uniform(-2, 2, (500, 2))])
+    np.testing.assert_allclose(pair.fk(qs), helical.fk(qs), atol=1e-14)
+    np.testing.assert_allclose(
+        pair.jacobian(qs, "space"), helical.jacobian(qs, "space"), atol=1e-14
+    )
+    for robot in (pair, helical):
+        res = robot.ik(robot.fk(qs))
+        assert np.asarray(res.converged).mean() >= 0.999
+        np.testing.assert_allclose(robot.fk(res.q), robot.fk(qs), atol=1e-8)
