@@ -447,3 +447,49 @@ def test_shapes_and_errors() -> None:
     assert lie.exp6(np.zeros((0, 6))).shape == (0, 4, 4)
     assert lie.distance_to_so3(np.zeros((0, 3, 3))).shape == (0,)
     assert lie.is_so3(np.zeros((0, 3, 3))).dtype == np.bool_
+
+
+def test_seed_examples_against_independent_formulas() -> None:
+    """The worked examples the README's tour prints, against the textbook formulas written
+    out in numpy (G^-1(theta) p, Rodrigues, v = r x omega): the lessons round along the way,
+    these are the exact values."""
+    # screw-motion-lesson.md: T_sb -> S theta. omega = (1, -1, 1)/sqrt(3), theta = 2 pi / 3,
+    # v = G^-1(theta) p with G^-1 = I/theta - [w]/2 + (1/theta - cot(theta/2)/2) [w]^2.
+    th = 2 * np.pi / 3
+    w = np.array([1.0, -1.0, 1.0]) / np.sqrt(3)
+    wh = mr.VecToso3(w)
+    g_inv = np.eye(3) / th - wh / 2 + (1 / th - 0.5 / np.tan(th / 2)) * wh @ wh
+    v = g_inv @ [3.0, 0.0, 0.0]
+    t_sb = np.array([[0, -1, 0, 3], [0, 0, -1, 0], [1, 0, 0, 0], [0, 0, 0, 1]], dtype=float)
+    s, theta = lie.axis_angle6(lie.log6(t_sb))
+    assert theta == pytest.approx(th, abs=1e-15)
+    np.testing.assert_allclose(s, np.concatenate([w, v]), atol=1e-15)
+    assert s[:3] @ s[3:] == pytest.approx(0.8269933431326882, abs=1e-15)
+    # Its second example: S theta = (0, 1, 2, 3, 0, 0), theta = sqrt(5).
+    th = np.sqrt(5.0)
+    w = np.array([0.0, 1.0, 2.0]) / th
+    wh = mr.VecToso3(w)
+    r = np.eye(3) + np.sin(th) * wh + (1 - np.cos(th)) * wh @ wh
+    g = np.eye(3) * th + (1 - np.cos(th)) * wh + (th - np.sin(th)) * wh @ wh
+    t = lie.exp6([0, 1, 2, 3, 0, 0])
+    np.testing.assert_allclose(t[:3, :3], r, atol=1e-15)
+    np.testing.assert_allclose(t[:3, 3], g @ [3 / th, 0, 0], atol=1e-15)
+    # screw-axes-lecture.md: the planar screw from {b} (30 deg at (1, 2)) to {c} (60 deg at
+    # (2, 1)): rotation pi/6 about z through the point q with (I - R) q = p_c - R p_b.
+    c, s_ = np.cos(np.pi / 6), np.sin(np.pi / 6)
+    rot = np.array([[c, -s_], [s_, c]])
+    q = np.linalg.solve(np.eye(2) - rot, np.array([2.0, 1.0]) - rot @ [1.0, 2.0])
+    t_b = np.eye(4)
+    t_b[:2, :2] = rot
+    t_b[:2, 3] = [1, 2]
+    t_c = np.eye(4)
+    t_c[:2, :2] = rot @ rot
+    t_c[:2, 3] = [2, 1]
+    s, theta = lie.axis_angle6(lie.log6(t_c @ lie.trans_inv(t_b)))
+    assert theta == pytest.approx(np.pi / 6, abs=1e-15)
+    np.testing.assert_allclose(s, [0, 0, 1, q[1], -q[0], 0], atol=1e-14)  # v = -z x q
+    # The lecture's car: v_s = r_s x omega_s, v_b = r_b x omega_b.
+    t = np.array([[-1, 0, 0, 4], [0, 1, 0, 0.4], [0, 0, -1, 0], [0, 0, 0, 1]])
+    v_b = np.concatenate([[0, 0, -2], np.cross([2, -1.4, 0], [0, 0, -2])])
+    v_s = np.concatenate([[0, 0, 2], np.cross([2, -1, 0], [0, 0, 2])])
+    np.testing.assert_allclose(lie.adjoint(t) @ v_b, v_s, atol=1e-15)

@@ -298,7 +298,9 @@ def test_helical_written_as_a_mimic_pair() -> None:
             lie.screw_to_axis([0.8, 0, 0.2], [1, 0, 0], 0),
         ]
     )
-    helical = screwkit.Robot.from_screws(pair.home, s, limits=[[-np.inf, np.inf], [-2, 2], [-2, 2]])
+    helical = screwkit.Robot.from_screws(
+        pair.home, s, limits=np.array([[-np.inf, np.inf], [-2, 2], [-2, 2]])
+    )
     g = np.random.default_rng(34)
     qs = np.column_stack([g.uniform(-12, 12, 500), g.uniform(-2, 2, (500, 2))])
     np.testing.assert_allclose(pair.fk(qs), helical.fk(qs), atol=1e-14)
