@@ -45,6 +45,11 @@ impl Drive {
         }
     }
 
+    /// True when a whole turn of q turns the joint whole turns (a finite integer multiplier).
+    pub fn whole_turns(&self) -> bool {
+        self.multiplier.is_finite() && self.multiplier.fract() == 0.0
+    }
+
     /// θ = multiplier · q\[variable\] + offset (panics if q is too short).
     #[inline(always)]
     pub fn theta(&self, q: &[f64]) -> f64 {

@@ -39,15 +39,17 @@ use crate::tree::{JointKind, Tree};
 pub struct TreeScrew {
     /// Joint name.
     pub name: String,
-    /// Revolute, continuous or prismatic.
+    /// Revolute, continuous, prismatic or helical.
     pub kind: JointKind,
     /// S_j in the root link's frame at home: (ω, −ω × p) for a revolute joint at p with axis ω,
-    /// (0, ω) for a prismatic one.
+    /// (ω, −ω × p + hω) for a helical one of pitch h, (0, ω) for a prismatic one
+    /// ([`crate::TreeJoint::screw_at`]).
     pub s_space: ScrewAxis,
     /// The joint frame in the root link's frame at home.
     pub home: Se3,
     /// The unit axis in the joint's own frame (the file's `<axis>`, normalised): S_j =
-    /// Ad_{home} (axis, 0) for a revolute joint, Ad_{home} (0, axis) for a prismatic one.
+    /// Ad_{home} (axis, 0) for a revolute joint, Ad_{home} (axis, h axis) for a helical one,
+    /// Ad_{home} (0, axis) for a prismatic one.
     pub axis: Vector3<f64>,
     /// The joint frame in its parent joint's frame (in the root link's frame when `parent` is
     /// `None`): the file's origins composed from there, so that home = home_parent · placement

@@ -1,29 +1,39 @@
 //! Robots given by their screw axes, as *Modern Robotics* teaches them: a home pose M and one
 //! screw axis S_i = (ω, v) per joint, in the space (base) frame or the body (tip) frame.
 //!
-//! A row with ‖ω‖ = 1 is a rotating joint of pitch h = ω · v: revolute when h is rounding
-//! (|h| ≤ [`PITCH_ZERO`] · max(1, ‖v‖)), helical otherwise; a row with ω = 0 and ‖v‖ = 1 is
+//! A row with ‖ω‖ = 1 is a rotating joint of pitch h = ω · v; a row with ω = 0 and ‖v‖ = 1 is
 //! prismatic. Unit lengths are accepted to [`UNIT_TOLERANCE`] and normalised (rows typed or
 //! printed to six decimals; a row unit to 4 ε is kept as it is); anything else is an error
-//! naming the row.
+//! naming the row. A rotating row is revolute when |h| ≤ [`PITCH_ROUNDED`] · max(1, ‖v‖) —
+//! kept bit for bit within [`PITCH_ZERO`] (the rounding of v = −ω × q), else with v's
+//! component along ω removed (six printed decimals, values typed by hand) — and helical
+//! otherwise. A kind the description declares (a table's `type` column) takes precedence over
+//! the numbers, and a row that contradicts it is an error.
 //!
 //! The description gives no link frames. Each joint's frame is put, unrotated, at the point
 //! of its axis nearest the previous joint's (the base origin for the first; a prismatic joint
 //! keeps the previous point): these are the chain's link poses, what pictures draw, and the
 //! frames of the tree ([`ScrewRobot::tree`]) whole-robot algorithms use. The chain
-//! ([`ScrewRobot::chain`]) keeps the screws exactly as given (normalised); the tree rebuilds
-//! them from points and axes, equal to rounding.
+//! ([`ScrewRobot::chain`]) keeps the screws as read; the tree rebuilds them from points and
+//! axes, equal to rounding.
+
+use std::collections::HashMap;
 
 use nalgebra::Vector3;
 use screwkit_lie::{so3, Frame, ScrewAxis, Se3, Twist};
 
 use crate::chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 use crate::error::{ErrorKind, ModelError};
-use crate::tree::{JointKind, Limit, Mimic, Tree, TreeJointSpec};
+use crate::tree::{is_unbounded, JointKind, Limit, Mimic, Tree, TreeJointSpec};
 
-/// Largest |ω · v| / max(1, ‖v‖) of a rotating row read as pitch 0 (revolute): 64 ε, the
-/// rounding of v = −ω × q. A deliberate pitch is orders of magnitude above it.
+/// |ω · v| / max(1, ‖v‖) of a rotating row that is rounding (64 ε, the rounding of
+/// v = −ω × q): such a row is revolute and kept bit for bit.
 pub const PITCH_ZERO: f64 = 64.0 * f64::EPSILON;
+
+/// Largest |ω · v| / max(1, ‖v‖) of a rotating row read as revolute (2e-6: what six printed
+/// decimals of ω and v leave, at most 1.8e-6); v then loses its component along ω. A lead
+/// screw of 1 mm per turn has h = 1.6e-4 m/rad, far above.
+pub const PITCH_ROUNDED: f64 = 2e-6;
 
 /// How far ‖ω‖ (or a prismatic row's ‖v‖) may be from 1: 1e-6, so that axes printed to six
 /// decimals (`screwkit table --format csv`) are read back.
@@ -40,8 +50,11 @@ pub struct ScrewJoint {
     /// continuous). Infinite bounds are allowed.
     pub limits: Option<(f64, f64)>,
     /// The joint this one follows, θ = multiplier · q_leader + offset (the leader must be an
-    /// independent joint of the same robot).
+    /// independent joint of the same robot, or one of [`ScrewRobot::leaders`]).
     pub mimic: Option<Mimic>,
+    /// The kind the description declares (a table's `type`: revolute, continuous, prismatic
+    /// or helical), which the row must agree with; `None`: read from the numbers.
+    pub kind: Option<JointKind>,
 }
 
 /// A robot as a home pose and screw axes: T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M
@@ -75,6 +88,13 @@ pub struct ScrewLeader {
 
 /// A joint's space screw and its kind.
 type SpaceScrew = (Twist, JointKind);
+
+/// Who owns a variable name: joint k of the chain or leader k.
+#[derive(Debug, Clone, Copy)]
+enum Owner {
+    Joint(usize),
+    Leader(usize),
+}
 
 /// A row read: its unit screw in the given frame and its kind.
 struct Row {
@@ -127,6 +147,7 @@ impl ScrewRobot {
                     screw,
                     limits: limits.as_ref().map(|l| l[i]),
                     mimic: None,
+                    kind: None,
                 })
                 .collect(),
             leaders: Vec::new(),
@@ -134,8 +155,8 @@ impl ScrewRobot {
     }
 
     /// The description as JSON, exactly (shortest round-trip numbers; ±∞ limits as `null`):
-    /// `{"robot", "frame", "home": [[4 x 4]], "joints": [{"name", "screw": [6], "lower",
-    /// "upper", "mimic"}]}`, which [`crate::table::read_screw_table`] reads back into the same
+    /// `{"robot", "frame", "home": [[4 x 4]], "joints": [{"name", "type", "screw": [6],
+    /// "lower", "upper", "mimic"}], "leaders"}` (`type` `null` unless declared), which [`crate::table::read_screw_table`] reads back into the same
     /// description (so the same chain, bit for bit).
     pub fn to_json(&self) -> serde_json::Value {
         use serde_json::{json, Value};
@@ -149,6 +170,7 @@ impl ScrewRobot {
                     .map_or((Value::Null, Value::Null), |(l, u)| (num(l), num(u)));
                 json!({
                     "name": j.name,
+                    "type": j.kind.map_or(Value::Null, |k| json!(k.as_str())),
                     "screw": j.screw.to_vec(),
                     "lower": l,
                     "upper": u,
@@ -199,22 +221,31 @@ impl ScrewRobot {
         })
     }
 
-    /// Reads row `i`: finite; ‖ω‖ = 1 (revolute or helical) or ω = 0 and ‖v‖ = 1 (prismatic).
+    /// Reads row `i`: finite; ‖ω‖ = 1 (revolute or helical) or ω = 0 and ‖v‖ = 1
+    /// (prismatic), agreeing with its declared kind (see the module documentation).
     fn row(&self, i: usize) -> Result<Row, ModelError> {
         let j = &self.joints[i];
+        let bad = |p: String| Err(self.screw_error(i, p));
         if !j.screw.iter().all(|x| x.is_finite()) {
-            return Err(self.screw_error(i, "it holds NaN or infinity".into()));
+            return bad("it holds NaN or infinity".into());
         }
         let t = Twist::try_from_slice(&j.screw).map_err(|e| self.screw_error(i, e.to_string()))?;
         let (wn, vn) = (t.w.norm(), t.v.norm());
+        let declared = j.kind;
+        if let Some(k) = declared.filter(|k| !k.is_movable()) {
+            return bad(format!("a {} joint has no screw axis", k.as_str()));
+        }
         if wn == 0.0 {
+            if declared.is_some_and(|k| k != JointKind::Prismatic) {
+                return bad(format!(
+                    "ω = 0 (a translation) for a joint of type {}",
+                    declared.map_or("", JointKind::as_str)
+                ));
+            }
             if (vn - 1.0).abs() > UNIT_TOLERANCE {
-                return Err(self.screw_error(
-                    i,
-                    format!(
-                        "ω = 0 and ‖v‖ = {vn}: a prismatic joint's v is a unit vector (a \
-                         screw axis has ‖ω‖ = 1, or ω = 0 and ‖v‖ = 1)"
-                    ),
+                return bad(format!(
+                    "ω = 0 and ‖v‖ = {vn}: a prismatic joint's v is a unit vector (a screw \
+                     axis has ‖ω‖ = 1, or ω = 0 and ‖v‖ = 1)"
                 ));
             }
             return Ok(Row {
@@ -222,67 +253,78 @@ impl ScrewRobot {
                 kind: JointKind::Prismatic,
             });
         }
+        if declared == Some(JointKind::Prismatic) {
+            return bad(format!("‖ω‖ = {wn} for a prismatic joint (its ω is 0)"));
+        }
         if (wn - 1.0).abs() > UNIT_TOLERANCE {
-            return Err(self.screw_error(
-                i,
-                format!(
-                    "‖ω‖ = {wn}: a screw axis has ‖ω‖ = 1 (revolute or helical), or ω = 0 and \
-                     ‖v‖ = 1 (prismatic)"
-                ),
+            return bad(format!(
+                "‖ω‖ = {wn}: a screw axis has ‖ω‖ = 1 (revolute or helical), or ω = 0 and \
+                 ‖v‖ = 1 (prismatic)"
             ));
         }
         let s = t * unit_scale(wn);
         let h = s.w.dot(&s.v);
-        let rotating = if h.abs() <= PITCH_ZERO * s.v.norm().max(1.0) {
-            let unbounded = j
-                .limits
-                .is_none_or(|(l, u)| l == f64::NEG_INFINITY && u == f64::INFINITY);
-            if unbounded {
-                JointKind::Continuous
-            } else {
-                JointKind::Revolute
+        let scale = s.v.norm().max(1.0);
+        let revolute = match declared {
+            Some(JointKind::Helical) => false,
+            Some(_) if h.abs() > PITCH_ROUNDED * scale => {
+                return bad(format!(
+                    "pitch ω · v = {h} m/rad for a joint of type {} (pitch 0; a helical \
+                     joint is type helical)",
+                    declared.map_or("", JointKind::as_str)
+                ));
             }
-        } else {
-            JointKind::Helical
+            Some(_) => true,
+            None => h.abs() <= PITCH_ROUNDED * scale,
         };
-        Ok(Row {
-            screw: s,
-            kind: rotating,
-        })
+        if !revolute {
+            return Ok(Row {
+                screw: s,
+                kind: JointKind::Helical,
+            });
+        }
+        // Rounding of v = −ω × q is kept bit for bit; more (six printed decimals, typed
+        // values) is removed: v ⊥ ω.
+        let screw = if h.abs() <= PITCH_ZERO * scale {
+            s
+        } else {
+            Twist::new(s.w, s.v - s.w * h)
+        };
+        let kind = match declared {
+            Some(k) => k,
+            None if j.limits.is_none_or(|(l, u)| is_unbounded(l, u)) => JointKind::Continuous,
+            None => JointKind::Revolute,
+        };
+        Ok(Row { screw, kind })
     }
 
-    /// Checks names, limits and mimic leaders, and reads every row: (M, rows, the variable of
-    /// each joint's leader).
+    /// Checks names, limits, mimic joints and leaders, and reads every row: (M, rows).
     fn read(&self) -> Result<(Se3, Vec<Row>), ModelError> {
         let m = self.home()?;
         if self.joints.is_empty() {
             return Err(self.error(ErrorKind::Screws("no joints: S has no rows".into())));
         }
+        let names = self.names()?;
+        let check_limits = |name: &str, limits: Option<(f64, f64)>| match limits {
+            Some((l, u)) if l.is_nan() || u.is_nan() => Err(self.error(ErrorKind::NonFinite {
+                joint: name.to_string(),
+                what: "limit".into(),
+            })),
+            Some((l, u)) if l > u => Err(self.error(ErrorKind::LimitOrder {
+                joint: name.to_string(),
+                lower: l,
+                upper: u,
+            })),
+            _ => Ok(()),
+        };
+        for l in &self.leaders {
+            check_limits(&l.name, l.limits)?;
+        }
         for (i, j) in self.joints.iter().enumerate() {
             if j.name.is_empty() {
                 return Err(self.screw_error(i, "the joint has an empty name".into()));
             }
-            if self.joints[..i].iter().any(|o| o.name == j.name) {
-                return Err(self.error(ErrorKind::Duplicate {
-                    what: "joint",
-                    name: j.name.clone(),
-                }));
-            }
-            if let Some((l, u)) = j.limits {
-                if l.is_nan() || u.is_nan() {
-                    return Err(self.error(ErrorKind::NonFinite {
-                        joint: j.name.clone(),
-                        what: "limit".into(),
-                    }));
-                }
-                if l > u {
-                    return Err(self.error(ErrorKind::LimitOrder {
-                        joint: j.name.clone(),
-                        lower: l,
-                        upper: u,
-                    }));
-                }
-            }
+            check_limits(&j.name, j.limits)?;
             if let Some(mimic) = &j.mimic {
                 let problem = |p: String| {
                     self.error(ErrorKind::Mimic {
@@ -290,20 +332,21 @@ impl ScrewRobot {
                         problem: p,
                     })
                 };
-                let on_chain = self.joints.iter().find(|o| o.name == mimic.leader);
-                let off_chain = self.leaders.iter().any(|l| l.name == mimic.leader);
-                if on_chain.is_none() && !off_chain {
-                    return Err(problem(format!(
-                        "joint \"{}\", which is not defined",
-                        mimic.leader
-                    )));
-                }
-                if on_chain.is_some_and(|o| o.mimic.is_some()) {
-                    return Err(problem(format!(
-                        "joint \"{}\", which follows another joint itself (name the \
-                         independent one)",
-                        mimic.leader
-                    )));
+                match names.get(mimic.leader.as_str()) {
+                    None => {
+                        return Err(problem(format!(
+                            "joint \"{}\", which is not defined",
+                            mimic.leader
+                        )))
+                    }
+                    Some(Owner::Joint(k)) if self.joints[*k].mimic.is_some() => {
+                        return Err(problem(format!(
+                            "joint \"{}\", which follows another joint itself (name the \
+                             independent one)",
+                            mimic.leader
+                        )))
+                    }
+                    _ => {}
                 }
                 if !(mimic.multiplier.is_finite() && mimic.offset.is_finite()) {
                     return Err(problem("with a non-finite multiplier or offset".into()));
@@ -314,6 +357,33 @@ impl ScrewRobot {
             .map(|i| self.row(i))
             .collect::<Result<Vec<_>, _>>()?;
         Ok((m, rows))
+    }
+
+    /// Every joint's and leader's name, each once (a repeated or empty one is an error).
+    fn names(&self) -> Result<HashMap<&str, Owner>, ModelError> {
+        let mut names = HashMap::with_capacity(self.joints.len() + self.leaders.len());
+        let owners = self
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(k, j)| (j.name.as_str(), Owner::Joint(k)));
+        let leaders = self
+            .leaders
+            .iter()
+            .enumerate()
+            .map(|(k, l)| (l.name.as_str(), Owner::Leader(k)));
+        for (name, owner) in owners.chain(leaders) {
+            if name.is_empty() {
+                return Err(self.error(ErrorKind::Screws("a leader has an empty name".into())));
+            }
+            if names.insert(name, owner).is_some() {
+                return Err(self.error(ErrorKind::Duplicate {
+                    what: "joint",
+                    name: name.to_string(),
+                }));
+            }
+        }
+        Ok(names)
     }
 
     /// The joints' frames at home (see the module documentation): unrotated, at the point of
@@ -352,44 +422,40 @@ impl ScrewRobot {
 
     /// The variables in order of first appearance along the chain (a mimic joint's leader
     /// where the joint comes first, as for a URDF chain) and every joint's drive.
-    fn variables(&self, rows: &[Row]) -> (Vec<Variable>, Vec<Drive>) {
+    fn variables(&self, rows: &[Row]) -> Result<(Vec<Variable>, Vec<Drive>), ModelError> {
+        let names = self.names()?;
         let mut variables: Vec<Variable> = Vec::new();
+        let mut index: HashMap<&str, usize> = HashMap::new();
         let mut drives = Vec::with_capacity(rows.len());
         for (j, r) in self.joints.iter().zip(rows) {
             let (owner, multiplier, offset) = match &j.mimic {
                 None => (j.name.as_str(), 1.0, 0.0),
                 Some(m) => (m.leader.as_str(), m.multiplier, m.offset),
             };
-            let variable = match variables.iter().position(|v| v.name == owner) {
-                Some(v) => v,
-                None => {
-                    let on_chain = self.joints.iter().zip(rows).find(|(o, _)| o.name == owner);
-                    let (limits, kind) = match on_chain {
-                        Some((o, or)) => (o.limits, or.kind),
-                        None => {
-                            let l = self.leaders.iter().find(|l| l.name == owner);
-                            (l.and_then(|l| l.limits), r.kind)
-                        }
-                    };
-                    let (lower, upper) = limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
-                    variables.push(Variable {
-                        name: owner.to_string(),
-                        kind,
-                        lower,
-                        upper,
-                        velocity: None,
-                        effort: None,
-                    });
-                    variables.len() - 1
-                }
-            };
+            let variable = *index.entry(owner).or_insert_with(|| {
+                let (limits, kind) = match names.get(owner) {
+                    Some(Owner::Joint(k)) => (self.joints[*k].limits, rows[*k].kind),
+                    Some(Owner::Leader(k)) => (self.leaders[*k].limits, r.kind),
+                    None => (None, r.kind),
+                };
+                let (lower, upper) = limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+                variables.push(Variable {
+                    name: owner.to_string(),
+                    kind,
+                    lower,
+                    upper,
+                    velocity: None,
+                    effort: None,
+                });
+                variables.len() - 1
+            });
             drives.push(Drive {
                 variable,
                 multiplier,
                 offset,
             });
         }
-        (variables, drives)
+        Ok((variables, drives))
     }
 
     /// The serial chain base → tip with the screws as given (normalised), the other frame's
@@ -398,7 +464,7 @@ impl ScrewRobot {
     pub fn chain(&self) -> Result<Chain, ModelError> {
         let (m, rows, spaces) = self.space_rows()?;
         let points = Self::joint_points(&spaces);
-        let (variables, drives) = self.variables(&rows);
+        let (variables, drives) = self.variables(&rows)?;
         let mut links = vec![ChainLink {
             name: "base".into(),
             home: Se3::identity(),
@@ -448,47 +514,19 @@ impl ScrewRobot {
     /// rounding.
     pub fn tree(&self) -> Result<Tree, ModelError> {
         let (m, rows, spaces) = self.space_rows()?;
+        let names = self.names()?;
         let points = Self::joint_points(&spaces);
         let mut links = vec!["base".to_string()];
         links.extend(self.joints.iter().map(|j| link_name(&j.name)));
         links.push("tip".into());
-        let mut specs = Vec::with_capacity(rows.len() + 1);
+        let mut specs = Vec::with_capacity(rows.len() + self.leaders.len() + 1);
         let mut prev = Vector3::zeros();
-        for (i, (j, r)) in self.joints.iter().zip(&rows).enumerate() {
-            let (s, _) = spaces[i];
-            let axis = if r.kind == JointKind::Prismatic {
-                s.v
-            } else {
-                s.w
-            };
-            let pitch = if r.kind == JointKind::Helical {
-                s.w.dot(&s.v)
-            } else {
-                0.0
-            };
-            let limit = j.limits.map(|(lower, upper)| Limit {
-                lower,
-                upper,
-                velocity: None,
-                effort: None,
-            });
-            let limit = limit.or(Some(Limit {
-                lower: f64::NEG_INFINITY,
-                upper: f64::INFINITY,
-                velocity: None,
-                effort: None,
-            }));
+        for (i, j) in self.joints.iter().enumerate() {
+            let spec = tree_joint(&j.name, spaces[i], points[i] - prev, j.limits);
             specs.push((
                 TreeJointSpec {
-                    name: j.name.clone(),
-                    kind: r.kind,
-                    origin_xyz: (points[i] - prev).into(),
-                    origin_rpy: [0.0; 3],
-                    origin_quat: None,
-                    axis: axis.into(),
-                    limit,
                     mimic: j.mimic.clone(),
-                    pitch,
+                    ..spec
                 },
                 links[i].clone(),
                 links[i + 1].clone(),
@@ -497,51 +535,27 @@ impl ScrewRobot {
         }
         // A leader off the chain: a branch of its own from the base (the table does not say
         // where it is), moving a link of its name the way its first follower moves.
+        let mut first_follower: HashMap<&str, usize> = HashMap::new();
+        for (i, j) in self.joints.iter().enumerate() {
+            if let Some(m) = &j.mimic {
+                first_follower.entry(m.leader.as_str()).or_insert(i);
+            }
+        }
         let mut leader_links = Vec::new();
         for l in &self.leaders {
-            let Some(i) = self
-                .joints
-                .iter()
-                .position(|j| j.mimic.as_ref().is_some_and(|m| m.leader == l.name))
-            else {
+            let Some(&i) = first_follower.get(l.name.as_str()) else {
                 continue;
             };
-            let (s, kind) = spaces[i];
-            let link = format!("{}_link", l.name);
-            let (lower, upper) = l.limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+            let link = link_name(&l.name);
             specs.push((
-                TreeJointSpec {
-                    name: l.name.clone(),
-                    kind,
-                    origin_xyz: points[i].into(),
-                    origin_rpy: [0.0; 3],
-                    origin_quat: None,
-                    axis: if kind == JointKind::Prismatic {
-                        s.v
-                    } else {
-                        s.w
-                    }
-                    .into(),
-                    limit: Some(Limit {
-                        lower,
-                        upper,
-                        velocity: None,
-                        effort: None,
-                    }),
-                    mimic: None,
-                    pitch: if kind == JointKind::Helical {
-                        s.w.dot(&s.v)
-                    } else {
-                        0.0
-                    },
-                },
+                tree_joint(&l.name, spaces[i], points[i], l.limits),
                 "base".into(),
                 link.clone(),
             ));
             leader_links.push(link);
         }
         let mut fixed = "tip_fixed".to_string();
-        while self.joints.iter().any(|j| j.name == fixed) {
+        while names.contains_key(fixed.as_str()) {
             fixed.push('_');
         }
         let [x, y, z, w] = m.quaternion();
@@ -562,6 +576,43 @@ impl ScrewRobot {
         ));
         links.extend(leader_links);
         Tree::new(self.name.clone(), self.source.clone(), links, specs)
+    }
+}
+
+/// The tree joint of a space screw (s, kind) whose unrotated frame sits at `origin` in its
+/// parent link: axis ω (v for a prismatic joint), the pitch ω · v of a helical joint, the
+/// limits (±∞ when unbounded); no mimic.
+fn tree_joint(
+    name: &str,
+    (s, kind): SpaceScrew,
+    origin: Vector3<f64>,
+    limits: Option<(f64, f64)>,
+) -> TreeJointSpec {
+    let (lower, upper) = limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
+    TreeJointSpec {
+        name: name.to_string(),
+        kind,
+        origin_xyz: origin.into(),
+        origin_rpy: [0.0; 3],
+        origin_quat: None,
+        axis: if kind == JointKind::Prismatic {
+            s.v
+        } else {
+            s.w
+        }
+        .into(),
+        limit: Some(Limit {
+            lower,
+            upper,
+            velocity: None,
+            effort: None,
+        }),
+        mimic: None,
+        pitch: if kind == JointKind::Helical {
+            s.w.dot(&s.v)
+        } else {
+            0.0
+        },
     }
 }
 

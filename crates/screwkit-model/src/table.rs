@@ -14,7 +14,7 @@ use serde_json::{json, Value};
 use crate::chain::{Chain, ChainJoint};
 use crate::error::{ErrorKind, ModelError};
 use crate::screws::{ScrewJoint, ScrewLeader, ScrewRobot};
-use crate::tree::Mimic;
+use crate::tree::{JointKind, Mimic};
 
 /// Decimals printed in the Markdown and CSV tables.
 pub const PRECISION: usize = 6;
@@ -275,75 +275,63 @@ fn from_json(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
             "screw_space"
         };
         let screw = json_numbers::<6>(j.get(key)).map_err(|m| at(format!("\"{key}\": {m}")))?;
-        let limit = |k: &str, inf: f64| -> Result<Option<f64>, ModelError> {
-            match j.get(k) {
-                None | Some(Value::Null) => Ok(None),
-                Some(x) => x
-                    .as_f64()
-                    .map(|x| Some(if x.is_finite() { x } else { inf }))
-                    .ok_or_else(|| at(format!("\"{k}\": {x} is not a number"))),
-            }
-        };
-        let (lower, upper) = (
-            limit("lower", f64::NEG_INFINITY)?,
-            limit("upper", f64::INFINITY)?,
-        );
-        let limits = match (lower, upper) {
-            (None, None) => None,
-            (l, u) => Some((l.unwrap_or(f64::NEG_INFINITY), u.unwrap_or(f64::INFINITY))),
-        };
+        let limits = json_limits(j).map_err(at)?;
         let mimic = match j.get("mimic") {
             None | Some(Value::Null) => None,
-            Some(m) => Some(Mimic {
-                leader: m
-                    .get("leader")
-                    .and_then(Value::as_str)
-                    .ok_or_else(|| at("\"mimic\" without a \"leader\"".into()))?
-                    .to_string(),
-                multiplier: m.get("multiplier").and_then(Value::as_f64).unwrap_or(1.0),
-                offset: m.get("offset").and_then(Value::as_f64).unwrap_or(0.0),
-            }),
+            Some(m) => {
+                let number = |k: &str, default: f64| match m.get(k) {
+                    None | Some(Value::Null) => Ok(default),
+                    Some(x) => x
+                        .as_f64()
+                        .ok_or_else(|| at(format!("\"mimic\": \"{k}\": {x} is not a number"))),
+                };
+                Some(Mimic {
+                    leader: m
+                        .get("leader")
+                        .and_then(Value::as_str)
+                        .ok_or_else(|| at("\"mimic\" without a \"leader\"".into()))?
+                        .to_string(),
+                    multiplier: number("multiplier", 1.0)?,
+                    offset: number("offset", 0.0)?,
+                })
+            }
+        };
+        let kind = match j.get("type") {
+            None | Some(Value::Null) => None,
+            Some(Value::String(t)) => Some(kind_of(t).map_err(at)?),
+            Some(x) => return Err(at(format!("\"type\": {x} is not a joint type"))),
         };
         out.push(ScrewJoint {
             name,
             screw,
             limits,
             mimic,
+            kind,
         });
     }
     // Leaders named by mimic joints but not in the table (off the chain): a variable each,
     // with the limits the table gives its followers (the variable's), or as listed.
     let mut leaders: Vec<ScrewLeader> = Vec::new();
-    if let Some(list) = v.get("leaders").and_then(Value::as_array) {
+    if let Some(list) = v.get("leaders") {
+        let list = list
+            .as_array()
+            .ok_or_else(|| bad(format!("\"leaders\": {list} is not an array")))?;
         for (i, l) in list.iter().enumerate() {
+            let at = |m: String| bad(format!("leader {i}: {m}"));
             let name = l
                 .get("name")
                 .and_then(Value::as_str)
-                .ok_or_else(|| bad(format!("leader {i}: no \"name\"")))?;
-            let lim = |k: &str, inf: f64| l.get(k).and_then(Value::as_f64).unwrap_or(inf);
-            let limits = (l.get("lower").is_some_and(|x| !x.is_null())
-                || l.get("upper").is_some_and(|x| !x.is_null()))
-            .then(|| (lim("lower", f64::NEG_INFINITY), lim("upper", f64::INFINITY)));
+                .ok_or_else(|| at("no \"name\"".into()))?;
             leaders.push(ScrewLeader {
                 name: name.to_string(),
-                limits,
+                limits: json_limits(l).map_err(at)?,
             });
         }
     }
-    let has_variables = joints.iter().all(|j| j.get("variable").is_some());
-    for j in &out {
-        if let Some(m) = &j.mimic {
-            let known = out.iter().any(|o| o.name == m.leader)
-                || leaders.iter().any(|l| l.name == m.leader);
-            // Only a table screwkit wrote (every joint with its "variable") names a leader
-            // off the chain; elsewhere an unknown leader stays an error (a typo).
-            if !known && has_variables {
-                leaders.push(ScrewLeader {
-                    name: m.leader.clone(),
-                    limits: j.limits,
-                });
-            }
-        }
+    // Only a table screwkit wrote (every joint with its "variable") names a leader off the
+    // chain without listing it; elsewhere an unknown leader stays an error (a typo).
+    if joints.iter().all(|j| j.get("variable").is_some()) {
+        add_leaders(&out, &mut leaders, |j| j.limits);
     }
     Ok(ScrewRobot {
         leaders,
@@ -371,6 +359,67 @@ fn json_numbers<const N: usize>(v: Option<&Value>) -> Result<[f64; N], String> {
         *o = x.as_f64().ok_or_else(|| format!("{x} is not a number"))?;
     }
     Ok(out)
+}
+
+/// `"lower"`/`"upper"` of a JSON object: `None` when both are absent or `null`; a missing
+/// bound is ±∞; anything but a number or `null` is an error.
+fn json_limits(v: &Value) -> Result<Option<(f64, f64)>, String> {
+    let get = |k: &str, inf: f64| -> Result<Option<f64>, String> {
+        match v.get(k) {
+            None | Some(Value::Null) => Ok(None),
+            Some(x) => x
+                .as_f64()
+                .map(|x| Some(if x.is_finite() { x } else { inf }))
+                .ok_or_else(|| format!("\"{k}\": {x} is not a number")),
+        }
+    };
+    Ok(
+        match (
+            get("lower", f64::NEG_INFINITY)?,
+            get("upper", f64::INFINITY)?,
+        ) {
+            (None, None) => None,
+            (l, u) => Some((l.unwrap_or(f64::NEG_INFINITY), u.unwrap_or(f64::INFINITY))),
+        },
+    )
+}
+
+/// A movable joint type by its table word (`revolute`, `continuous`, `prismatic`, `helical`).
+fn kind_of(word: &str) -> Result<JointKind, String> {
+    [
+        JointKind::Revolute,
+        JointKind::Continuous,
+        JointKind::Prismatic,
+        JointKind::Helical,
+    ]
+    .into_iter()
+    .find(|k| k.as_str() == word)
+    .ok_or_else(|| format!("type {word:?} (expected revolute, continuous, prismatic or helical)"))
+}
+
+/// A leader for every mimic joint's leader that is neither a joint of the table nor listed,
+/// with the limits `limits` gives its first follower.
+fn add_leaders(
+    joints: &[ScrewJoint],
+    leaders: &mut Vec<ScrewLeader>,
+    limits: impl Fn(&ScrewJoint) -> Option<(f64, f64)>,
+) {
+    let mut known: std::collections::HashSet<&str> =
+        joints.iter().map(|j| j.name.as_str()).collect();
+    let listed: Vec<String> = leaders.iter().map(|l| l.name.clone()).collect();
+    known.extend(listed.iter().map(String::as_str));
+    let mut new = Vec::new();
+    for j in joints {
+        if let Some(m) = &j.mimic {
+            if known.insert(m.leader.as_str()) {
+                new.push(ScrewLeader {
+                    name: m.leader.clone(),
+                    limits: limits(j),
+                });
+            }
+        }
+    }
+    leaders.extend(new);
 }
 
 fn json_home(v: Option<&Value>) -> Result<[f64; 16], String> {
@@ -403,7 +452,7 @@ fn from_csv(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
             ))
         }
     }
-    type CsvRow = (usize, String, [f64; 6], Option<Mimic>);
+    type CsvRow = (usize, String, [f64; 6], Option<Mimic>, JointKind);
     let mut rows: [Vec<CsvRow>; 2] = [Vec::new(), Vec::new()];
     let mut home = [f64::NAN; 16];
     let mut home_rows = [false; 4];
@@ -441,7 +490,9 @@ fn from_csv(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
                     *x = num(4 + k)?;
                 }
                 let mimic = csv_mimic(&fields[3]).map_err(|m| bad(n, m))?;
-                rows[usize::from(f == "body")].push((n, fields[2].clone(), s, mimic));
+                let word = fields[3].split(' ').next().unwrap_or_default();
+                let kind = kind_of(word).map_err(|m| bad(n, m))?;
+                rows[usize::from(f == "body")].push((n, fields[2].clone(), s, mimic, kind));
             }
             other => return Err(bad(n, format!("unknown frame {other:?}"))),
         }
@@ -457,33 +508,25 @@ fn from_csv(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
     } else {
         (Frame::Space, std::mem::take(&mut rows[0]))
     };
+    let joints: Vec<ScrewJoint> = rows
+        .into_iter()
+        .map(|(_, name, screw, mimic, kind)| ScrewJoint {
+            name,
+            screw,
+            limits: None,
+            mimic,
+            kind: Some(kind),
+        })
+        .collect();
     // A leader off the chain (a finger following the other finger): a variable of its own.
-    let mut leaders: Vec<ScrewLeader> = Vec::new();
-    for (_, _, _, m) in &rows {
-        if let Some(m) = m {
-            if !rows.iter().any(|r| r.1 == m.leader) && !leaders.iter().any(|l| l.name == m.leader)
-            {
-                leaders.push(ScrewLeader {
-                    name: m.leader.clone(),
-                    limits: None,
-                });
-            }
-        }
-    }
+    let mut leaders = Vec::new();
+    add_leaders(&joints, &mut leaders, |_| None);
     Ok(ScrewRobot {
         name: "screws".into(),
         source: source.to_string(),
         home,
         frame,
-        joints: rows
-            .into_iter()
-            .map(|(_, name, screw, mimic)| ScrewJoint {
-                name,
-                screw,
-                limits: None,
-                mimic,
-            })
-            .collect(),
+        joints,
         leaders,
     })
 }

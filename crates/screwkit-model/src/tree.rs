@@ -63,6 +63,11 @@ impl JointKind {
     }
 }
 
+/// True for limits that do not bound the joint: (−∞, +∞).
+pub fn is_unbounded(lower: f64, upper: f64) -> bool {
+    lower == f64::NEG_INFINITY && upper == f64::INFINITY
+}
+
 /// `<limit>` of a joint as written in the file.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Limit {

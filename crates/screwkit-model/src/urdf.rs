@@ -424,7 +424,7 @@ pub fn write(tree: &Tree) -> String {
     for (j, screw) in tree.joints.iter().zip(&screw_links) {
         let unbounded = j
             .limit
-            .is_none_or(|l| l.lower == f64::NEG_INFINITY && l.upper == f64::INFINITY);
+            .is_none_or(|l| crate::tree::is_unbounded(l.lower, l.upper));
         let (kind, child) = match screw {
             Some((link, _)) if unbounded => ("continuous", link.as_str()),
             Some((link, _)) => ("revolute", link.as_str()),
@@ -446,7 +446,7 @@ pub fn write(tree: &Tree) -> String {
         if j.kind.is_movable() {
             out.push_str(&format!("    <axis xyz=\"{}\"/>\n", vec3(j.axis)));
         }
-        if let (Some(l), true) = (j.limit, j.kind != JointKind::Fixed && kind != "continuous") {
+        if let (Some(l), true) = (j.limit, j.kind != JointKind::Fixed) {
             let mut s = format!(
                 "    <limit lower=\"{}\" upper=\"{}\"",
                 num(l.lower),

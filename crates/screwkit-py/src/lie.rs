@@ -198,12 +198,34 @@ fn transform(x: &[f64]) -> Result<Se3, String> {
     Se3::from_row_major(x, DEFAULT_ROTATION_TOLERANCE).map_err(|e| e.to_string())
 }
 
-fn theta_arg<'py>(theta: &Bound<'py, PyAny>, n: Option<usize>) -> PyResult<Vec<f64>> {
-    let t = Scalars::new(theta, "theta", n)?.values()?;
-    if let Some(bad) = t.iter().find(|v| !v.is_finite()) {
-        return Err(PyValueError::new_err(format!("theta: not finite: {bad}")));
+/// θ: one number for every row, or one per row (a non-finite θ is that row's error).
+fn theta_arg(theta: Option<&Bound<'_, PyAny>>, n: Option<usize>) -> PyResult<Vec<f64>> {
+    match theta {
+        Some(t) => Scalars::new(t, "theta", n)?.values(),
+        None => Ok(vec![1.0]),
     }
-    Ok(t)
+}
+
+/// x θ, checked finite (θ, and the product: 1e200 · 1e200 overflows).
+fn scaled<const N: usize>(x: &[f64], theta: f64, what: &'static str) -> Result<[f64; N], String> {
+    if !theta.is_finite() {
+        return Err(format!("theta: not finite: {theta}"));
+    }
+    finite(x, what)?;
+    let out: [f64; N] = std::array::from_fn(|k| x[k] * theta);
+    if !out.iter().all(|v| v.is_finite()) {
+        return Err(format!("{what} times theta = {theta} overflows"));
+    }
+    Ok(out)
+}
+
+/// A row-major 4 × 4 into `o`.
+fn write4(m: &Matrix4<f64>, o: &mut [f64]) {
+    for r in 0..4 {
+        for c in 0..4 {
+            o[4 * r + c] = m[(r, c)];
+        }
+    }
 }
 
 /// The unit screw axis S = (ŝ, −ŝ × q + hŝ) (6,) through the point q (3,) along the direction
@@ -296,18 +318,15 @@ pub fn hat<'py>(py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<Bound<'py, P
     let v = r.as_slice()?;
     let [o] = if six {
         map_rows(py, "hat", x.n, [&[4, 4]], |i, [o]| {
-            let m = Twist::from_vector(&nalgebra::Vector6::from_column_slice(&v[6 * i..6 * i + 6]))
-                .hat();
-            for rr in 0..4 {
-                for c in 0..4 {
-                    o[4 * rr + c] = m[(rr, c)];
-                }
-            }
+            let t = Twist::try_from_slice(&v[6 * i..6 * i + 6]).map_err(|e| e.to_string())?;
+            write4(&t.hat(), o);
             Ok(())
         })?
     } else {
         map_rows(py, "hat", x.n, [&[3, 3]], |i, [o]| {
-            write3(&so3::hat(&vec3(&v[3 * i..])), o);
+            let w = &v[3 * i..3 * i + 3];
+            finite(w, "ω")?;
+            write3(&so3::hat(&vec3(w)), o);
             Ok(())
         })?
     };
@@ -326,13 +345,17 @@ pub fn vee<'py>(py: Python<'py>, m: &Bound<'py, PyAny>) -> PyResult<Bound<'py, P
     let v = r.as_slice()?;
     let [o] = if four {
         map_rows(py, "vee", x.n, [&[6]], |i, [o]| {
-            let t = Twist::vee(&Matrix4::from_row_slice(&v[16 * i..16 * i + 16]));
+            let m = &v[16 * i..16 * i + 16];
+            finite(m, "matrix")?;
+            let t = Twist::vee(&Matrix4::from_row_slice(m));
             o.copy_from_slice(t.to_vector().as_slice());
             Ok(())
         })?
     } else {
         map_rows(py, "vee", x.n, [&[3]], |i, [o]| {
-            o.copy_from_slice(so3::vee(&Matrix3::from_row_slice(&v[9 * i..9 * i + 9])).as_slice());
+            let m = &v[9 * i..9 * i + 9];
+            finite(m, "matrix")?;
+            o.copy_from_slice(so3::vee(&Matrix3::from_row_slice(m)).as_slice());
             Ok(())
         })?
     };
@@ -349,16 +372,12 @@ pub fn exp3<'py>(
     theta: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let x = Stack::new(w, "w", &[3])?;
-    let th = match theta {
-        Some(t) => theta_arg(t, x.n)?,
-        None => vec![1.0],
-    };
+    let th = theta_arg(theta, x.n)?;
     let r = x.a.readonly();
     let v = r.as_slice()?;
     let [o] = map_rows(py, "exp3", x.n, [&[3, 3]], |i, [o]| {
-        let p = &v[3 * i..3 * i + 3];
-        finite(p, "exponential coordinates")?;
-        write3(&so3::exp(&(vec3(p) * at(&th, i))), o);
+        let p: [f64; 3] = scaled(&v[3 * i..3 * i + 3], at(&th, i), "exponential coordinates")?;
+        write3(&so3::exp(&Vector3::from(p)), o);
         Ok(())
     })?;
     Ok(o.into_any())
@@ -390,15 +409,12 @@ pub fn exp6<'py>(
     theta: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let x = Stack::new(twist, "twist", &[6])?;
-    let th = match theta {
-        Some(t) => theta_arg(t, x.n)?,
-        None => vec![1.0],
-    };
+    let th = theta_arg(theta, x.n)?;
     let r = x.a.readonly();
     let v = r.as_slice()?;
     let [o] = map_rows(py, "exp6", x.n, [&[4, 4]], |i, [o]| {
-        let tw = Twist::try_from_slice(&v[6 * i..6 * i + 6]).map_err(|e| e.to_string())?;
-        Se3::exp(&(tw * at(&th, i))).write_row_major(o);
+        let xi: [f64; 6] = scaled(&v[6 * i..6 * i + 6], at(&th, i), "twist")?;
+        Se3::exp(&Twist::try_from_slice(&xi).map_err(|e| e.to_string())?).write_row_major(o);
         Ok(())
     })?;
     Ok(o.into_any())
@@ -581,7 +597,7 @@ pub fn is_so3<'py>(
 }
 
 /// Whether screwkit takes `m` for a rigid transform: [`is_so3`] of its upper-left block and a
-/// bottom row within tol of (0, 0, 0, 1) (a bool, or a bool array (N,) for a stack).
+/// bottom row within max(tol, 1e-12) of (0, 0, 0, 1) (a bool, or a bool array (N,) for a stack).
 /// *Modern Robotics*' `TestIfSE3` is `distance_to_se3(m) < 1e-3` instead.
 #[pyfunction]
 #[pyo3(signature = (m, tol = 1e-6))]

@@ -132,3 +132,34 @@ def wheel_files(dist: str, version: str, sha256: str, prefix: str, suffix: str) 
                     z.extract(member, out)
         done.touch()
     return out / prefix
+
+
+def expm(a: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+    """Matrix exponential of a 4 x 4 by scaling and squaring of a 30-term Taylor series: an
+    oracle written in numpy alone (no screwkit, no closed form)."""
+    s = max(0, int(np.ceil(np.log2(max(np.abs(a).sum(), 1.0)))) + 1)
+    b = a / 2**s
+    out, term = np.eye(4), np.eye(4)
+    for k in range(1, 30):
+        term = term @ b / k
+        out = out + term
+    for _ in range(s):
+        out = out @ out
+    return out
+
+
+def ur5_space_screws(
+    h1: float, h2: float, l1: float, l2: float, w1: float
+) -> npt.NDArray[np.float64]:
+    """The UR5's space screw axes (rows) from its dimensions, *Modern Robotics* Example 4.5."""
+    return np.array(
+        [
+            [0, 0, 1, 0, 0, 0],
+            [0, 1, 0, -h1, 0, 0],
+            [0, 1, 0, -h1, 0, l1],
+            [0, 1, 0, -h1, 0, l1 + l2],
+            [0, 0, -1, -w1, l1 + l2, 0],
+            [0, 1, 0, h2 - h1, 0, l1 + l2],
+        ],
+        dtype=float,
+    )

@@ -9,7 +9,7 @@ import pytest
 
 import screwkit
 
-from conftest import ChainSpec, all_chains, configurations
+from conftest import ChainSpec, all_chains, configurations, ur5_space_screws
 from urdf_oracle import UrdfChain, adjoint
 
 Array = npt.NDArray[np.float64]
@@ -103,17 +103,7 @@ def test_ur5_screw_axes_closed_form(ur5: screwkit.Robot) -> None:
     """The UR5's space screw axes from its published dimensions (Modern Robotics, Ex. 4.5 with
     the URDF's shoulder and wrist offsets)."""
     h1, l1, l2, w1, w2 = 0.089159, 0.425, 0.39225, 0.10915, 0.09465
-    expected = np.array(
-        [
-            [0, 0, 1, 0, 0, 0],
-            [0, 1, 0, -h1, 0, 0],
-            [0, 1, 0, -h1, 0, l1],
-            [0, 1, 0, -h1, 0, l1 + l2],
-            [0, 0, -1, -w1, l1 + l2, 0],
-            [0, 1, 0, w2 - h1, 0, l1 + l2],
-        ],
-        dtype=float,
-    )
+    expected = ur5_space_screws(h1, w2, l1, l2, w1)
     np.testing.assert_allclose(ur5.screw_axes(), expected, atol=1e-12)
     assert ur5.joint_names == [
         "shoulder_pan_joint",

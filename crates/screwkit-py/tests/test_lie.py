@@ -7,6 +7,8 @@ import numpy.typing as npt
 
 import screwkit
 
+from conftest import expm
+
 Array = npt.NDArray[np.float64]
 
 
@@ -16,19 +18,6 @@ def hat(x: Array) -> Array:
     m[:3, :3] = [[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]]
     m[:3, 3] = v
     return m
-
-
-def expm(a: Array) -> Array:
-    """Matrix exponential by scaling and squaring of a 30-term Taylor series."""
-    s = max(0, int(np.ceil(np.log2(max(np.abs(a).sum(), 1.0)))) + 1)
-    b = a / 2**s
-    out, term = np.eye(4), np.eye(4)
-    for k in range(1, 30):
-        term = term @ b / k
-        out = out + term
-    for _ in range(s):
-        out = out @ out
-    return out
 
 
 def test_exp_equals_series() -> None:

@@ -443,6 +443,17 @@ def test_shapes_and_errors() -> None:
     s, th = e2.value.result
     np.testing.assert_array_equal(s[0], [1, 0, 0, 0, 0, 0])
     assert th[0] == 1 and np.isnan(th[1])
+    # A bad theta or an overflowing product is its row's error, the others computed.
+    with pytest.raises(screwkit.BatchError, match=r"exp6: row 1: theta: not finite") as e3:
+        lie.exp6(np.ones((3, 6)), [1.0, np.nan, 2.0])
+    assert e3.value.rows == [1]
+    np.testing.assert_array_equal(e3.value.result[2], lie.exp6(np.ones(6), 2.0))
+    with pytest.raises(ValueError, match=r"exp3: exponential coordinates times theta"):
+        lie.exp3([1e200, 0, 0], 1e200)
+    with pytest.raises(ValueError, match=r"hat: .*non-finite"):
+        lie.hat([np.inf, 0, 0])
+    with pytest.raises(ValueError, match=r"vee: .*non-finite"):
+        lie.vee(np.full((4, 4), np.nan))
     # Empty stacks are fine.
     assert lie.exp6(np.zeros((0, 6))).shape == (0, 4, 4)
     assert lie.distance_to_so3(np.zeros((0, 3, 3))).shape == (0,)

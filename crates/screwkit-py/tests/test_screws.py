@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import pickle
+from typing import Any
 
 import modern_robotics as mr
 import numpy as np
@@ -16,20 +17,9 @@ import pytest
 import screwkit
 from screwkit import lie
 
+from conftest import expm, ur5_space_screws
+
 Array = npt.NDArray[np.float64]
-
-
-def expm(a: Array) -> Array:
-    """Matrix exponential by scaling and squaring of a 30-term Taylor series (numpy only)."""
-    s = max(0, int(np.ceil(np.log2(max(np.abs(a).sum(), 1.0)))) + 1)
-    b = a / 2**s
-    out, term = np.eye(4), np.eye(4)
-    for k in range(1, 30):
-        term = term @ b / k
-        out = out + term
-    for _ in range(s):
-        out = out @ out
-    return out
 
 
 def se3(x: Array) -> Array:
@@ -213,16 +203,7 @@ def test_analytic_from_screws() -> None:
     # Modern Robotics' UR5 (Example 4.5): W1, W2, L1, L2, H1, H2 in metres.
     w1, w2, l1, l2, h1, h2 = 0.109, 0.082, 0.425, 0.392, 0.089, 0.095
     m = np.array([[-1, 0, 0, l1 + l2], [0, 0, 1, w1 + w2], [0, 1, 0, h1 - h2], [0, 0, 0, 1]])
-    s = np.array(
-        [
-            [0, 0, 1, 0, 0, 0],
-            [0, 1, 0, -h1, 0, 0],
-            [0, 1, 0, -h1, 0, l1],
-            [0, 1, 0, -h1, 0, l1 + l2],
-            [0, 0, -1, -w1, l1 + l2, 0],
-            [0, 1, 0, h2 - h1, 0, l1 + l2],
-        ]
-    )
+    s = ur5_space_screws(h1, h2, l1, l2, w1)
     ur5 = screwkit.Robot.from_screws(m, s)
     q = np.array([0.3, -0.8, 1.1, -0.4, 0.7, 0.2])
     t = ur5.fk(q)
@@ -307,7 +288,99 @@ def test_helical_written_as_a_mimic_pair() -> None:
     np.testing.assert_allclose(
         pair.jacobian(qs, "space"), helical.jacobian(qs, "space"), atol=1e-14
     )
+    # URDF has no helical joint: to_urdf writes the pair, which reads back as the same screw.
+    written = screwkit.Robot.from_string(helical.to_urdf(), tip="tip")
+    assert "helical" not in helical.to_urdf() and "tip_fixed" in helical.to_urdf()
+    np.testing.assert_allclose(written.fk(qs), helical.fk(qs), atol=1e-13)
+    np.testing.assert_allclose(
+        written.jacobian(qs, "body"), helical.jacobian(qs, "body"), atol=1e-13
+    )
     for robot in (pair, helical):
         res = robot.ik(robot.fk(qs))
         assert np.asarray(res.converged).mean() >= 0.999
         np.testing.assert_allclose(robot.fk(res.q), robot.fk(qs), atol=1e-8)
+
+
+def test_rounded_revolute_rows_stay_revolute() -> None:
+    """Axes printed or typed to six decimals leave omega . v up to ~2e-6: still revolute (v
+    loses its component along omega), so analytic IK still applies; a real lead screw (1 mm
+    per turn, h = 1.6e-4 m/rad) stays helical."""
+    g = np.random.default_rng(35)
+    for _ in range(200):
+        row = lie.screw_to_axis(g.uniform(-2, 2, 3), g.normal(size=3), 0.0)
+        robot = screwkit.Robot.from_screws(np.eye(4), [np.round(row, 6)])
+        s = robot.screw_axes("space")[0]
+        assert json.loads(robot.table(fmt="json"))["joints"][0]["type"] == "continuous"
+        assert abs(s[:3] @ s[3:]) < 1e-15
+    lead = lie.screw_to_axis([0.1, 0, 0], [0, 0, 1], 1e-3 / (2 * np.pi))
+    robot = screwkit.Robot.from_screws(np.eye(4), [lead])
+    assert json.loads(robot.table(fmt="json"))["joints"][0]["type"] == "helical"
+    # A UR5 typed to six decimals (W1 etc. in mm): the analytic solver still takes it.
+    m = np.array([[-1, 0, 0, 0.817], [0, 0, 1, 0.191], [0, 1, 0, -0.006], [0, 0, 0, 1]])
+    s = np.array(
+        [
+            [0, 0, 1, 0, 0, 0],
+            [0, 1, 0, -0.089, 0, 0],
+            [0, 1, 0, -0.089, 0, 0.425],
+            [0, 1, 0, -0.089, 0, 0.817],
+            [0, 0, -1, -0.109, 0.817, 0],
+            [0, 1, 0, 0.006, 0, 0.817],
+        ]
+    )
+    tilted = lie.adjoint(lie.exp6([0.3, -0.2, 0.1, 0, 0, 0])) @ s.T  # axes off the grid
+    ur5 = screwkit.Robot.from_screws(m, np.round(tilted.T, 6))
+    t = ur5.fk([0.3, -0.8, 1.1, -0.4, 0.7, 0.2])
+    assert len(ur5.ik_all(t)) >= 1
+
+
+def test_leaders_off_the_chain_are_checked() -> None:
+    m = np.eye(4).tolist()
+    first: dict[str, Any] = {"name": "a", "screw": [0, 0, 1, 0, 0, 0]}
+    base: dict[str, Any] = {"home": m, "joints": [first]}
+    follower: dict[str, Any] = {
+        "name": "b",
+        "screw": [0, 0, 0, 1, 0, 0],
+        "mimic": {"leader": "finger", "multiplier": 0.5},
+    }
+    ok = dict(base, joints=[first, follower], leaders=[{"name": "finger", "upper": 1}])
+    robot = screwkit.Robot.from_string(json.dumps(ok))
+    assert robot.joint_names == ["a", "finger"]
+    np.testing.assert_allclose(robot.fk([0, 0.8])[:3, 3], [0.4, 0, 0], atol=1e-15)
+    for leaders, message in [
+        ([{"name": "a"}], r"duplicate joint|joint .*\"a\""),
+        ([{"name": "finger"}, {"name": "finger"}], r"finger"),
+        ([{"name": "finger", "lower": 2, "upper": 1}], r"lower limit 2 is greater"),
+        ([{"name": "finger", "lower": "x"}], r"\"lower\": \"x\" is not a number"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            screwkit.Robot.from_string(json.dumps(dict(ok, leaders=leaders)))
+    bad = dict(
+        ok,
+        joints=[first, dict(follower, mimic={"leader": "finger", "multiplier": "2"})],
+    )
+    with pytest.raises(ValueError, match=r"multiplier.*is not a number"):
+        screwkit.Robot.from_string(json.dumps(bad))
+    # Without the leader listed (and not a table screwkit printed): an unknown joint.
+    with pytest.raises(ValueError, match=r'mimics joint "finger", which is not defined'):
+        screwkit.Robot.from_string(json.dumps(dict(base, joints=[first, follower])))
+    # A declared type the row contradicts.
+    typed = {
+        "home": m,
+        "joints": [{"name": "a", "type": "revolute", "screw": [0, 0, 1, 0, 0, 0.1]}],
+    }
+    with pytest.raises(ValueError, match=r"pitch ω · v = 0.1 m/rad for a joint of type revolute"):
+        screwkit.Robot.from_string(json.dumps(typed))
+
+
+def test_reach_map_needs_bounds_for_an_unbounded_slide() -> None:
+    # Three slides and a spherical wrist: every pose, once the map has bounds.
+    s = np.hstack(
+        [np.vstack([np.zeros((3, 3)), np.eye(3)]), np.vstack([np.eye(3), np.zeros((3, 3))])]
+    ).T
+    robot = screwkit.Robot.from_screws(np.eye(4), s)
+    with pytest.raises(ValueError, match=r'joint "joint1" slides without bound'):
+        screwkit.reach(robot, resolution=0.5)
+    bounded = screwkit.reach(
+        robot, resolution=0.5, orientations=1, bounds=(-1, -1, -0.25, 1, 1, 0.25)
+    )
+    assert bounded.reached_fraction == 1.0

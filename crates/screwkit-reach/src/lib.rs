@@ -79,8 +79,8 @@ pub struct Plan {
     pub rotations: Vec<Matrix3<f64>>,
     /// Centre of the reachable ball (the first joint's origin at home), base frame.
     pub reach_centre: [f64; 3],
-    /// Its radius: the sum of the distances between consecutive joint origins and to the tip,
-    /// which no joint motion changes, plus every prismatic joint's largest travel (m).
+    /// Its radius ([`reach_ball`]; ∞ for a chain with an unbounded sliding joint, whose map
+    /// takes its bounds from the spec).
     pub reach_radius: f64,
     /// "robot base→tip" for the map's metadata.
     pub label: String,
@@ -104,18 +104,34 @@ impl Plan {
                 spec.orientations
             )));
         }
-        let (reach_centre, reach_radius) = reach_ball(chain);
-        let (lo, hi) = spec.bounds.unwrap_or_else(|| {
-            let r = reach_radius + spec.resolution;
-            (
-                reach_centre.map(|c| c - r),
-                [
-                    reach_centre[0] + r,
-                    reach_centre[1] + r,
-                    reach_centre[2] + r,
-                ],
-            )
-        });
+        // A chain with an unbounded sliding joint has no ball: the map needs bounds, and every
+        // voxel in them is tried.
+        let ball = reach_ball(chain);
+        let (reach_centre, reach_radius) = match &ball {
+            Ok(b) => *b,
+            Err(_) => ([0.0; 3], f64::INFINITY),
+        };
+        let (lo, hi) = match (spec.bounds, &ball) {
+            (Some(b), _) => b,
+            (None, Err(joint)) => {
+                return Err(ReachError::Input(format!(
+                    "joint \"{joint}\" slides without bound (a prismatic or helical joint with \
+                     no limits), so the reachable space has no bound: give the map bounds, or \
+                     the joint limits"
+                )))
+            }
+            (None, Ok(_)) => {
+                let r = reach_radius + spec.resolution;
+                (
+                    reach_centre.map(|c| c - r),
+                    [
+                        reach_centre[0] + r,
+                        reach_centre[1] + r,
+                        reach_centre[2] + r,
+                    ],
+                )
+            }
+        };
         let grid = Grid::covering(lo, hi, spec.resolution)?;
         if grid.len() > MAX_VOXELS {
             return Err(ReachError::Input(format!(
@@ -315,9 +331,12 @@ impl Plan {
 
 /// The reachable ball of a chain: centre at the first joint's origin (which no joint moves),
 /// radius Σ |o_{j+1} − o_j| + |tip − o_last| over the joint origins at home (each distance is
-/// fixed: only joint j moves o_{j+1} relative to o_j, about an axis through o_j) plus the
-/// largest travel of each prismatic joint.
-pub fn reach_ball(chain: &Chain) -> ([f64; 3], f64) {
+/// fixed: only joint j moves o_{j+1} relative to o_j, about an axis through o_j) plus what each
+/// joint adds by sliding: |m| · travel for a prismatic joint, |m h| · travel for a helical one
+/// of pitch h (its rotation is in the link lengths), m its drive's multiplier and travel the
+/// largest |limit| of its variable. A sliding joint whose variable is unbounded has no ball:
+/// `Err` with its name.
+pub fn reach_ball(chain: &Chain) -> Result<([f64; 3], f64), String> {
     let origins: Vec<nalgebra::Vector3<f64>> = chain
         .joints
         .iter()
@@ -326,23 +345,21 @@ pub fn reach_ball(chain: &Chain) -> ([f64; 3], f64) {
         .collect();
     let centre = origins[0];
     let mut r: f64 = origins.windows(2).map(|w| (w[1] - w[0]).norm()).sum();
-    // What joints add by sliding: a prismatic joint's travel, a helical joint's |h| θ (its
-    // rotation is in the link lengths). An unbounded one adds nothing here (no finite ball).
-    for (k, v) in chain.variables.iter().enumerate() {
-        let per_unit = match v.kind {
+    for j in &chain.joints {
+        let per_unit = match j.kind {
             JointKind::Prismatic => 1.0,
-            JointKind::Helical => chain
-                .joints
-                .iter()
-                .filter(|j| j.drive.variable == k)
-                .filter_map(|j| j.s_space.pitch())
-                .fold(0.0, |a: f64, h| a.max(h.abs())),
+            JointKind::Helical => j.s_space.pitch().unwrap_or(0.0).abs(),
             _ => continue,
         };
-        let travel = per_unit * v.lower.abs().max(v.upper.abs());
-        r += if travel.is_finite() { travel } else { 0.0 };
+        let v = &chain.variables[j.drive.variable];
+        let travel = (j.drive.multiplier * per_unit).abs() * v.lower.abs().max(v.upper.abs())
+            + (j.drive.offset * per_unit).abs();
+        if !travel.is_finite() {
+            return Err(j.name.clone());
+        }
+        r += travel;
     }
-    ([centre.x, centre.y, centre.z], r)
+    Ok(([centre.x, centre.y, centre.z], r))
 }
 
 /// What a build did.

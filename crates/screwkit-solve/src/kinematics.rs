@@ -35,6 +35,8 @@ pub struct Kinematics {
     /// helical joint, or a revolute one with a prismatic follower). IK's stalls try q_k ± 2π
     /// ([`crate::ik`]).
     pub(crate) turns: Vec<bool>,
+    /// The first helical joint's name and pitch ([`Kinematics::helical`]).
+    pub(crate) helical: Option<(String, f64)>,
     pub(crate) names: Vec<String>,
     /// L: the power of ten nearest the chain's reach at home (the farthest link origin from
     /// the base; 1 when every link sits at the origin). IK measures position errors in units
@@ -74,6 +76,11 @@ impl Kinematics {
                 .enumerate()
                 .map(|(k, v)| v.kind == JointKind::Continuous && periodic(chain, k))
                 .collect(),
+            helical: chain
+                .joints
+                .iter()
+                .find(|j| j.kind == JointKind::Helical)
+                .map(|j| (j.name.clone(), j.s_space.pitch().unwrap_or(0.0))),
             turns: (0..chain.variables.len())
                 .map(|k| turns(chain, k))
                 .collect(),
@@ -92,17 +99,10 @@ impl Kinematics {
         self.length_scale
     }
 
-    /// The first helical joint's variable name and pitch (m/rad), if the chain has one: such a
-    /// chain is solved by numerical IK only (the analytic solvers take revolute joints).
+    /// The first helical joint's name and pitch (m/rad), if the chain has one: such a chain is
+    /// solved by numerical IK only (the analytic solvers take revolute joints).
     pub fn helical(&self) -> Option<(&str, f64)> {
-        self.space
-            .iter()
-            .find(|j| !j.prismatic && !j.is_revolute())
-            .map(|j| {
-                let (w, v) = j.axis();
-                let pitch = w[0] * v[0] + w[1] * v[1] + w[2] * v[2];
-                (self.names[j.drive.variable].as_str(), pitch)
-            })
+        self.helical.as_ref().map(|(name, h)| (name.as_str(), *h))
     }
 
     /// Number of independent variables (the length of q).
@@ -209,12 +209,8 @@ fn length_scale(chain: &Chain) -> f64 {
 /// prismatic.
 fn turns(chain: &screwkit_model::Chain, k: usize) -> bool {
     let driven = || chain.joints.iter().filter(move |j| j.drive.variable == k);
-    let rotation_kept = driven().all(|j| {
-        j.kind == JointKind::Prismatic
-            || (j.kind.rotates()
-                && j.drive.multiplier.fract() == 0.0
-                && j.drive.multiplier.is_finite())
-    });
+    let rotation_kept = driven()
+        .all(|j| j.kind == JointKind::Prismatic || (j.kind.rotates() && j.drive.whole_turns()));
     let rotates = driven().any(|j| j.kind.rotates());
     let slides = driven().any(|j| matches!(j.kind, JointKind::Prismatic | JointKind::Helical));
     rotation_kept && rotates && slides
@@ -230,8 +226,6 @@ fn periodic(chain: &screwkit_model::Chain, k: usize) -> bool {
         .iter()
         .filter(|j| j.drive.variable == k)
         .all(|j| {
-            matches!(j.kind, JointKind::Revolute | JointKind::Continuous)
-                && j.drive.multiplier.fract() == 0.0
-                && j.drive.multiplier.is_finite()
+            matches!(j.kind, JointKind::Revolute | JointKind::Continuous) && j.drive.whole_turns()
         })
 }

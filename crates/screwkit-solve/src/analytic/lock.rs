@@ -23,7 +23,7 @@ impl AnalyticIk {
         if c.family != Family::Redundant7R {
             return Err(SolveError::InvalidInput(format!(
                 "locking a joint is for 7R chains; this one is: {}",
-                c.family.describe()
+                super::solver::helical_or(kin, c.family.describe())
             )));
         }
         if joint >= 7 {
