@@ -119,6 +119,10 @@ fn map_rows<'py, const K: usize>(
             slices.push(unsafe { o.as_slice_mut()? });
         }
         for i in 0..rows {
+            // Ctrl-C interrupts a long stack (a KeyboardInterrupt, nothing returned).
+            if i % 65536 == 65535 {
+                py.check_signals()?;
+            }
             let mut it = slices.iter_mut();
             let mut row: [&mut [f64]; K] = std::array::from_fn(|k| {
                 let s = it.next().expect("K slices");

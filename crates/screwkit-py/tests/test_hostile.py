@@ -76,6 +76,8 @@ except KeyboardInterrupt:
         "torso.ik_tasks(reach, max_iterations=10**9, restarts=10**9)",
         "torso.ik_trajectory([reach] * 200000, np.zeros(7))",
         "torso.ik_trajectory([reach] * 200000, np.zeros(7), segment=1000)",
+        # A long stack of the screw calculus (an SVD per row, seconds in all).
+        "screwkit.lie.project_to_so3(np.ones((6_000_000, 3, 3)))",
     ],
 )
 def test_ctrl_c_interrupts_long_calls(call: str) -> None:
