@@ -1275,6 +1275,24 @@ fn screw_tables_are_robot_files() {
             } else {
                 // Six decimals (three for a mimic joint's multiplier and offset).
                 assert!((ma - mb).amax() < 1e-5, "{file}: {}", (ma - mb).amax());
+                // The types come back (no limits in the CSV: revolute joints unbounded, so
+                // continuous), mimic joints with their leader.
+                let read: Value =
+                    serde_json::from_str(&ok(&["table", path, "--format", "json"])).unwrap();
+                let want = json(&with_tip(vec!["table", &urdf, "--format", "json"], *tip));
+                let kinds = |t: &Value| -> Vec<String> {
+                    t["joints"]
+                        .as_array()
+                        .unwrap()
+                        .iter()
+                        .map(|j| {
+                            let k = j["type"].as_str().unwrap();
+                            let k = if k == "revolute" { "continuous" } else { k };
+                            format!("{k} {}", j["mimic"]["leader"])
+                        })
+                        .collect()
+                };
+                assert_eq!(kinds(&read), kinds(&want), "{file}");
             }
         }
     }

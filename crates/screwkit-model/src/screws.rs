@@ -7,8 +7,10 @@
 //! naming the row. A rotating row is revolute when |h| ≤ [`PITCH_ROUNDED`] · max(1, ‖v‖) —
 //! kept bit for bit within [`PITCH_ZERO`] (the rounding of v = −ω × q), else with v's
 //! component along ω removed (six printed decimals, values typed by hand) — and helical
-//! otherwise. A kind the description declares (a table's `type` column) takes precedence over
-//! the numbers, and a row that contradicts it is an error.
+//! otherwise. A kind the description declares (a table's `type` column) decides between
+//! prismatic, helical and pitch 0, and a row that contradicts it is an error; whether a pitch-0
+//! joint is revolute or continuous, its limits say (bounded or not; a mimic joint's word stands,
+//! its table limits being its leader's).
 //!
 //! The description gives no link frames. Each joint's frame is put, unrotated, at the point
 //! of its axis nearest the previous joint's (the base origin for the first; a prismatic joint
@@ -46,14 +48,15 @@ pub struct ScrewJoint {
     pub name: String,
     /// Its screw axis (ω, v) at home, in the robot's [`ScrewRobot::frame`].
     pub screw: [f64; 6],
-    /// (lower, upper) in rad or m; `None` for an unbounded joint (a revolute one is then
-    /// continuous). Infinite bounds are allowed.
+    /// (lower, upper) in rad or m; `None` for an unbounded joint. Infinite bounds are allowed;
+    /// a rotating joint of pitch 0 is continuous when unbounded, revolute otherwise.
     pub limits: Option<(f64, f64)>,
     /// The joint this one follows, θ = multiplier · q_leader + offset (the leader must be an
     /// independent joint of the same robot, or one of [`ScrewRobot::leaders`]).
     pub mimic: Option<Mimic>,
-    /// The kind the description declares (a table's `type`: revolute, continuous, prismatic
-    /// or helical), which the row must agree with; `None`: read from the numbers.
+    /// The kind the description declares (a table's `type`), which the row must agree with:
+    /// prismatic (ω = 0), helical, or revolute/continuous (pitch 0; which of the two, the
+    /// limits say, except for a mimic joint). `None`: read from the numbers.
     pub kind: Option<JointKind>,
 }
 
@@ -86,9 +89,6 @@ pub struct ScrewLeader {
     pub limits: Option<(f64, f64)>,
 }
 
-/// A joint's space screw and its kind.
-type SpaceScrew = (Twist, JointKind);
-
 /// Who owns a variable name: joint k of the chain or leader k.
 #[derive(Debug, Clone, Copy)]
 enum Owner {
@@ -96,10 +96,19 @@ enum Owner {
     Leader(usize),
 }
 
-/// A row read: its unit screw in the given frame and its kind.
+/// A row read: its unit screw in the given frame, the same in the space frame, its kind.
+#[derive(Debug, Clone, Copy)]
 struct Row {
-    screw: Twist,
+    given: Twist,
+    space: Twist,
     kind: JointKind,
+}
+
+/// The description read and checked once: M, every name's owner, the rows.
+struct Read<'a> {
+    m: Se3,
+    names: HashMap<&'a str, Owner>,
+    rows: Vec<Row>,
 }
 
 impl ScrewRobot {
@@ -223,7 +232,7 @@ impl ScrewRobot {
 
     /// Reads row `i`: finite; ‖ω‖ = 1 (revolute or helical) or ω = 0 and ‖v‖ = 1
     /// (prismatic), agreeing with its declared kind (see the module documentation).
-    fn row(&self, i: usize) -> Result<Row, ModelError> {
+    fn row(&self, i: usize) -> Result<(Twist, JointKind), ModelError> {
         let j = &self.joints[i];
         let bad = |p: String| Err(self.screw_error(i, p));
         if !j.screw.iter().all(|x| x.is_finite()) {
@@ -237,10 +246,8 @@ impl ScrewRobot {
         }
         if wn == 0.0 {
             if declared.is_some_and(|k| k != JointKind::Prismatic) {
-                return bad(format!(
-                    "ω = 0 (a translation) for a joint of type {}",
-                    declared.map_or("", JointKind::as_str)
-                ));
+                let k = declared.map_or("", JointKind::as_str);
+                return bad(format!("ω = 0 (a translation) for a joint of type {k}"));
             }
             if (vn - 1.0).abs() > UNIT_TOLERANCE {
                 return bad(format!(
@@ -248,10 +255,10 @@ impl ScrewRobot {
                      axis has ‖ω‖ = 1, or ω = 0 and ‖v‖ = 1)"
                 ));
             }
-            return Ok(Row {
-                screw: Twist::new(Vector3::zeros(), t.v * unit_scale(vn)),
-                kind: JointKind::Prismatic,
-            });
+            return Ok((
+                Twist::new(Vector3::zeros(), t.v * unit_scale(vn)),
+                JointKind::Prismatic,
+            ));
         }
         if declared == Some(JointKind::Prismatic) {
             return bad(format!("‖ω‖ = {wn} for a prismatic joint (its ω is 0)"));
@@ -267,21 +274,18 @@ impl ScrewRobot {
         let scale = s.v.norm().max(1.0);
         let revolute = match declared {
             Some(JointKind::Helical) => false,
-            Some(_) if h.abs() > PITCH_ROUNDED * scale => {
+            Some(k) if h.abs() > PITCH_ROUNDED * scale => {
                 return bad(format!(
                     "pitch ω · v = {h} m/rad for a joint of type {} (pitch 0; a helical \
                      joint is type helical)",
-                    declared.map_or("", JointKind::as_str)
+                    k.as_str()
                 ));
             }
             Some(_) => true,
             None => h.abs() <= PITCH_ROUNDED * scale,
         };
         if !revolute {
-            return Ok(Row {
-                screw: s,
-                kind: JointKind::Helical,
-            });
+            return Ok((s, JointKind::Helical));
         }
         // Rounding of v = −ω × q is kept bit for bit; more (six printed decimals, typed
         // values) is removed: v ⊥ ω.
@@ -290,16 +294,20 @@ impl ScrewRobot {
         } else {
             Twist::new(s.w, s.v - s.w * h)
         };
+        // Revolute or continuous: an independent joint's limits say (a revolute joint without
+        // limits would be neither wrapped nor bounded); a mimic joint's limits are its
+        // leader's (as tables print them), so its declared word stands.
         let kind = match declared {
-            Some(k) => k,
-            None if j.limits.is_none_or(|(l, u)| is_unbounded(l, u)) => JointKind::Continuous,
-            None => JointKind::Revolute,
+            Some(k @ (JointKind::Revolute | JointKind::Continuous)) if j.mimic.is_some() => k,
+            _ if j.limits.is_none_or(|(l, u)| is_unbounded(l, u)) => JointKind::Continuous,
+            _ => JointKind::Revolute,
         };
-        Ok(Row { screw, kind })
+        Ok((screw, kind))
     }
 
-    /// Checks names, limits, mimic joints and leaders, and reads every row: (M, rows).
-    fn read(&self) -> Result<(Se3, Vec<Row>), ModelError> {
+    /// Checks names, limits, mimic joints and leaders, and reads every row (the space screw
+    /// of a body-frame row by the adjoint: S = \[Ad_M\] B).
+    fn read(&self) -> Result<Read<'_>, ModelError> {
         let m = self.home()?;
         if self.joints.is_empty() {
             return Err(self.error(ErrorKind::Screws("no joints: S has no rows".into())));
@@ -320,10 +328,7 @@ impl ScrewRobot {
         for l in &self.leaders {
             check_limits(&l.name, l.limits)?;
         }
-        for (i, j) in self.joints.iter().enumerate() {
-            if j.name.is_empty() {
-                return Err(self.screw_error(i, "the joint has an empty name".into()));
-            }
+        for j in &self.joints {
             check_limits(&j.name, j.limits)?;
             if let Some(mimic) = &j.mimic {
                 let problem = |p: String| {
@@ -354,9 +359,16 @@ impl ScrewRobot {
             }
         }
         let rows = (0..self.joints.len())
-            .map(|i| self.row(i))
-            .collect::<Result<Vec<_>, _>>()?;
-        Ok((m, rows))
+            .map(|i| {
+                let (given, kind) = self.row(i)?;
+                let space = match self.frame {
+                    Frame::Space => given,
+                    Frame::Body => m.adjoint_apply(&given),
+                };
+                Ok(Row { given, space, kind })
+            })
+            .collect::<Result<Vec<_>, ModelError>>()?;
+        Ok(Read { m, names, rows })
     }
 
     /// Every joint's and leader's name, each once (a repeated or empty one is an error).
@@ -373,8 +385,16 @@ impl ScrewRobot {
             .enumerate()
             .map(|(k, l)| (l.name.as_str(), Owner::Leader(k)));
         for (name, owner) in owners.chain(leaders) {
-            if name.is_empty() {
-                return Err(self.error(ErrorKind::Screws("a leader has an empty name".into())));
+            match owner {
+                Owner::Joint(k) if name.is_empty() => {
+                    return Err(self.screw_error(k, "the joint has an empty name".into()))
+                }
+                Owner::Leader(k) if name.is_empty() => {
+                    return Err(
+                        self.error(ErrorKind::Screws(format!("leader {k} has an empty name")))
+                    )
+                }
+                _ => {}
             }
             if names.insert(name, owner).is_some() {
                 return Err(self.error(ErrorKind::Duplicate {
@@ -388,12 +408,12 @@ impl ScrewRobot {
 
     /// The joints' frames at home (see the module documentation): unrotated, at the point of
     /// each space axis nearest the previous joint's point.
-    fn joint_points(spaces: &[SpaceScrew]) -> Vec<Vector3<f64>> {
+    fn joint_points(rows: &[Row]) -> Vec<Vector3<f64>> {
         let mut prev = Vector3::zeros();
-        spaces
-            .iter()
-            .map(|(s, kind)| {
-                if *kind != JointKind::Prismatic {
+        rows.iter()
+            .map(|r| {
+                let s = &r.space;
+                if r.kind != JointKind::Prismatic {
                     // The axis: the point ω × v (nearest the origin; ‖ω‖ = 1) plus any
                     // multiple of ω; the one nearest `prev`.
                     let p0 = s.w.cross(&s.v);
@@ -404,39 +424,22 @@ impl ScrewRobot {
             .collect()
     }
 
-    /// The space screws with their kinds, and M.
-    fn space_rows(&self) -> Result<(Se3, Vec<Row>, Vec<SpaceScrew>), ModelError> {
-        let (m, rows) = self.read()?;
-        let spaces = rows
-            .iter()
-            .map(|r| {
-                let s = match self.frame {
-                    Frame::Space => r.screw,
-                    Frame::Body => m.adjoint_apply(&r.screw),
-                };
-                (s, r.kind)
-            })
-            .collect();
-        Ok((m, rows, spaces))
-    }
-
     /// The variables in order of first appearance along the chain (a mimic joint's leader
-    /// where the joint comes first, as for a URDF chain) and every joint's drive.
-    fn variables(&self, rows: &[Row]) -> Result<(Vec<Variable>, Vec<Drive>), ModelError> {
-        let names = self.names()?;
+    /// where the joint comes first, as for a URDF chain) and every joint's drive. A leader off
+    /// the chain takes its first follower's kind.
+    fn variables(&self, read: &Read<'_>) -> (Vec<Variable>, Vec<Drive>) {
         let mut variables: Vec<Variable> = Vec::new();
         let mut index: HashMap<&str, usize> = HashMap::new();
-        let mut drives = Vec::with_capacity(rows.len());
-        for (j, r) in self.joints.iter().zip(rows) {
+        let mut drives = Vec::with_capacity(read.rows.len());
+        for (j, r) in self.joints.iter().zip(&read.rows) {
             let (owner, multiplier, offset) = match &j.mimic {
                 None => (j.name.as_str(), 1.0, 0.0),
                 Some(m) => (m.leader.as_str(), m.multiplier, m.offset),
             };
             let variable = *index.entry(owner).or_insert_with(|| {
-                let (limits, kind) = match names.get(owner) {
-                    Some(Owner::Joint(k)) => (self.joints[*k].limits, rows[*k].kind),
-                    Some(Owner::Leader(k)) => (self.leaders[*k].limits, r.kind),
-                    None => (None, r.kind),
+                let (limits, kind) = match read.names[owner] {
+                    Owner::Joint(k) => (self.joints[k].limits, read.rows[k].kind),
+                    Owner::Leader(k) => (self.leaders[k].limits, r.kind),
                 };
                 let (lower, upper) = limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
                 variables.push(Variable {
@@ -455,32 +458,33 @@ impl ScrewRobot {
                 offset,
             });
         }
-        Ok((variables, drives))
+        (variables, drives)
     }
 
     /// The serial chain base → tip with the screws as given (normalised), the other frame's
     /// screws by the adjoint (B_i = \[Ad_{M⁻¹}\] S_i, or S_i = \[Ad_M\] B_i), and link poses at
     /// the joints' points. Its base link is `base`, its tip `tip`.
     pub fn chain(&self) -> Result<Chain, ModelError> {
-        let (m, rows, spaces) = self.space_rows()?;
-        let points = Self::joint_points(&spaces);
-        let (variables, drives) = self.variables(&rows)?;
+        let read = self.read()?;
+        let (m, rows) = (read.m, &read.rows);
+        let points = Self::joint_points(rows);
+        let (variables, drives) = self.variables(&read);
         let mut links = vec![ChainLink {
             name: "base".into(),
             home: Se3::identity(),
             joints_before: 0,
         }];
         let mut joints = Vec::with_capacity(rows.len());
-        for (i, (j, r)) in self.joints.iter().zip(&rows).enumerate() {
-            let (s, b) = match self.frame {
-                Frame::Space => (r.screw, m.adjoint_inverse_apply(&r.screw)),
-                Frame::Body => (spaces[i].0, r.screw),
+        for (i, (j, r)) in self.joints.iter().zip(rows).enumerate() {
+            let b = match self.frame {
+                Frame::Space => m.adjoint_inverse_apply(&r.given),
+                Frame::Body => r.given,
             };
             let home = Se3::from_translation(points[i]);
             joints.push(ChainJoint {
                 name: j.name.clone(),
                 kind: r.kind,
-                s_space: ScrewAxis::from_unit_twist_unchecked(s),
+                s_space: ScrewAxis::from_unit_twist_unchecked(r.space),
                 b_body: ScrewAxis::from_unit_twist_unchecked(b),
                 drive: drives[i],
                 home,
@@ -513,16 +517,16 @@ impl ScrewRobot {
     /// at M), for the algorithms that take a whole robot. Its screws equal the chain's to
     /// rounding.
     pub fn tree(&self) -> Result<Tree, ModelError> {
-        let (m, rows, spaces) = self.space_rows()?;
-        let names = self.names()?;
-        let points = Self::joint_points(&spaces);
+        let read = self.read()?;
+        let (m, rows) = (read.m, &read.rows);
+        let points = Self::joint_points(rows);
         let mut links = vec!["base".to_string()];
         links.extend(self.joints.iter().map(|j| link_name(&j.name)));
         links.push("tip".into());
         let mut specs = Vec::with_capacity(rows.len() + self.leaders.len() + 1);
         let mut prev = Vector3::zeros();
         for (i, j) in self.joints.iter().enumerate() {
-            let spec = tree_joint(&j.name, spaces[i], points[i] - prev, j.limits);
+            let spec = tree_joint(&j.name, &rows[i], points[i] - prev, j.limits);
             specs.push((
                 TreeJointSpec {
                     mimic: j.mimic.clone(),
@@ -548,14 +552,14 @@ impl ScrewRobot {
             };
             let link = link_name(&l.name);
             specs.push((
-                tree_joint(&l.name, spaces[i], points[i], l.limits),
+                tree_joint(&l.name, &rows[i], points[i], l.limits),
                 "base".into(),
                 link.clone(),
             ));
             leader_links.push(link);
         }
         let mut fixed = "tip_fixed".to_string();
-        while names.contains_key(fixed.as_str()) {
+        while read.names.contains_key(fixed.as_str()) {
             fixed.push('_');
         }
         let [x, y, z, w] = m.quaternion();
@@ -579,15 +583,16 @@ impl ScrewRobot {
     }
 }
 
-/// The tree joint of a space screw (s, kind) whose unrotated frame sits at `origin` in its
-/// parent link: axis ω (v for a prismatic joint), the pitch ω · v of a helical joint, the
-/// limits (±∞ when unbounded); no mimic.
+/// The tree joint of row `r` whose unrotated frame sits at `origin` in its parent link: axis
+/// ω (v for a prismatic joint), the pitch ω · v of a helical joint; the limits, ±∞ when
+/// unbounded, except a continuous joint's (URDF gives it none); no mimic.
 fn tree_joint(
     name: &str,
-    (s, kind): SpaceScrew,
+    r: &Row,
     origin: Vector3<f64>,
     limits: Option<(f64, f64)>,
 ) -> TreeJointSpec {
+    let (s, kind) = (&r.space, r.kind);
     let (lower, upper) = limits.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
     TreeJointSpec {
         name: name.to_string(),
@@ -601,7 +606,7 @@ fn tree_joint(
             s.w
         }
         .into(),
-        limit: Some(Limit {
+        limit: (kind != JointKind::Continuous).then_some(Limit {
             lower,
             upper,
             velocity: None,

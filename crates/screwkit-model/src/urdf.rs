@@ -353,9 +353,11 @@ fn check_numbers_of(element: &str, attr: &str, value: &str, count: usize) -> Res
 /// an inertial; the inertia tensor, not kept, is written as a small placeholder), every joint
 /// with its origin (xyz and roll-pitch-yaw from the exact rotation, [`screwkit_lie::so3::to_rpy`],
 /// to 17 significant digits), axis, limits (`velocity`/`effort` only where known; an unbounded
-/// prismatic joint's limits as ±1e300) and mimic rule. URDF has no free joint: a tree with a
-/// floating root says so in a comment, and is loaded with `--floating-base` /
-/// `floating_base=True`. Loading the text gives the same FK to rounding.
+/// prismatic or helical joint's limits as ±1e300) and mimic rule. URDF has no free joint: a
+/// tree with a floating root says so in a comment, and is loaded with `--floating-base` /
+/// `floating_base=True`. URDF has no helical joint either: one is written as a rotating joint
+/// to a new link `<child>_screw` and a prismatic follower `<joint>_advance` along the same
+/// axis (mimic, multiplier = the pitch). Loading the text gives the same FK to rounding.
 pub fn write(tree: &Tree) -> String {
     let num = |x: f64| {
         if x.is_infinite() {
@@ -472,7 +474,7 @@ pub fn write(tree: &Tree) -> String {
         out.push_str("  </joint>\n");
         if let Some((link, advance)) = screw {
             out.push_str(&format!(
-                "  <joint name=\"{}\" type=\"prismatic\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    <axis xyz=\"{}\"/>\n    <limit lower=\"-1e300\" upper=\"1e300\" effort=\"0\" velocity=\"0\"/>\n    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"0\"/>\n  </joint>\n",
+                "  <joint name=\"{}\" type=\"prismatic\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    <axis xyz=\"{}\"/>\n    <limit lower=\"-1e300\" upper=\"1e300\"/>\n    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"0\"/>\n  </joint>\n",
                 input::escape_xml(advance),
                 input::escape_xml(link),
                 input::escape_xml(&tree.links[j.child]),

@@ -114,6 +114,22 @@ fn bad_rows_are_named() {
         e.to_string().contains("limits has 1 rows for 2 screw axes"),
         "{e}"
     );
+    let e = ScrewRobot::new(
+        "t",
+        M,
+        vec![[0., 0., 1., 0., 0., 0.]],
+        Frame::Space,
+        None,
+        Some(vec![String::new()]),
+    )
+    .unwrap()
+    .chain()
+    .unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("screw row 0 (joint \"\"): the joint has an empty name"),
+        "{e}"
+    );
     let mut bad_m = M;
     bad_m[0] = 2.0;
     let e = ScrewRobot::new(

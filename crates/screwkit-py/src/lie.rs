@@ -204,9 +204,25 @@ fn transform(x: &[f64]) -> Result<Se3, String> {
 
 /// θ: one number for every row, or one per row (a non-finite θ is that row's error).
 fn theta_arg(theta: Option<&Bound<'_, PyAny>>, n: Option<usize>) -> PyResult<Vec<f64>> {
-    match theta {
-        Some(t) => Scalars::new(t, "theta", n)?.values(),
-        None => Ok(vec![1.0]),
+    let t = match theta {
+        Some(t) => Scalars::new(t, "theta", n)?.values()?,
+        None => vec![1.0],
+    };
+    // One θ for every row: a bad one is the call's error, not every row's.
+    if let [one] = t.as_slice() {
+        if !one.is_finite() {
+            return Err(PyValueError::new_err(format!("theta: not finite: {one}")));
+        }
+    }
+    Ok(t)
+}
+
+/// Refuses an output row that overflowed (|ωθ| near 1e154 squares past f64's range).
+fn finite_out(o: &[f64]) -> Result<(), String> {
+    if o.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err("the result overflows (the coordinates are too large)".into())
     }
 }
 
@@ -382,7 +398,7 @@ pub fn exp3<'py>(
     let [o] = map_rows(py, "exp3", x.n, [&[3, 3]], |i, [o]| {
         let p: [f64; 3] = scaled(&v[3 * i..3 * i + 3], at(&th, i), "exponential coordinates")?;
         write3(&so3::exp(&Vector3::from(p)), o);
-        Ok(())
+        finite_out(o)
     })?;
     Ok(o.into_any())
 }
@@ -419,7 +435,7 @@ pub fn exp6<'py>(
     let [o] = map_rows(py, "exp6", x.n, [&[4, 4]], |i, [o]| {
         let xi: [f64; 6] = scaled(&v[6 * i..6 * i + 6], at(&th, i), "twist")?;
         Se3::exp(&Twist::try_from_slice(&xi).map_err(|e| e.to_string())?).write_row_major(o);
-        Ok(())
+        finite_out(o)
     })?;
     Ok(o.into_any())
 }

@@ -591,9 +591,10 @@ impl Robot {
     /// A robot from its home pose M (4, 4) and screw axes S (n, 6), one row (ω, v) per joint
     /// base to tip, in the space frame (S_i) or the body frame (B_i), as *Modern Robotics*
     /// writes robots (its `Slist`/`Blist` hold the axes as columns: pass `Slist.T`). A row
-    /// with ‖ω‖ = 1 is a revolute joint, or helical when its pitch h = ω · v is not 0; ω = 0
-    /// with ‖v‖ = 1 a prismatic joint (unit lengths to 1e-6, then normalised); anything else
-    /// is a `ValueError` naming the row. `limits`: (n, 2) lower and upper (±inf allowed;
+    /// with ‖ω‖ = 1 is a revolute joint, or helical when its pitch h = ω · v is above what
+    /// rounding leaves (2e-6 · max(1, ‖v‖): rows printed to six decimals or typed by hand
+    /// stay revolute, their v made ⊥ ω); ω = 0 with ‖v‖ = 1 a prismatic joint (unit lengths
+    /// to 1e-6, then normalised); anything else is a `ValueError` naming the row. `limits`: (n, 2) lower and upper (±inf allowed;
     /// `None`: unbounded, and a revolute joint is then continuous); `names`: n joint names
     /// (default `joint1`, …). The chain runs from link `base` to link `tip`; every algorithm
     /// works on it (analytic IK when its joints are revolute); `tool` as in `from_urdf`.

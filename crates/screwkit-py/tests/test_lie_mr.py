@@ -450,6 +450,13 @@ def test_shapes_and_errors() -> None:
     np.testing.assert_array_equal(e3.value.result[2], lie.exp6(np.ones(6), 2.0))
     with pytest.raises(ValueError, match=r"exp3: exponential coordinates times theta"):
         lie.exp3([1e200, 0, 0], 1e200)
+    with pytest.raises(ValueError, match=r"exp3: the result overflows"):
+        lie.exp3([1e200, 0, 0])
+    with pytest.raises(screwkit.BatchError, match=r"exp6: row 1: the result overflows"):
+        lie.exp6(np.array([[0, 0, 1, 0, 0, 0], [1e200, 0, 0, 1e200, 0, 0]]))
+    # One bad theta for a whole stack is the call's error.
+    with pytest.raises(ValueError, match=r"^theta: not finite"):
+        lie.exp6(np.ones((3, 6)), np.inf)
     with pytest.raises(ValueError, match=r"hat: .*non-finite"):
         lie.hat([np.inf, 0, 0])
     with pytest.raises(ValueError, match=r"vee: .*non-finite"):

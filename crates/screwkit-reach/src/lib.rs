@@ -77,7 +77,9 @@ pub struct Plan {
     pub grid: Grid,
     /// The K tool rotations tested at every voxel.
     pub rotations: Vec<Matrix3<f64>>,
-    /// Centre of the reachable ball (the first joint's origin at home), base frame.
+    /// Centre of the reachable ball (the first joint's origin at home), base frame; the origin
+    /// when the chain has no ball (an unbounded sliding joint: the map's bounds are the
+    /// spec's, and the metadata says `null`).
     pub reach_centre: [f64; 3],
     /// Its radius ([`reach_ball`]; ∞ for a chain with an unbounded sliding joint, whose map
     /// takes its bounds from the spec).
@@ -115,9 +117,9 @@ impl Plan {
             (Some(b), _) => b,
             (None, Err(joint)) => {
                 return Err(ReachError::Input(format!(
-                    "joint \"{joint}\" slides without bound (a prismatic or helical joint with \
-                     no limits), so the reachable space has no bound: give the map bounds, or \
-                     the joint limits"
+                    "variable \"{joint}\" has no limits and drives a prismatic or helical \
+                     joint, so the reachable space has no bound: give the map bounds, or the \
+                     joint limits"
                 )))
             }
             (None, Ok(_)) => {
@@ -203,8 +205,9 @@ impl Plan {
             "solver": self.solver_name(),
             "spec": self.spec,
             "grid": self.grid,
-            "reach_centre": self.reach_centre,
-            "reach_radius": self.reach_radius,
+            // No ball (an unbounded sliding joint): null, not a made-up centre.
+            "reach_centre": self.reach_radius.is_finite().then_some(self.reach_centre),
+            "reach_radius": self.reach_radius.is_finite().then_some(self.reach_radius),
             "shard": [shard.index, shard.count],
             "voxels": [range.start, range.end],
         })
@@ -332,10 +335,10 @@ impl Plan {
 /// The reachable ball of a chain: centre at the first joint's origin (which no joint moves),
 /// radius Σ |o_{j+1} − o_j| + |tip − o_last| over the joint origins at home (each distance is
 /// fixed: only joint j moves o_{j+1} relative to o_j, about an axis through o_j) plus what each
-/// joint adds by sliding: |m| · travel for a prismatic joint, |m h| · travel for a helical one
-/// of pitch h (its rotation is in the link lengths), m its drive's multiplier and travel the
-/// largest |limit| of its variable. A sliding joint whose variable is unbounded has no ball:
-/// `Err` with its name.
+/// joint adds by sliding: |m| · travel + |o| for a prismatic joint, |h| (|m| · travel + |o|) for
+/// a helical one of pitch h (its rotation is in the link lengths), θ = m q + o its drive and
+/// travel the largest |limit| of its variable. A sliding joint whose variable is unbounded has
+/// no ball: `Err` with the variable's name.
 pub fn reach_ball(chain: &Chain) -> Result<([f64; 3], f64), String> {
     let origins: Vec<nalgebra::Vector3<f64>> = chain
         .joints
@@ -351,11 +354,16 @@ pub fn reach_ball(chain: &Chain) -> Result<([f64; 3], f64), String> {
             JointKind::Helical => j.s_space.pitch().unwrap_or(0.0).abs(),
             _ => continue,
         };
+        // Metres per unit of q (0: the joint does not slide, whatever q).
+        let rate = (j.drive.multiplier * per_unit).abs();
+        if rate == 0.0 {
+            r += (j.drive.offset * per_unit).abs();
+            continue;
+        }
         let v = &chain.variables[j.drive.variable];
-        let travel = (j.drive.multiplier * per_unit).abs() * v.lower.abs().max(v.upper.abs())
-            + (j.drive.offset * per_unit).abs();
+        let travel = rate * v.lower.abs().max(v.upper.abs()) + (j.drive.offset * per_unit).abs();
         if !travel.is_finite() {
-            return Err(j.name.clone());
+            return Err(v.name.clone());
         }
         r += travel;
     }

@@ -50,6 +50,7 @@ pub struct Kinematics {
 impl Kinematics {
     /// Prepares a chain for the algorithms.
     pub fn new(chain: &Chain) -> Self {
+        let turning = Turning::of(chain);
         let table = |frame: Frame| -> Vec<PoeJoint> {
             chain
                 .joints
@@ -73,17 +74,15 @@ impl Kinematics {
             continuous: chain
                 .variables
                 .iter()
-                .enumerate()
-                .map(|(k, v)| v.kind == JointKind::Continuous && periodic(chain, k))
+                .zip(&turning)
+                .map(|(v, t)| v.kind == JointKind::Continuous && t.periodic())
                 .collect(),
             helical: chain
                 .joints
                 .iter()
                 .find(|j| j.kind == JointKind::Helical)
                 .map(|j| (j.name.clone(), j.s_space.pitch().unwrap_or(0.0))),
-            turns: (0..chain.variables.len())
-                .map(|k| turns(chain, k))
-                .collect(),
+            turns: turning.iter().map(Turning::turns).collect(),
             names: chain.variables.iter().map(|v| v.name.clone()).collect(),
             length_scale: length_scale(chain),
             identity_map: !chain.has_mimic(),
@@ -204,28 +203,54 @@ fn length_scale(chain: &Chain) -> f64 {
     }
 }
 
-/// Whether adding 2π to variable `k` keeps the rotation of every joint it drives but moves the
-/// tip: each is rotating with an integer multiplier or prismatic, and one is helical or
-/// prismatic.
-fn turns(chain: &screwkit_model::Chain, k: usize) -> bool {
-    let driven = || chain.joints.iter().filter(move |j| j.drive.variable == k);
-    let rotation_kept = driven()
-        .all(|j| j.kind == JointKind::Prismatic || (j.kind.rotates() && j.drive.whole_turns()));
-    let rotates = driven().any(|j| j.kind.rotates());
-    let slides = driven().any(|j| matches!(j.kind, JointKind::Prismatic | JointKind::Helical));
-    rotation_kept && rotates && slides
+/// What a whole turn (2π) of each variable does to the joints it drives, from one pass over
+/// the joints.
+#[derive(Debug, Clone, Copy)]
+struct Turning {
+    /// Every driven joint is revolute or continuous with a whole-turn multiplier (θ = m q + o
+    /// turns m whole turns).
+    all_whole_revolute: bool,
+    /// Every driven joint keeps its rotation: rotating with a whole-turn multiplier, or
+    /// prismatic.
+    rotation_kept: bool,
+    /// Some driven joint rotates.
+    rotates: bool,
+    /// Some driven joint slides (prismatic or helical).
+    slides: bool,
 }
 
-/// Whether adding 2π to variable `k` leaves the pose unchanged: every joint it drives is
-/// revolute or continuous with an integer multiplier (θ = m q + o turns m whole turns). A
-/// continuous joint with a prismatic or helical follower (a helical joint written as a mimic
-/// pair) or a non-integer multiplier is not periodic, and IK must not wrap it.
-fn periodic(chain: &screwkit_model::Chain, k: usize) -> bool {
-    chain
-        .joints
-        .iter()
-        .filter(|j| j.drive.variable == k)
-        .all(|j| {
-            matches!(j.kind, JointKind::Revolute | JointKind::Continuous) && j.drive.whole_turns()
-        })
+impl Turning {
+    fn of(chain: &Chain) -> Vec<Turning> {
+        let mut out = vec![
+            Turning {
+                all_whole_revolute: true,
+                rotation_kept: true,
+                rotates: false,
+                slides: false,
+            };
+            chain.variables.len()
+        ];
+        for j in &chain.joints {
+            let t = &mut out[j.drive.variable];
+            let whole = j.drive.whole_turns();
+            t.all_whole_revolute &=
+                matches!(j.kind, JointKind::Revolute | JointKind::Continuous) && whole;
+            t.rotation_kept &= j.kind == JointKind::Prismatic || (j.kind.rotates() && whole);
+            t.rotates |= j.kind.rotates();
+            t.slides |= matches!(j.kind, JointKind::Prismatic | JointKind::Helical);
+        }
+        out
+    }
+
+    /// Adding 2π leaves the pose unchanged. A continuous joint with a prismatic or helical
+    /// follower (a helical joint written as a mimic pair) or a non-integer multiplier is not
+    /// periodic, and IK must not wrap it.
+    fn periodic(&self) -> bool {
+        self.all_whole_revolute
+    }
+
+    /// Adding 2π keeps every driven joint's rotation but moves the tip (a screw variable).
+    fn turns(&self) -> bool {
+        self.rotation_kept && self.rotates && self.slides
+    }
 }

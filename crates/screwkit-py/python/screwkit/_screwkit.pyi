@@ -306,7 +306,8 @@ class Robot:
     ) -> Robot:
         """A robot from its home pose M (4, 4) and screw axes S (n, 6), rows (omega, v), in the
         space or body frame (Modern Robotics' Slist/Blist are columns: pass Slist.T); helical
-        rows (pitch omega . v != 0) and prismatic rows (omega = 0) included."""
+        rows (pitch omega . v above 2e-6 * max(1, |v|), what six printed decimals leave) and
+        prismatic rows (omega = 0) included."""
     @classmethod
     def from_string(
         cls,

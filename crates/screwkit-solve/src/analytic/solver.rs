@@ -439,7 +439,9 @@ impl AnalyticIk {
                 };
                 for i in 0..n {
                     let (lo, hi) = (kin.lower[i], kin.upper[i]);
-                    if kin.continuous[i] || self.lock.is_some_and(|l| l.joint == i) {
+                    // A joint with a bound at ±∞ reaches every angle by some turn.
+                    let unbounded = !lo.is_finite() || !hi.is_finite();
+                    if kin.continuous[i] || unbounded || self.lock.is_some_and(|l| l.joint == i) {
                         continue;
                     }
                     // How far the shift of q_i nearest the interval [lo, hi] is outside it.
@@ -846,11 +848,14 @@ impl AnalyticIk {
         let mut count = [0usize; MAX_DOF];
         for i in 0..n {
             let (lo, hi) = (kin.lower[i], kin.upper[i]);
-            if kin.continuous[i] || self.lock.is_some_and(|l| l.joint == i) {
+            let unbounded = !lo.is_finite() && !hi.is_finite();
+            if kin.continuous[i] || unbounded || self.lock.is_some_and(|l| l.joint == i) {
                 first[i] = q[i];
                 count[i] = 1;
                 continue;
             }
+            // A bound at −∞ (a revolute joint limited above only): the four turns below hi.
+            let lo = if lo.is_finite() { lo } else { hi - 4.0 * TAU };
             let m0 = ((lo - 1e-12 - q[i]) / TAU).ceil();
             let mut c = 0;
             while c < 4 && q[i] + (m0 + c as f64) * TAU <= hi + 1e-12 {
