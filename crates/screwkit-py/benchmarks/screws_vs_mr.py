@@ -21,35 +21,19 @@ repository root,
 from __future__ import annotations
 
 import argparse
+import sys
 import time
+from pathlib import Path
 from typing import Callable
 
 import modern_robotics as mr
 import numpy as np
-import numpy.typing as npt
 
 import screwkit
-from screwkit import lie
 
-F64 = npt.NDArray[np.float64]
-
-
-def arm(g: np.random.Generator, n: int) -> tuple[F64, F64, F64]:
-    """M, n space screws (rows; revolute, helical up to 0.3 m/rad, prismatic) and limits."""
-    rows, limits = [], []
-    for k in range(n):
-        kind = ["revolute", "helical", "prismatic"][k % 3]
-        if kind == "prismatic":
-            v = g.normal(size=3)
-            rows.append(np.concatenate([np.zeros(3), v / np.linalg.norm(v)]))
-            limits.append([-0.4, 0.4])
-        else:
-            h = 0.0 if kind == "revolute" else g.uniform(-0.3, 0.3)
-            rows.append(lie.screw_to_axis(g.uniform(-0.5, 0.5, 3), g.normal(size=3), h))
-            limits.append([-2.8, 2.8])
-    m = lie.exp6(g.normal(size=6))
-    m[:3, 3] += g.uniform(-1, 1, 3)
-    return m, np.array(rows), np.array(limits)
+# The arm generator of the test suite (tests/test_screws.py), so both use the same arms.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from test_screws import random_arm  # noqa: E402
 
 
 def best(f: Callable[[], object], reps: int = 5) -> float:
@@ -69,7 +53,7 @@ def main() -> None:
     a = ap.parse_args()
     screwkit.set_num_threads(1)
     g = np.random.default_rng(7)
-    m, s, lim = arm(g, 6)
+    m, s, lim = random_arm(g, 6, kinds=["revolute", "helical", "prismatic"])
     robot = screwkit.Robot.from_screws(m, s, limits=lim)
     n = a.configurations
     qs = g.uniform(lim[:, 0], lim[:, 1], size=(n, 6))

@@ -95,12 +95,18 @@ def test_documented_jacobian_examples() -> None:
     np.testing.assert_allclose(body.jacobian(q, "body"), mr.JacobianBody(s.T, q), atol=1e-14)
 
 
-def random_arm(g: np.random.Generator, n: int) -> tuple[Array, Array, Array]:
+def random_arm(
+    g: np.random.Generator, n: int, kinds: list[str] | None = None
+) -> tuple[Array, Array, Array]:
     """A random arm: M and n space screws, revolute, helical (pitch up to 0.3 m/rad) and
-    prismatic joints mixed, with limits."""
+    prismatic joints mixed (or `kinds`, cycled), with limits. Also the arm of
+    benchmarks/screws_vs_mr.py."""
     rows, limits = [], []
-    for _ in range(n):
-        kind = g.choice(["revolute", "helical", "prismatic"], p=[0.5, 0.3, 0.2])
+    for k in range(n):
+        if kinds is None:
+            kind = g.choice(["revolute", "helical", "prismatic"], p=[0.5, 0.3, 0.2])
+        else:
+            kind = kinds[k % len(kinds)]
         if kind == "prismatic":
             v = g.normal(size=3)
             rows.append(np.concatenate([np.zeros(3), v / np.linalg.norm(v)]))
