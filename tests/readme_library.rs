@@ -5,7 +5,7 @@
 fn readme_snippet_is_the_compiled_example() {
     let root = env!("CARGO_MANIFEST_DIR");
     let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
-    let section = &readme[readme.find("## Library in a few lines").unwrap()..];
+    let section = &readme[readme.find("**From Rust**").unwrap()..];
     let start = section.find("```rust\n").unwrap() + "```rust\n".len();
     let block = &section[start..start + section[start..].find("```").unwrap()];
     let example = std::fs::read_to_string(format!("{root}/examples/readme_library.rs")).unwrap();

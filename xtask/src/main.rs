@@ -1,13 +1,27 @@
 //! Project tasks, run as `cargo xtask <task>` (the cargo-xtask pattern: plain Rust, no tools to
 //! install first).
 //!
-//! - `cargo xtask test`: the whole suite. Rust: `cargo test --workspace`. Python: a venv in
+//! - `cargo xtask test` (the README's test command): the whole suite as a newcomer runs it on a
+//!   fresh clone with nothing beside it. Rust: `cargo test --workspace`. Python: a venv in
 //!   `target/xtask-venv` (made with `python3 -m venv` when missing) with the pinned test
 //!   requirements of `crates/screwkit-py/tests/requirements.txt`, the package installed exactly
 //!   as a user does (`pip install ./crates/screwkit-py`), then `ruff format --check`, `ruff
 //!   check`, `mypy --strict` (package stubs and tests), `mypy.stubtest` (the stubs against the
-//!   built module) and `pytest`.
+//!   built module) and `pytest`. Tests that need the project's CI data are skipped there, each
+//!   with a one-line reason.
 //! - `cargo xtask test --rust` or `--python`: one half.
+//! - `cargo xtask conformance`: the tests on the CI data (real URDF, MJCF and xacro files), which
+//!   it reads only through `SCREWKIT_SHARED_URDF`, `SCREWKIT_SHARED_MJCF` and
+//!   `SCREWKIT_SHARED_XACRO` (all three must be set: `.ci/run` sets them): `cargo test
+//!   --workspace -- --ignored` (with the browser tests: Chromium must be installed) and `pytest
+//!   -m shared` with `SCREWKIT_CONFORMANCE=1`, where a missing variable fails instead of
+//!   skipping.
+//! - `cargo xtask newcomer`: runs the README's "Start here" block line by line, word for word,
+//!   with the `SCREWKIT_SHARED_*` variables removed, and prints each command's wall time.
+//! - `cargo xtask wheel`: builds the abi3 wheel with `maturin build --release` into
+//!   `target/wheels`, installs it into a new venv (`target/wheel-venv`) with `cargo` and `rustc`
+//!   off the PATH and `--only-binary :all:` (so nothing can be compiled), and runs the
+//!   package's smoke tests (`crates/screwkit-py/tests/test_smoke.py`) there.
 //! - `cargo xtask features`: checks that the CLI and the Python package ask for the same
 //!   features of every dependency they share (`cargo tree`, no build), so that
 //!   `pip install ./crates/screwkit-py` after `cargo build --release -p screwkit-cli` reuses
@@ -20,8 +34,17 @@
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
+use std::time::Instant;
 
-const USAGE: &str = "usage: cargo xtask test [--rust | --python] | cargo xtask features";
+const USAGE: &str = "usage: cargo xtask test [--rust | --python] | cargo xtask conformance | \
+                     cargo xtask newcomer | cargo xtask wheel | cargo xtask features";
+
+/// The variables that name the CI data's folders.
+const SHARED_VARIABLES: [&str; 3] = [
+    "SCREWKIT_SHARED_URDF",
+    "SCREWKIT_SHARED_MJCF",
+    "SCREWKIT_SHARED_XACRO",
+];
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -30,6 +53,9 @@ fn main() -> ExitCode {
         ["test"] => test(true, true),
         ["test", "--rust"] => test(true, false),
         ["test", "--python"] => test(false, true),
+        ["conformance"] => conformance(),
+        ["newcomer"] => newcomer(),
+        ["wheel"] => wheel(),
         ["features"] => features(),
         _ => Err(USAGE.to_string()),
     };
@@ -50,6 +76,17 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
+/// The cargo target directory.
+fn target() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"))
+}
+
+fn cargo() -> Command {
+    Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+}
+
 /// Runs a command in the workspace root; an error names it and its exit status.
 fn run(cmd: &mut Command) -> Result<(), String> {
     let shown = format!("{cmd:?}");
@@ -67,29 +104,38 @@ fn run(cmd: &mut Command) -> Result<(), String> {
 
 fn test(rust: bool, python: bool) -> Result<(), String> {
     if rust {
-        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-        run(Command::new(cargo).args(["test", "--workspace"]))?;
+        run(cargo().args(["test", "--workspace"]))?;
     }
     if python {
-        test_python()?;
+        let py = python_env()?;
+        check_python(&py)?;
+        run(&mut pytest(&py)?)?;
     }
     Ok(())
 }
 
-fn test_python() -> Result<(), String> {
-    let root = root();
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root.join("target"));
-    let venv = target.join("xtask-venv");
-    let bin = venv.join(if cfg!(windows) { "Scripts" } else { "bin" });
-    let py = bin.join("python");
+/// The venv's bin directory.
+fn venv_bin(venv: &Path) -> PathBuf {
+    venv.join(if cfg!(windows) { "Scripts" } else { "bin" })
+}
+
+/// A new venv at `venv` (from `$PYTHON`, else `python3`), with an up-to-date pip.
+fn make_venv(venv: &Path) -> Result<PathBuf, String> {
+    let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
+    run(Command::new(python).arg("-m").arg("venv").arg(venv))?;
+    let py = venv_bin(venv).join("python");
+    run(Command::new(&py).args(["-m", "pip", "install", "--quiet", "--upgrade", "pip"]))?;
+    Ok(py)
+}
+
+/// The test venv (`target/xtask-venv`) with the pinned requirements and the package installed
+/// exactly as the README says; its Python.
+fn python_env() -> Result<PathBuf, String> {
+    let venv = target().join("xtask-venv");
+    let mut py = venv_bin(&venv).join("python");
     if !py.exists() {
-        let python = std::env::var("PYTHON").unwrap_or_else(|_| "python3".into());
-        run(Command::new(python).arg("-m").arg("venv").arg(&venv))?;
-        run(Command::new(&py).args(["-m", "pip", "install", "--quiet", "--upgrade", "pip"]))?;
+        py = make_venv(&venv)?;
     }
-    let pkg = "crates/screwkit-py";
     run(Command::new(&py).args([
         "-m",
         "pip",
@@ -100,18 +146,21 @@ fn test_python() -> Result<(), String> {
     ]))?;
     // Exactly the README's install command.
     run(Command::new(&py).args(["-m", "pip", "install", "--quiet", "./crates/screwkit-py"]))?;
+    Ok(py)
+}
+
+/// Formatting, lints, types and the stubs of the Python package.
+fn check_python(py: &Path) -> Result<(), String> {
     let sources = [
         "crates/screwkit-py/python",
         "crates/screwkit-py/tests",
         "crates/screwkit-py/benchmarks",
     ];
-    run(Command::new(&py)
+    run(Command::new(py)
         .args(["-m", "ruff", "format", "--check"])
         .args(sources))?;
-    run(Command::new(&py)
-        .args(["-m", "ruff", "check"])
-        .args(sources))?;
-    run(Command::new(&py)
+    run(Command::new(py).args(["-m", "ruff", "check"]).args(sources))?;
+    run(Command::new(py)
         .args([
             "-m",
             "mypy",
@@ -119,29 +168,153 @@ fn test_python() -> Result<(), String> {
             "crates/screwkit-py/pyproject.toml",
         ])
         .args(sources))?;
-    run(Command::new(&py)
+    run(Command::new(py)
         .args(["-m", "mypy.stubtest", "screwkit", "--mypy-config-file"])
-        .arg(format!("{pkg}/pyproject.toml")))?;
-    // The CLI, for the tests that hold Python and the command line to the same answers.
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    run(Command::new(cargo).args(["build", "-p", "screwkit-cli"]))?;
-    let mut pytest = Command::new(&py);
-    pytest.args(["-m", "pytest", "-q", "crates/screwkit-py/tests"]);
+        .arg("crates/screwkit-py/pyproject.toml"))
+}
+
+/// pytest on the package's tests, with the debug CLI (built here) for the tests that hold
+/// Python and the command line to the same answers.
+fn pytest(py: &Path) -> Result<Command, String> {
+    run(cargo().args(["build", "-p", "screwkit-cli"]))?;
+    let mut pytest = Command::new(py);
+    pytest.args(["-m", "pytest", "-q", "-rs", "crates/screwkit-py/tests"]);
     pytest.env(
         "SCREWKIT_CLI",
-        target.join("debug").join(if cfg!(windows) {
+        target().join("debug").join(if cfg!(windows) {
             "screwkit.exe"
         } else {
             "screwkit"
         }),
     );
-    if std::env::var_os("SCREWKIT_SHARED_URDF").is_none() {
-        let shared = root.join("../shared/urdf");
-        if shared.is_dir() {
-            pytest.env("SCREWKIT_SHARED_URDF", shared);
-        }
+    Ok(pytest)
+}
+
+/// The tests on the CI data, read through the `SCREWKIT_SHARED_*` variables only.
+fn conformance() -> Result<(), String> {
+    let missing: Vec<&str> = SHARED_VARIABLES
+        .into_iter()
+        .filter(|v| std::env::var_os(v).is_none_or(|d| !Path::new(&d).is_dir()))
+        .collect();
+    if !missing.is_empty() {
+        return Err(format!(
+            "the conformance tests read the CI data through {}: set {} to its folders \
+             (.ci/run does)",
+            SHARED_VARIABLES.join(", "),
+            missing.join(", ")
+        ));
     }
-    run(&mut pytest)
+    run(cargo().args(["test", "--workspace", "--", "--ignored"]))?;
+    let py = python_env()?;
+    let mut shared = pytest(&py)?;
+    shared
+        .args(["-m", "shared"])
+        .env("SCREWKIT_CONFORMANCE", "1");
+    run(&mut shared)
+}
+
+/// The shell lines of the README's "Start here" block: its first ```sh block.
+fn start_here() -> Result<Vec<String>, String> {
+    let readme =
+        std::fs::read_to_string(root().join("README.md")).map_err(|e| format!("README.md: {e}"))?;
+    let block = readme
+        .split("\n```sh\n")
+        .nth(1)
+        .and_then(|b| b.split("\n```").next())
+        .ok_or("README.md has no ```sh block")?;
+    Ok(block
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty() && !l.starts_with('#'))
+        .map(String::from)
+        .collect())
+}
+
+/// The README's "Start here" commands, word for word, in one shell (a `venv` activated on one
+/// line holds for the next), without the CI data's variables; each command's wall time.
+fn newcomer() -> Result<(), String> {
+    let lines = start_here()?;
+    let mut script = String::from("set -euo pipefail\nTIMEFORMAT='xtask: newcomer: %R s'\n");
+    for l in &lines {
+        let shown = l.replace('\'', "'\\''");
+        script.push_str(&format!(
+            "echo 'xtask: newcomer: {shown}' >&2\ntime {{ {l}\n}}\n"
+        ));
+    }
+    let mut sh = Command::new("bash");
+    sh.arg("-c").arg(script);
+    for v in SHARED_VARIABLES {
+        sh.env_remove(v);
+    }
+    let start = Instant::now();
+    run(&mut sh)?;
+    eprintln!(
+        "xtask: newcomer: the README's {} commands passed in {:.0} s",
+        lines.len(),
+        start.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+/// The wheel a user without Rust installs: built once, installed and smoke-tested in a new
+/// venv with no Rust toolchain on the PATH.
+fn wheel() -> Result<(), String> {
+    let py = python_env()?;
+    let wheels = target().join("wheels");
+    let _ = std::fs::remove_dir_all(&wheels);
+    run(Command::new(&py)
+        .args(["-m", "maturin", "build", "--release", "--manifest-path"])
+        .arg("crates/screwkit-py/Cargo.toml")
+        .arg("--out")
+        .arg(&wheels))?;
+    let wheel = std::fs::read_dir(&wheels)
+        .map_err(|e| format!("{}: {e}", wheels.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|e| e == "whl"))
+        .ok_or("maturin built no wheel")?;
+    let name = wheel.file_name().unwrap_or_default().to_string_lossy();
+    if !(name.contains("abi3") && name.contains("manylinux")) {
+        return Err(format!("{name}: not an abi3 manylinux wheel"));
+    }
+    // The PATH without any folder that holds cargo or rustc.
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    let kept: Vec<PathBuf> = std::env::split_paths(&path)
+        .filter(|d| !d.join("cargo").exists() && !d.join("rustc").exists())
+        .collect();
+    let path = std::env::join_paths(kept).map_err(|e| e.to_string())?;
+    let venv = target().join("wheel-venv");
+    let _ = std::fs::remove_dir_all(&venv);
+    let vpy = make_venv(&venv)?;
+    let no_rust = |cmd: &mut Command| {
+        cmd.env("PATH", &path)
+            .env_remove("CARGO")
+            .env_remove("RUSTC")
+            .env_remove("RUSTUP_HOME")
+            .env_remove("CARGO_HOME");
+    };
+    let mut which = Command::new("sh");
+    which.args(["-c", "! command -v cargo && ! command -v rustc"]);
+    no_rust(&mut which);
+    run(&mut which).map_err(|_| "cargo or rustc is still on the stripped PATH".to_string())?;
+    let mut install = Command::new(&vpy);
+    install
+        .args(["-m", "pip", "install", "--quiet", "--only-binary", ":all:"])
+        .arg(&wheel)
+        .arg("pytest");
+    no_rust(&mut install);
+    run(&mut install)?;
+    let mut smoke = Command::new(&vpy);
+    smoke
+        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider"])
+        .arg("crates/screwkit-py/tests/test_smoke.py");
+    no_rust(&mut smoke);
+    run(&mut smoke)?;
+    let size = std::fs::metadata(&wheel).map(|m| m.len()).unwrap_or(0);
+    eprintln!(
+        "xtask: wheel: {name} ({:.1} MB) installs and passes its smoke tests without Rust",
+        size as f64 / 1e6
+    );
+    Ok(())
 }
 
 /// The front ends whose dependency builds must coincide.

@@ -58,7 +58,7 @@ fn chains() -> Vec<(String, Option<&'static str>, Option<&'static str>)> {
         .map(|&(f, b, t)| (bundled(f), b, t))
         .collect();
     let shared = std::env::var("SCREWKIT_SHARED_URDF")
-        .expect("SCREWKIT_SHARED_URDF must name ../shared/urdf for the browser tests");
+        .expect("SCREWKIT_SHARED_URDF must name the CI data's URDF folder for the browser tests");
     for &(f, b, t) in SHARED_CHAINS {
         v.push((format!("{shared}/{f}"), Some(b), Some(t)));
     }
@@ -88,7 +88,7 @@ fn pre_numbers(dom: &str, id: &str) -> Vec<f64> {
 }
 
 #[test]
-#[ignore = "needs Chromium: run by .ci/run with --ignored"]
+#[ignore = "needs Chromium and the CI data (SCREWKIT_SHARED_URDF): .ci/run's conformance stage"]
 fn the_page_computes_the_same_fk_as_the_library() {
     let dir = scratch("fk");
     let mut rng = Sampler::new(17);
@@ -138,7 +138,7 @@ fn the_page_computes_the_same_fk_as_the_library() {
 /// whole robots.
 fn trees() -> Vec<String> {
     let shared = std::env::var("SCREWKIT_SHARED_URDF")
-        .expect("SCREWKIT_SHARED_URDF must name ../shared/urdf for the browser tests");
+        .expect("SCREWKIT_SHARED_URDF must name the CI data's URDF folder for the browser tests");
     let mut v = vec![bundled("torso_two_arms.urdf")];
     for f in [
         "talos_full_v2.urdf",
@@ -167,7 +167,7 @@ fn library_leaves(args: &[String], q: &str) -> Vec<f64> {
 }
 
 #[test]
-#[ignore = "needs Chromium: run by .ci/run with --ignored"]
+#[ignore = "needs Chromium and the CI data (SCREWKIT_SHARED_URDF): .ci/run's conformance stage"]
 fn the_tree_page_computes_the_same_fk_as_the_library() {
     use screwkit_solve::sample::SplitMix64;
     let dir = scratch("tree");
@@ -233,7 +233,7 @@ fn dark_pixels(png_file: &Path, max_x: usize, min_y: usize) -> usize {
 }
 
 #[test]
-#[ignore = "needs Chromium: run by .ci/run with --ignored"]
+#[ignore = "needs Chromium and the CI data (SCREWKIT_SHARED_URDF): .ci/run's conformance stage"]
 fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
     let dir = scratch("shots");
     let ur5 = bundled("ur5.urdf");

@@ -1,5 +1,5 @@
-//! The picture at the top of the README is the output of the command the README shows; this
-//! test fails when it is stale. Regenerate with `SCREWKIT_UPDATE_PICTURES=1 cargo test -p
+//! The pictures of the README and the guide are the outputs of the commands they show; this
+//! test fails when one is stale. Regenerate with `SCREWKIT_UPDATE_PICTURES=1 cargo test -p
 //! screwkit-cli --test readme_picture` and look at it before committing.
 
 use std::process::Command;
@@ -33,6 +33,14 @@ fn assert_current(args: &[&str], file: &str) {
 
 #[test]
 fn readme_picture_is_current() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../README.md")).unwrap();
+    assert!(
+        readme.contains(
+            "`screwkit draw assets/urdf/ur5.urdf --q 0.3,-1.0,1.4,-0.8,-1.2,0.4 --view all -o docs/ur5.svg`"
+        ),
+        "the README shows the command that draws docs/ur5.svg"
+    );
     assert_current(
         &[
             "draw",
@@ -48,29 +56,34 @@ fn readme_picture_is_current() {
     );
 }
 
-/// The README's MJCF picture (gymnasium's humanoid from ../shared/mjcf, present beside the
-/// clone in CI) is the output of the command under it.
+/// The guide's MJCF picture (the bundled humanoid, `assets/mjcf/humanoid.xml`) is the output of
+/// the command under it in `docs/guide/mjcf.md`.
 #[test]
-fn readme_humanoid_picture_is_current() {
-    let model = concat!(
+fn humanoid_picture_is_current() {
+    let command = [
+        "draw",
+        "assets/mjcf/humanoid.xml",
+        "--q",
+        HUMANOID_Q,
+        "--view",
+        "all",
+        "-o",
+        "docs/humanoid.svg",
+    ];
+    let page = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/mjcf/humanoid.xml"
-    );
+        "/../../docs/guide/mjcf.md"
+    ))
+    .unwrap();
     assert!(
-        std::path::Path::new(model).is_file(),
-        "{model} not found: ../shared/mjcf belongs beside the clone"
+        page.contains(&format!("`screwkit {}`", command.join(" "))),
+        "docs/guide/mjcf.md shows the command that draws docs/humanoid.svg"
     );
-    assert_current(
-        &[
-            "draw",
-            "../shared/mjcf/humanoid.xml",
-            "--q",
-            "0,0,1.4,0,0,0,1,0.1,-0.2,0,-0.1,0,-0.6,-0.9,0,0,0.2,-0.2,0.5,-0.6,-0.8,-0.4,0.7,-0.5",
-            "--view",
-            "all",
-            "-o",
-            "-",
-        ],
-        "humanoid.svg",
-    );
+    let mut args = command.to_vec();
+    *args.last_mut().unwrap() = "-";
+    assert_current(&args, "humanoid.svg");
 }
+
+/// The humanoid's pose in that picture: the floating base (x, y, z, qx, qy, qz, qw), then the 23
+/// joints in file order (left leg, right leg, waist, left arm, neck, right arm).
+const HUMANOID_Q: &str = "0,0,0.71,0,0,0,1,0,0.1,-0.6,0.9,-0.3,-0.1,0,-0.05,0.2,0.3,-0.5,0.05,0.2,-0.8,0.3,0,-1.0,0.3,0.2,0.4,-0.2,0.1,-0.6";

@@ -44,6 +44,21 @@ pub use xacro::XacroOptions;
 
 /// Loads a URDF (or xacro) file and builds the chain from `base` (default: the root link) to
 /// `tip` (default: the only leaf below the base).
+///
+/// ```
+/// let ur5 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/ur5.urdf");
+/// let chain = screwkit_model::load_chain(ur5, None, None)?;
+/// assert_eq!((chain.base.as_str(), chain.tip.as_str()), ("base_link", "tool0"));
+/// assert_eq!(chain.dof(), 6);
+/// // The shoulder lift's space screw axis: about y, through (0, 0, 0.089159), pitch 0.
+/// let lift = &chain.joints[1];
+/// assert_eq!(lift.name, "shoulder_lift_joint");
+/// assert_eq!(lift.s_space.direction(), nalgebra::Vector3::y());
+/// let q = lift.s_space.point().unwrap();
+/// assert!((q - nalgebra::Vector3::new(0.0, 0.0, 0.089159)).norm() < 1e-12);
+/// assert_eq!(lift.s_space.pitch(), Some(0.0));
+/// # Ok::<(), screwkit_model::ModelError>(())
+/// ```
 pub fn load_chain(
     path: impl AsRef<std::path::Path>,
     base: Option<&str>,

@@ -19,7 +19,7 @@ const CHAINS: &[(&str, &str, &str, usize, usize)] = &[
 ];
 
 #[test]
-#[ignore = "needs the real-world URDFs of ../shared/urdf: set SCREWKIT_SHARED_URDF=<that folder> and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn real_world_urdfs_conform() {
     let dir = std::env::var("SCREWKIT_SHARED_URDF")
         .expect("SCREWKIT_SHARED_URDF must name the folder with the shared real-world URDFs");
@@ -46,7 +46,7 @@ fn real_world_urdfs_conform() {
 /// The Panda's right finger is a mimic of the left one: a chain to it has one variable for
 /// the fingers, driven by panda_finger_joint1.
 #[test]
-#[ignore = "needs the real-world URDFs of ../shared/urdf: set SCREWKIT_SHARED_URDF=<that folder> and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn panda_mimic_finger() {
     let dir = std::env::var("SCREWKIT_SHARED_URDF")
         .expect("SCREWKIT_SHARED_URDF must name the folder with the shared real-world URDFs");

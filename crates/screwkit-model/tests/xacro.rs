@@ -1,4 +1,4 @@
-//! xacro expansion: the nine real xacro files of ../shared/xacro against the expansions ROS's
+//! xacro expansion: the nine real xacro files of the CI data (`SCREWKIT_SHARED_XACRO`) against the expansions ROS's
 //! own `xacro` made of them (same robot: links, joints, types, origins, axes, limits to 1e-12),
 //! and cases built here for what those files do not use, each against the URDF it must give.
 
@@ -8,14 +8,13 @@ use screwkit_model::urdf::{load_file, load_file_with, load_str};
 use screwkit_model::xacro::{expand_str, XacroOptions};
 use screwkit_model::{ErrorKind, Tree};
 
+/// The CI data's xacro folder, named by `SCREWKIT_SHARED_XACRO` (set by `.ci/run`'s
+/// conformance stage; the tests that need it are ignored otherwise).
 fn shared_xacro() -> PathBuf {
-    match std::env::var("SCREWKIT_SHARED_XACRO") {
-        Ok(d) => PathBuf::from(d),
-        Err(_) => PathBuf::from(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../../../shared/xacro"
-        )),
-    }
+    PathBuf::from(
+        std::env::var("SCREWKIT_SHARED_XACRO")
+            .expect("SCREWKIT_SHARED_XACRO must name the CI data's xacro folder"),
+    )
 }
 
 /// Same links, and the same joints with the same numbers (to `tol`).
@@ -92,7 +91,7 @@ const SHARED: &[&str] = &[
 ];
 
 #[test]
-#[ignore = "needs ../shared/xacro (SCREWKIT_SHARED_XACRO); .ci/run runs it with --ignored"]
+#[ignore = "needs the CI data's xacro files: SCREWKIT_SHARED_XACRO (.ci/run's conformance stage sets it)"]
 fn real_xacro_files_match_ros_xacro() {
     let dir = shared_xacro();
     let opts = XacroOptions {

@@ -1,6 +1,7 @@
 """The whole tree from Python, next to Pinocchio's Python bindings, in one run.
 
-On a whole robot (default: TALOS from ../shared/urdf/trees, 32 variables, 60 links):
+On a whole robot (default: TALOS as example-robot-data ships it, `pip install
+example-robot-data`; 32 variables, 60 links):
 
 1. every link's pose: `robot.fk_all_links(q)` (returns the (L, 4, 4) array) against
    `forwardKinematics` + `updateFramePlacements` (every frame, no array read out);
@@ -36,7 +37,19 @@ import numpy.typing as npt
 import screwkit
 
 REPO = Path(__file__).resolve().parents[3]
-TALOS = REPO.parent / "shared" / "urdf" / "trees" / "talos_full_v2.urdf"
+
+
+def talos() -> Path | None:
+    """example-robot-data's TALOS (talos_full_v2.urdf), when that package is installed."""
+    from importlib.metadata import PackageNotFoundError, distribution
+
+    try:
+        robots = distribution("example-robot-data").locate_file(
+            "cmeel.prefix/share/example-robot-data/robots"
+        )
+    except PackageNotFoundError:
+        return None
+    return Path(str(robots)) / "talos_data" / "robots" / "talos_full_v2.urdf"
 
 
 def per_call_ns(f: Callable[[], Any], number: int) -> float:
@@ -52,10 +65,12 @@ def main() -> int:
 
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     p.add_argument("--rounds", type=int, default=7)
-    p.add_argument("--urdf", type=Path, default=TALOS)
+    p.add_argument("--urdf", type=Path, default=talos())
     p.add_argument("--frame", default="gripper_left_base_link")
     p.add_argument("--batch", type=int, default=10_000)
     a = p.parse_args()
+    if a.urdf is None:
+        p.error("give --urdf FILE, or pip install example-robot-data for TALOS")
     robot = screwkit.Robot.from_urdf(a.urdf)
     model = pin.buildModelFromUrdf(str(a.urdf))
     data = model.createData()

@@ -1,8 +1,17 @@
-"""Shared fixtures: the bundled robots, the real URDFs of ../shared/urdf, random configurations."""
+"""Shared fixtures: the bundled robots, the CI data's real robot files, random configurations.
+
+The CI data (``../shared`` beside CI's clone: real URDF, MJCF and xacro files) is reached only
+through the ``SCREWKIT_SHARED_URDF``, ``SCREWKIT_SHARED_MJCF`` and ``SCREWKIT_SHARED_XACRO``
+variables, which ``.ci/run``'s conformance stage sets. A test that reads it is marked
+``shared`` (``pytest -m shared`` runs just those) and is skipped with a one-line reason when
+its variable is unset, as on a newcomer's clone. With ``SCREWKIT_CONFORMANCE=1`` (the
+conformance stage) a missing variable fails instead of skipping.
+"""
 
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,12 +25,70 @@ REPO = Path(__file__).resolve().parents[3]
 WHEELS = REPO / "target" / "wheels"
 ASSETS = REPO / "assets" / "urdf"
 
+SHARED_VARIABLES = {
+    "urdf": "SCREWKIT_SHARED_URDF",
+    "mjcf": "SCREWKIT_SHARED_MJCF",
+    "xacro": "SCREWKIT_SHARED_XACRO",
+}
+
+
+def shared_reason(kind: str) -> str:
+    """Why a test of the CI data's `kind` files is skipped: one line."""
+    return f"needs the CI data: {SHARED_VARIABLES[kind]} (.ci/run's conformance stage sets it)"
+
+
+def shared_dir(kind: str) -> Path | None:
+    """The CI data's folder of `kind` ("urdf", "mjcf", "xacro"), named by its variable only;
+    None when the variable is unset (an error in the conformance stage)."""
+    var = SHARED_VARIABLES[kind]
+    value = os.environ.get(var)
+    if not value:
+        if os.environ.get("SCREWKIT_CONFORMANCE"):
+            raise RuntimeError(f"the conformance stage needs {var}")
+        return None
+    d = Path(value)
+    if not d.is_dir():
+        raise RuntimeError(f"{var}={value} is not a folder")
+    return d
+
 
 def shared_urdf_dir() -> Path | None:
-    """../shared/urdf beside the clone (or SCREWKIT_SHARED_URDF)."""
-    env = os.environ.get("SCREWKIT_SHARED_URDF")
-    d = Path(env) if env else REPO.parent / "shared" / "urdf"
-    return d if d.is_dir() else None
+    """The CI data's URDF folder (SCREWKIT_SHARED_URDF), or None."""
+    return shared_dir("urdf")
+
+
+# The test running now, so that shared_file can check that it is marked `shared`.
+_RUNNING: list[pytest.Item] = []
+
+
+@pytest.fixture(autouse=True)
+def _running_test(request: pytest.FixtureRequest) -> Iterator[None]:
+    _RUNNING.append(request.node)
+    yield
+    _RUNNING.pop()
+
+
+def shared_file(kind: str, *parts: str) -> Path:
+    """A file of the CI data, from inside a test marked ``shared``; skips (one line) when the
+    data's variable is unset."""
+    if _RUNNING and _RUNNING[-1].get_closest_marker("shared") is None:
+        raise AssertionError(
+            f"{_RUNNING[-1].nodeid} reads the CI data: mark it @pytest.mark.shared"
+        )
+    d = shared_dir(kind)
+    if d is None:
+        pytest.skip(shared_reason(kind))
+    return d.joinpath(*parts)
+
+
+def shared_params(kind: str, names: Sequence[str]) -> list[object]:
+    """One parameter per file of the CI data's `kind` folder (paths below it), each marked
+    ``shared``; a single skipped parameter when the folder's variable is unset."""
+    d = shared_dir(kind)
+    if d is None:
+        skip = pytest.mark.skip(reason=shared_reason(kind))
+        return [pytest.param(None, id="shared", marks=[pytest.mark.shared, skip])]
+    return [pytest.param(d / n, id=Path(n).name, marks=pytest.mark.shared) for n in names]
 
 
 @dataclass(frozen=True)
@@ -68,17 +135,17 @@ def shared_chains() -> list[ChainSpec]:
 
 
 def all_chains() -> list[object]:
-    """Every bundled chain, and the shared ones (or one explicit skip when ../shared is absent)."""
+    """Every bundled chain, and the CI data's (marked ``shared``; one skip when it is absent)."""
     chains: list[object] = [pytest.param(c, id=c.id) for c in BUNDLED]
     shared = shared_chains()
     if shared:
-        chains += [pytest.param(c, id="shared/" + c.id) for c in shared]
+        chains += [pytest.param(c, id="shared/" + c.id, marks=pytest.mark.shared) for c in shared]
     else:
         chains.append(
             pytest.param(
                 None,
                 id="shared",
-                marks=pytest.mark.skip(reason="../shared/urdf not found beside the clone"),
+                marks=[pytest.mark.shared, pytest.mark.skip(reason=shared_reason("urdf"))],
             )
         )
     return chains

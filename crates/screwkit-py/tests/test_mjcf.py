@@ -7,7 +7,6 @@ file as shipped."""
 
 from __future__ import annotations
 
-import os
 import pickle
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -19,7 +18,7 @@ import pytest
 
 import screwkit
 
-from conftest import REPO
+from conftest import REPO, shared_file
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo (pip install mujoco) is a test dependency")
 
@@ -37,10 +36,8 @@ FILES = [
 
 
 def shared_mjcf() -> Path:
-    d = Path(os.environ.get("SCREWKIT_SHARED_MJCF", REPO.parent / "shared" / "mjcf"))
-    if not d.is_dir():
-        pytest.skip("../shared/mjcf not found")
-    return d
+    """The CI data's MJCF folder (the test must be marked ``shared``)."""
+    return shared_file("mjcf")
 
 
 def mesh_free(xml: str) -> str:
@@ -140,9 +137,50 @@ def pose(p: Array, r: Array) -> Array:
     return out
 
 
+@pytest.mark.shared
 @pytest.mark.parametrize("name", FILES)
 def test_bodies_and_sites_equal_mujoco(name: str) -> None:
-    path = shared_mjcf() / name
+    assert_bodies_and_sites_equal_mujoco(shared_mjcf() / name)
+
+
+HUMANOID = REPO / "assets" / "mjcf" / "humanoid.xml"
+HUMANOID_URDF = REPO / "assets" / "urdf" / "humanoid.urdf"
+
+
+def test_the_bundled_humanoid_equals_mujoco() -> None:
+    assert_bodies_and_sites_equal_mujoco(HUMANOID)
+
+
+def test_the_bundled_humanoid_urdf_and_mjcf_are_one_robot() -> None:
+    """assets/urdf/humanoid.urdf is assets/mjcf/humanoid.xml joint for joint: every link, the
+    mass and the centre of mass (MuJoCo's own, from the MJCF's inertials) agree."""
+    mjcf = screwkit.Robot.from_file(HUMANOID)
+    urdf = screwkit.Robot.from_urdf(HUMANOID_URDF, floating_base=True)
+    assert mjcf.floating_base and mjcf.nq == urdf.nq == 30 and mjcf.nv == 29
+    assert list(mjcf.q_names) == list(urdf.q_names)
+    np.testing.assert_array_equal(mjcf.lower, urdf.lower)
+    np.testing.assert_array_equal(mjcf.upper, urdf.upper)
+    assert sorted(mjcf.link_names) == sorted(urdf.link_names)
+    peer = MuJoCo(HUMANOID, mjcf)
+    assert mjcf.total_mass == pytest.approx(float(peer.model.body_subtreemass[0]), rel=1e-14)
+    worst = worst_com = 0.0
+    for seed in range(100):
+        q = mjcf.random_configuration(seed)
+        for link in mjcf.link_names:
+            worst = max(worst, float(np.abs(mjcf.fk(q, link=link) - urdf.fk(q, link=link)).max()))
+        peer.run(q)
+        worst_com = max(worst_com, float(np.abs(urdf.com(q) - peer.data.subtree_com[0]).max()))
+    assert worst < 1e-13, worst
+    assert worst_com < 1e-13, worst_com
+    # Standing: with the pelvis at 0.71 m and every joint at 0, both soles are on the floor.
+    q = mjcf.neutral()
+    q[2] = 0.71
+    for sole in ("left_sole", "right_sole"):
+        assert abs(urdf.fk(q, link=sole)[2, 3]) < 1e-12
+
+
+def assert_bodies_and_sites_equal_mujoco(path: Path) -> None:
+    """Every body and site of `path` equals MuJoCo's pose at 200 random configurations."""
     robot = screwkit.Robot.from_urdf(path)
     peer = MuJoCo(path, robot)
     m = peer.model
@@ -327,6 +365,7 @@ def test_the_bundled_construct_model_equals_mujoco() -> None:
     assert robot.total_mass == pytest.approx(float(np.sum(model.body_mass)), rel=1e-14)
 
 
+@pytest.mark.shared
 @pytest.mark.parametrize("name", FILES)
 def test_mujoco_qpos_both_ways(name: str) -> None:
     path = shared_mjcf() / name
@@ -356,6 +395,7 @@ def test_mujoco_qpos_of_a_coupled_model() -> None:
         np.testing.assert_array_equal(robot.from_mujoco_qpos(qpos), q)
 
 
+@pytest.mark.shared
 @pytest.mark.parametrize("name", [*FILES, "two_arm_constructs.xml"])
 def test_the_written_urdf_gives_the_same_fk(name: str, tmp_path: Path) -> None:
     """`Robot.to_urdf()` (the `screwkit urdf` text) loaded back: every link's pose equals the
@@ -383,6 +423,7 @@ def test_the_written_urdf_gives_the_same_fk(name: str, tmp_path: Path) -> None:
     assert worst < 1e-12, worst
 
 
+@pytest.mark.shared
 @pytest.mark.parametrize(
     "name, solutions",
     [("robosuite_ur5e.xml", None), ("robosuite_panda.xml", 6), ("robosuite_iiwa.xml", 6)],
@@ -414,6 +455,7 @@ def test_ik_on_mjcf_arms(name: str, solutions: int | None) -> None:
             assert np.abs(mujoco_pose(s) - target).max() < 1e-9
 
 
+@pytest.mark.shared
 def test_whole_body_tasks_on_the_mujoco_humanoid() -> None:
     """Both feet held and both hands reaching on gymnasium's humanoid (a free root), checked
     by MuJoCo's FK."""
@@ -437,6 +479,7 @@ def test_whole_body_tasks_on_the_mujoco_humanoid() -> None:
             assert np.abs(pose(peer.data.xpos[b], peer.data.xmat[b]) - t).max() < 1e-8
 
 
+@pytest.mark.shared
 @pytest.mark.parametrize("name", FILES)
 def test_every_jacobian_column_equals_mujoco(name: str) -> None:
     """Every column of every body's and named site's world-aligned Jacobian against
@@ -479,6 +522,7 @@ def test_every_jacobian_column_equals_mujoco(name: str) -> None:
     assert worst < 1e-12, worst
 
 
+@pytest.mark.shared
 def test_what_is_read_past_is_a_warning() -> None:
     with pytest.warns(UserWarning, match=r"humanoid.xml: line \d+: 2 tendon\(s\) read past"):
         screwkit.Robot.from_file(shared_mjcf() / "humanoid.xml")

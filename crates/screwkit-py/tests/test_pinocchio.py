@@ -1,5 +1,5 @@
 """FK and Jacobians against Pinocchio (the `pin` package) on every bundled chain and the real
-URDFs of ../shared/urdf.
+URDFs of the CI data (SCREWKIT_SHARED_URDF).
 
 Pinocchio loads the whole URDF (fixed base, mimic joints as ordinary joints, which this test
 drives by their <mimic> rule itself); the chain's pose is oMf[base]^-1 oMf[tip]. Its LOCAL

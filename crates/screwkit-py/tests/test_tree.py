@@ -1,6 +1,6 @@
 """The whole tree against Pinocchio (`pin`): every link's pose (forwardKinematics +
 updateFramePlacements) and frame Jacobians (computeFrameJacobian in LOCAL, WORLD and
-LOCAL_WORLD_ALIGNED) on the robots of ../shared/urdf/trees and the bundled torso_two_arms, with
+LOCAL_WORLD_ALIGNED) on the robots of the CI data's URDF trees and the bundled torso_two_arms, with
 a fixed base and with a floating base (Pinocchio's free-flyer: q = (x, y, z, qx, qy, qz, qw) as
 screwkit's; its velocity is (v, omega) in the base frame where screwkit's is (omega, v)).
 
@@ -23,7 +23,7 @@ from test_pinocchio import urdfdom_compatible
 
 import screwkit
 
-from conftest import REPO, shared_urdf_dir
+from conftest import REPO, shared_params
 
 pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin) is a test dependency")
 
@@ -34,12 +34,7 @@ TREES = ["talos_full_v2.urdf", "baxter.urdf", "allegro_right_hand.urdf", "so101.
 
 def tree_files() -> list[object]:
     files: list[object] = [REPO / "assets" / "urdf" / "torso_two_arms.urdf"]
-    d = shared_urdf_dir()
-    if d is None:
-        files.append(pytest.param(None, marks=pytest.mark.skip(reason="../shared/urdf not found")))
-    else:
-        files += [d / "trees" / f for f in TREES]
-    return files
+    return files + shared_params("urdf", [f"trees/{f}" for f in TREES])
 
 
 def mimic_rules(path: Path) -> dict[str, tuple[str, float, float]]:

@@ -14,7 +14,7 @@ from test_tree import Peer
 
 import screwkit
 
-from conftest import REPO, shared_urdf_dir
+from conftest import REPO, shared_file
 
 pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin) is a test dependency")
 
@@ -22,12 +22,11 @@ Array = npt.NDArray[np.float64]
 
 
 def shared(name: str) -> Path:
-    d = shared_urdf_dir()
-    if d is None:
-        pytest.skip("../shared/urdf not found")
-    return d / "trees" / name
+    """A whole robot of the CI data's URDF trees (the test must be marked ``shared``)."""
+    return shared_file("urdf", "trees", name)
 
 
+@pytest.mark.shared
 @pytest.mark.parametrize(
     "name", ["talos_full_v2.urdf", "baxter.urdf", "allegro_right_hand.urdf", "so101.urdf"]
 )
@@ -74,6 +73,7 @@ def kkt(h: Array, c: Array, lo: Array, hi: Array, x: Array) -> int:
     return int(np.sum(~free))
 
 
+@pytest.mark.shared
 def test_talos_floating_reaches_feet_and_hands_checked_by_pinocchio() -> None:
     path = shared("talos_full_v2.urdf")
     robot = screwkit.Robot.from_urdf(path, floating_base=True)
@@ -178,6 +178,7 @@ def within_limits(robot: screwkit.Robot, q: Array) -> bool:
     return bool(np.all(q[off:] >= lo[off:] - 1e-12) and np.all(q[off:] <= hi[off:] + 1e-12))
 
 
+@pytest.mark.shared
 def test_relative_frame_task_holds_one_gripper_in_the_other_checked_by_pinocchio() -> None:
     path = shared("baxter.urdf")
     robot = screwkit.Robot.from_urdf(path)
@@ -196,6 +197,7 @@ def test_relative_frame_task_holds_one_gripper_in_the_other_checked_by_pinocchio
         assert within_limits(robot, r.q)
 
 
+@pytest.mark.shared
 def test_axis_task_points_a_five_axis_arm_checked_by_pinocchio() -> None:
     path = shared("so101.urdf")
     robot = screwkit.Robot.from_urdf(path)
@@ -219,6 +221,7 @@ def test_axis_task_points_a_five_axis_arm_checked_by_pinocchio() -> None:
         assert within_limits(robot, r.q)
 
 
+@pytest.mark.shared
 def test_com_task_balances_a_floating_humanoid_checked_by_pinocchio() -> None:
     path = shared("talos_full_v2.urdf")
     robot = screwkit.Robot.from_urdf(path, floating_base=True)
@@ -245,6 +248,7 @@ def test_com_task_balances_a_floating_humanoid_checked_by_pinocchio() -> None:
         assert within_limits(robot, r.q)
 
 
+@pytest.mark.shared
 def test_a_floating_base_pose_task_is_a_frame_task_on_the_root_link() -> None:
     path = shared("talos_full_v2.urdf")
     robot = screwkit.Robot.from_urdf(path, floating_base=True)

@@ -1,6 +1,7 @@
 """Native xacro expansion against ROS's own xacro (the `xacro` package, run here as a library):
 the same robot — links, joints, types, origins, axes, limits, mimic — on the nine real files of
-../shared/xacro and on the cases built in crates/screwkit-model/tests/xacro_cases."""
+the CI data (SCREWKIT_SHARED_XACRO) and on the cases built in
+crates/screwkit-model/tests/xacro_cases."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ import pytest
 
 import screwkit
 
-from conftest import REPO, configurations, shared_urdf_dir
+from conftest import REPO, configurations, shared_dir, shared_reason
 
 xacro = pytest.importorskip("xacro", reason="ROS's xacro (pip install xacro) is a test oracle")
 
@@ -31,12 +32,6 @@ SHARED_FILES = [
     "kuka_kr150_support/urdf/kr150_2.xacro",
     "abb_irb140/urdf/irb140.xacro",
 ]
-
-
-def shared_xacro_dir() -> Path | None:
-    urdf = shared_urdf_dir()
-    d = urdf.parent / "xacro" if urdf else None
-    return d if d and d.is_dir() else None
 
 
 def ros_expand(path: Path, packages: Path, args: dict[str, str] | None = None) -> str:
@@ -103,12 +98,13 @@ def assert_same_robot(ours: str, theirs: str) -> None:
 
 
 def shared_cases() -> Iterator[Any]:
-    d = shared_xacro_dir()
+    d = shared_dir("xacro")
     if d is None:
-        yield pytest.param(None, None, marks=pytest.mark.skip(reason="../shared/xacro not found"))
+        skip = pytest.mark.skip(reason=shared_reason("xacro"))
+        yield pytest.param(None, None, id="shared", marks=[pytest.mark.shared, skip])
         return
     for f in SHARED_FILES:
-        yield pytest.param(d / f, d, id=f.split("/")[-1])
+        yield pytest.param(d / f, d, id=f.split("/")[-1], marks=pytest.mark.shared)
 
 
 @pytest.mark.parametrize(("path", "packages"), list(shared_cases()))

@@ -1,7 +1,7 @@
 //! All IK solutions of a pose with the analytic solver, per pose, next to one numerical (LM)
 //! solve of the same poses in the same run: the UR5 and the Panda with joint 7 locked
 //! (bundled), a general 6R (no special geometry: the algebraic elimination), the iiwa by its
-//! arm angle and, when ../shared/xacro is beside the clone, a KUKA KR 16 (spherical wrist).
+//! arm angle and, when `SCREWKIT_SHARED_XACRO` names the CI data, a KUKA KR 16 (spherical wrist).
 //! Three figures per arm: `postures` (the kernel: every posture, exact or least squares, as
 //! IK-Geo and EAIK return them), `solve` (postures deduplicated, each checked by FK, every 2π
 //! shift within the limits listed) and one LM solve. Interleaved rounds, minimum kept.
@@ -171,11 +171,12 @@ fn main() {
         &panda,
         &AnalyticIk::locked(&panda, 4).unwrap(),
     );
-    let kr16 = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/xacro/expanded/kr16_2.urdf"
-    );
-    if let Ok(chain) = screwkit_model::load_chain(kr16, Some("base_link"), Some("tool0")) {
+    // A KUKA KR 16 from the CI data, when SCREWKIT_SHARED_XACRO names it.
+    let kr16 = std::env::var_os("SCREWKIT_SHARED_XACRO")
+        .map(|d| std::path::Path::new(&d).join("expanded/kr16_2.urdf"));
+    if let Some(Ok(chain)) =
+        kr16.map(|p| screwkit_model::load_chain(p, Some("base_link"), Some("tool0")))
+    {
         let kin = Kinematics::new(&chain);
         bench("kr16_2", &kin, &AnalyticIk::new(&kin).unwrap());
     }

@@ -1,7 +1,7 @@
 //! Batched kernels per configuration, next to a loop of single calls on the same rows, in one
 //! run (interleaved rounds, minimum kept): tip FK (`fk_batch`, the structure-of-arrays block
 //! kernel), FK + space Jacobian (`jacobian_batch` with poses), on 1 and 2 threads, for the
-//! bundled Panda and iiwa14 and, when ../shared/urdf is beside the clone, pybullet's Panda;
+//! bundled Panda and iiwa14 and, when `SCREWKIT_SHARED_URDF` names the CI data, pybullet's Panda;
 //! then IK (`ik_batch`, 2000 targets, no clock) against a loop of single solves.
 //! Run: `cargo bench -p screwkit-solve --bench batch_kernels`.
 
@@ -212,11 +212,12 @@ fn main() {
             load(&screwkit_testkit::bundled("iiwa14.urdf"), None, None),
         ),
     ];
-    let pb = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/urdf/panda_pybullet.urdf"
-    );
-    if std::path::Path::new(pb).exists() {
+    // pybullet's Panda from the CI data, when SCREWKIT_SHARED_URDF names it.
+    if let Some(pb) = std::env::var_os("SCREWKIT_SHARED_URDF")
+        .map(|d| std::path::Path::new(&d).join("panda_pybullet.urdf"))
+        .filter(|p| p.exists())
+    {
+        let pb = pb.to_str().expect("a UTF-8 path");
         cases.push(Case::new(
             "panda_pybullet",
             load(pb, Some("panda_link0"), Some("panda_hand")),

@@ -6,8 +6,9 @@
 //! random configurations, one thread. Then one whole-body control step (`differential_ik::ik_step`,
 //! the problem of `benchmarks/whole_body_bench.py`) and its box-constrained QP alone.
 //!
-//! `cargo bench -p screwkit-solve --bench tree -- URDF FRAME` (default: TALOS from
-//! ../shared/urdf/trees and its left gripper's base link).
+//! `cargo bench -p screwkit-solve --bench tree -- URDF FRAME` (default: TALOS from the CI data,
+//! `$SCREWKIT_SHARED_URDF/trees`, and its left gripper's base link; example-robot-data's
+//! `talos_full_v2.urdf` is the same file).
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -25,11 +26,18 @@ fn main() {
         .skip(1)
         .filter(|a| !a.starts_with("--"))
         .collect();
-    let default = format!(
-        "{}/../../../shared/urdf/trees/talos_full_v2.urdf",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let path = args.first().cloned().unwrap_or(default);
+    // TALOS: a path given, or the CI data's copy (SCREWKIT_SHARED_URDF).
+    let Some(path) = args.first().cloned().or_else(|| {
+        std::env::var("SCREWKIT_SHARED_URDF")
+            .ok()
+            .map(|d| format!("{d}/trees/talos_full_v2.urdf"))
+    }) else {
+        eprintln!(
+            "tree bench: give a whole-robot URDF (TALOS: pip install example-robot-data) after \
+             `--`, or set SCREWKIT_SHARED_URDF; nothing measured"
+        );
+        return;
+    };
     let frame = args
         .get(1)
         .cloned()

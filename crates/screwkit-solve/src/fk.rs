@@ -19,6 +19,22 @@ use crate::workspace::Workspace;
 ///
 /// The workspace is not used by the tip pose (it needs no scratch) but is taken like in every
 /// algorithm, so that callers hold one shape: `algorithm(&kin, &mut ws, inputs)`.
+///
+/// ```
+/// use screwkit_solve::{fk::fk, Kinematics, Workspace};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/planar_3r.urdf");
+/// let chain = screwkit_model::load_chain(path, None, None)?;
+/// let kin = Kinematics::new(&chain);
+/// let mut ws = Workspace::new(&kin);
+/// // Links of 1.0, 0.8 and 0.5 m in the plane: the closed form x = Σ L_i cos(θ_1 + … + θ_i).
+/// let q = [0.3, 0.6, -0.4];
+/// let t = fk(&kin, &mut ws, &q)?;
+/// let (a1, a2, a3) = (0.3f64, 0.9f64, 0.5f64);
+/// let x = a1.cos() + 0.8 * a2.cos() + 0.5 * a3.cos();
+/// let y = a1.sin() + 0.8 * a2.sin() + 0.5 * a3.sin();
+/// assert!((t.translation() - nalgebra::Vector3::new(x, y, 0.0)).norm() < 1e-14);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[inline]
 pub fn fk(kin: &Kinematics, _ws: &mut Workspace, q: &[f64]) -> Result<Se3, SolveError> {
     kin.check_q(q)?;

@@ -317,6 +317,21 @@ fn lm_diagonal(e: &Vector6<f64>, damping_floor: f64) -> f64 {
 /// Solves T(q) = `target` from `seed` (one value per variable). Checks the seed, the target
 /// and the options; a solve that does not converge is an `Ok` result with
 /// `status.converged == false`.
+///
+/// ```
+/// use screwkit_solve::{fk::fk, ik, Kinematics, Workspace};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/panda.urdf");
+/// let kin = Kinematics::new(&screwkit_model::load_chain(path, None, None)?);
+/// let mut ws = Workspace::new(&kin);
+/// let target = fk(&kin, &mut ws, &[0.1, -0.4, 0.2, -2.0, 0.3, 1.8, 0.5])?;
+/// let sol = ik::solve(&kin, &mut ws, &target, &kin.midpoint(), &ik::IkOptions::default())?;
+/// assert!(sol.status.converged);
+/// // Checked by an independent FK call, and within the joint limits.
+/// assert!(fk(&kin, &mut ws, &sol.q)?.max_abs_diff(&target) < 1e-8);
+/// let (lower, upper) = (kin.lower(), kin.upper());
+/// assert!((0..7).all(|i| lower[i] <= sol.q[i] && sol.q[i] <= upper[i]));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn solve(
     kin: &Kinematics,
     ws: &mut Workspace,

@@ -30,6 +30,26 @@ pub struct PoseJacobian<'w> {
 }
 
 /// The Jacobian J_s(q) or J_b(q) (6 × dof, rows (ω, v)), in the workspace. Checks q.
+///
+/// ```
+/// use screwkit_solve::{fk::fk, jacobian::jacobian, Frame, Kinematics, Workspace};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/ur5.urdf");
+/// let kin = Kinematics::new(&screwkit_model::load_chain(path, None, None)?);
+/// let mut ws = Workspace::new(&kin);
+/// let q = [0.1, -0.5, 1.0, 0.2, 0.3, -0.4];
+/// let j_s = jacobian(&kin, &mut ws, &q, Frame::Space)?.clone();
+/// // Column 3 is the elbow's screw at q: its linear part is the velocity of the point at the
+/// // base origin, so moving the elbow by h moves the tip by ≈ h (ω × p + v).
+/// let h = 1e-6;
+/// let (mut lo, mut hi) = (q, q);
+/// lo[2] -= h;
+/// hi[2] += h;
+/// let (t0, t1, t) = (fk(&kin, &mut ws, &lo)?, fk(&kin, &mut ws, &hi)?, fk(&kin, &mut ws, &q)?);
+/// let dp = (t1.translation() - t0.translation()) / (2.0 * h);
+/// let (w, v) = (j_s.fixed_view::<3, 1>(0, 2), j_s.fixed_view::<3, 1>(3, 2));
+/// assert!((dp - (w.cross(t.translation()) + v)).norm() < 1e-8);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn jacobian<'w>(
     kin: &Kinematics,
     ws: &'w mut Workspace,

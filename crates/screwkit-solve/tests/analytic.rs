@@ -1,8 +1,8 @@
 //! Analytic IK: every returned solution reaches the target (FK, an independent call) and lies
 //! within the limits, and the configuration the target came from is among them — on the
 //! bundled UR5, a PUMA-type arm built here, the bundled 7R arms with a joint locked, and (ignored
-//! without ../shared; `.ci/run` runs them) the nine industrial arms of ../shared/xacro/expanded
-//! and the real arms of ../shared/urdf. Near-singular poses give finite, flagged answers.
+//! without the CI data; `.ci/run`'s conformance stage runs them) the nine industrial arms of
+//! `$SCREWKIT_SHARED_XACRO/expanded` and the real arms of `$SCREWKIT_SHARED_URDF`. Near-singular poses give finite, flagged answers.
 
 mod common;
 
@@ -269,10 +269,9 @@ fn near_singular_poses_are_finite_and_flagged() {
 }
 
 #[test]
-#[ignore = "needs ../shared/xacro (SCREWKIT_SHARED_XACRO); .ci/run runs it with --ignored"]
+#[ignore = "needs the CI data's xacro files: SCREWKIT_SHARED_XACRO (.ci/run's conformance stage sets it)"]
 fn industrial_arms_all_solutions() {
-    let dir = std::env::var("SCREWKIT_SHARED_XACRO")
-        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/xacro").into());
+    let dir = std::env::var("SCREWKIT_SHARED_XACRO").expect("SCREWKIT_SHARED_XACRO");
     for f in [
         "irb140",
         "kr10r1100sixx",
@@ -301,10 +300,9 @@ fn industrial_arms_all_solutions() {
 }
 
 #[test]
-#[ignore = "needs ../shared/urdf (SCREWKIT_SHARED_URDF); .ci/run runs it with --ignored"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn real_arms_of_shared_urdf() {
-    let dir = std::env::var("SCREWKIT_SHARED_URDF")
-        .unwrap_or_else(|_| concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/urdf").into());
+    let dir = std::env::var("SCREWKIT_SHARED_URDF").expect("SCREWKIT_SHARED_URDF");
     let load = |f: &str, base: &str, tip: &str| {
         Kinematics::new(
             &screwkit_model::load_chain(format!("{dir}/{f}"), Some(base), Some(tip)).unwrap(),

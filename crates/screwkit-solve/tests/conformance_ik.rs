@@ -14,7 +14,7 @@ use screwkit_solve::{Kinematics, Workspace};
 use screwkit_testkit::SHARED_CHAINS as CHAINS;
 
 #[test]
-#[ignore = "needs the real-world URDFs of ../shared/urdf: set SCREWKIT_SHARED_URDF=<that folder> and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn real_world_ik_solve_rate() {
     let dir = std::env::var("SCREWKIT_SHARED_URDF")
         .expect("SCREWKIT_SHARED_URDF must name the folder with the shared real-world URDFs");

@@ -627,7 +627,7 @@ fn batches_and_trajectories_equal_the_single_calls_whatever_the_threads() {
 
 /// The whole robots of ../shared/urdf/trees (run by `.ci/run` with `--ignored`).
 #[test]
-#[ignore = "needs ../shared/urdf: set SCREWKIT_SHARED_URDF and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn shared_trees_com_equals_the_composition_and_differences() {
     for file in [
         "talos_full_v2.urdf",
@@ -643,7 +643,7 @@ fn shared_trees_com_equals_the_composition_and_differences() {
 }
 
 #[test]
-#[ignore = "needs ../shared/urdf: set SCREWKIT_SHARED_URDF and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn talos_floating_feet_hands_posture_and_com() {
     let (tree, kin) = load(&shared("talos_full_v2.urdf"), true);
     let names = [
@@ -732,7 +732,7 @@ fn talos_floating_feet_hands_posture_and_com() {
 }
 
 #[test]
-#[ignore = "needs ../shared/urdf: set SCREWKIT_SHARED_URDF and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn baxter_allegro_so101_reach_their_targets() {
     // Baxter: both grippers, fixed base.
     let (tree, kin) = load(&shared("baxter.urdf"), false);

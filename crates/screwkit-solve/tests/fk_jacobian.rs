@@ -43,7 +43,7 @@ fn fk_matches_composition_and_the_plain_product() {
 /// joint and the plain product of exponentials to 4e-15 (measured 1.0–3.1e-15 with or without
 /// the near-axis update: a few ulps of metre-sized values after six or seven joints).
 #[test]
-#[ignore = "needs the real-world URDFs of ../shared/urdf: set SCREWKIT_SHARED_URDF=<that folder> and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn kernels_match_composition_on_the_real_files() {
     let dir = std::env::var("SCREWKIT_SHARED_URDF")
         .expect("SCREWKIT_SHARED_URDF must name the folder with the shared real-world URDFs");

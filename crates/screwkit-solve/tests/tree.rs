@@ -290,7 +290,7 @@ fn bundled_trees_jacobians_equal_finite_differences() {
 
 /// The whole robots of ../shared/urdf/trees (run by `.ci/run` with `--ignored`).
 #[test]
-#[ignore = "needs ../shared/urdf: set SCREWKIT_SHARED_URDF and run with --ignored (.ci/run does)"]
+#[ignore = "needs the CI data's URDFs: SCREWKIT_SHARED_URDF (.ci/run's conformance stage sets it)"]
 fn shared_trees_against_the_composition_and_differences() {
     let dir = std::env::var("SCREWKIT_SHARED_URDF").expect("SCREWKIT_SHARED_URDF");
     for file in SHARED_TREES {

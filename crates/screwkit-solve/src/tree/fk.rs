@@ -72,6 +72,24 @@ pub(crate) struct SweepJoint {
 /// Per joint, parents first: J_k = J_parent(k) · X_k · e^{[a_k]θ_k} (J of "no parent" = T_base);
 /// per frame: T_F = J_support(F) · P_F (the module's formulas). Pinocchio's
 /// `forwardKinematics` + `updateFramePlacements`.
+///
+/// ```
+/// use screwkit_model::{urdf, KinematicTree};
+/// use screwkit_solve::tree::fk::fk_frames;
+/// use screwkit_solve::{TreeKinematics, TreeWorkspace};
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/torso_two_arms.urdf");
+/// let model = KinematicTree::from_tree(&urdf::load_file(path)?)?;
+/// let kin = TreeKinematics::new(&model)?;
+/// let mut ws = TreeWorkspace::new(&kin);
+/// let head = kin.frame("head")?;
+/// // The waist turns the head about z; nothing else moves it.
+/// let q = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7];
+/// let frames = fk_frames(&kin, &mut ws, &q)?;
+/// assert!((frames[head].translation() - nalgebra::Vector3::new(0.0, 0.0, 1.4)).norm() < 1e-12);
+/// let r = frames[head].rotation();
+/// assert!((r[(1, 0)] - 0.1f64.sin()).abs() < 1e-15 && (r[(0, 0)] - 0.1f64.cos()).abs() < 1e-15);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub fn fk_frames<'w>(
     kin: &TreeKinematics,
     ws: &'w mut TreeWorkspace,
