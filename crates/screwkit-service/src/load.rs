@@ -203,6 +203,24 @@ impl Robot {
     ///
     /// A screw table (`screwkit table --format json|csv`, or [`ScrewRobot::to_json`]) is read
     /// as the robot of its screws ([`Robot::from_screws`]).
+    ///
+    /// ```
+    /// use screwkit_service::load::{LoadOptions, Robot, Source};
+    /// // An MJCF humanoid with a free root joint: the whole tree, with its floating base.
+    /// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/mjcf/humanoid.xml");
+    /// let robot = Robot::load(&Source::Path(path.into()), &LoadOptions::default())?;
+    /// let tree = robot.whole()?;
+    /// assert_eq!((tree.nq(), tree.nv()), (30, 29)); // 7 + 23 joints, 6 + 23 velocities
+    /// // A chain of it, chosen as the CLI's --base/--tip choose it.
+    /// let options = LoadOptions {
+    ///     base: Some("pelvis".into()),
+    ///     tip: Some("left_sole".into()),
+    ///     ..LoadOptions::default()
+    /// };
+    /// let leg = Robot::load(&Source::Path(path.into()), &options)?;
+    /// assert_eq!(leg.chain()?.dof(), 6);
+    /// # Ok::<(), screwkit_service::error::Error>(())
+    /// ```
     pub fn load(source: &Source, options: &LoadOptions) -> Result<Robot> {
         let text = source.read()?;
         if screwkit_model::table::is_screw_table(&text) {
