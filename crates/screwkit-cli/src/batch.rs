@@ -82,6 +82,7 @@ fn spawn_reader(input: &str) -> CliResult<std::sync::mpsc::Receiver<Result<Line,
     } else {
         let f = std::fs::File::open(input)
             .map_err(|e| Failure(format!("{input}: cannot read the file: {e}")))?;
+        screwkit_model::input::note_read(&f, std::path::Path::new(input));
         Box::new(std::io::BufReader::new(f))
     };
     let (tx, rx) = std::sync::mpsc::sync_channel(2 * CHUNK);

@@ -12,7 +12,19 @@ use crate::output::{
 /// Runs `exp`: T = e^\[S\]θ (or e^\[ξ\] with θ = 1).
 pub fn exp(args: &ExpArgs, format: Format) -> CliResult {
     let s = Twist::try_from_slice(&args.twist.0)?;
+    if !args.theta.is_finite() {
+        return Err(crate::output::Failure(format!(
+            "--theta {}: expected a finite number",
+            args.theta
+        )));
+    }
     let t = Se3::exp(&(s * args.theta));
+    if !t.is_finite() {
+        return Err(crate::output::Failure(format!(
+            "e^[S]θ overflows for S θ = {}: the product is beyond f64",
+            tuple((s * args.theta).to_vector().as_slice())
+        )));
+    }
     if format == Format::Json {
         print_json(&json!({"pose": pose_json(&t)}))?;
     } else {

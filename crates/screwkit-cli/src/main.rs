@@ -98,7 +98,7 @@ fn run(cli: &Cli) -> CliResult {
         }
         Command::Urdf(a) => {
             let tree = read_tree(&a.file, &a.xacro)?;
-            draw::write_out(&a.output, &screwkit_model::urdf::write(&tree))
+            draw::write_out(&a.output, &screwkit_model::urdf::write(&tree)?)
         }
     }
 }
@@ -139,7 +139,11 @@ fn main() -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    match std::panic::catch_unwind(|| run(&cli)) {
+    // Every file the run reads as input (the robot's file, includes, batches, maps) is
+    // protected from its outputs until it ends (`input::collect_reads`).
+    let (outcome, _inputs) =
+        screwkit_model::input::collect_reads(|| std::panic::catch_unwind(|| run(&cli)));
+    match outcome {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(e)) if e.0 == output::CLOSED_PIPE => ExitCode::SUCCESS,
         Ok(Err(e)) => {

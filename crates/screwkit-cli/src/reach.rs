@@ -3,6 +3,7 @@
 //! built by `screwkit_reach` (the library's batch IK underneath); this file only parses and
 //! prints.
 
+use screwkit_service::io::atomic::check_distinct;
 use std::io::IsTerminal;
 use std::time::Instant;
 
@@ -22,6 +23,12 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
     }) = &a.merge
     {
         let started = Instant::now();
+        // Every output checked against every input before anything is written.
+        let inputs: Vec<&str> = shards.iter().map(String::as_str).collect();
+        let outputs: Vec<&str> = std::iter::once(output.as_str())
+            .chain(svg.as_deref())
+            .collect();
+        check_distinct(&inputs, &outputs).map_err(Failure)?;
         let s = screwkit_reach::merge(shards, output)?;
         if let Some(svg) = svg {
             write_svg(output, svg)?;
@@ -58,6 +65,13 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         floating_base: false,
     };
     let robot = crate::load(&chain_args)?;
+    // The map and its picture: neither an input of this run (the robot's file, an include),
+    // nor the same file; checked before the map is computed.
+    let outputs: Vec<&str> = std::iter::once(output.as_str())
+        .chain(a.svg.as_deref())
+        .collect();
+    screwkit_service::io::atomic::check_writable(&outputs).map_err(Failure)?;
+    check_distinct(&[], &outputs).map_err(Failure)?;
     let (chain, kin) = robot.chain_parts()?;
     let spec = ReachSpec {
         resolution: a.resolution,

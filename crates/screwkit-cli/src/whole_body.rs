@@ -94,17 +94,29 @@ fn run_batch(
             }
         }
         if sequential {
-            // Runs of lines without a seed go through the trajectory mode from the last
-            // answer; a line with a seed starts a new run from it.
+            // Runs of lines without a seed go through the trajectory mode from the last good
+            // answer. A line with a seed is solved alone from it: when that seed is bad (not
+            // finite, outside the limits), that line alone is refused and the next lines go on
+            // from the last good answer.
             let mut i = 0;
             while i < good.len() {
-                let start = good[i].1 .1.clone().unwrap_or_else(|| warm.clone());
+                let seeded = good[i].1 .1.clone();
+                let start = seeded.clone().unwrap_or_else(|| warm.clone());
                 let mut j = i + 1;
-                while j < good.len() && good[j].1 .1.is_none() {
+                while seeded.is_none() && j < good.len() && good[j].1 .1.is_none() {
                     j += 1;
                 }
                 let sets: Vec<Vec<Task>> = good[i..j].iter().map(|(_, r)| r.0.clone()).collect();
-                let answers = ik_trajectory(kin, &sets, &start, opts, Segments::default())?;
+                let answers = match ik_trajectory(kin, &sets, &start, opts, Segments::default()) {
+                    Ok(a) => a,
+                    Err(e) => {
+                        for (k, _) in &good[i..j] {
+                            errors[*k] = Some(e.to_string());
+                        }
+                        i = j;
+                        continue;
+                    }
+                };
                 for ((k, (tasks, _)), answer) in good[i..j].iter().zip(answers) {
                     match answer {
                         Ok(r) => {

@@ -499,3 +499,107 @@ fn bom_and_latin1_files_load_as_the_plain_file() {
     let (_, info, _) = run(&["info", &s(&latin), "--format", "json"]);
     assert!(info.contains("\"robot\":\"ur5_\u{e9}\""), "{info}");
 }
+
+/// Issue 44, item 1: no output may be written over a file the run read as input — the robot's
+/// file, by any name (`./x`, a hard link, a symbolic link), or a file it includes — and a
+/// command that writes two files refuses before writing the first.
+#[test]
+fn no_output_overwrites_a_robot_file_or_an_include() {
+    let dir = tmp("own");
+    std::fs::create_dir_all(&dir).unwrap();
+    let robot = dir.join("ur5.urdf");
+    std::fs::copy(asset("ur5.urdf"), &robot).unwrap();
+    let original = std::fs::read(&robot).unwrap();
+    let hard = dir.join("hard.urdf");
+    let soft = dir.join("soft.urdf");
+    let _ = std::fs::remove_file(&hard);
+    let _ = std::fs::remove_file(&soft);
+    std::fs::hard_link(&robot, &hard).unwrap();
+    std::os::unix::fs::symlink(&robot, &soft).unwrap();
+    let dotted = format!("{}/./ur5.urdf", s(&dir));
+    let r = s(&robot);
+    for out in [r.clone(), dotted, s(&hard), s(&soft)] {
+        for args in [
+            vec!["urdf", &r, "-o", &out],
+            vec!["draw", &r, "-o", &out],
+            vec!["view", &r, "-o", &out],
+            vec!["table", &r, "-o", &out],
+        ] {
+            let (code, _, err) = run(&args);
+            if args[0] == "table" && code == Some(2) {
+                continue; // `table` writes to standard output only
+            }
+            assert_eq!(code, Some(1), "{args:?}: {err}");
+            assert!(err.contains("is an input of this run"), "{args:?}: {err}");
+            assert_eq!(err.trim().lines().count(), 1, "{err}");
+            assert_eq!(std::fs::read(&robot).unwrap(), original, "{args:?}");
+        }
+    }
+    // A file the robot includes (MJCF <include>).
+    let part = dir.join("part.xml");
+    std::fs::write(
+        &part,
+        r#"<mujoco><body name="b" pos="0 0 1"><joint name="j" axis="0 0 1"/><geom size="0.1"/></body></mujoco>"#,
+    )
+    .unwrap();
+    let main = dir.join("main.xml");
+    std::fs::write(
+        &main,
+        r#"<mujoco model="m"><worldbody><include file="part.xml"/></worldbody></mujoco>"#,
+    )
+    .unwrap();
+    let part_before = std::fs::read(&part).unwrap();
+    fails_with(
+        &["urdf", &s(&main), "-o", &s(&part)],
+        "is an input of this run",
+    );
+    assert_eq!(std::fs::read(&part).unwrap(), part_before);
+    // reach: the picture over the robot's file is refused before the map is computed.
+    let map_out = dir.join("refused.npz");
+    fails_with(
+        &[
+            "reach",
+            &r,
+            "--resolution",
+            "0.3",
+            "--orientations",
+            "4",
+            "-o",
+            &s(&map_out),
+            "--svg",
+            &r,
+        ],
+        "is an input of this run",
+    );
+    assert!(!map_out.exists());
+    assert_eq!(std::fs::read(&robot).unwrap(), original);
+    // reach merge: the picture over a shard.
+    let s0 = map(&asset("ur5.urdf"), "own-s0.npz", Some("0/2"));
+    let s1 = map(&asset("ur5.urdf"), "own-s1.npz", Some("1/2"));
+    let shard_before = std::fs::read(&s0).unwrap();
+    let merged = s(&dir.join("merged.npz"));
+    fails_with(
+        &["reach", "merge", "-o", &merged, "--svg", &s0, &s0, &s1],
+        "is also an input",
+    );
+    assert_eq!(std::fs::read(&s0).unwrap(), shard_before);
+    assert!(!Path::new(&merged).exists());
+    // Writing elsewhere still works.
+    let (code, _, err) = run(&["urdf", &r, "-o", &s(&dir.join("copy.urdf"))]);
+    assert_eq!(code, Some(0), "{err}");
+}
+
+/// Issue 44, item 14: `exp --theta nan` printed a pose of nulls with exit 0.
+#[test]
+fn exp_of_a_non_finite_angle_is_an_error() {
+    for theta in ["nan", "inf", "-inf"] {
+        fails_with(
+            &["exp", "--twist", "0,0,1,0,0,0", "--theta", theta],
+            "expected a finite number",
+        );
+    }
+    fails_with(
+        &["exp", "--twist", "0,0,1e300,0,0,0", "--theta", "1e300"],
+        "overflows",
+    );
+}

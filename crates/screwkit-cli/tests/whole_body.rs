@@ -246,3 +246,50 @@ fn bad_task_files_and_flags_are_one_line_errors() {
     assert_eq!(code, 1);
     assert!(err.contains("standard input"), "{err}");
 }
+
+/// Issue 44, item 6: in `--sequential` mode a line whose seed is bad (outside the limits) is
+/// refused alone; the lines after it go on from the last good answer (they all failed with
+/// that line's error).
+#[test]
+fn a_bad_seed_in_sequential_mode_fails_its_line_alone() {
+    let file = root("assets/urdf/torso_two_arms.urdf");
+    let tasks = root(TASKS);
+    let target = |x: f64| {
+        format!("{{\"tasks\": [{{\"target\": [1,0,0,{x}, 0,1,0,0.4, 0,0,1,0.95, 0,0,0,1]}}]}}\n")
+    };
+    let lines = [
+        target(0.3),
+        "{\"seed\": [9, 9, 9, 9, 9, 9, 9]}\n".to_string(),
+        target(0.32),
+        target(0.34),
+    ]
+    .concat();
+    let (code, out, err) = run(
+        &[
+            "ik",
+            &file,
+            "--tasks",
+            &tasks,
+            "--input",
+            "-",
+            "--sequential",
+        ],
+        &lines,
+    );
+    assert_eq!(code, 1, "one bad line: {err}");
+    let answers: Vec<Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(answers.len(), 4, "{out}");
+    assert_eq!(answers[0]["converged"], true, "{}", answers[0]);
+    assert!(
+        answers[1]["error"].as_str().unwrap().contains("limits"),
+        "{}",
+        answers[1]
+    );
+    assert_eq!(answers[1]["line"], 2);
+    for a in &answers[2..] {
+        assert_eq!(a["converged"], true, "{a}");
+    }
+}

@@ -236,7 +236,12 @@ pub fn nearest_rotation(m: &Matrix3<f64>) -> Matrix3<f64> {
     if !m.iter().all(|x| x.is_finite()) {
         return *m;
     }
-    let Some(svd) = nalgebra::SVD::try_new(*m, true, true, f64::EPSILON, 1000) else {
+    // U Vᵀ does not change with a positive scale of M: scaled by its largest entry, entries of
+    // 1e154 and more (whose squares overflow inside the SVD: NaN) or of 1e-300 are as good as
+    // any other.
+    let largest = m.amax();
+    let scaled = if largest > 0.0 { m / largest } else { *m };
+    let Some(svd) = nalgebra::SVD::try_new(scaled, true, true, f64::EPSILON, 1000) else {
         return *m;
     };
     let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {

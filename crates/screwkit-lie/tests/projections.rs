@@ -100,3 +100,23 @@ fn projection_is_the_nearest_proper_rotation() {
     assert_eq!(p.to_homogeneous().row(3), Matrix4::<f64>::identity().row(3));
     assert!(project_to_se3(&Matrix4::from_element(f64::INFINITY)).is_err());
 }
+
+/// Issue 44, item 14: the projection does not depend on the matrix's scale; entries of 1e154
+/// and more (whose squares overflow inside the SVD) gave NaN, and tiny ones are as good.
+#[test]
+fn nearest_rotation_of_huge_and_tiny_matrices() {
+    let r = exp(&Vector3::new(0.3, -1.1, 0.7));
+    let e = Matrix3::new(0.01, -0.02, 0.0, 0.03, 0.0, 0.01, -0.02, 0.01, 0.02);
+    let want = nearest_rotation(&(r + e));
+    for scale in [1e154, 1e200, 1e300, 1e-300] {
+        let got = nearest_rotation(&((r + e) * scale));
+        assert!((got - want).amax() < 1e-14, "{scale}: {got}");
+        let t = project_to_se3(&{
+            let mut m = Matrix4::identity();
+            m.fixed_view_mut::<3, 3>(0, 0).copy_from(&((r + e) * scale));
+            m
+        })
+        .unwrap();
+        assert!((t.rotation() - want).amax() < 1e-14, "{scale}");
+    }
+}

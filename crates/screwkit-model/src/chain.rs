@@ -211,16 +211,18 @@ fn build(tree: &Tree, base: usize, tip: usize, path: &[usize]) -> Result<Chain, 
     }
     let m = t;
     let mut variables: Vec<Variable> = Vec::new();
-    let mut owners: Vec<usize> = Vec::new();
+    // Each independent joint's variable, by joint index.
+    let mut owners: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
     let mut joints = Vec::with_capacity(specs.len());
+    let mut mimics = MimicResolver::new(tree);
     for (j, s, home) in specs {
         let joint = &tree.joints[j];
-        let (leader, multiplier, offset) = resolve_mimic(tree, j)?;
-        let variable = match owners.iter().position(|&o| o == leader) {
-            Some(v) => v,
+        let (leader, multiplier, offset) = mimics.resolve(j)?;
+        let variable = match owners.get(&leader) {
+            Some(&v) => v,
             None => {
                 variables.push(variable_of(&tree.joints[leader])?);
-                owners.push(leader);
+                owners.insert(leader, variables.len() - 1);
                 variables.len() - 1
             }
         };
@@ -247,6 +249,66 @@ fn build(tree: &Tree, base: usize, tip: usize, path: &[usize]) -> Result<Chain, 
         home: m,
         links,
     })
+}
+
+/// [`resolve_mimic`] for every joint of a tree, each link of a mimic chain followed once:
+/// a joint's drive is its leader's composed with its own rule (30,000 chained mimics, each
+/// resolved from scratch, took minutes).
+pub(crate) struct MimicResolver<'t> {
+    tree: &'t Tree,
+    memo: Vec<Option<(usize, f64, f64)>>,
+}
+
+impl<'t> MimicResolver<'t> {
+    pub(crate) fn new(tree: &'t Tree) -> Self {
+        Self {
+            tree,
+            memo: vec![None; tree.joints.len()],
+        }
+    }
+
+    /// Joint `j`'s independent joint and rule: θ_j = m q_leader + o.
+    pub(crate) fn resolve(&mut self, j: usize) -> Result<(usize, f64, f64), ErrorKind> {
+        let tree = self.tree;
+        let mut path = Vec::new();
+        let mut cur = j;
+        let mut base = loop {
+            if let Some(r) = self.memo[cur] {
+                break r;
+            }
+            let Some(mimic) = &tree.joints[cur].mimic else {
+                break (cur, 1.0, 0.0);
+            };
+            let valid = tree.joint(&mimic.leader).filter(|&l| {
+                tree.joints[l].kind.is_movable()
+                    && mimic.multiplier.is_finite()
+                    && mimic.offset.is_finite()
+            });
+            match valid {
+                Some(leader) if path.len() <= tree.joints.len() => {
+                    path.push(cur);
+                    cur = leader;
+                }
+                // An undefined or fixed leader, a non-finite rule or a cycle: the message of
+                // the joint asked about, by the one-joint walk.
+                _ => return resolve_mimic(tree, j),
+            }
+        };
+        for &p in path.iter().rev() {
+            let Some(mimic) = &tree.joints[p].mimic else {
+                unreachable!("every joint on the path mimics the next")
+            };
+            // θ_p = m_p θ_next + o_p, θ_next = m q + o.
+            base = (
+                base.0,
+                mimic.multiplier * base.1,
+                mimic.multiplier * base.2 + mimic.offset,
+            );
+            self.memo[p] = Some(base);
+        }
+        self.memo[j] = Some(base);
+        Ok(base)
+    }
 }
 
 /// Follows `<mimic>` links to the independent joint: θ_j = m q_leader + o.

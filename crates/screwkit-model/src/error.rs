@@ -194,6 +194,9 @@ pub enum ErrorKind {
     /// cannot be read).
     #[error("{0}")]
     Screws(String),
+    /// A tree that cannot be written in a file format (a name XML cannot hold).
+    #[error("{0}")]
+    Unwritable(String),
     /// A revolute or prismatic joint without `<limit>`.
     #[error("joint \"{0}\" is revolute/prismatic but has no <limit> element (URDF requires lower/upper; use type=\"continuous\" for an unbounded revolute joint)")]
     MissingLimit(String),

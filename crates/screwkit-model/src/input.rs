@@ -14,7 +14,8 @@
 //! [`crate::xacro`].
 
 use std::io::Read;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use crate::error::{ErrorKind, ModelError};
 
@@ -46,11 +47,143 @@ pub fn read_bounded(mut reader: impl Read) -> Result<Vec<u8>, ErrorKind> {
     Ok(bytes)
 }
 
+/// A file being read as input stays protected from every output while a holder of it lives:
+/// the files a loaded robot was read from (its file, includes, meshes) for as long as the robot
+/// lives, every file a command-line run reads for the whole run. The one atomic writer of
+/// outputs (`screwkit_service::io::atomic`) refuses to write over any of them
+/// ([`read_as_input`]), by any name (`./x`, hard and symbolic links), so no output can destroy
+/// what it was made from.
+///
+/// Reads are noted by [`note_read`] while [`collect_reads`] runs on the reading thread (the
+/// floor's `Robot::load` and the command line's `main` do); the holders it returns keep them.
+#[derive(Debug)]
+pub struct InputFile {
+    id: (u64, u64),
+}
+
+impl Clone for InputFile {
+    fn clone(&self) -> Self {
+        let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(e) = read.iter_mut().find(|e| e.id == self.id) {
+            e.holders += 1;
+        }
+        InputFile { id: self.id }
+    }
+}
+
+impl Drop for InputFile {
+    fn drop(&mut self) {
+        let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(k) = read.iter().position(|e| e.id == self.id) {
+            read[k].holders -= 1;
+            if read[k].holders == 0 {
+                read.swap_remove(k);
+            }
+        }
+    }
+}
+
+/// A protected input: its identity, the path it was read by, how many [`InputFile`]s hold it.
+struct Entry {
+    id: (u64, u64),
+    path: PathBuf,
+    holders: usize,
+}
+
+/// The protected inputs of this process.
+static READ: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
+
+thread_local! {
+    /// The holders of the files read on this thread while [`collect_reads`] runs.
+    static COLLECTING: std::cell::RefCell<Option<Vec<InputFile>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// A file's identity: (device, inode) on Unix, so that `./x`, hard links and symbolic links
+/// of one file are one; elsewhere its canonical path's hash.
+fn identity(meta: &std::fs::Metadata, path: &Path) -> (u64, u64) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let _ = path;
+        (meta.dev(), meta.ino())
+    }
+    #[cfg(not(unix))]
+    {
+        use std::hash::{Hash, Hasher};
+        let _ = meta;
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        std::fs::canonicalize(path)
+            .unwrap_or_else(|_| path.to_path_buf())
+            .hash(&mut h);
+        (0, h.finish())
+    }
+}
+
+/// Runs `f`, collecting a holder of every input file it reads on this thread ([`note_read`]);
+/// the files stay protected from outputs while the holders live. Nested calls collect into
+/// their own list and hand it to the outer one too.
+pub fn collect_reads<T>(f: impl FnOnce() -> T) -> (T, Vec<InputFile>) {
+    let outer = COLLECTING.with(|c| c.borrow_mut().replace(Vec::new()));
+    let out = f();
+    let mine = COLLECTING
+        .with(|c| c.borrow_mut().take())
+        .unwrap_or_default();
+    if let Some(mut outer) = outer {
+        outer.extend(mine.iter().cloned());
+        COLLECTING.with(|c| *c.borrow_mut() = Some(outer));
+    }
+    (out, mine)
+}
+
+/// Notes that `file`, opened from `path`, is read as input, when [`collect_reads`] runs on
+/// this thread (otherwise nothing: a program using the parsers directly manages its files).
+/// Pipes, terminals and other special files hold nothing to protect.
+pub fn note_read(file: &std::fs::File, path: &Path) {
+    let collecting = COLLECTING.with(|c| c.borrow().is_some());
+    if !collecting {
+        return;
+    }
+    let Ok(meta) = file.metadata() else {
+        return;
+    };
+    if !meta.is_file() {
+        return;
+    }
+    let id = identity(&meta, path);
+    {
+        let mut read = READ.lock().unwrap_or_else(|e| e.into_inner());
+        match read.iter_mut().find(|e| e.id == id) {
+            Some(e) => e.holders += 1,
+            None => read.push(Entry {
+                id,
+                path: path.to_path_buf(),
+                holders: 1,
+            }),
+        }
+    }
+    COLLECTING.with(|c| {
+        if let Some(v) = c.borrow_mut().as_mut() {
+            v.push(InputFile { id });
+        }
+    });
+}
+
+/// The path by which a protected input was read, when `path` names that file by any name
+/// ([`InputFile`]).
+pub fn read_as_input(path: &Path) -> Option<PathBuf> {
+    let meta = std::fs::metadata(path).ok().filter(|m| m.is_file())?;
+    let id = identity(&meta, path);
+    let read = READ.lock().unwrap_or_else(|e| e.into_inner());
+    read.iter().find(|e| e.id == id).map(|e| e.path.clone())
+}
+
 /// Reads a robot file's bytes, bounded by [`MAX_FILE_BYTES`]; errors name the file.
 pub fn read_file(path: &Path) -> Result<Vec<u8>, ModelError> {
     let label = path.display().to_string();
     let file =
         std::fs::File::open(path).map_err(|e| ModelError::new(label.clone(), io_kind(&e)))?;
+    note_read(&file, path);
     if file.metadata().is_ok_and(|m| m.is_dir()) {
         return Err(ModelError::new(
             label,
@@ -69,6 +202,28 @@ pub(crate) fn io_kind(e: &std::io::Error) -> ErrorKind {
         kind: e.kind(),
         message: e.to_string(),
     }
+}
+
+/// `s` escaped for a double-quoted XML attribute value that reads back as `s` exactly: as
+/// [`escape_xml`], and tabs and line breaks as character references (a parser normalises them
+/// to spaces otherwise). `Err` with the first character XML 1.0 cannot hold at all (NUL and
+/// the other control characters): such a name cannot be written.
+pub fn escape_attr(s: &str) -> Result<String, char> {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\t' => out.push_str("&#9;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            c if (c as u32) < 0x20 || c == '\u{fffe}' || c == '\u{ffff}' => return Err(c),
+            c => out.push(c),
+        }
+    }
+    Ok(out)
 }
 
 /// Appends `s` escaped for XML text and double-quoted attribute values (`&`, `<`, `>`, `"`),

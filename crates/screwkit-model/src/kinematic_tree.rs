@@ -30,7 +30,7 @@ use std::collections::HashMap;
 use nalgebra::Vector3;
 use screwkit_lie::{ScrewAxis, Se3};
 
-use crate::chain::{resolve_mimic, variable_of, Chain, Drive, Variable};
+use crate::chain::{variable_of, Chain, Drive, MimicResolver, Variable};
 use crate::error::{ErrorKind, ModelError};
 use crate::tree::{JointKind, Tree};
 
@@ -289,6 +289,7 @@ fn build(tree: &Tree) -> Result<KinematicTree, ErrorKind> {
         parent: None,
     });
     let mut joints = Vec::new();
+    let mut mimics = MimicResolver::new(tree);
     // Depth first from the root, children in file order: (link, its home pose, its support,
     // its pose in the support's frame).
     let mut stack = vec![(tree.root, Se3::identity(), None::<usize>, Se3::identity())];
@@ -303,7 +304,7 @@ fn build(tree: &Tree) -> Result<KinematicTree, ErrorKind> {
             if joint.kind.is_movable() {
                 let local_axis = joint.unit_axis()?;
                 let s = joint.screw_at(&t)?;
-                let (leader, multiplier, offset) = resolve_mimic(tree, j)?;
+                let (leader, multiplier, offset) = mimics.resolve(j)?;
                 let variable = *variable_of_joint
                     .get(&leader)
                     .ok_or_else(|| ErrorKind::Mimic {

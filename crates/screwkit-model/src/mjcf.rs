@@ -81,9 +81,13 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
     let text = input::decode(&bytes).map_err(|kind| ModelError::new(label.clone(), kind))?;
     let dir = path.parent().unwrap_or(Path::new("."));
     // The main file is on the include stack: a file including it is a cycle.
-    let mut stack: Vec<PathBuf> = std::fs::canonicalize(path).into_iter().collect();
-    let mut count = 0;
-    let root = read_document(&text, &label, dir, &mut stack, &mut count)?;
+    let mut reader = Reader {
+        dir,
+        stack: std::fs::canonicalize(path).into_iter().collect(),
+        count: 0,
+        bytes: bytes.len() as u64,
+    };
+    let root = reader.document(&text, &label, 0)?;
     Builder::new(&label).build(&root)
 }
 
@@ -96,11 +100,16 @@ pub fn load_str(text: &str, source: &str, dir: &Path) -> Result<Tree, ModelError
 /// when it includes nothing, else the document with every `<include>` spliced in (what the
 /// tree was read from, loadable without the included files: pickling, copies).
 pub fn read_str(text: &str, source: &str, dir: &Path) -> Result<(Tree, String), ModelError> {
-    let mut count = 0;
-    let root = read_document(text, source, dir, &mut vec![], &mut count)?;
+    let mut reader = Reader {
+        dir,
+        stack: Vec::new(),
+        count: 0,
+        bytes: text.len() as u64,
+    };
+    let root = reader.document(text, source, 0)?;
     let tree = Builder::new(source).build(&root)?;
     // Each include counts INCLUDE_WEIGHT elements more than it splices in.
-    let text = if count > root.size() {
+    let text = if reader.count > root.size() {
         let mut out = String::from("<?xml version=\"1.0\"?>\n");
         root.write(&mut out, 0);
         out
@@ -187,109 +196,175 @@ impl El {
     }
 }
 
-/// Parses one file of the model into [`El`]s, splicing `<include>`d files in place.
-fn read_document(
-    text: &str,
-    source: &str,
-    dir: &Path,
-    stack: &mut Vec<PathBuf>,
-    count: &mut usize,
-) -> Result<El, ModelError> {
-    let doc = input::parse_xml(text).map_err(|k| ModelError::new(source, k))?;
-    let root = doc.root_element();
-    if root.tag_name().name() != "mujoco" {
-        return Err(ModelError::new(
-            source,
-            ErrorKind::Mjcf(format!(
-                "the root element is <{}>, expected <mujoco>",
-                root.tag_name().name()
-            )),
-        ));
-    }
-    convert(&doc, root, source, dir, stack, count)
+/// The reading of one model: its files, spliced into one element tree, within the limits
+/// that hold for the model as a whole, includes and all.
+struct Reader<'d> {
+    /// The folder includes are read from (MuJoCo: the main file's, for every include).
+    dir: &'d Path,
+    /// The files being read, outermost first (a file already on it is a circular include).
+    stack: Vec<PathBuf>,
+    /// Elements so far (each include counts [`INCLUDE_WEIGHT`]), against [`MAX_ELEMENTS`].
+    count: usize,
+    /// Bytes read so far, every file summed, against [`input::MAX_FILE_BYTES`].
+    bytes: u64,
 }
 
-fn convert(
-    doc: &roxmltree::Document,
-    node: roxmltree::Node,
-    source: &str,
-    dir: &Path,
-    stack: &mut Vec<PathBuf>,
-    count: &mut usize,
-) -> Result<El, ModelError> {
-    *count += 1;
-    let line = doc.text_pos_at(node.range().start).row;
-    if *count > MAX_ELEMENTS {
-        return Err(ModelError::new(
-            format!("{source}:{line}"),
-            ErrorKind::TooLarge(format!(
-                "more than {MAX_ELEMENTS} elements with the includes spliced in"
-            )),
-        ));
+/// Line numbers of a text's byte offsets, by binary search over its line starts (roxmltree's
+/// `text_pos_at` scans from the start on every call: quadratic over a document's elements).
+struct Lines(Vec<usize>);
+
+impl Lines {
+    fn new(text: &str) -> Self {
+        let mut starts = vec![0];
+        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
+        Lines(starts)
     }
-    let mut el = El {
-        tag: node.tag_name().name().to_string(),
-        attrs: node
-            .attributes()
-            .map(|a| (a.name().to_string(), a.value().to_string()))
-            .collect(),
-        children: Vec::new(),
-        file: source.to_string(),
-        line,
-    };
-    for child in node.children().filter(|c| c.is_element()) {
-        if child.tag_name().name() == "include" {
-            let inc = convert(doc, child, source, dir, stack, count)?;
-            el.children.extend(include(&inc, dir, stack, count)?);
-        } else {
-            el.children
-                .push(convert(doc, child, source, dir, stack, count)?);
+
+    /// The 1-based line of byte `offset`.
+    fn line(&self, offset: usize) -> u32 {
+        self.0.partition_point(|&s| s <= offset) as u32
+    }
+}
+
+impl Reader<'_> {
+    /// Parses one file of the model into [`El`]s, splicing `<include>`d files in place; its
+    /// root's children sit `depth` levels deep in the whole model.
+    fn document(&mut self, text: &str, source: &str, depth: usize) -> Result<El, ModelError> {
+        let doc = input::parse_xml(text).map_err(|k| ModelError::new(source, k))?;
+        let root = doc.root_element();
+        if root.tag_name().name() != "mujoco" {
+            return Err(ModelError::new(
+                source,
+                ErrorKind::Mjcf("the root element is not <mujoco>".into()),
+            ));
         }
+        let lines = Lines::new(text);
+        self.convert(root, source, &lines, depth)
     }
-    Ok(el)
-}
 
-/// The children of the `<mujoco>` root of the file an `<include file>` names.
-fn include(
-    inc: &El,
-    dir: &Path,
-    stack: &mut Vec<PathBuf>,
-    count: &mut usize,
-) -> Result<Vec<El>, ModelError> {
-    let file = inc
-        .attr("file")
-        .ok_or_else(|| inc.error("needs a file attribute"))?;
-    let path = dir.join(file);
-    if stack.len() >= MAX_INCLUDE_DEPTH {
-        return Err(inc.error(format!(
-            "includes nested more than {MAX_INCLUDE_DEPTH} deep"
-        )));
+    fn convert(
+        &mut self,
+        node: roxmltree::Node,
+        source: &str,
+        lines: &Lines,
+        depth: usize,
+    ) -> Result<El, ModelError> {
+        self.count += 1;
+        let line = lines.line(node.range().start);
+        let at = || format!("{source}:{line}");
+        if self.count > MAX_ELEMENTS {
+            return Err(ModelError::new(
+                at(),
+                ErrorKind::TooLarge(format!(
+                    "more than {MAX_ELEMENTS} elements with the includes spliced in"
+                )),
+            ));
+        }
+        // The nesting limit holds for the model as a whole: each file is parsed within it,
+        // and an include adds its depth to its contents'.
+        if depth > input::MAX_ELEMENT_DEPTH {
+            return Err(ModelError::new(
+                at(),
+                ErrorKind::TooLarge(format!(
+                    "elements nested more than {} levels deep, includes counted",
+                    input::MAX_ELEMENT_DEPTH
+                )),
+            ));
+        }
+        // MJCF has no XML namespace: an element of another one is not MuJoCo's (MuJoCo refuses
+        // it as a schema violation), never read as if it were.
+        if node.tag_name().namespace().is_some() {
+            return Err(ModelError::new(
+                at(),
+                ErrorKind::Mjcf(format!(
+                    "<{}> is an element of another XML namespace, not of MJCF",
+                    node.tag_name().name()
+                )),
+            ));
+        }
+        let mut el = El {
+            tag: node.tag_name().name().to_string(),
+            attrs: node
+                .attributes()
+                .map(|a| (a.name().to_string(), a.value().to_string()))
+                .collect(),
+            children: Vec::new(),
+            file: source.to_string(),
+            line,
+        };
+        for child in node.children().filter(|c| c.is_element()) {
+            if child.tag_name().name() == "include" {
+                let inc = self.convert(child, source, lines, depth + 1)?;
+                // The included file's root stands in for the include: its children sit where
+                // the include's siblings do.
+                let children = self.include(&inc, depth)?;
+                el.children.extend(children);
+            } else {
+                let c = self.convert(child, source, lines, depth + 1)?;
+                el.children.push(c);
+            }
+        }
+        Ok(el)
     }
-    let canonical = std::fs::canonicalize(&path)
-        .map_err(|e| inc.error(format!("cannot read \"{}\": {e}", path.display())))?;
-    if stack.contains(&canonical) {
-        return Err(inc.error(format!(
-            "\"{}\" is already being read (a circular include)",
-            path.display()
-        )));
+
+    /// The children of the `<mujoco>` root of the file an `<include file>` names, read at
+    /// `depth` (the depth of the include's parent).
+    fn include(&mut self, inc: &El, depth: usize) -> Result<Vec<El>, ModelError> {
+        let file = inc
+            .attr("file")
+            .ok_or_else(|| inc.error("needs a file attribute"))?;
+        let path = self.dir.join(file);
+        if self.stack.len() >= MAX_INCLUDE_DEPTH {
+            return Err(inc.error(format!(
+                "includes nested more than {MAX_INCLUDE_DEPTH} deep"
+            )));
+        }
+        // The file named as given, shortened and escaped (an attribute can hold a megabyte or
+        // control characters: the message says which include, not all it holds).
+        let named = {
+            let mut short: String = file.chars().take(120).collect();
+            if short.len() < file.len() {
+                short.push('…');
+            }
+            format!("{short:?}")
+        };
+        let canonical = std::fs::canonicalize(&path).map_err(|e| {
+            inc.error(format!(
+                "cannot read the included file {named}: {}",
+                e.kind()
+            ))
+        })?;
+        if self.stack.contains(&canonical) {
+            return Err(inc.error("the included file is already being read (a circular include)"));
+        }
+        // Each include counts as INCLUDE_WEIGHT elements: at most MAX_ELEMENTS / INCLUDE_WEIGHT
+        // file reads, whatever the include graph (a diamond doubling at every level).
+        self.count += INCLUDE_WEIGHT;
+        if self.count > MAX_ELEMENTS {
+            return Err(inc.error(format!(
+                "too large: more than {} included files",
+                MAX_ELEMENTS / INCLUDE_WEIGHT
+            )));
+        }
+        let bytes = input::read_file(&path)
+            .map_err(|e| inc.error(format!("the included file {named}: {}", e.kind)))?;
+        // One budget for every file the model reads, summed: the same file included twice
+        // counts twice (it is read and spliced twice).
+        self.bytes += bytes.len() as u64;
+        if self.bytes > input::MAX_FILE_BYTES {
+            return Err(inc.error(format!(
+                "too large: the model's files, includes counted each time, exceed {} MiB",
+                input::MAX_FILE_BYTES >> 20
+            )));
+        }
+        let text = input::decode(&bytes)
+            .map_err(|k| inc.error(format!("the included file {named}: {k}")))?;
+        self.stack.push(canonical);
+        let label = path.display().to_string();
+        let root = self.document(&text, &label, depth)?;
+        self.stack.pop();
+        Ok(root.children)
     }
-    // Each include counts as INCLUDE_WEIGHT elements: at most MAX_ELEMENTS / INCLUDE_WEIGHT
-    // file reads, whatever the include graph (a diamond doubling at every level).
-    *count += INCLUDE_WEIGHT;
-    if *count > MAX_ELEMENTS {
-        return Err(inc.error(format!(
-            "too large: more than {} included files",
-            MAX_ELEMENTS / INCLUDE_WEIGHT
-        )));
-    }
-    let bytes =
-        input::read_file(&path).map_err(|e| inc.error(format!("\"{}\": {}", file, e.kind)))?;
-    let text = input::decode(&bytes).map_err(|k| inc.error(format!("\"{file}\": {k}")))?;
-    stack.push(canonical);
-    let label = path.display().to_string();
-    let root = read_document(&text, &label, dir, stack, count)?;
-    stack.pop();
-    Ok(root.children)
 }
 
 /// `<compiler>` settings that change how numbers are read.
@@ -300,8 +375,15 @@ struct Compiler {
     autolimits: bool,
 }
 
-/// One class of `<default>`: per element tag, its attributes (inherited ones included).
-type Class = HashMap<String, Vec<(String, String)>>;
+/// One class of `<default>`: per element tag, the attributes it sets itself, and the class it
+/// inherits the rest from. A lookup walks up the parents (at most the XML nesting limit), so
+/// memory is the file's attributes once, however many classes inherit them (copying them into
+/// every class asked for 10 GB of a 1.2 MB file).
+#[derive(Debug, Default)]
+struct Class {
+    parent: Option<String>,
+    own: HashMap<String, Vec<(String, String)>>,
+}
 
 /// A body (or frame) context while walking: the class its elements take by default.
 #[derive(Debug, Clone)]
@@ -400,7 +482,7 @@ impl Builder {
             self.read_compiler(c)?;
         }
         for d in root.children.iter().filter(|c| c.tag == "default") {
-            self.read_defaults(d, &Class::new(), true)?;
+            self.read_defaults(d, None, true)?;
         }
         self.classes.entry("main".into()).or_default();
         let name = root.attr("model").unwrap_or("mujoco").to_string();
@@ -505,7 +587,10 @@ impl Builder {
             }
         }
         tree.floating_root = self.floating_root;
+        // The file's warnings first, then the tree's own (mimic followers' limits).
+        let own = std::mem::take(&mut tree.warnings);
         tree.warnings = self.warnings;
+        tree.warnings.extend(own);
         tree.qpos_layout = Some(self.layout);
         Ok(tree)
     }
@@ -532,51 +617,75 @@ impl Builder {
         if let Some(a) = c.attr("autolimits") {
             self.compiler.autolimits = parse_bool(c, "autolimits", a)?;
         }
+        match c.attr("coordinate") {
+            None | Some("local") => {}
+            Some("global") => {
+                return Err(c.error(
+                    "coordinate=\"global\" is not read (MuJoCo 2.3.4 and later refuse it too): \
+                     convert the model by loading and saving it in MuJoCo 2.3.3",
+                ))
+            }
+            Some(other) => return Err(c.error(format!("coordinate=\"{other}\": expected local"))),
+        }
         Ok(())
     }
 
     /// A `<default>` element: its class (`main` at the top) inherits `parent`'s attributes.
-    fn read_defaults(&mut self, d: &El, parent: &Class, top: bool) -> Result<(), ModelError> {
+    fn read_defaults(&mut self, d: &El, parent: Option<&str>, top: bool) -> Result<(), ModelError> {
         let name = match d.attr("class") {
             Some(n) => n.to_string(),
             None if top => "main".to_string(),
             None => return Err(d.error("a nested <default> needs a class name")),
         };
-        let mut class = parent.clone();
+        let mut class = Class {
+            parent: parent.map(str::to_string),
+            own: HashMap::new(),
+        };
         for e in d.children.iter().filter(|c| c.tag != "default") {
-            let entry = class.entry(e.tag.clone()).or_default();
+            let entry = class.own.entry(e.tag.clone()).or_default();
             for (k, v) in &e.attrs {
                 match entry.iter_mut().find(|(ek, _)| ek == k) {
                     Some(slot) => slot.1 = v.clone(),
                     None => entry.push((k.clone(), v.clone())),
                 }
             }
-            // An orientation given here replaces an inherited one of another form.
-            if let Some(form) = ORIENTATIONS.iter().find(|f| e.attr(f).is_some()) {
-                entry.retain(|(k, _)| k == form || !ORIENTATIONS.contains(&k.as_str()));
-            }
         }
         if self.classes.contains_key(&name) {
             return Err(d.error(format!("class \"{name}\" is defined twice")));
         }
-        self.classes.insert(name.clone(), class.clone());
+        self.classes.insert(name.clone(), class);
         for child in d.children.iter().filter(|c| c.tag == "default") {
-            self.read_defaults(child, &class, false)?;
+            self.read_defaults(child, Some(&name), false)?;
         }
         Ok(())
     }
 
-    /// An attribute of `e`: its own, else its class's (`class`, or the context's childclass).
+    /// An attribute of `e`: its own, else its class's (`class`, or the context's childclass),
+    /// else the nearest ancestor class's. An orientation a class gives in one form hides the
+    /// other forms its ancestors give.
     fn attr<'e>(&'e self, e: &'e El, class: &str, name: &str) -> Option<&'e str> {
         if let Some(v) = e.attr(name) {
             return Some(v);
         }
-        let class = e.attr("class").unwrap_or(class);
-        self.classes
-            .get(class)
-            .and_then(|c| c.get(&e.tag))
-            .and_then(|attrs| attrs.iter().find(|(k, _)| k == name))
-            .map(|(_, v)| v.as_str())
+        let orientation = ORIENTATIONS.contains(&name);
+        let mut at = Some(e.attr("class").unwrap_or(class));
+        while let Some(c) = at {
+            let class = self.classes.get(c)?;
+            if let Some(attrs) = class.own.get(&e.tag) {
+                if let Some((_, v)) = attrs.iter().find(|(k, _)| k == name) {
+                    return Some(v.as_str());
+                }
+                if orientation
+                    && attrs
+                        .iter()
+                        .any(|(k, _)| ORIENTATIONS.contains(&k.as_str()))
+                {
+                    return None;
+                }
+            }
+            at = class.parent.as_deref();
+        }
+        None
     }
 
     fn check_class(&self, e: &El) -> Result<(), ModelError> {
@@ -692,20 +801,19 @@ impl Builder {
         match form {
             "quat" => {
                 let q = self.numbers(e, class, "quat", 4)?.unwrap_or_default();
+                let largest = q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 let quat = nalgebra::Quaternion::new(q[0], q[1], q[2], q[3]);
-                if quat.norm() < 1e-10 {
+                if largest == 0.0 || largest * (quat / largest).norm() < 1e-10 {
                     return Err(bad("a zero quaternion"));
                 }
-                Ok(UnitQuaternion::from_quaternion(quat))
+                Ok(UnitQuaternion::from_quaternion(quat / largest))
             }
             "axisangle" => {
                 let v = self.numbers(e, class, "axisangle", 4)?.unwrap_or_default();
-                let axis = Vector3::new(v[0], v[1], v[2]);
-                if axis.norm() < 1e-10 {
-                    return Err(bad("a zero axis"));
-                }
+                let axis =
+                    unit(Vector3::new(v[0], v[1], v[2])).ok_or_else(|| bad("a zero axis"))?;
                 Ok(UnitQuaternion::from_axis_angle(
-                    &Unit::new_normalize(axis),
+                    &Unit::new_unchecked(axis),
                     self.angle(v[3]),
                 ))
             }
@@ -728,10 +836,9 @@ impl Builder {
                 let v = self.numbers(e, class, "xyaxes", 6)?.unwrap_or_default();
                 let x = Vector3::new(v[0], v[1], v[2]);
                 let y = Vector3::new(v[3], v[4], v[5]);
-                if x.norm() < 1e-10 {
-                    return Err(bad("a zero x axis"));
-                }
-                let x = x.normalize();
+                let x = unit(x).ok_or_else(|| bad("a zero x axis"))?;
+                // y scaled to unit size first, so that 1e154 and more do not overflow.
+                let y = unit(y).ok_or_else(|| bad("a zero y axis"))?;
                 let y = y - x * x.dot(&y);
                 if y.norm() < 1e-10 {
                     return Err(bad("y is parallel to x"));
@@ -745,11 +852,8 @@ impl Builder {
             }
             _ => {
                 let v = self.numbers(e, class, "zaxis", 3)?.unwrap_or_default();
-                let z = Vector3::new(v[0], v[1], v[2]);
-                if z.norm() < 1e-10 {
-                    return Err(bad("a zero axis"));
-                }
-                Ok(z_to(z.normalize()))
+                let z = unit(Vector3::new(v[0], v[1], v[2])).ok_or_else(|| bad("a zero axis"))?;
+                Ok(z_to(z))
             }
         }
     }
@@ -1038,7 +1142,9 @@ impl Builder {
                         "has a range but no limited=\"true\"/\"false\" (with <compiler autolimits=\"false\">)",
                     ));
                 }
-                range.is_some()
+                // As MuJoCo: limited when the range is a proper interval (its default "0 0",
+                // or any lower ≥ upper, leaves the joint unlimited).
+                range.as_ref().is_some_and(|r| r[0] < r[1])
             }
             Some(other) => {
                 return Err(j.error(format!("limited=\"{other}\": expected true, false or auto")))
@@ -1053,8 +1159,12 @@ impl Builder {
         } else {
             (r[0], r[1])
         };
-        if lo > hi {
-            return Err(j.error(format!("range [{}, {}] is empty", r[0], r[1])));
+        if lo >= hi {
+            // MuJoCo refuses a limited joint whose range is not lower < upper.
+            return Err(j.error(format!(
+                "range [{}, {}] is empty (a limited joint needs lower < upper)",
+                r[0], r[1]
+            )));
         }
         Ok(Some(Limit {
             lower: lo,
@@ -1131,6 +1241,17 @@ impl Builder {
 
 /// The orientation attributes, in MuJoCo's order of precedence for defaults.
 const ORIENTATIONS: [&str; 5] = ["quat", "axisangle", "euler", "xyaxes", "zaxis"];
+
+/// `v` of unit length, or `None` when it is shorter than 1e-10; scaled by its largest entry
+/// first, so that entries of 1e154 and more (whose squares overflow) give the right direction.
+fn unit(v: Vector3<f64>) -> Option<Vector3<f64>> {
+    let largest = v.amax();
+    if largest == 0.0 || !largest.is_finite() {
+        return None;
+    }
+    let scaled = v / largest;
+    (largest * scaled.norm() >= 1e-10).then(|| scaled.normalize())
+}
 
 fn parse_bool(e: &El, name: &str, v: &str) -> Result<bool, ModelError> {
     match v {

@@ -27,9 +27,9 @@ fn kind_label(chain: &Chain, j: &ChainJoint) -> String {
         format!(
             "{} (mimic: {} × {} + {})",
             j.kind.as_str(),
-            fixed(j.drive.multiplier, 3),
+            f(j.drive.multiplier),
             leader,
-            fixed(j.drive.offset, 3)
+            f(j.drive.offset)
         )
     }
 }
@@ -532,7 +532,7 @@ fn from_csv(text: &str, source: &str) -> Result<ScrewRobot, ModelError> {
 }
 
 /// The drive in a CSV type field, `KIND (mimic: M × LEADER + O)` (as [`to_csv`] writes it, M
-/// and O to three decimals), or `None` for a plain `KIND`.
+/// and O to [`PRECISION`] decimals, as every number of the table), or `None` for a plain `KIND`.
 fn csv_mimic(kind: &str) -> Result<Option<Mimic>, String> {
     let Some((_, rest)) = kind.split_once(" (mimic: ") else {
         return Ok(None);

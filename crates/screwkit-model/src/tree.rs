@@ -401,6 +401,7 @@ impl Tree {
                     .map(|l| links[l].as_str()),
             ))));
         }
+        let warnings = mimic_limit_warnings(&tree_joints, &joint_index);
         Ok(Tree {
             name,
             source,
@@ -411,7 +412,7 @@ impl Tree {
             child_joints,
             root,
             floating_root: false,
-            warnings: Vec::new(),
+            warnings,
             qpos_layout: None,
             link_index,
             joint_index,
@@ -584,4 +585,61 @@ impl TreeJointSpec {
             pitch: self.pitch,
         }
     }
+}
+
+/// The rule for a mimic follower's own limits (one rule, everywhere: `lower`/`upper`, IK,
+/// whole-body IK and their messages): a joint variable's position limits are its leader
+/// joint's own, as ROS's tools treat mimic joints; a follower's `<limit>` does not narrow them.
+/// Where a follower's limits cannot hold over its leader's whole range (the PR2's gripper: a
+/// follower of multiplier −1 given the leader's own [0, 0.548]), that is said once, naming the
+/// follower, instead of silently locking the leader at the one value both allow.
+fn mimic_limit_warnings(
+    joints: &[TreeJoint],
+    index: &std::collections::HashMap<String, usize>,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for f in joints {
+        let Some(m) = &f.mimic else { continue };
+        let Some(&l) = index.get(&m.leader) else {
+            continue;
+        };
+        let leader = &joints[l];
+        let bounded = |j: &TreeJoint| {
+            matches!(j.kind, JointKind::Revolute | JointKind::Prismatic)
+                .then_some(j.limit)
+                .flatten()
+                .filter(|l| l.lower.is_finite() && l.upper.is_finite() && l.lower <= l.upper)
+        };
+        let (Some(fl), Some(ll)) = (bounded(f), bounded(leader)) else {
+            continue;
+        };
+        if m.multiplier == 0.0 || !m.multiplier.is_finite() || !m.offset.is_finite() {
+            continue;
+        }
+        // The follower's angles over the leader's range, against its own limits.
+        let (a, b) = (
+            m.multiplier * ll.lower + m.offset,
+            m.multiplier * ll.upper + m.offset,
+        );
+        let (a, b) = (a.min(b), a.max(b));
+        let slack = 1e-9 * (1.0 + fl.lower.abs().max(fl.upper.abs()));
+        if a < fl.lower - slack || b > fl.upper + slack {
+            out.push(format!(
+                "joint \"{}\" mimics \"{}\" ({} = {} x {} + {}), but its own limits [{}, {}] \
+                 do not hold over the leader's [{}, {}] (it would reach [{a}, {b}]): the leader's \
+                 limits are kept, as ROS does, and the follower's are not enforced",
+                f.name,
+                m.leader,
+                f.name,
+                m.multiplier,
+                m.leader,
+                m.offset,
+                fl.lower,
+                fl.upper,
+                ll.lower,
+                ll.upper
+            ));
+        }
+    }
+    out
 }

@@ -358,7 +358,23 @@ fn check_numbers_of(element: &str, attr: &str, value: &str, count: usize) -> Res
 /// `floating_base=True`. URDF has no helical joint either: one is written as a rotating joint
 /// to a new link `<child>_screw` and a prismatic follower `<joint>_advance` along the same
 /// axis (mimic, multiplier = the pitch). Loading the text gives the same FK to rounding.
-pub fn write(tree: &Tree) -> String {
+pub fn write(tree: &Tree) -> Result<String, ModelError> {
+    // Every name as an attribute value that reads back exactly; a name XML cannot hold (a NUL,
+    // a control character) is an error naming it.
+    let esc = |what: &str, name: &str| {
+        input::escape_attr(name).map_err(|c| {
+            ModelError::new(
+                tree.source.clone(),
+                ErrorKind::Unwritable(format!(
+                    "{what} {:?} cannot be written as URDF: it holds the character U+{:04X}, \
+                     which XML cannot hold",
+                    name, c as u32
+                )),
+            )
+        })
+    };
+    // Comment text: no "--" (it would end or break the comment), escaped as text.
+    let comment = |text: &str| input::escape_xml(text).replace("--", "- -");
     let num = |x: f64| {
         if x.is_infinite() {
             if x > 0.0 {
@@ -375,27 +391,27 @@ pub fn write(tree: &Tree) -> String {
     out.push_str("<?xml version=\"1.0\"?>\n");
     out.push_str(&format!(
         "<!-- Written by screwkit from {} (the kinematic tree: links, joints, limits, mimic rules, masses). -->\n",
-        input::escape_xml(&tree.source)
+        comment(&tree.source)
     ));
     if tree.floating_root {
         out.push_str(&format!(
             "<!-- The file gives the root link \"{}\" a free joint (a floating base): URDF has none; load with a floating base. -->\n",
-            input::escape_xml(&tree.links[tree.root])
+            comment(&tree.links[tree.root])
         ));
     }
     out.push_str(&format!(
         "<robot name=\"{}\">\n",
-        input::escape_xml(&tree.name)
+        esc("the robot name", &tree.name)?
     ));
     for (l, name) in tree.links.iter().enumerate() {
         match tree.inertials[l] {
             Some(i) => out.push_str(&format!(
                 "  <link name=\"{}\">\n    <inertial>\n      <origin xyz=\"{}\"/>\n      <mass value=\"{}\"/>\n      <inertia ixx=\"1e-9\" ixy=\"0\" ixz=\"0\" iyy=\"1e-9\" iyz=\"0\" izz=\"1e-9\"/>\n    </inertial>\n  </link>\n",
-                input::escape_xml(name),
+                esc("the link", name)?,
                 vec3(i.com),
                 num(i.mass)
             )),
-            None => out.push_str(&format!("  <link name=\"{}\"/>\n", input::escape_xml(name))),
+            None => out.push_str(&format!("  <link name=\"{}\"/>\n", esc("the link", name)?)),
         }
     }
     // URDF has no helical joint: each is written as a rotating joint to a new link and a
@@ -421,7 +437,7 @@ pub fn write(tree: &Tree) -> String {
         })
         .collect();
     for (link, _) in screw_links.iter().flatten() {
-        out.push_str(&format!("  <link name=\"{}\"/>\n", input::escape_xml(link)));
+        out.push_str(&format!("  <link name=\"{}\"/>\n", esc("the link", link)?));
     }
     for (j, screw) in tree.joints.iter().zip(&screw_links) {
         let unbounded = j
@@ -438,12 +454,12 @@ pub fn write(tree: &Tree) -> String {
         };
         out.push_str(&format!(
             "  <joint name=\"{}\" type=\"{}\">\n    <origin xyz=\"{}\" rpy=\"{}\"/>\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n",
-            input::escape_xml(&j.name),
+            esc("the joint", &j.name)?,
             kind,
             vec3(j.origin_xyz),
             vec3(rpy),
-            input::escape_xml(&tree.links[j.parent]),
-            input::escape_xml(child),
+            esc("the link", &tree.links[j.parent])?,
+            esc("the link", child)?,
         ));
         if j.kind.is_movable() {
             out.push_str(&format!("    <axis xyz=\"{}\"/>\n", vec3(j.axis)));
@@ -466,7 +482,7 @@ pub fn write(tree: &Tree) -> String {
         if let Some(m) = &j.mimic {
             out.push_str(&format!(
                 "    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"{}\"/>\n",
-                input::escape_xml(&m.leader),
+                esc("the joint", &m.leader)?,
                 num(m.multiplier),
                 num(m.offset)
             ));
@@ -475,15 +491,15 @@ pub fn write(tree: &Tree) -> String {
         if let Some((link, advance)) = screw {
             out.push_str(&format!(
                 "  <joint name=\"{}\" type=\"prismatic\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    <axis xyz=\"{}\"/>\n    <limit lower=\"-1e300\" upper=\"1e300\"/>\n    <mimic joint=\"{}\" multiplier=\"{}\" offset=\"0\"/>\n  </joint>\n",
-                input::escape_xml(advance),
-                input::escape_xml(link),
-                input::escape_xml(&tree.links[j.child]),
+                esc("the joint", advance)?,
+                esc("the link", link)?,
+                esc("the link", &tree.links[j.child])?,
                 vec3(j.axis),
-                input::escape_xml(&j.name),
+                esc("the joint", &j.name)?,
                 num(j.pitch)
             ));
         }
     }
     out.push_str("</robot>\n");
-    out
+    Ok(out)
 }

@@ -33,7 +33,9 @@ pub fn io_error(path: &str, e: &std::io::Error) -> PyErr {
         std::io::ErrorKind::NotFound => PyFileNotFoundError::new_err(msg),
         std::io::ErrorKind::PermissionDenied => PyPermissionError::new_err(msg),
         std::io::ErrorKind::IsADirectory => PyIsADirectoryError::new_err(msg),
-        std::io::ErrorKind::InvalidData => PyValueError::new_err(msg),
+        std::io::ErrorKind::InvalidData | std::io::ErrorKind::InvalidInput => {
+            PyValueError::new_err(msg)
+        }
         _ => PyOSError::new_err(msg),
     }
 }

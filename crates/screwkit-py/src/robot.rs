@@ -1393,7 +1393,8 @@ impl Robot {
     /// `path` when given. Loading it (with `floating_base` as this robot's) gives the same FK.
     #[pyo3(signature = (path = None))]
     fn to_urdf(&self, path: Option<PathBuf>) -> PyResult<String> {
-        let text = screwkit_model::urdf::write(self.robot.tree());
+        let text =
+            screwkit_model::urdf::write(self.robot.tree()).map_err(crate::errors::model_error)?;
         write_text(path, &text)?;
         Ok(text)
     }

@@ -4,10 +4,13 @@ hang, a crash or a PanicException."""
 
 from __future__ import annotations
 
+import gc
 import multiprocessing
+import shutil
 import subprocess
 import sys
 import textwrap
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -15,7 +18,7 @@ import pytest
 
 import screwkit
 
-from conftest import ASSETS
+from conftest import ASSETS, REPO
 
 UR5 = ASSETS / "ur5.urdf"
 PANDA = ASSETS / "panda.urdf"
@@ -171,3 +174,117 @@ def test_damaged_maps_are_value_errors(tmp_path: Path) -> None:
     with pytest.raises(FileNotFoundError):
         screwkit.ReachMap.load(str(tmp_path / "missing.npz"))
     assert screwkit.ReachMap.load(str(good)).index.size > 0
+
+
+def _writers(robot: screwkit.Robot) -> list[Callable[[Path], object]]:
+    """Every way a robot writes a file of its own."""
+    return [
+        lambda p: robot.to_urdf(path=p),
+        lambda p: robot.draw(None, p),
+        lambda p: robot.viewer(None, p),
+    ]
+
+
+def test_no_output_overwrites_the_robots_own_files(tmp_path: Path) -> None:
+    """Issue 44, item 1: `to_urdf`, `draw` and `viewer` refuse (ValueError, nothing written) the
+    file the robot was read from, by any name, and a file it includes, while the robot lives;
+    once it is gone the file may be written again."""
+    robot_file = tmp_path / "ur5.urdf"
+    shutil.copy(REPO / "assets" / "urdf" / "ur5.urdf", robot_file)
+    original = robot_file.read_bytes()
+    (tmp_path / "hard.urdf").hardlink_to(robot_file)
+    (tmp_path / "soft.urdf").symlink_to(robot_file)
+    robot = screwkit.Robot.from_urdf(robot_file)
+    for out in [
+        robot_file,
+        tmp_path / "." / "ur5.urdf",
+        tmp_path / "hard.urdf",
+        tmp_path / "soft.urdf",
+    ]:
+        for write in _writers(robot):
+            with pytest.raises(ValueError, match="is an input of this run"):
+                write(out)
+            assert robot_file.read_bytes() == original
+    # An MJCF include.
+    (tmp_path / "part.xml").write_text(
+        '<mujoco><body name="b" pos="0 0 1"><joint name="j" axis="0 0 1"/>'
+        '<geom size="0.1"/></body></mujoco>'
+    )
+    (tmp_path / "main.xml").write_text(
+        '<mujoco model="m"><worldbody><include file="part.xml"/></worldbody></mujoco>'
+    )
+    part = (tmp_path / "part.xml").read_bytes()
+    mjcf = screwkit.Robot.from_file(tmp_path / "main.xml")
+    with pytest.raises(ValueError, match="is an input of this run"):
+        mjcf.to_urdf(path=tmp_path / "part.xml")
+    assert (tmp_path / "part.xml").read_bytes() == part
+    # Elsewhere is fine; and once the robots are gone, their files are files like any other.
+    robot.to_urdf(path=tmp_path / "copy.urdf")
+    del write, robot, mjcf
+    gc.collect()
+    screwkit.Robot.from_string(original.decode()).to_urdf(path=robot_file)
+    assert "<robot" in robot_file.read_text()
+
+
+def test_whole_body_ik_on_a_huge_tree_is_a_value_error(tmp_path: Path) -> None:
+    """Issue 44, item 5: a 30,000-joint star asked for a 7.2 GB dense QP and killed the
+    interpreter; now a ValueError naming the limit (FK on it still works)."""
+    n = 30_000
+    links = "".join(
+        f'<link name="s{i}"/><joint name="j{i}" type="revolute"><parent link="hub"/>'
+        f'<child link="s{i}"/><origin xyz="0.1 0 0"/><axis xyz="0 0 1"/>'
+        f'<limit lower="-1" upper="1"/></joint>'
+        for i in range(n)
+    )
+    path = tmp_path / "star.urdf"
+    path.write_text(f'<robot name="star"><link name="hub"/>{links}</robot>')
+    robot = screwkit.Robot.from_urdf(path)
+    q = np.zeros(robot.nq)
+    assert robot.fk(q, link="s29999")[0, 3] == pytest.approx(0.1)
+    with pytest.raises(ValueError, match="at most 2048 velocity variables"):
+        robot.ik_step(q, [screwkit.PostureTask(q + 0.5)], dt=0.01)
+    with pytest.raises(ValueError, match="at most 2048 velocity variables"):
+        robot.ik_tasks([screwkit.PostureTask(q + 0.5)])
+
+
+def test_mjcf_nesting_through_includes_is_bounded_and_pickles(tmp_path: Path) -> None:
+    """Issue 44, items 2 and 7: nesting through includes is held to the one limit (256 levels):
+    beyond it a ValueError (it overflowed the stack and killed the interpreter); within it the
+    robot pickles and unpickles (its spliced text nested beyond what a reload accepts)."""
+    import pickle
+
+    def chain(files: int, depth: int) -> Path:
+        for k in range(files):
+            opens = "".join(f'<body name="b{k}_{i}"><joint name="j{k}_{i}"/>' for i in range(depth))
+            inner = f'<include file="f{k + 1}.xml"/>' if k + 1 < files else ""
+            body = opens + inner + "</body>" * depth
+            if k == 0:
+                body = f"<worldbody>{body}</worldbody>"
+            (tmp_path / f"f{k}.xml").write_text(f"<mujoco>{body}</mujoco>")
+        return tmp_path / "f0.xml"
+
+    with pytest.raises(ValueError, match="nested more than 256 levels deep"):
+        screwkit.Robot.from_file(chain(16, 250))
+    robot = screwkit.Robot.from_file(chain(4, 60))
+    again = pickle.loads(pickle.dumps(robot))
+    q = np.linspace(-0.5, 0.5, robot.nq)
+    assert again.nq == robot.nq == 240
+    assert np.array_equal(again.fk(q, link="b3_59"), robot.fk(q, link="b3_59"))
+
+
+def test_to_urdf_writes_any_name_back_exactly_or_refuses_it() -> None:
+    """Issue 44, item 13: names are written as attribute values that read back exactly (a
+    newline read back as a space, another name); a name XML cannot hold (NUL) is a ValueError
+    naming it, not a file that cannot be read."""
+    M = np.eye(4)
+    M[0, 3] = 2.0
+    S = [[0, 0, 1, 0, 0, 0], [0, 0, 1, 0, -1, 0]]
+    odd = ["shoulder\nlift", 'elbow\t"quoted" <&>']
+    robot = screwkit.Robot.from_screws(M, S, names=odd)
+    back = screwkit.Robot.from_string(robot.to_urdf())
+    assert back.joint_names == odd
+    q = [0.3, -0.7]
+    assert np.allclose(back.fk(q), robot.fk(q), atol=1e-12)
+    bad = screwkit.Robot.from_screws(M, S, names=["ok", "nul\x00name"])
+    with pytest.raises(ValueError, match=r"nul\\0name.*cannot be written as URDF.*U\+0000"):
+        bad.to_urdf()

@@ -81,6 +81,7 @@ impl Source {
                     source,
                 };
                 let file = std::fs::File::open(p).map_err(io)?;
+                input::note_read(&file, p);
                 if file.metadata().is_ok_and(|m| m.is_dir()) {
                     return Err(io(std::io::Error::new(
                         std::io::ErrorKind::IsADirectory,
@@ -194,6 +195,9 @@ pub struct Robot {
     chain: std::result::Result<(Chain, Kinematics), ModelError>,
     urdf: String,
     options: LoadOptions,
+    /// The files it was read from (its file, includes), protected from every output while it
+    /// lives ([`input::InputFile`]).
+    inputs: Vec<input::InputFile>,
 }
 
 impl Robot {
@@ -222,6 +226,14 @@ impl Robot {
     /// # Ok::<(), screwkit_service::error::Error>(())
     /// ```
     pub fn load(source: &Source, options: &LoadOptions) -> Result<Robot> {
+        let (robot, inputs) = input::collect_reads(|| Robot::read(source, options));
+        let mut robot = robot?;
+        robot.inputs = inputs;
+        Ok(robot)
+    }
+
+    /// [`Robot::load`] without keeping its inputs.
+    fn read(source: &Source, options: &LoadOptions) -> Result<Robot> {
         let text = source.read()?;
         if screwkit_model::table::is_screw_table(&text) {
             let screws = screwkit_model::table::read_screw_table(&text, &source.label())?;
@@ -269,6 +281,7 @@ impl Robot {
             chain: Ok((chain, kin)),
             urdf: text,
             options: options.clone(),
+            inputs: Vec::new(),
         })
     }
 
@@ -300,6 +313,7 @@ impl Robot {
             chain,
             urdf,
             options: options.clone(),
+            inputs: Vec::new(),
         })
     }
 

@@ -605,3 +605,86 @@ fn postures_not_copies_one_row_per_posture() {
         assert!(at_star.iter().any(|q| same(q, &q_star, 1e-8)));
     }
 }
+
+/// Issue 44, item 8: limits written as "unlimited" (±50 rad, ±1e6) span many turns; the
+/// representative nearest the seed is found over the whole range (it was searched among four
+/// turns from the lower limit: 25 rad away although the seed itself solves the pose), `none`
+/// gives angles in (−π, π], and listing every combination beyond the stated bound is an error.
+#[test]
+fn wide_limits_give_the_nearest_representative_and_bound_all() {
+    use screwkit_solve::analytic::{Representatives, MAX_REPRESENTATIVE_ROWS};
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/urdf/ur5.urdf"
+    ))
+    .unwrap();
+    for wide in ["50", "1000000"] {
+        let t = text
+            .replace(
+                "lower=\"-6.283185307179586\"",
+                &format!("lower=\"-{wide}\""),
+            )
+            .replace("upper=\"6.283185307179586\"", &format!("upper=\"{wide}\""));
+        let tree = screwkit_model::urdf::load_str(&t, "ur5_wide.urdf").unwrap();
+        let kin = Kinematics::new(&Chain::from_tree(&tree, None, None).unwrap());
+        let solver = AnalyticIk::new(&kin).unwrap();
+        let mut ws = Workspace::new(&kin);
+        let mut sampler = Sampler::new(5);
+        for _ in 0..20 {
+            // A seed inside (−π, π] shifted by some turns: it solves its own pose.
+            let mut seed: Vec<f64> = (0..6).map(|_| -3.0 + 6.0 * sampler.uniform()).collect();
+            seed[0] += 7.0 * std::f64::consts::TAU;
+            seed[3] -= 3.0 * std::f64::consts::TAU;
+            let target = fk1(&kin, &seed).unwrap();
+            let mut near = Solutions::default();
+            solver
+                .solve_postures(
+                    &kin,
+                    &mut ws,
+                    &target,
+                    &[0.0],
+                    Representatives::Nearest(&seed),
+                    &mut near,
+                )
+                .unwrap();
+            verify(&kin, "ur5 wide", &near, &target);
+            assert!(
+                near.iter().any(|q| same(q, &seed, 1e-8)),
+                "{wide}: the seed solves its pose"
+            );
+            let mut one = Solutions::default();
+            solver
+                .solve_postures(
+                    &kin,
+                    &mut ws,
+                    &target,
+                    &[0.0],
+                    Representatives::One,
+                    &mut one,
+                )
+                .unwrap();
+            for q in one.iter() {
+                assert!(
+                    q.iter().all(|x| x.abs() <= std::f64::consts::PI + 1e-12),
+                    "{q:?}"
+                );
+            }
+            let mut all = Solutions::default();
+            let e = solver
+                .solve_postures(
+                    &kin,
+                    &mut ws,
+                    &target,
+                    &[0.0],
+                    Representatives::All,
+                    &mut all,
+                )
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(&MAX_REPRESENTATIVE_ROWS.to_string()) && e.contains("nearest"),
+                "{e}"
+            );
+        }
+    }
+}

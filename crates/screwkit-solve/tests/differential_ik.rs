@@ -825,3 +825,91 @@ fn an_interrupt_stops_a_solve_and_every_set_of_a_trajectory() {
         }));
     }
 }
+
+/// Issue 44, item 5: whole-body IK on a tree beyond `MAX_NV` velocity variables is refused
+/// with an error naming the limit, before its dense nv × nv QP is allocated (a 30,000-joint
+/// star asked for 7.2 GB and aborted); FK on the same tree still works.
+#[test]
+fn a_tree_too_large_for_the_dense_qp_is_refused_by_name() {
+    use screwkit_solve::tree::differential_ik::MAX_NV;
+    let n = MAX_NV + 1000;
+    let mut t = String::from("<robot name=\"star\"><link name=\"hub\"/>");
+    for i in 0..n {
+        t.push_str(&format!(
+            "<link name=\"s{i}\"/><joint name=\"j{i}\" type=\"revolute\"><parent link=\"hub\"/><child link=\"s{i}\"/><origin xyz=\"0.1 0 0\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\"/></joint>"
+        ));
+    }
+    t.push_str("</robot>");
+    let tree = urdf::load_str(&t, "star.urdf").unwrap();
+    let kin = TreeKinematics::new(&KinematicTree::from_tree(&tree).unwrap()).unwrap();
+    assert_eq!(kin.nv(), n);
+    let q = vec![0.0; n];
+    let mut tws = TreeWorkspace::new(&kin);
+    assert_eq!(fk::fk_frames(&kin, &mut tws, &q).unwrap().len(), n + 1);
+    let tasks = [Task::posture(vec![0.5; n])];
+    let mut ws = DiffIkWorkspace::new(&kin);
+    let e = ik_step(&kin, &mut ws, &q, &tasks, 0.01, &Limits::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&format!("at most {MAX_NV} velocity variables")) && e.contains(&n.to_string()),
+        "{e}"
+    );
+    let e = ik_tasks(&kin, &mut ws, &tasks, &q, &TasksOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("at most"), "{e}");
+    let e = ik_trajectory(
+        &kin,
+        &[tasks.to_vec()],
+        &q,
+        &TasksOptions::default(),
+        Segments::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("at most"), "{e}");
+}
+
+/// Issue 44, item 15: one rule for a mimic follower's limits — the leader's own limits, as ROS
+/// does — in `lower`/`upper` and the whole-body IK, and a warning naming a follower that
+/// cannot hold its own over the leader's range. The PR2's gripper (a follower of multiplier −1
+/// given the leader's [0, 0.548]) locked the leader at [0, −0] and refused its midpoint.
+#[test]
+fn a_follower_that_cannot_follow_is_named_and_does_not_lock_its_leader() {
+    let text = r#"<robot name="gripper">
+      <link name="palm"/><link name="l"/><link name="r"/>
+      <joint name="l_finger" type="revolute"><parent link="palm"/><child link="l"/>
+        <origin xyz="0 0.02 0"/><axis xyz="0 0 1"/><limit lower="0" upper="0.548"/></joint>
+      <joint name="r_finger" type="revolute"><parent link="palm"/><child link="r"/>
+        <origin xyz="0 -0.02 0"/><axis xyz="0 0 1"/><limit lower="0" upper="0.548"/>
+        <mimic joint="l_finger" multiplier="-1"/></joint>
+    </robot>"#;
+    let tree = urdf::load_str(text, "gripper.urdf").unwrap();
+    assert_eq!(tree.warnings.len(), 1, "{:?}", tree.warnings);
+    assert!(
+        tree.warnings[0].contains("joint \"r_finger\" mimics \"l_finger\"")
+            && tree.warnings[0].contains("the leader's limits are kept"),
+        "{}",
+        tree.warnings[0]
+    );
+    let kin = TreeKinematics::new(&KinematicTree::from_tree(&tree).unwrap()).unwrap();
+    assert_eq!((kin.lower(), kin.upper()), (vec![0.0], vec![0.548]));
+    let mut ws = DiffIkWorkspace::new(&kin);
+    let r = ik_tasks(
+        &kin,
+        &mut ws,
+        &[Task::posture(vec![0.4])],
+        &[0.274],
+        &TasksOptions::default(),
+    )
+    .unwrap();
+    assert!(r.converged && (r.q[0] - 0.4).abs() < 1e-9, "{r:?}");
+    // A follower whose limits do hold (the bundled gripper's coupled joint): no warning.
+    let ok = urdf::load_file(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/urdf/gripper_arm.urdf"
+    ))
+    .unwrap();
+    assert!(ok.warnings.is_empty(), "{:?}", ok.warnings);
+}

@@ -41,9 +41,14 @@ pub struct AtomicFile {
 }
 
 impl AtomicFile {
-    /// Starts writing `path` (its folder must exist).
+    /// Starts writing `path` (its folder must exist). Refused, before anything is written,
+    /// when `path` is a file this process read as input (a robot file, an include, a batch, a
+    /// map: [`screwkit_model::input::read_as_input`]), by any name.
     pub fn create(path: impl AsRef<Path>) -> std::io::Result<Self> {
         let path = path.as_ref().to_path_buf();
+        if let Some(why) = protected_input(&path) {
+            return Err(std::io::Error::new(std::io::ErrorKind::InvalidInput, why));
+        }
         let special = std::fs::metadata(&path).is_ok_and(|m| !m.is_file() && !m.is_dir());
         if special {
             let file = std::fs::OpenOptions::new().write(true).open(&path)?;
@@ -172,6 +177,32 @@ pub fn check_distinct(inputs: &[&str], outputs: &[&str]) -> Result<(), String> {
             .find(|o2| o2 == &o || same_file(Path::new(o2), Path::new(o)))
         {
             return Err(format!("two outputs are the same file ({o} and {o2})"));
+        }
+    }
+    Ok(())
+}
+
+/// Why `path` may not be written: it is a protected input of this run (the robot's file, an
+/// include: [`screwkit_model::input::InputFile`]), by any name.
+fn protected_input(path: &Path) -> Option<String> {
+    let input = screwkit_model::input::read_as_input(path)?;
+    Some(if input == path {
+        "is an input of this run: write the output to another file".to_string()
+    } else {
+        format!(
+            "is an input of this run ({}): write the output to another file",
+            input.display()
+        )
+    })
+}
+
+/// Checks, before any work, that none of `outputs` is a protected input of this run (what
+/// [`AtomicFile::create`] would refuse later): for commands that write several files, so that
+/// the first is not written when the second would be refused.
+pub fn check_writable(outputs: &[&str]) -> Result<(), String> {
+    for o in outputs {
+        if let Some(why) = protected_input(Path::new(o)) {
+            return Err(format!("{o}: {why}"));
         }
     }
     Ok(())

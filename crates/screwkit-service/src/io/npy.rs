@@ -3,6 +3,7 @@
 //! `--input FILE.npy` batches). The header is [`super::npz`]'s.
 
 use std::io::{BufReader, Read, Seek, Write};
+use std::path::Path;
 
 use super::atomic::AtomicFile;
 use super::npz::{npy_header, read_npy_header};
@@ -24,10 +25,10 @@ impl NpyReader {
     /// Opens a `.npy` file of float64 (`<f8`, C order).
     pub fn open(path: &str) -> Result<Self, FileError> {
         let err = |m: String| FileError::Format(format!("{path}: {m}"));
-        let mut file = BufReader::new(
-            std::fs::File::open(path)
-                .map_err(|e| FileError::io_doing(path, "cannot read the file", e))?,
-        );
+        let file = std::fs::File::open(path)
+            .map_err(|e| FileError::io_doing(path, "cannot read the file", e))?;
+        screwkit_model::input::note_read(&file, Path::new(path));
+        let mut file = BufReader::new(file);
         let h = read_npy_header(&mut file).map_err(err)?;
         if !matches!(h.descr.as_str(), "<f8" | "=f8") {
             return Err(err(format!(

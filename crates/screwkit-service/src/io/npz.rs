@@ -194,6 +194,7 @@ impl NpzReader {
     /// Opens `path`.
     pub fn open(path: &str) -> Result<Self, FileError> {
         let file = File::open(path).map_err(|e| FileError::io(path, e))?;
+        screwkit_model::input::note_read(&file, std::path::Path::new(path));
         let zip = zip::ZipArchive::new(BufReader::with_capacity(1 << 20, file))
             .map_err(|e| FileError::Format(format!("{path}: not an .npz archive: {e}")))?;
         Ok(Self {

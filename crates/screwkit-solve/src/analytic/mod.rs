@@ -68,7 +68,7 @@ use lock::*;
 pub use lock::{AUTO_POSES, AUTO_SWEEP};
 use prepared::*;
 pub use solutions::{Posture, Postures, RepresentativeKind, Representatives, Solutions};
-pub use solver::{AnalyticIk, MAX_SWEEP};
+pub use solver::{AnalyticIk, MAX_REPRESENTATIVE_ROWS, MAX_SWEEP};
 use table::*;
 use three_parallel::*;
 use wrist::*;

@@ -36,6 +36,10 @@ const ARM_WORDS: &str = "closed form at an arm angle ψ (spherical shoulder and 
 
 /// The most lock values one sweep may have ([`AnalyticIk::lock_values`]).
 pub const MAX_SWEEP: usize = 100_000;
+/// The most rows one posture may list with every 2π representative (`all`): a joint whose
+/// limits span k turns has k representatives, and the rows are their product (a UR5 with
+/// ±2π limits: at most 3⁶ = 729; limits of ±50 rad, as files write for "unlimited": 16⁶).
+pub const MAX_REPRESENTATIVE_ROWS: usize = 4096;
 
 /// What [`AnalyticIk::lock_score`] adds where no posture is exact (above any limit excess).
 const OUT_OF_REACH: f64 = 1e3;
@@ -347,7 +351,7 @@ impl AnalyticIk {
             let mut raw = Postures::default();
             self.postures(target, *v, &mut raw);
             let any_exact = raw.as_slice().iter().any(|p| p.exact);
-            self.collect(kin, ws, target, &raw, any_exact, reps, out);
+            self.collect(kin, ws, target, &raw, any_exact, reps, out)?;
             return Ok(());
         }
         // A sweep: every value's postures once; then, as its samples may all miss a narrow
@@ -368,7 +372,7 @@ impl AnalyticIk {
         // Exact postures are preferred over least-squares ones across all the values.
         let any_exact = raws.iter().any(|r| r.as_slice().iter().any(|p| p.exact));
         for raw in &raws {
-            self.collect(kin, ws, target, raw, any_exact, reps, out);
+            self.collect(kin, ws, target, raw, any_exact, reps, out)?;
         }
         out.refined = refined;
         Ok(())
@@ -388,7 +392,7 @@ impl AnalyticIk {
         any_exact: bool,
         reps: Representatives<'_>,
         out: &mut Solutions,
-    ) {
+    ) -> Result<(), SolveError> {
         let n = self.dof;
         out.singular |= raw.singular;
         // One entry per posture (modulo 2π); its shifts are then distinct by construction.
@@ -409,12 +413,13 @@ impl AnalyticIk {
                     continue;
                 }
             }
-            if self.expand(kin, &q[..n], p.exact, residual, reps, out) {
+            if self.expand(kin, &q[..n], p.exact, residual, reps, out)? {
                 distinct[count] = p.q;
                 count += 1;
             }
         }
         out.branches += count;
+        Ok(())
     }
 
     /// How far the postures of one lock value are from a solution within the limits: where
@@ -831,7 +836,11 @@ impl AnalyticIk {
 
     /// Appends the 2π shifts of posture `q` inside the limits that `reps` asks for
     /// (continuous joints: the wrapped angle; the locked joint: its value); false when there
-    /// is none.
+    /// is none. Each joint's shifts are counted over its whole range (a joint limited to ±50
+    /// rad has 16 of them), so the one nearest a reference is found however wide the limits;
+    /// listing every combination (`All`) beyond [`MAX_REPRESENTATIVE_ROWS`] rows per posture
+    /// is an error.
+    #[allow(clippy::too_many_arguments)]
     fn expand(
         &self,
         kin: &Kinematics,
@@ -840,32 +849,36 @@ impl AnalyticIk {
         residual: f64,
         reps: Representatives<'_>,
         out: &mut Solutions,
-    ) -> bool {
+    ) -> Result<bool, SolveError> {
         use std::f64::consts::TAU;
         let n = q.len();
-        // Per joint: the first representative and how many there are (at most 4).
+        // Per joint: the first representative and how many there are.
         let mut first = [0.0; MAX_DOF];
-        let mut count = [0usize; MAX_DOF];
+        let mut count = [0.0f64; MAX_DOF];
         for i in 0..n {
             let (lo, hi) = (kin.lower[i], kin.upper[i]);
             let unbounded = !lo.is_finite() && !hi.is_finite();
             if kin.continuous[i] || unbounded || self.lock.is_some_and(|l| l.joint == i) {
                 first[i] = q[i];
-                count[i] = 1;
+                count[i] = 1.0;
                 continue;
             }
-            // A bound at −∞ (a revolute joint limited above only): the four turns below hi.
-            let lo = if lo.is_finite() { lo } else { hi - 4.0 * TAU };
+            // A bound at −∞ (a revolute joint limited above only): the four turns below hi;
+            // at +∞ (limited below only): the four above lo.
+            let (lo, hi) = match (lo.is_finite(), hi.is_finite()) {
+                (false, _) => (hi - 4.0 * TAU, hi),
+                (_, false) => (lo, lo + 4.0 * TAU),
+                _ => (lo, hi),
+            };
             let m0 = ((lo - 1e-12 - q[i]) / TAU).ceil();
-            let mut c = 0;
-            while c < 4 && q[i] + (m0 + c as f64) * TAU <= hi + 1e-12 {
-                c += 1;
-            }
-            if c == 0 {
-                return false;
-            }
             first[i] = q[i] + m0 * TAU;
-            count[i] = c;
+            if first[i] > hi + 1e-12 {
+                return Ok(false);
+            }
+            count[i] = ((hi + 1e-12 - first[i]) / TAU).floor() + 1.0;
+            if !kin.lower[i].is_finite() || !kin.upper[i].is_finite() {
+                count[i] = count[i].min(4.0);
+            }
         }
         // One row: per joint, the shift nearest the reference (the seed, or the angle).
         let reference = match reps {
@@ -875,15 +888,34 @@ impl AnalyticIk {
         };
         if let Some(r) = reference {
             for i in 0..n {
-                let k = ((r[i] - first[i]) / TAU)
-                    .round()
-                    .clamp(0.0, (count[i] - 1) as f64);
-                let x = first[i] + k * TAU;
+                // The shift of q_i nearest r_i, counted from q_i (exact near the reference
+                // however far the limits lie), kept among the shifts inside the limits.
+                let last = first[i] + (count[i] - 1.0) * TAU;
+                let x = if count[i] <= 1.0 {
+                    first[i]
+                } else {
+                    let x = q[i] + ((r[i] - q[i]) / TAU).round() * TAU;
+                    if x < first[i] {
+                        first[i]
+                    } else if x > last {
+                        last
+                    } else {
+                        x
+                    }
+                };
                 out.q.push(x.clamp(kin.lower[i], kin.upper[i]));
             }
             out.exact.push(exact);
             out.residual.push(residual);
-            return true;
+            return Ok(true);
+        }
+        let rows: f64 = count[..n].iter().product();
+        if rows > MAX_REPRESENTATIVE_ROWS as f64 {
+            return Err(SolveError::InvalidInput(format!(
+                "listing every 2π representative would give {rows:.0} rows per posture (more \
+                 than {MAX_REPRESENTATIVE_ROWS}: the joint limits span many turns); ask for the \
+                 one nearest the seed (representatives \"nearest\") or one per posture (\"none\")"
+            )));
         }
         let mut digit = [0usize; MAX_DOF];
         loop {
@@ -896,11 +928,11 @@ impl AnalyticIk {
             let mut i = n;
             loop {
                 if i == 0 {
-                    return true;
+                    return Ok(true);
                 }
                 i -= 1;
                 digit[i] += 1;
-                if digit[i] < count[i] {
+                if (digit[i] as f64) < count[i] {
                     break;
                 }
                 digit[i] = 0;

@@ -83,6 +83,25 @@ impl Default for Limits {
 /// Relative tolerance of "already outside the limits".
 pub const LIMIT_TOLERANCE: f64 = 1e-9;
 
+/// The most velocity variables (nv) a whole-body IK problem may have. Its QP is dense: H is
+/// nv × nv (32 MiB of f64 at this limit, and the active set's factor as much again); whole
+/// robots have fewer than 100 (TALOS 38 with its floating base). A larger tree is refused with
+/// an error naming this limit, before anything of that size is allocated (a 30,000-joint tree
+/// asked for 7.2 GB and aborted).
+pub const MAX_NV: usize = 2048;
+
+/// Refuses a tree whose whole-body QP would exceed [`MAX_NV`].
+fn check_size(kin: &TreeKinematics) -> Result<(), SolveError> {
+    if kin.nv() > MAX_NV {
+        return Err(SolveError::InvalidInput(format!(
+            "whole-body IK takes trees of at most {MAX_NV} velocity variables (its QP is a \
+             dense nv x nv matrix); this one has {}",
+            kin.nv()
+        )));
+    }
+    Ok(())
+}
+
 /// Reusable scratch of the differential IK (grows to the largest task set, then no allocation).
 #[derive(Debug, Clone)]
 pub struct DiffIkWorkspace {
@@ -101,14 +120,19 @@ pub struct DiffIkWorkspace {
 }
 
 impl DiffIkWorkspace {
-    /// Scratch for `kin`.
+    /// Scratch for `kin` (H, nv × nv, only for a tree within [`MAX_NV`]: the algorithms refuse
+    /// a larger one before they use it).
     pub fn new(kin: &TreeKinematics) -> Self {
         let nv = kin.nv();
         Self {
             tree: TreeWorkspace::new(kin),
             rows: Rows::default(),
             next: Rows::default(),
-            h: vec![0.0; nv * nv],
+            h: if nv <= MAX_NV {
+                vec![0.0; nv * nv]
+            } else {
+                Vec::new()
+            },
             c: vec![0.0; nv],
             lo: vec![0.0; nv],
             hi: vec![0.0; nv],
@@ -348,6 +372,7 @@ pub fn ik_step<'w>(
     dt: f64,
     limits: &Limits,
 ) -> Result<&'w [f64], SolveError> {
+    check_size(kin)?;
     let base = kin.check_q(q)?;
     check_tasks(kin, tasks)?;
     check_dt(dt)?;
@@ -470,6 +495,7 @@ pub fn ik_tasks(
     seed: &[f64],
     opts: &TasksOptions,
 ) -> Result<TasksResult, SolveError> {
+    check_size(kin)?;
     kin.check_q(seed)?;
     check_tasks(kin, tasks)?;
     ws.fit(kin);
@@ -717,6 +743,7 @@ pub fn ik_trajectory(
     opts: &TasksOptions,
     segments: Segments,
 ) -> Result<Vec<Result<TasksResult, SolveError>>, SolveError> {
+    check_size(kin)?;
     kin.check_q(seed)?;
     let n = sets.len();
     let length = if segments.length == 0 {

@@ -359,18 +359,19 @@ impl TreeKinematics {
     }
 }
 
-/// Each joint variable's bounds and speed limit over every joint it drives (its own and its
-/// mimic followers': θ = m q + o within [lo, hi] is q within [(lo − o)/m, (hi − o)/m], the
-/// bounds swapped for m < 0; |θ̇| = |m| |q̇| ≤ speed). Continuous joints and joints without a
-/// file limit add no position bound; a speed limit of 0 or none in the file is no limit.
+/// Each joint variable's bounds and speed limit: its position bounds are its leader joint's
+/// own (a mimic follower's limits do not narrow them, as in ROS; `Tree::warnings` names a
+/// follower that cannot hold its limits over its leader's range), its speed limit the least
+/// over every joint it drives (|θ̇| = |m| |q̇| ≤ speed; a speed limit of 0 or none in the file
+/// is no limit).
 fn variable_limits(model: &KinematicTree) -> (Vec<(f64, f64)>, Vec<f64>) {
-    let mut bounds: Vec<(f64, f64)> = model.variables.iter().map(|v| (v.lower, v.upper)).collect();
+    let bounds: Vec<(f64, f64)> = model.variables.iter().map(|v| (v.lower, v.upper)).collect();
     let mut speed = vec![f64::INFINITY; bounds.len()];
     for j in &model.joints {
         let Some(tj) = model.tree.joint(&j.name).map(|i| &model.tree.joints[i]) else {
             continue;
         };
-        let (k, m, o) = (j.drive.variable, j.drive.multiplier, j.drive.offset);
+        let (k, m) = (j.drive.variable, j.drive.multiplier);
         if k >= bounds.len() || m == 0.0 {
             continue;
         }
@@ -378,14 +379,6 @@ fn variable_limits(model: &KinematicTree) -> (Vec<(f64, f64)>, Vec<f64>) {
         if let Some(v) = limit.velocity.filter(|v| *v > 0.0 && v.is_finite()) {
             speed[k] = speed[k].min(v / m.abs());
         }
-        if tj.kind == screwkit_model::JointKind::Continuous {
-            continue;
-        }
-        let (a, b) = ((limit.lower - o) / m, (limit.upper - o) / m);
-        let (a, b) = if m < 0.0 { (b, a) } else { (a, b) };
-        let (lo, hi) = &mut bounds[k];
-        *lo = lo.max(a);
-        *hi = hi.min(b);
     }
     (bounds, speed)
 }
