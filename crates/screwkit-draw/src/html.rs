@@ -47,6 +47,17 @@ fn kind_word(kind: JointKind) -> &'static str {
 /// pose M_L, the joint moving it, the link its segment starts from), the drawn frames (the tip
 /// with its home pose M), and q.
 pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
+    // Each joint's link: the first link with that many joints before it (one pass).
+    let mut link_of: Vec<Option<usize>> = vec![None; chain.joints.len()];
+    for (l, link) in kin.links().iter().enumerate() {
+        if let Some(slot) = link
+            .joints_before
+            .checked_sub(1)
+            .and_then(|j| link_of.get_mut(j))
+        {
+            slot.get_or_insert(l);
+        }
+    }
     let joints: Vec<Value> = chain
         .joints
         .iter()
@@ -60,7 +71,7 @@ pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
                 "multiplier": joint.drive.multiplier,
                 "offset": joint.drive.offset,
                 "parent": j.checked_sub(1),
-                "link": kin.links().iter().position(|l| l.joints_before == j + 1),
+                "link": link_of[j],
             })
         })
         .collect();
@@ -112,18 +123,25 @@ pub fn model_json(chain: &Chain, kin: &Kinematics, q: &[f64]) -> Value {
 /// (qx, qy, qz, qw), which the page normalises).
 pub fn tree_json(kin: &TreeKinematics, q: &[f64]) -> Value {
     let model = kin.model();
+    // Each joint's child link: the first link moved by it whose parent link it does not move
+    // (one pass over the links; a search per joint was quadratic: 100,000 links took 30 s).
+    let mut children: Vec<Option<usize>> = vec![None; model.joints.len()];
+    for (l, link) in model.links.iter().enumerate() {
+        if let Some(k) = link.support {
+            let parent_moves = link
+                .parent
+                .is_some_and(|p| model.links[p].support == Some(k));
+            if !parent_moves && k < children.len() && children[k].is_none() {
+                children[k] = Some(l);
+            }
+        }
+    }
     let joints: Vec<Value> = model
         .joints
         .iter()
         .enumerate()
         .map(|(k, j)| {
-            // The child link: moved by this joint, its parent link not.
-            let child = (0..model.links.len()).find(|&l| {
-                model.links[l].support == Some(k)
-                    && model.links[l]
-                        .parent
-                        .is_none_or(|p| model.links[p].support != Some(k))
-            });
+            let child = children[k];
             json!({
                 "name": j.name,
                 "kind": kind_word(j.kind),

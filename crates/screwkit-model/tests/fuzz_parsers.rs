@@ -243,6 +243,75 @@ fn fuzz_mjcf() {
     assert!(n > 0);
 }
 
+/// Where the fuzzer's input splits into the files of an MJCF model.
+const FILE_BREAK: &str = "\n<!--FILE-->\n";
+
+const INCLUDE_TOKENS: &[&[u8]] = &[
+    b"<include file=\"a.xml\"/>",
+    b"<include file=\"b.xml\"/>",
+    b"<include file=\"main.xml\"/>",
+    b"<include file=\"missing.xml\"/>",
+    b"<include/>",
+    b"\n<!--FILE-->\n",
+    b"<body name=\"n\"><body name=\"m\">",
+    b"</body></body>",
+    b"<default class=\"k\"><default class=\"k2\"><joint axis=\"1 0 0\"/></default></default>",
+    b"<joint class=\"k2\"/>",
+    b"<mujoco>",
+    b"</mujoco>",
+    b"<worldbody>",
+    b"</worldbody>",
+    b"<frame pos=\"0 0 1\">",
+    b"</frame>",
+    b"range=\"0 0\"",
+    b"limited=\"true\"",
+    b"<compiler coordinate=\"global\"/>",
+    b"xmlns:u=\"u\"",
+    b"<u:body>",
+];
+
+/// MJCF models of several files (a virtual file set: the input split at [`FILE_BREAK`] into
+/// main.xml, a.xml and b.xml, which include each other), so that includes — nesting across
+/// files, cycles, budgets, defaults split over files — are fuzzed too.
+#[test]
+fn fuzz_mjcf_includes() {
+    let seeds = vec![
+        [
+            "<mujoco model=\"m\"><include file=\"a.xml\"/><worldbody><body name=\"b0\"><joint name=\"j0\"/><include file=\"b.xml\"/></body></worldbody></mujoco>",
+            "<mujoco><default><joint axis=\"0 1 0\" range=\"-1 1\"/><default class=\"c\"><joint axis=\"1 0 0\"/></default></default></mujoco>",
+            "<mujoco><body name=\"b1\" pos=\"0 0 0.3\"><joint name=\"j1\" class=\"c\"/><site name=\"tip\" pos=\"0 0 0.2\"/></body></mujoco>",
+        ]
+        .join(FILE_BREAK)
+        .into_bytes(),
+        [
+            "<mujoco><worldbody><include file=\"a.xml\"/></worldbody></mujoco>",
+            "<mujoco><body name=\"p\"><freejoint/><include file=\"b.xml\"/></body></mujoco>",
+            "<mujoco><body name=\"q\"><joint name=\"k\" type=\"slide\"/></body></mujoco>",
+        ]
+        .join(FILE_BREAK)
+        .into_bytes(),
+    ];
+    let dir = std::env::temp_dir().join(format!("sk-fuzz-inc-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let n = fuzz::run("mjcf-includes", 5, 3.0, &seeds, INCLUDE_TOKENS, |input| {
+        let text = String::from_utf8_lossy(input);
+        let mut parts = text.splitn(3, FILE_BREAK);
+        for name in ["main.xml", "a.xml", "b.xml"] {
+            std::fs::write(dir.join(name), parts.next().unwrap_or("")).unwrap();
+        }
+        if let Ok(tree) = mjcf::load_file(dir.join("main.xml")) {
+            if let Ok(kt) = KinematicTree::from_tree(&tree) {
+                let _ = kt.with_floating_base(tree.floating_root);
+            }
+            for l in tree.leaves_below(tree.root) {
+                let _ = Chain::from_tree(&tree, None, Some(&tree.links[l]));
+            }
+        }
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(n > 0);
+}
+
 const SCREW_TOKENS: &[&[u8]] = &[
     b"\"screw\": [0, 0, 1, 0, 0, 0.1]",
     b"\"screw_space\": [0, 0, 0, 0, 0, 1]",

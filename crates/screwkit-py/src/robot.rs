@@ -1684,7 +1684,8 @@ impl Robot {
             &self.analytic,
         )
         .map_err(service_error)?
-        .with_representatives(reps);
+        .with_representatives(reps)
+        .with_interrupt(screwkit_solve::ik::Interrupt(pool::cancelled));
         let n = self.kin()?.dof();
         let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
             Ok(new_array(py, &[sols.len(), n], |o| {
@@ -1698,19 +1699,28 @@ impl Robot {
         let flat = tv.as_slice()?;
         if count.is_none() {
             let t = target::from_row_major(flat).map_err(bad_target)?;
-            let mut ws = self.workspace()?;
-            let (sols, _) = all
-                .solve(self.kin()?, &mut ws, &t, &seed)
-                .map_err(solve_error)?;
+            let kin = self.kin()?;
+            let (sols, _) = if sweep.is_some() {
+                // A sweep takes milliseconds to seconds: off the main thread, which runs
+                // Python's signal handlers meanwhile (Ctrl-C stops it: KeyboardInterrupt).
+                pool::cancellable(py, || {
+                    let mut ws = Workspace::new(kin);
+                    all.solve(kin, &mut ws, &t, &seed)
+                })?
+            } else {
+                // One closed form (microseconds): on this thread.
+                let mut ws = self.workspace()?;
+                all.solve(kin, &mut ws, &t, &seed)
+            }
+            .map_err(solve_error)?;
             if !sols.is_exact() {
                 return Err(PyValueError::new_err(format!("target: {OUT_OF_REACH}")));
             }
             return to_array(py, &sols);
         }
         let kin = self.kin()?;
-        let results = py
-            .detach(|| pool::run(|| all.solve_batch(kin, flat, &seed)))?
-            .map_err(solve_error)?;
+        let results =
+            pool::cancellable(py, || all.solve_batch(kin, flat, &seed))?.map_err(solve_error)?;
         let list = pyo3::types::PyList::empty(py);
         let mut bad = Vec::new();
         for (k, r) in results.into_iter().enumerate() {

@@ -83,6 +83,10 @@ except KeyboardInterrupt:
         "torso.ik_trajectory([reach] * 200000, np.zeros(7))",
         "torso.ik_trajectory([reach] * 200000, np.zeros(7), segment=1000)",
         "screwkit.lie.project_to_so3(stack)",
+        # Issue 44, item 20: every analytic solution over a long sweep (a general 6R per
+        # value: seconds), one target and a batch.
+        "robot.ik_all(far, lock=0, sweep=100000)",
+        "robot.ik_all(np.repeat(far[None], 64, axis=0), lock=0, sweep=20000)",
     ],
 )
 def test_ctrl_c_interrupts_long_calls(call: str) -> None:

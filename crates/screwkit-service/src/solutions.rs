@@ -105,6 +105,13 @@ impl AllSolutions {
         })
     }
 
+    /// The solver polling `interrupt` between a sweep's lock values (a front end's Ctrl-C:
+    /// [`AnalyticIk::with_interrupt`]).
+    pub fn with_interrupt(mut self, interrupt: screwkit_solve::ik::Interrupt) -> Self {
+        self.solver = self.solver.with_interrupt(interrupt);
+        self
+    }
+
     /// Which 2π representatives are listed (default: the one nearest the seed per posture).
     pub fn with_representatives(mut self, reps: RepresentativesChoice) -> Self {
         self.reps = reps;

@@ -47,6 +47,7 @@ impl AnalyticIk {
             shift: 0,
             arm: None,
             fallback_shift: std::sync::OnceLock::new(),
+            interrupt: None,
         };
         for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
             solver.free[slot] = j;

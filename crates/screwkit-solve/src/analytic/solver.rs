@@ -28,6 +28,9 @@ pub struct AnalyticIk {
     /// A locked chain's general-6R reading (forward), chosen on first use, for lock values
     /// where its subproblem-5 closed form finds nothing ([`AnalyticIk::postures`]).
     pub(super) fallback_shift: std::sync::OnceLock<usize>,
+    /// The caller's "stop now" check ([`AnalyticIk::with_interrupt`]), polled between the
+    /// lock values of a sweep and the steps of its refinement.
+    pub(super) interrupt: Option<crate::ik::Interrupt>,
 }
 
 /// What the arm-angle solver says of itself.
@@ -52,6 +55,24 @@ const REFINE_STEPS: usize = 40;
 const SUBDIVIDE: usize = 16;
 
 impl AnalyticIk {
+    /// This solver polling `interrupt` between a sweep's lock values and its refinement's
+    /// steps (a front end's Ctrl-C): when it says stop, the call ends with an error saying it
+    /// was interrupted. One value is one closed form (microseconds): not polled.
+    pub fn with_interrupt(mut self, interrupt: crate::ik::Interrupt) -> Self {
+        self.interrupt = Some(interrupt);
+        self
+    }
+
+    /// An error when the caller's interrupt check says stop.
+    fn check_interrupt(&self) -> Result<(), SolveError> {
+        match self.interrupt {
+            Some(crate::ik::Interrupt(stop)) if stop() => Err(SolveError::InvalidInput(
+                "interrupted (the caller's stop check)".into(),
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// The solver of a 6R chain of a family solved here; an error naming the family
     /// otherwise (a 7R chain: lock a joint with [`AnalyticIk::locked`]).
     pub fn new(kin: &Kinematics) -> Result<Self, SolveError> {
@@ -97,6 +118,7 @@ impl AnalyticIk {
             shift,
             arm: None,
             fallback_shift: std::sync::OnceLock::new(),
+            interrupt: None,
             lines: c.axes,
             home: kin.home,
         })
@@ -135,6 +157,7 @@ impl AnalyticIk {
             shift: 0,
             arm: Some(arm),
             fallback_shift: std::sync::OnceLock::new(),
+            interrupt: None,
             lines: c.axes,
             home: kin.home,
         })
@@ -357,17 +380,20 @@ impl AnalyticIk {
         // A sweep: every value's postures once; then, as its samples may all miss a narrow
         // band of lock values where the pose is reachable within the limits, the best
         // samples that reach nothing refined.
-        let mut raws: Vec<Postures> = lock_values
-            .iter()
-            .map(|&v| {
-                let mut raw = Postures::default();
-                self.postures(target, v, &mut raw);
-                raw
-            })
-            .collect();
+        let mut raws: Vec<Postures> = Vec::with_capacity(lock_values.len());
+        for (k, &v) in lock_values.iter().enumerate() {
+            if k % 64 == 0 {
+                self.check_interrupt()?;
+            }
+            let mut raw = Postures::default();
+            self.postures(target, v, &mut raw);
+            raws.push(raw);
+        }
         let mut refined = Vec::new();
         if self.lock.is_some() || self.arm.is_some() {
+            self.check_interrupt()?;
             refined = self.refine(kin, target, lock_values, &mut raws);
+            self.check_interrupt()?;
         }
         // Exact postures are preferred over least-squares ones across all the values.
         let any_exact = raws.iter().any(|r| r.as_slice().iter().any(|p| p.exact));
