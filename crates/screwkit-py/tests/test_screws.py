@@ -407,3 +407,35 @@ def test_a_csv_table_keeps_the_joint_types(ur5: screwkit.Robot) -> None:
     assert np.all(np.abs(sols) <= np.pi + 1e-12)
     for x in sols:
         np.testing.assert_allclose(csv.fk(x), t, atol=1e-5)  # six printed decimals
+
+
+def test_numerical_ik_on_arms_with_helical_and_prismatic_joints() -> None:
+    """Issue 44, item 16: numerical IK on robots from screws solves >= 99.9 % of reachable
+    targets (five random 6-joint arms with two helical and one prismatic joint, 1,000 targets
+    each), every answer within the limits and checked by FK; and an attempt close to the
+    target that is still closing in goes on instead of restarting (arm 7016's last target
+    ended its budget 1.6e-9 short of it)."""
+    solved = total = 0
+    for arm in range(5):
+        g = np.random.default_rng(1000 + arm)
+        kinds = ["revolute", "helical", "revolute", "prismatic", "helical", "revolute"]
+        m, s, limits = random_arm(g, 6, kinds)
+        robot = screwkit.Robot.from_screws(m, s, limits=limits)
+        qs = g.uniform(limits[:, 0], limits[:, 1], size=(1000, 6))
+        targets = robot.fk(qs)
+        res = robot.ik(targets)
+        ok = np.asarray(res.converged, dtype=bool)
+        q = np.asarray(res.q)
+        assert np.all((q >= limits[:, 0]) & (q <= limits[:, 1]))
+        np.testing.assert_allclose(robot.fk(q[ok]), targets[ok], rtol=0, atol=1e-8)
+        solved += int(ok.sum())
+        total += len(qs)
+    assert solved >= 0.999 * total, f"{solved} of {total}"
+    g = np.random.default_rng(7016)
+    kinds = list(
+        g.permutation(["revolute", "revolute", "revolute", "helical", "helical", "prismatic"])
+    )
+    m, s, limits = random_arm(g, 6, kinds)
+    robot = screwkit.Robot.from_screws(m, s, limits=limits)
+    qs = g.uniform(limits[:, 0], limits[:, 1], size=(300, 6))
+    assert np.asarray(robot.ik(robot.fk(qs)).converged, dtype=bool).all()

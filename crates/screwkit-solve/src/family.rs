@@ -171,7 +171,31 @@ pub fn axis_lines(kin: &Kinematics) -> Vec<AxisLine> {
 /// Classifies a chain from its space screw axes at home.
 pub fn classify(kin: &Kinematics) -> Classification {
     let all_revolute = kin.space.iter().all(|j| j.is_revolute()) && kin.identity_map;
-    classify_axes(axis_lines(kin), all_revolute, kin.length_scale)
+    let mut c = classify_axes(axis_lines(kin), all_revolute, kin.length_scale);
+    // A 6R arm whose Jacobian has rank < 6 at every configuration (six parallel axes, two
+    // coincident ones) reaches each pose it reaches along a self-motion: no finite solution
+    // set for a closed form to list ([`generic_rank`]).
+    if c.family != Family::NotAnalytic && kin.dof() == 6 && generic_rank(kin) < 6 {
+        c.family = Family::NotAnalytic;
+    }
+    c
+}
+
+/// The rank of the space Jacobian at a generic configuration: the largest over three seeded
+/// configurations within the limits. Below the number of joints everywhere, the chain has a
+/// self-motion at every pose it reaches (the rank theorem: a (n − r)-dimensional family of
+/// solutions through each one).
+pub fn generic_rank(kin: &Kinematics) -> usize {
+    let n = kin.dof();
+    let qs = crate::sample::configurations(kin, 3, 0x5eed);
+    let mut ws = crate::workspace::Workspace::new(kin);
+    qs.chunks(n.max(1))
+        .filter_map(|q| {
+            let j = crate::jacobian::jacobian(kin, &mut ws, q, crate::Frame::Space).ok()?;
+            crate::analysis::analyze_jacobian(j).ok().map(|a| a.rank)
+        })
+        .max()
+        .unwrap_or(0)
 }
 
 /// Classifies axis lines (in chain order) of a chain whose joints are all revolute or not

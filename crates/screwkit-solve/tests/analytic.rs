@@ -688,3 +688,50 @@ fn wide_limits_give_the_nearest_representative_and_bound_all() {
         }
     }
 }
+
+/// Issue 44, item 9: an arm whose solutions are continua (six parallel axes; two coincident
+/// axes) is refused by name — its self-motion — where every reachable pose was reported out
+/// of reach, and `info`'s family says numerical IK only (it promised a closed form).
+#[test]
+fn degenerate_arms_name_their_self_motion() {
+    use screwkit_solve::family::generic_rank;
+    // Six parallel axes: a planar 6R.
+    let mut t = String::from("<robot name=\"planar6\"><link name=\"l0\"/>");
+    for i in 0..6 {
+        t.push_str(&format!(
+            "<link name=\"l{}\"/><joint name=\"j{i}\" type=\"revolute\"><parent link=\"l{i}\"/><child link=\"l{}\"/><origin xyz=\"{} 0 0\"/><axis xyz=\"0 0 1\"/><limit lower=\"-3\" upper=\"3\"/></joint>",
+            i + 1,
+            i + 1,
+            if i == 0 { 0.0 } else { 0.3 }
+        ));
+    }
+    t.push_str("</robot>");
+    let planar = screwkit_model::urdf::load_str(&t, "planar6.urdf").unwrap();
+    // UR5 with the elbow on the shoulder's axis (no upper arm): axes 2 and 3 coincide.
+    let ur5 = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/urdf/ur5.urdf"
+    ))
+    .unwrap();
+    let coincident = ur5.replacen(
+        "<origin xyz=\"0.425 0 0\" rpy=\"0 0 0\"/>",
+        "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>",
+        1,
+    );
+    assert_ne!(coincident, ur5, "the elbow's origin was moved");
+    let coincident = screwkit_model::urdf::load_str(&coincident, "ur5_coincident.urdf").unwrap();
+    for (name, tree, rank) in [("planar", &planar, 3), ("coincident", &coincident, 5)] {
+        let kin = Kinematics::new(&Chain::from_tree(tree, None, None).unwrap());
+        assert_eq!(generic_rank(&kin), rank, "{name}");
+        assert_eq!(classify(&kin).family, Family::NotAnalytic, "{name}");
+        let e = AnalyticIk::new(&kin).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("rank {rank} < 6")) && e.contains("self-motion"),
+            "{name}: {e}"
+        );
+    }
+    // A regular arm keeps its closed form.
+    let (_, _, kin) = common::load("ur5.urdf", None, None);
+    assert_eq!(generic_rank(&kin), 6);
+    assert!(AnalyticIk::new(&kin).is_ok());
+}

@@ -83,6 +83,17 @@ impl AnalyticIk {
                 c.family.describe()
             )));
         }
+        if kin.dof() == 6 && kin.space.iter().all(|j| j.is_revolute()) {
+            let rank = crate::family::generic_rank(kin);
+            if rank < 6 {
+                return Err(SolveError::InvalidInput(format!(
+                    "this arm's Jacobian has rank {rank} < 6 at every configuration (six \
+                     parallel axes, two coincident ones, …): each pose it reaches has a \
+                     {}-parameter self-motion, not a finite solution set; use numerical IK",
+                    6 - rank
+                )));
+            }
+        }
         let fail = || {
             SolveError::InvalidInput(format!(
                 "no analytic solver for this chain: {}",
