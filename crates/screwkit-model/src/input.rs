@@ -48,7 +48,7 @@ pub fn read_bounded(mut reader: impl Read) -> Result<Vec<u8>, ErrorKind> {
 }
 
 /// A file being read as input stays protected from every output while a holder of it lives:
-/// the files a loaded robot was read from (its file, includes, meshes) for as long as the robot
+/// the files a loaded robot was read from (its file, includes) for as long as the robot
 /// lives, every file a command-line run reads for the whole run. The one atomic writer of
 /// outputs (`screwkit_service::io::atomic`) refuses to write over any of them
 /// ([`read_as_input`]), by any name (`./x`, hard and symbolic links), so no output can destroy
@@ -124,15 +124,27 @@ fn identity(meta: &std::fs::Metadata, path: &Path) -> (u64, u64) {
 /// the files stay protected from outputs while the holders live. Nested calls collect into
 /// their own list and hand it to the outer one too.
 pub fn collect_reads<T>(f: impl FnOnce() -> T) -> (T, Vec<InputFile>) {
-    let outer = COLLECTING.with(|c| c.borrow_mut().replace(Vec::new()));
+    /// Puts the outer collector back however `f` ends (a panic unwinding through it too), so
+    /// a later load on this thread does not collect into a list nobody holds.
+    struct Restore(Option<Option<Vec<InputFile>>>);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            if let Some(outer) = self.0.take() {
+                COLLECTING.with(|c| *c.borrow_mut() = outer);
+            }
+        }
+    }
+    let mut restore = Restore(Some(
+        COLLECTING.with(|c| c.borrow_mut().replace(Vec::new())),
+    ));
     let out = f();
     let mine = COLLECTING
         .with(|c| c.borrow_mut().take())
         .unwrap_or_default();
-    if let Some(mut outer) = outer {
+    if let Some(Some(outer)) = restore.0.as_mut() {
         outer.extend(mine.iter().cloned());
-        COLLECTING.with(|c| *c.borrow_mut() = Some(outer));
     }
+    drop(restore);
     (out, mine)
 }
 

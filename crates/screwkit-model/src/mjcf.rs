@@ -183,7 +183,7 @@ impl El {
     /// `<joint name="x">` (the element and its name, for messages).
     fn describe(&self) -> String {
         match self.attr("name") {
-            Some(n) => format!("<{} name=\"{n}\">", self.tag),
+            Some(n) => format!("<{} name={}>", self.tag, shown(n)),
             None => format!("<{}>", self.tag),
         }
     }
@@ -209,23 +209,6 @@ struct Reader<'d> {
     bytes: u64,
 }
 
-/// Line numbers of a text's byte offsets, by binary search over its line starts (roxmltree's
-/// `text_pos_at` scans from the start on every call: quadratic over a document's elements).
-struct Lines(Vec<usize>);
-
-impl Lines {
-    fn new(text: &str) -> Self {
-        let mut starts = vec![0];
-        starts.extend(text.match_indices('\n').map(|(i, _)| i + 1));
-        Lines(starts)
-    }
-
-    /// The 1-based line of byte `offset`.
-    fn line(&self, offset: usize) -> u32 {
-        self.0.partition_point(|&s| s <= offset) as u32
-    }
-}
-
 impl Reader<'_> {
     /// Parses one file of the model into [`El`]s, splicing `<include>`d files in place; its
     /// root's children sit `depth` levels deep in the whole model.
@@ -238,7 +221,7 @@ impl Reader<'_> {
                 ErrorKind::Mjcf("the root element is not <mujoco>".into()),
             ));
         }
-        let lines = Lines::new(text);
+        let lines = input::Lines::new(text);
         self.convert(root, source, &lines, depth)
     }
 
@@ -246,7 +229,7 @@ impl Reader<'_> {
         &mut self,
         node: roxmltree::Node,
         source: &str,
-        lines: &Lines,
+        lines: &input::Lines,
         depth: usize,
     ) -> Result<El, ModelError> {
         self.count += 1;
@@ -262,7 +245,8 @@ impl Reader<'_> {
         }
         // The nesting limit holds for the model as a whole: each file is parsed within it,
         // and an include adds its depth to its contents'.
-        if depth > input::MAX_ELEMENT_DEPTH {
+        // As `input::parse_xml` counts: the document node is level 1, `<mujoco>` level 2.
+        if depth + 2 > input::MAX_ELEMENT_DEPTH {
             return Err(ModelError::new(
                 at(),
                 ErrorKind::TooLarge(format!(
@@ -321,13 +305,7 @@ impl Reader<'_> {
         }
         // The file named as given, shortened and escaped (an attribute can hold a megabyte or
         // control characters: the message says which include, not all it holds).
-        let named = {
-            let mut short: String = file.chars().take(120).collect();
-            if short.len() < file.len() {
-                short.push('…');
-            }
-            format!("{short:?}")
-        };
+        let named = shown(file);
         let canonical = std::fs::canonicalize(&path).map_err(|e| {
             inc.error(format!(
                 "cannot read the included file {named}: {}",
@@ -414,6 +392,12 @@ struct Builder {
     /// screwkit makes (`b_weld`, `b_joint0`, `b/j`, `s_site`, `site:s`) takes a `~k` suffix
     /// when the file already has it, so it never collides with one of the file's own.
     taken: std::collections::HashSet<String>,
+    /// The joints' names, given and made (a separate namespace from the links').
+    taken_joints: std::collections::HashSet<String>,
+    /// The next `~k` to try for a base name (so making names stays linear).
+    next_suffix: HashMap<String, usize>,
+    /// The sites' own names so far: MuJoCo refuses one given twice.
+    site_names: std::collections::HashSet<String>,
     /// The links so far, as a set (a site's name is checked against them).
     link_set: std::collections::HashSet<String>,
     /// Top-level bodies read past (props beside the robot).
@@ -448,6 +432,9 @@ impl Builder {
             floating_root: false,
             body_names: std::collections::HashSet::new(),
             taken: std::collections::HashSet::new(),
+            taken_joints: std::collections::HashSet::new(),
+            next_suffix: HashMap::new(),
+            site_names: std::collections::HashSet::new(),
             link_set: std::collections::HashSet::new(),
             skip: Vec::new(),
             addresses: HashMap::new(),
@@ -507,8 +494,14 @@ impl Builder {
                 if e.tag == "body" {
                     self.body_names.insert(n.to_string());
                 }
-                if matches!(e.tag.as_str(), "body" | "joint" | "freejoint" | "site") {
-                    self.taken.insert(n.to_string());
+                match e.tag.as_str() {
+                    "body" | "site" => {
+                        self.taken.insert(n.to_string());
+                    }
+                    "joint" | "freejoint" => {
+                        self.taken_joints.insert(n.to_string());
+                    }
+                    _ => {}
                 }
             }
             stack.extend(e.children.iter());
@@ -628,16 +621,12 @@ impl Builder {
     /// `base`, or `base~k` with the least k that is free: a name made here never takes one the
     /// file gives (nor one made before).
     fn fresh(&mut self, base: String) -> String {
-        let name = if self.taken.contains(&base) {
-            (1..)
-                .map(|k| format!("{base}~{k}"))
-                .find(|c| !self.taken.contains(c))
-                .unwrap_or(base)
-        } else {
-            base
-        };
-        self.taken.insert(name.clone());
-        name
+        fresh_in(&mut self.taken, &mut self.next_suffix, base)
+    }
+
+    /// [`Builder::fresh`] among the joints' names.
+    fn fresh_joint(&mut self, base: String) -> String {
+        fresh_in(&mut self.taken_joints, &mut self.next_suffix, base)
     }
 
     fn push_link(&mut self, name: String) {
@@ -772,15 +761,16 @@ impl Builder {
             .split_whitespace()
             .map(|t| t.parse::<f64>())
             .collect::<Result<_, _>>()
-            .map_err(|_| e.error(format!("{name}=\"{text}\": not {n} numbers")))?;
+            .map_err(|_| e.error(format!("{name}={}: not {n} numbers", shown(text))))?;
         if values.len() != n {
             return Err(e.error(format!(
-                "{name}=\"{text}\": expected {n} numbers, got {}",
+                "{name}={}: expected {n} numbers, got {}",
+                shown(text),
                 values.len()
             )));
         }
         if values.iter().any(|v| !v.is_finite()) {
-            return Err(e.error(format!("{name}=\"{text}\": not finite")));
+            return Err(e.error(format!("{name}={}: not finite", shown(text))));
         }
         Ok(Some(values))
     }
@@ -1001,6 +991,11 @@ impl Builder {
                     self.check_class(c)?;
                     // MuJoCo names bodies and sites apart: a site named like a body (or like
                     // another site) is the frame `site:NAME`.
+                    if let Some(n) = own_name(c) {
+                        if !self.site_names.insert(n.to_string()) {
+                            return Err(c.error("this site name is given twice (MuJoCo refuses it)"));
+                        }
+                    }
                     let name = match own_name(c) {
                         None => self.fresh(format!("{link}/site_{}", self.links.len())),
                         Some(n) if self.body_names.contains(n) || self.link_set.contains(n) => {
@@ -1008,7 +1003,7 @@ impl Builder {
                         }
                         Some(n) => n.to_string(),
                     };
-                    let joint = self.fresh(format!("{name}_site"));
+                    let joint = self.fresh_joint(format!("{name}_site"));
                     let pose = offset * self.site_pose(c, ctx.class)?;
                     self.push_link(name.clone());
                     self.joints.push((
@@ -1073,7 +1068,7 @@ impl Builder {
     ) -> Result<(), ModelError> {
         if joints.is_empty() {
             self.push_link(name.to_string());
-            let weld = self.fresh(format!("{name}_weld"));
+            let weld = self.fresh_joint(format!("{name}_weld"));
             self.joints.push((
                 spec(weld, JointKind::Fixed, local, [1.0, 0.0, 0.0], None),
                 parent.to_string(),
@@ -1088,7 +1083,7 @@ impl Builder {
             self.check_class(j)?;
             let jname = match own_name(j) {
                 Some(n) => n.to_string(),
-                None => self.fresh(format!("{name}_joint{k}")),
+                None => self.fresh_joint(format!("{name}_joint{k}")),
             };
             let jtype = if j.tag == "freejoint" {
                 "free"
@@ -1305,6 +1300,39 @@ impl Builder {
 
 /// The orientation attributes, in MuJoCo's order of precedence for defaults.
 const ORIENTATIONS: [&str; 5] = ["quat", "axisangle", "euler", "xyaxes", "zaxis"];
+
+/// `base`, or `base~k` with the least k free in `taken` (counting on from the last k made for
+/// that base, so that making n names is linear); the name is then taken.
+fn fresh_in(
+    taken: &mut std::collections::HashSet<String>,
+    next: &mut HashMap<String, usize>,
+    base: String,
+) -> String {
+    let name = if taken.contains(&base) {
+        let k = next.entry(base.clone()).or_insert(1);
+        loop {
+            let c = format!("{base}~{k}");
+            *k += 1;
+            if !taken.contains(&c) {
+                break c;
+            }
+        }
+    } else {
+        base
+    };
+    taken.insert(name.clone());
+    name
+}
+
+/// An attribute value as messages show it: quoted, escaped (`\n`, `\0`, `\"`), at most 120
+/// characters (an attribute can hold a megabyte: the message says which, not all it holds).
+fn shown(value: &str) -> String {
+    let mut short: String = value.chars().take(120).collect();
+    if short.len() < value.len() {
+        short.push('…');
+    }
+    format!("{short:?}")
+}
 
 /// An element's `name`, when it has a non-empty one (MuJoCo: `name=""` is no name).
 fn own_name(e: &El) -> Option<&str> {

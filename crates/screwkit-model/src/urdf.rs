@@ -374,7 +374,13 @@ pub fn write(tree: &Tree) -> Result<String, ModelError> {
         })
     };
     // Comment text: no "--" (it would end or break the comment), escaped as text.
-    let comment = |text: &str| input::escape_xml(text).replace("--", "- -");
+    let comment = |text: &str| {
+        let mut t = input::escape_xml(text);
+        while t.contains("--") {
+            t = t.replace("--", "- -");
+        }
+        t
+    };
     let num = |x: f64| {
         if x.is_infinite() {
             if x > 0.0 {

@@ -543,3 +543,36 @@ fn thirty_thousand_chained_mimics() {
     let model = screwkit_model::KinematicTree::from_tree(&tree).unwrap();
     assert_eq!(model.variables.len(), 1);
 }
+
+/// Review of issue 44: URDF comments never hold "--" (a source named `a---b` made an
+/// unreadable file), and a panic inside `collect_reads` leaves no collector behind (a later
+/// load would keep its files protected for the life of the process).
+#[test]
+fn urdf_comments_and_collect_reads_after_a_panic() {
+    let text = "<robot name=\"r\"><link name=\"a\"/><link name=\"b\"/><joint name=\"j\" type=\"revolute\"><parent link=\"a\"/><child link=\"b\"/><axis xyz=\"0 0 1\"/><limit lower=\"-1\" upper=\"1\"/></joint></robot>";
+    for source in ["a---b.urdf", "x--y-", "----"] {
+        let tree = urdf::load_str(text, source).unwrap();
+        let written = urdf::write(&tree).unwrap();
+        assert!(
+            urdf::load_str(&written, "back.urdf").is_ok(),
+            "{source}: {written}"
+        );
+    }
+    let path = std::env::temp_dir().join(format!("sk-collect-{}.urdf", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let r = std::panic::catch_unwind(|| {
+        input::collect_reads(|| {
+            let _ = input::read_file(&path);
+            panic!("a bug inside a load");
+        })
+    });
+    assert!(r.is_err());
+    // Nothing holds the file now, and a new collection holds exactly its own read.
+    assert!(input::read_as_input(&path).is_none());
+    let (_, held) = input::collect_reads(|| input::read_file(&path).map(|_| ()));
+    assert_eq!(held.len(), 1);
+    assert!(input::read_as_input(&path).is_some());
+    drop(held);
+    assert!(input::read_as_input(&path).is_none());
+    let _ = std::fs::remove_file(&path);
+}

@@ -182,9 +182,11 @@ pub fn classify(kin: &Kinematics) -> Classification {
 }
 
 /// The rank of the space Jacobian at a generic configuration: the largest over three seeded
-/// configurations within the limits. Below the number of joints everywhere, the chain has a
-/// self-motion at every pose it reaches (the rank theorem: a (n − r)-dimensional family of
-/// solutions through each one).
+/// configurations within the limits, counting singular values above [`GENERIC_RANK_TOLERANCE`]
+/// σ₁ (a geometric tolerance: axes written parallel or coincident with rounded numbers, six
+/// decimals say, leave σ_min near 1e-6 σ₁, which the analysis's machine-precision rank counts).
+/// Below the number of joints everywhere, the chain has a self-motion at every pose it
+/// reaches (the rank theorem: an (n − r)-dimensional family of solutions through each one).
 pub fn generic_rank(kin: &Kinematics) -> usize {
     let n = kin.dof();
     let qs = crate::sample::configurations(kin, 3, 0x5eed);
@@ -192,11 +194,20 @@ pub fn generic_rank(kin: &Kinematics) -> usize {
     qs.chunks(n.max(1))
         .filter_map(|q| {
             let j = crate::jacobian::jacobian(kin, &mut ws, q, crate::Frame::Space).ok()?;
-            crate::analysis::analyze_jacobian(j).ok().map(|a| a.rank)
+            let s = crate::analysis::analyze_jacobian(j).ok()?.singular_values;
+            let largest = s.iter().fold(0.0f64, |m, x| m.max(*x));
+            Some(
+                s.iter()
+                    .filter(|&&x| x > GENERIC_RANK_TOLERANCE * largest)
+                    .count(),
+            )
         })
         .max()
         .unwrap_or(0)
 }
+
+/// Singular values at most this fraction of the largest count as zero in [`generic_rank`].
+pub const GENERIC_RANK_TOLERANCE: f64 = 1e-5;
 
 /// Classifies axis lines (in chain order) of a chain whose joints are all revolute or not
 /// (`all_revolute`), with length scale `length` for the tolerances: the family of the lines

@@ -720,7 +720,18 @@ fn degenerate_arms_name_their_self_motion() {
     );
     assert_ne!(coincident, ur5, "the elbow's origin was moved");
     let coincident = screwkit_model::urdf::load_str(&coincident, "ur5_coincident.urdf").unwrap();
-    for (name, tree, rank) in [("planar", &planar, 3), ("coincident", &coincident, 5)] {
+    // The same written with rounded numbers: the elbow 4e-7 m off the shoulder's axis.
+    let rounded = ur5.replacen(
+        "<origin xyz=\"0.425 0 0\" rpy=\"0 0 0\"/>",
+        "<origin xyz=\"0.0000004 0 0\" rpy=\"0 0 0\"/>",
+        1,
+    );
+    let rounded = screwkit_model::urdf::load_str(&rounded, "ur5_rounded.urdf").unwrap();
+    for (name, tree, rank) in [
+        ("planar", &planar, 3),
+        ("coincident", &coincident, 5),
+        ("rounded", &rounded, 5),
+    ] {
         let kin = Kinematics::new(&Chain::from_tree(tree, None, None).unwrap());
         assert_eq!(generic_rank(&kin), rank, "{name}");
         assert_eq!(classify(&kin).family, Family::NotAnalytic, "{name}");

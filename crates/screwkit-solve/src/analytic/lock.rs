@@ -128,7 +128,15 @@ impl AnalyticIk {
                         values
                             .iter()
                             .filter(|&&v| {
-                                s.solve(kin, &mut ws, &target, v, &mut sols).is_ok()
+                                s.solve_postures(
+                                    kin,
+                                    &mut ws,
+                                    &target,
+                                    &[v],
+                                    super::Representatives::One,
+                                    &mut sols,
+                                )
+                                .is_ok()
                                     && sols.is_exact()
                             })
                             .count()

@@ -164,7 +164,18 @@ pub fn ik_nearest(
     seed: &[f64],
 ) -> Result<Option<Vec<f64>>, SolveError> {
     kin.check_q(seed)?;
-    let sols = ik_all(kin, ws, target)?;
+    // One row per posture, each joint at its representative nearest the seed: found however
+    // wide the limits (every representative of ±50 rad limits is 16⁶ rows).
+    let solver = AnalyticIk::new(kin)?;
+    let mut sols = Solutions::default();
+    solver.solve_postures(
+        kin,
+        ws,
+        target,
+        &[0.0],
+        Representatives::Nearest(seed),
+        &mut sols,
+    )?;
     if !sols.is_exact() {
         return Ok(None);
     }
