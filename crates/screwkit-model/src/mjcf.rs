@@ -950,7 +950,13 @@ impl Builder {
         // MuJoCo gives this body the inertia of its geoms (inertiafromgeom "true", or "auto"
         // without <inertial>); screwkit does not compute it yet: counted, and said once.
         let inertial = body.children.iter().any(|c| c.tag == "inertial");
-        let geoms = body.children.iter().any(|c| c.tag == "geom");
+        // Geoms in a <frame> are the body's too.
+        fn has_geom(e: &El) -> bool {
+            e.children
+                .iter()
+                .any(|c| c.tag == "geom" || (c.tag == "frame" && has_geom(c)))
+        }
+        let geoms = has_geom(body);
         let from_geoms = match self.compiler.inertiafromgeom {
             Some(true) => geoms,
             Some(false) => false,

@@ -479,6 +479,10 @@ fn masses_from_geoms_are_a_warning_until_they_are_computed() {
     let geom = "<geom size=\"0.1\"/>";
     let inertial = "<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"0.1 0.1 0.1\"/>";
     assert!(warned(model("", geom)));
+    assert!(warned(model(
+        "",
+        &format!("<frame pos=\"0 0 1\">{geom}</frame>")
+    )));
     assert!(!warned(model("", &format!("{geom}{inertial}"))));
     assert!(warned(model(
         "<compiler inertiafromgeom=\"true\"/>",
