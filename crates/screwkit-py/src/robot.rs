@@ -316,23 +316,33 @@ impl Robot {
                 })?
                 .into_any())
             }
-            Rows::Many(n) if keep == frames => {
-                run_batch(py, &[n, frames, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
-                    tree::batch::fk_frames_batch(&kin, qs, o)
-                })
-            }
+            Rows::Many(n) if keep == frames => run_batch(
+                py,
+                &[n, frames, 4, 4],
+                qs,
+                FK_CHUNK / 64,
+                Inline::Never,
+                |qs, o| tree::batch::fk_frames_batch(&kin, qs, o),
+            ),
             Rows::Many(n) => {
                 // The links are the first frames: computed with the added ones, copied out.
-                run_batch(py, &[n, keep, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
-                    // A tree has at least its root link: keep ≥ 1.
-                    let rows = o.len() / (16 * keep);
-                    let mut all = vec![0.0; rows * frames * 16];
-                    let r = tree::batch::fk_frames_batch(&kin, qs, &mut all);
-                    for (dst, src) in o.chunks_mut(16 * keep).zip(all.chunks(16 * frames)) {
-                        dst.copy_from_slice(&src[..16 * keep]);
-                    }
-                    r
-                })
+                run_batch(
+                    py,
+                    &[n, keep, 4, 4],
+                    qs,
+                    FK_CHUNK / 64,
+                    Inline::Never,
+                    |qs, o| {
+                        // A tree has at least its root link: keep ≥ 1.
+                        let rows = o.len() / (16 * keep);
+                        let mut all = vec![0.0; rows * frames * 16];
+                        let r = tree::batch::fk_frames_batch(&kin, qs, &mut all);
+                        for (dst, src) in o.chunks_mut(16 * keep).zip(all.chunks(16 * frames)) {
+                            dst.copy_from_slice(&src[..16 * keep]);
+                        }
+                        r
+                    },
+                )
             }
         }
     }
@@ -457,6 +467,7 @@ fn run_batch<'py>(
     shape: &[usize],
     input: &[f64],
     chunk: usize,
+    inline: Inline,
     f: impl Fn(&[f64], &mut [f64]) -> Result<(), SolveError> + Send + Sync,
 ) -> PyResult<Bound<'py, PyAny>> {
     let out = zeros(py, shape)?;
@@ -466,15 +477,36 @@ fn run_batch<'py>(
     let res = {
         let mut w = out.readwrite();
         let o = w.as_slice_mut()?;
-        pool::chunked(py, rows, chunk, |r| {
-            f(
-                &input[r.start * in_width..r.end * in_width],
-                &mut o[r.start * out_width..r.end * out_width],
-            )
-        })?
+        if inline == Inline::Small && rows <= SMALL_BATCH {
+            // A small batch on this thread with the GIL released: the library runs it inline
+            // (one chunk), where the pool's hand-off cost more than the rows (18 µs for one
+            // Panda FK row, against 0.3 µs for the single call).
+            py.detach(|| f(input, o))
+        } else {
+            pool::chunked(py, rows, chunk, |r| {
+                f(
+                    &input[r.start * in_width..r.end * in_width],
+                    &mut o[r.start * out_width..r.end * out_width],
+                )
+            })?
+        }
     };
     res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
     Ok(out.into_any())
+}
+
+/// The most rows of an FK or Jacobian batch run on the calling thread (the library's own
+/// chunk: it runs that many inline); above, the pool's threads share the rows.
+const SMALL_BATCH: usize = 256;
+
+/// Whether [`run_batch`] may run a small batch on the calling thread: only for the library's
+/// chain batches, which run at most [`SMALL_BATCH`] rows inline (the tree's batches share
+/// rows on a pool, which must be the package's own: rayon's global one does not survive
+/// `fork`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Inline {
+    Small,
+    Never,
 }
 
 /// Rows per chunk of a batch between two Ctrl-C checks (a few ms of work each).
@@ -952,10 +984,17 @@ impl Robot {
                         .map_err(solve_error)?;
                     Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
                 }
-                Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK / 4, |qs, o| match b {
-                    Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
-                    None => tree::batch::fk_frame_batch(&kin, a, qs, o),
-                }),
+                Rows::Many(n) => run_batch(
+                    py,
+                    &[n, 4, 4],
+                    qs,
+                    FK_CHUNK / 4,
+                    Inline::Never,
+                    |qs, o| match b {
+                        Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
+                        None => tree::batch::fk_frame_batch(&kin, a, qs, o),
+                    },
+                ),
             };
         }
         let kin = self.kin()?;
@@ -968,7 +1007,7 @@ impl Robot {
                 let t = fk::fk(kin, &mut *self.workspace()?, qs).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, |qs, o| {
+            Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, Inline::Small, |qs, o| {
                 batch::fk_batch(kin, qs, o)
             }),
         }
@@ -1001,9 +1040,14 @@ impl Robot {
                 })?
                 .into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], qs, FK_CHUNK / 16, |qs, o| {
-                batch::fk_all_links_batch(kin, qs, o)
-            }),
+            Rows::Many(n) => run_batch(
+                py,
+                &[n, links, 4, 4],
+                qs,
+                FK_CHUNK / 16,
+                Inline::Small,
+                |qs, o| batch::fk_all_links_batch(kin, qs, o),
+            ),
         }
     }
 
@@ -1062,12 +1106,19 @@ impl Robot {
                     )
                 }),
                 Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
-                Rows::Many(n) => run_batch(py, &[n, 6, nv], qs, FK_CHUNK / 16, |qs, o| match b {
-                    Some(b) => {
-                        tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
-                    }
-                    None => tree::batch::frame_jacobian_batch(&kin, a, form, qs, o, None),
-                }),
+                Rows::Many(n) => run_batch(
+                    py,
+                    &[n, 6, nv],
+                    qs,
+                    FK_CHUNK / 16,
+                    Inline::Never,
+                    |qs, o| match b {
+                        Some(b) => {
+                            tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
+                        }
+                        None => tree::batch::frame_jacobian_batch(&kin, a, form, qs, o, None),
+                    },
+                ),
             };
         }
         let frame = which.screw();
@@ -1090,12 +1141,17 @@ impl Robot {
             // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
             // empty rows).
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
-            Rows::Many(rows) => {
-                run_batch(py, &[rows, 6, n], qs, FK_CHUNK / 4, |qs, o| match frame {
+            Rows::Many(rows) => run_batch(
+                py,
+                &[rows, 6, n],
+                qs,
+                FK_CHUNK / 4,
+                Inline::Small,
+                |qs, o| match frame {
                     Some(f) => batch::jacobian_batch(kin, qs, f, o, None),
                     None => batch::jacobian_world_aligned_batch(kin, qs, o, None),
-                })
-            }
+                },
+            ),
         }
     }
 

@@ -152,57 +152,71 @@ fn for_each_block(
     let n = kin.dof();
     let chunks = qs.len().div_ceil(CHUNK * n);
     let extra_width = extra.as_ref().map_or(0, |e| e.1);
-    let extra_chunks: Vec<Option<&mut [f64]>> = match extra {
+    let mut extra_chunks: Vec<Option<&mut [f64]>> = match extra {
         Some((buf, w)) => buf.chunks_mut(CHUNK * w).map(Some).collect(),
         None => (0..chunks).map(|_| None).collect(),
     };
+    // One chunk's rows (chunk `chunk`: rows from chunk × CHUNK).
+    let work = |ws: &mut Workspace,
+                chunk: usize,
+                o: &mut [f64],
+                mut e: Option<&mut [f64]>,
+                q: &[f64]|
+     -> Vec<RowError> {
+        let mut errors = Vec::new();
+        let here = q.len() / n;
+        let mut r = 0;
+        while r < here {
+            let size = (here - r).min(W);
+            let rows = |w: usize| r * w..(r + size) * w;
+            // Every value of the block finite (the rows' lengths are whole by
+            // construction): one branch-free pass the compiler vectorises, where a
+            // check_q per row (an early-exit scan) took 13 % of the FK block's time.
+            let ok = q[rows(n)].iter().fold(true, |ok, x| ok & x.is_finite());
+            if let (Some(block), true) = (block, size == W && ok) {
+                block(
+                    &q[rows(n)],
+                    &mut o[rows(out_width)],
+                    e.as_deref_mut().map(|e| &mut e[rows(extra_width)]),
+                );
+                r += size;
+                continue;
+            }
+            for i in r..r + size {
+                let one = |w: usize| i * w..(i + 1) * w;
+                let row_extra = e.as_deref_mut().map(|e| &mut e[one(extra_width)]);
+                match kin.check_q(&q[one(n)]) {
+                    Ok(()) => row(ws, &q[one(n)], &mut o[one(out_width)], row_extra),
+                    Err(error) => {
+                        o[one(out_width)].fill(f64::NAN);
+                        if let Some(x) = row_extra {
+                            x.fill(f64::NAN);
+                        }
+                        errors.push(RowError {
+                            row: chunk * CHUNK + i,
+                            error,
+                        });
+                    }
+                }
+            }
+            r += size;
+        }
+        errors
+    };
+    // A batch of one chunk (at most CHUNK rows) runs on the calling thread: handing it to the
+    // pool and waiting costs more than the rows (a small batch would cost more per row than
+    // single calls). The same kernels either way: the rows are bit for bit the same.
+    if chunks <= 1 {
+        let e = extra_chunks.pop().flatten();
+        return work(&mut Workspace::new(kin), 0, out, e, qs);
+    }
     out.par_chunks_mut(CHUNK * out_width)
         .zip(extra_chunks)
         .zip(qs.par_chunks(CHUNK * n))
         .enumerate()
         .map_init(
             || Workspace::new(kin),
-            |ws, (chunk, ((o, mut e), q))| {
-                let mut errors = Vec::new();
-                let here = q.len() / n;
-                let mut r = 0;
-                while r < here {
-                    let size = (here - r).min(W);
-                    let rows = |w: usize| r * w..(r + size) * w;
-                    // Every value of the block finite (the rows' lengths are whole by
-                    // construction): one branch-free pass the compiler vectorises, where a
-                    // check_q per row (an early-exit scan) took 13 % of the FK block's time.
-                    let ok = q[rows(n)].iter().fold(true, |ok, x| ok & x.is_finite());
-                    if let (Some(block), true) = (block, size == W && ok) {
-                        block(
-                            &q[rows(n)],
-                            &mut o[rows(out_width)],
-                            e.as_deref_mut().map(|e| &mut e[rows(extra_width)]),
-                        );
-                        r += size;
-                        continue;
-                    }
-                    for i in r..r + size {
-                        let one = |w: usize| i * w..(i + 1) * w;
-                        let row_extra = e.as_deref_mut().map(|e| &mut e[one(extra_width)]);
-                        match kin.check_q(&q[one(n)]) {
-                            Ok(()) => row(ws, &q[one(n)], &mut o[one(out_width)], row_extra),
-                            Err(error) => {
-                                o[one(out_width)].fill(f64::NAN);
-                                if let Some(x) = row_extra {
-                                    x.fill(f64::NAN);
-                                }
-                                errors.push(RowError {
-                                    row: chunk * CHUNK + i,
-                                    error,
-                                });
-                            }
-                        }
-                    }
-                    r += size;
-                }
-                errors
-            },
+            |ws, (chunk, ((o, e), q))| work(ws, chunk, o, e, q),
         )
         .flatten()
         .collect()
@@ -344,22 +358,31 @@ pub fn jacobian_world_aligned_batch(
     };
     let result = jacobian_batch(kin, qs, Frame::Space, jacobians, Some(&mut *poses));
     if n > 0 {
-        jacobians
-            .par_chunks_mut(6 * n)
-            .zip(poses.par_chunks(16))
-            .for_each(|(j, t)| {
-                let p = nalgebra::Vector3::new(t[3], t[7], t[11]);
-                for c in 0..n {
-                    let mut col = [0.0; 6];
-                    for (r, x) in col.iter_mut().enumerate() {
-                        *x = j[r * n + c];
-                    }
-                    crate::jacobian::space_to_world_aligned(&mut col, &p);
-                    for (r, x) in col.iter().enumerate() {
-                        j[r * n + c] = *x;
-                    }
+        let to_world_aligned = |(j, t): (&mut [f64], &[f64])| {
+            let p = nalgebra::Vector3::new(t[3], t[7], t[11]);
+            for c in 0..n {
+                let mut col = [0.0; 6];
+                for (r, x) in col.iter_mut().enumerate() {
+                    *x = j[r * n + c];
                 }
-            });
+                crate::jacobian::space_to_world_aligned(&mut col, &p);
+                for (r, x) in col.iter().enumerate() {
+                    j[r * n + c] = *x;
+                }
+            }
+        };
+        // A small batch on the calling thread, as `for_each_block` runs it.
+        if jacobians.len() <= CHUNK * 6 * n {
+            jacobians
+                .chunks_mut(6 * n)
+                .zip(poses.chunks(16))
+                .for_each(to_world_aligned);
+        } else {
+            jacobians
+                .par_chunks_mut(6 * n)
+                .zip(poses.par_chunks(16))
+                .for_each(to_world_aligned);
+        }
     }
     result
 }
