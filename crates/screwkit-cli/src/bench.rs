@@ -26,7 +26,7 @@ pub fn run(args: &BenchArgs, format: Format) -> CliResult {
             "solve_rate": num(r.solve_rate()), "mean_us": num(r.mean_us),
             "median_us": num(r.median_us), "p99_us": num(r.p99_us),
             "mean_iterations": num(r.mean_iterations), "fk_ns": num(r.fk_ns),
-            "jacobian_ns": num(r.jacobian_ns),
+            "jacobian_ns": num(r.jacobian_ns), "host": protocol::host(),
         }))?;
     } else {
         crate::output::emit(&format!(
@@ -35,7 +35,8 @@ pub fn run(args: &BenchArgs, format: Format) -> CliResult {
              time per query     mean {:.1} µs, median {:.1} µs, p99 {:.1} µs ({} ms cap, failures included)\n\
              iterations         {:.1} per query\n\
              FK                 {:.0} ns per call\n\
-             FK + Jacobian      {:.0} ns per call\n",
+             FK + Jacobian      {:.0} ns per call\n\
+             host               {}\n",
             chain.robot,
             chain.base,
             chain.tip,
@@ -53,7 +54,8 @@ pub fn run(args: &BenchArgs, format: Format) -> CliResult {
             protocol::TIME_CAP.as_millis(),
             r.mean_iterations,
             r.fk_ns,
-            r.jacobian_ns
+            r.jacobian_ns,
+            protocol::host()
         ))?;
     }
     Ok(())

@@ -105,3 +105,13 @@ pub fn fused_available() -> bool {
         false
     }
 }
+
+/// The kernel path [`dispatch`] takes on this CPU: `"avx2+fma"` (the fused clone) or
+/// `"portable"`, for benchmarks to say where they ran.
+pub fn kernel_path() -> &'static str {
+    if fused_available() {
+        "avx2+fma"
+    } else {
+        "portable"
+    }
+}

@@ -199,6 +199,7 @@ fn host_scaling() -> f64 {
 }
 
 fn main() {
+    println!("host: {}", screwkit_testkit::protocol::host());
     let load = |f: &str, b: Option<&str>, t: Option<&str>| {
         Kinematics::new(&screwkit_model::load_chain(f, b, t).unwrap())
     };

@@ -132,3 +132,28 @@ pub fn run(kin: &Kinematics, queries: usize, seed: u64, opts: &IkOptions) -> Pro
         jacobian_ns,
     }
 }
+
+/// Where a benchmark runs, in one line: the CPU's model (Linux's `/proc/cpuinfo`), whether it
+/// has AVX-512, its hardware threads and the kernel path chosen
+/// ([`screwkit_lie::fma::kernel_path`]). Figures are only comparable on one host class.
+pub fn host() -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|c| {
+            c.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, m)| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    #[cfg(target_arch = "x86_64")]
+    let avx512 = std::arch::is_x86_feature_detected!("avx512f");
+    #[cfg(not(target_arch = "x86_64"))]
+    let avx512 = false;
+    format!(
+        "{model}{}, {} hardware threads, kernels {}",
+        if avx512 { " (AVX-512)" } else { "" },
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+        screwkit_lie::fma::kernel_path()
+    )
+}
