@@ -238,6 +238,7 @@ def general_6r(poses: int, peer_poses: int, rounds: int) -> None:
 
 
 def main() -> None:
+    print(f"host: {screwkit.host()}")
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--poses", type=int, default=2000)
     ap.add_argument("--rounds", type=int, default=5)

@@ -113,6 +113,7 @@ def batches(name: str, rounds: int, n_fk: int, n_ik: int) -> dict[str, Any]:
 
 
 def main() -> int:
+    print(f"host: {screwkit.host()}")
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     p.add_argument("--rounds", type=int, default=7)
     p.add_argument("--robot", nargs="+", default=["ur5", "panda"], choices=sorted(TIPS))

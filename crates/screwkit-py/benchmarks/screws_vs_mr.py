@@ -46,6 +46,7 @@ def best(f: Callable[[], object], reps: int = 5) -> float:
 
 
 def main() -> None:
+    print(f"host: {screwkit.host()}")
     ap = argparse.ArgumentParser()
     ap.add_argument("--configurations", type=int, default=200)
     ap.add_argument("--rounds", type=int, default=3)

@@ -61,6 +61,7 @@ def configurations(robot: screwkit.Robot, n: int, seed: int) -> npt.NDArray[np.f
 
 
 def main() -> int:
+    print(f"host: {screwkit.host()}")
     import pinocchio as pin
 
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)

@@ -62,6 +62,7 @@ def mujoco_model(urdf: str) -> Any:
 
 
 def main(path: Path) -> None:
+    print(f"host: {screwkit.host()}")
     urdf = path.read_text()
     robot = screwkit.Robot.from_urdf(path)
     n = robot.nq

@@ -42,6 +42,7 @@ def motion(robot: screwkit.Robot, n: int, hz: float = 100.0) -> np.ndarray:
 
 
 def main(path: Path, n: int = 10_000) -> None:
+    print(f"host: {screwkit.host()}")
     robot = screwkit.Robot.from_urdf(path, floating_base=True)
     clip = motion(robot, n)
     lo, hi = np.array(robot.lower), np.array(robot.upper)

@@ -42,6 +42,13 @@ fn row_seed(seed: u64, k: usize) -> u64 {
     screwkit_solve::batch::row_seed(seed, k)
 }
 
+/// The kernel path the hot kernels take on this CPU: "avx2+fma" (the fused clone, chosen at
+/// run time) or "portable" — for benchmarks to say where they ran.
+#[pyfunction]
+fn kernel_path() -> &'static str {
+    screwkit_lie::fma::kernel_path()
+}
+
 /// Expands a xacro file into URDF text natively (no ROS): `package_paths` for `$(find pkg)`
 /// (searched before ROS_PACKAGE_PATH and AMENT_PREFIX_PATH), `args` for `xacro:arg`.
 #[pyfunction]
@@ -136,6 +143,7 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("exp", m.getattr("exp6")?)?;
     m.add("log", m.getattr("log6")?)?;
     m.add_function(wrap_pyfunction!(row_seed, m)?)?;
+    m.add_function(wrap_pyfunction!(kernel_path, m)?)?;
     m.add_function(wrap_pyfunction!(xacro, m)?)?;
     // Plumbing of the Python layer, not public API: set as attributes (not in `__all__`).
     m.setattr("_reach_build", wrap_pyfunction!(reach::reach_build, m)?)?;

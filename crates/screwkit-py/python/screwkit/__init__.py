@@ -28,6 +28,7 @@ from ._screwkit import (
     __version__,
     adjoint,
     exp,
+    kernel_path,
     log,
     num_threads,
     row_seed,
@@ -35,6 +36,31 @@ from ._screwkit import (
     xacro,
 )
 from .reach import ReachMap, merge, reach
+
+
+def host() -> str:
+    """Where this process runs, in one line, for benchmarks to print next to their figures: the
+    CPU's model (Linux's /proc/cpuinfo), whether it has AVX-512, its hardware threads, the batch
+    pool's threads and the kernel path (`kernel_path()`). Figures compare only on one host
+    class."""
+    import os
+
+    model, avx512 = "unknown CPU", False
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
+            for line in f:
+                if line.startswith("model name") and model == "unknown CPU":
+                    model = line.split(":", 1)[1].strip()
+                elif line.startswith("flags"):
+                    avx512 = " avx512f" in line
+                    break
+    except OSError:
+        pass
+    return (
+        f"{model}{' (AVX-512)' if avx512 else ''}, {os.cpu_count()} hardware threads, "
+        f"{num_threads()} pool threads, kernels {kernel_path()}"
+    )
+
 
 __all__ = [
     "Analysis",
@@ -53,6 +79,8 @@ __all__ = [
     "__version__",
     "adjoint",
     "exp",
+    "host",
+    "kernel_path",
     "lie",
     "log",
     "merge",

@@ -46,6 +46,7 @@ __all__ = [
     "row_seed",
     "set_num_threads",
     "num_threads",
+    "kernel_path",
     "xacro",
     "__version__",
 ]
@@ -518,6 +519,9 @@ log = log6
 def row_seed(seed: int, k: int) -> int: ...
 def set_num_threads(threads: int | None = None) -> None: ...
 def num_threads() -> int: ...
+def kernel_path() -> str:
+    """The kernel path of this CPU: "avx2+fma" (chosen at run time) or "portable"."""
+
 def xacro(
     path: str | os.PathLike[str],
     package_paths: Sequence[str | os.PathLike[str]] | None = None,
