@@ -224,15 +224,11 @@ pub fn escape_attr(s: &str) -> Result<String, char> {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
             '\t' => out.push_str("&#9;"),
             '\n' => out.push_str("&#10;"),
             '\r' => out.push_str("&#13;"),
             c if (c as u32) < 0x20 || c == '\u{fffe}' || c == '\u{ffff}' => return Err(c),
-            c => out.push(c),
+            c => push_escaped_char(c, &mut out),
         }
     }
     Ok(out)
@@ -243,13 +239,18 @@ pub fn escape_attr(s: &str) -> Result<String, char> {
 /// output, pictures.
 pub fn push_escaped(s: &str, out: &mut String) {
     for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            c => out.push(c),
-        }
+        push_escaped_char(c, out);
+    }
+}
+
+/// One character of [`push_escaped`].
+fn push_escaped_char(c: char, out: &mut String) {
+    match c {
+        '&' => out.push_str("&amp;"),
+        '<' => out.push_str("&lt;"),
+        '>' => out.push_str("&gt;"),
+        '"' => out.push_str("&quot;"),
+        c => out.push(c),
     }
 }
 
