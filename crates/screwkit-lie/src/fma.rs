@@ -78,7 +78,7 @@ pub fn dispatch<K: Kernel>(kernel: K) -> K::Output {
     #[cfg(target_arch = "x86_64")]
     if fused_available() {
         // SAFETY: the CPU has AVX2 and FMA, the features `run_fused` is compiled for (checked
-        // just above).
+        // by `KernelPath::current`, which never reports a path the CPU lacks).
         return unsafe { run_fused(kernel) };
     }
     kernel.run::<Plain>()
@@ -92,26 +92,95 @@ fn run_fused<K: Kernel>(kernel: K) -> K::Output {
     kernel.run::<Fused>()
 }
 
-/// True when this CPU runs the AVX2 + FMA clone of the kernels (x86-64 with AVX2 and FMA;
-/// detected once and cached by the standard library). Always false on other architectures.
+/// True when this CPU runs the fused clones of the kernels (x86-64 with AVX2 and FMA, unless
+/// [`KernelPath::current`] was told otherwise). Always false on other architectures.
 #[inline(always)]
 pub fn fused_available() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+    KernelPath::current() != KernelPath::Portable
+}
+
+/// The instruction sets the kernels run on, narrowest first: what [`dispatch`] and
+/// [`crate::lanes::dispatch_lanes`] choose from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum KernelPath {
+    /// Baseline code, two roundings per multiply-add ([`Plain`]).
+    Portable,
+    /// AVX2 + FMA: fused multiply-adds ([`Fused`]); the lane kernels on 256-bit registers.
+    Avx2Fma,
+    /// AVX-512 (F, VL, DQ) besides AVX2 + FMA: the lane kernels on 512-bit registers, the
+    /// single calls as on [`KernelPath::Avx2Fma`].
+    Avx512,
+}
+
+/// The environment variable that narrows the kernel path for a measurement: `portable`,
+/// `avx2` or `avx512` (a path wider than the CPU has falls back to the widest it has; any
+/// other value is ignored). Read once, at the first kernel call.
+pub const KERNELS_VAR: &str = "SCREWKIT_KERNELS";
+
+impl KernelPath {
+    /// Every path, narrowest first.
+    pub const ALL: [KernelPath; 3] = [
+        KernelPath::Portable,
+        KernelPath::Avx2Fma,
+        KernelPath::Avx512,
+    ];
+
+    /// The widest path this CPU has (detected once and cached by the standard library).
+    pub fn detected() -> KernelPath {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::is_x86_feature_detected as has;
+            if has!("avx2") && has!("fma") {
+                if has!("avx512f") && has!("avx512vl") && has!("avx512dq") {
+                    return KernelPath::Avx512;
+                }
+                return KernelPath::Avx2Fma;
+            }
+        }
+        KernelPath::Portable
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
+
+    /// The path the kernels take: [`KernelPath::detected`], narrowed by [`KERNELS_VAR`] when
+    /// set (decided once per process).
+    #[inline(always)]
+    pub fn current() -> KernelPath {
+        static CURRENT: std::sync::OnceLock<KernelPath> = std::sync::OnceLock::new();
+        *CURRENT.get_or_init(|| {
+            let widest = KernelPath::detected();
+            let asked = std::env::var(KERNELS_VAR)
+                .ok()
+                .and_then(|v| KernelPath::from_name(v.trim()));
+            asked.map_or(widest, |a| a.min(widest))
+        })
+    }
+
+    /// Whether this CPU can run the path.
+    pub fn available(self) -> bool {
+        self <= KernelPath::detected()
+    }
+
+    /// The path's name: `portable`, `avx2+fma` or `avx512`.
+    pub fn name(self) -> &'static str {
+        match self {
+            KernelPath::Portable => "portable",
+            KernelPath::Avx2Fma => "avx2+fma",
+            KernelPath::Avx512 => "avx512",
+        }
+    }
+
+    /// The path named `portable`, `avx2` (or `avx2+fma`) or `avx512`.
+    pub fn from_name(name: &str) -> Option<KernelPath> {
+        match name {
+            "portable" => Some(KernelPath::Portable),
+            "avx2" | "avx2+fma" => Some(KernelPath::Avx2Fma),
+            "avx512" => Some(KernelPath::Avx512),
+            _ => None,
+        }
     }
 }
 
-/// The kernel path [`dispatch`] takes on this CPU: `"avx2+fma"` (the fused clone) or
-/// `"portable"`, for benchmarks to say where they ran.
+/// The kernel path this process runs ([`KernelPath::current`]'s name: `"avx512"`, `"avx2+fma"`
+/// or `"portable"`), for benchmarks to say where they ran.
 pub fn kernel_path() -> &'static str {
-    if fused_available() {
-        "avx2+fma"
-    } else {
-        "portable"
-    }
+    KernelPath::current().name()
 }

@@ -9,6 +9,7 @@
 //! - [`Twist`] V = (ω, v), [`Wrench`] F = (m, f), [`ScrewAxis`] S ↔ (ŝ, q, h).
 //! - [`Frame`]: space or body, the frame a twist or Jacobian is expressed in.
 //! - [`fma`]: the multiply-add policies and the one run-time dispatch of the hot kernels;
+//!   [`lanes`]: eight f64 lanes on the widest vector unit, for the batch kernels;
 //!   [`trig`]: the inlined, vectorisable sine/cosine those kernels use.
 //!
 //! Conventions: twists and screw axes are ordered (ω, v); wrenches (m, f). A twist changes frame
@@ -34,6 +35,7 @@ pub mod display;
 pub mod error;
 pub mod fma;
 pub mod frame;
+pub mod lanes;
 pub mod screw;
 pub mod se3;
 pub mod so3;

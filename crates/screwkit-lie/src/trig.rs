@@ -18,6 +18,7 @@
 #![allow(clippy::excessive_precision)]
 
 use crate::fma::{MulAdd, Plain};
+use crate::lanes::Lanes;
 
 /// 1.5·2⁵²: adding and subtracting it rounds to the nearest integer.
 const SHIFTER: f64 = 6_755_399_441_055_744.0;
@@ -95,10 +96,69 @@ fn sin_cos_reduced<A: MulAdd>(x: f64) -> (f64, f64) {
 /// (sin x, cos x), inlined; see the module documentation for the method and accuracy.
 #[inline(always)]
 pub fn sin_cos(x: f64) -> (f64, f64) {
+    sin_cos_with::<Plain>(x)
+}
+
+/// [`sin_cos`] with the multiply-add policy `A`: the value of one angle whatever the lanes
+/// beside it hold (the lane versions fall back to this, angle by angle).
+#[inline(always)]
+fn sin_cos_with<A: MulAdd>(x: f64) -> (f64, f64) {
     if !x.is_finite() || x.abs() >= REDUCTION_LIMIT {
         return x.sin_cos();
     }
-    sin_cos_reduced::<Plain>(x)
+    sin_cos_reduced::<A>(x)
+}
+
+/// Sines and cosines of eight angles in the lanes of `l` ([`crate::lanes`]): lane by lane the
+/// value [`sin_cos_lanes_with`] gives with `l`'s multiply-add policy, bit for bit (the same
+/// operations in the same order; a lane holding a non-finite or huge angle sends the eight
+/// through the scalar path, which gives each angle the same value).
+#[inline(always)]
+pub fn sin_cos_in<L: Lanes>(l: L, x: L::V) -> (L::V, L::V) {
+    // NaN fails the comparison, so it takes the scalar path too.
+    if !l.all_below(l.abs(x), REDUCTION_LIMIT) {
+        let mut a = [0.0; LANES];
+        l.store(x, &mut a);
+        let (mut s, mut c) = ([0.0; LANES], [0.0; LANES]);
+        for i in 0..LANES {
+            (s[i], c[i]) = sin_cos_with::<L::Scalar>(a[i]);
+        }
+        return (l.load(&s), l.load(&c));
+    }
+    let k = l.madd(x, l.splat(INV_PIO2), l.splat(SHIFTER));
+    let n = l.sub(k, l.splat(SHIFTER));
+    let minus_n = l.neg(n);
+    let y = l.madd(
+        minus_n,
+        l.splat(PIO2_1T),
+        l.madd(minus_n, l.splat(PIO2_1), x),
+    );
+    // `kernels`, operation for operation.
+    let z = l.mul(y, y);
+    let z2 = l.mul(z, z);
+    let v = l.mul(z, y);
+    let p = l.madd(
+        z2,
+        l.madd(z2, l.splat(S6), l.madd(z, l.splat(S5), l.splat(S4))),
+        l.madd(z, l.splat(S3), l.splat(S2)),
+    );
+    let s = l.madd(v, l.madd(z, p, l.splat(S1)), y);
+    let q = l.madd(
+        z2,
+        l.madd(
+            z2,
+            l.madd(z, l.splat(C6), l.splat(C5)),
+            l.madd(z, l.splat(C4), l.splat(C3)),
+        ),
+        l.madd(z, l.splat(C2), l.splat(C1)),
+    );
+    let c = l.madd(z, l.madd(z, q, l.splat(-0.5)), l.splat(1.0));
+    // The quadrant as in `sin_cos_reduced`: odd n swaps sin and cos; bit 1 of n (of n + 1)
+    // flips the sign of sin (of cos).
+    let (s, c) = (l.select_bits(k, 1, c, s), l.select_bits(k, 1, s, c));
+    let s = l.select_bits(k, 2, l.neg(s), s);
+    let c = l.select_bits(l.bits_add(k, 1), 2, l.neg(c), c);
+    (s, c)
 }
 
 /// Number of angles [`sin_cos_lanes`] takes at once.
@@ -142,7 +202,7 @@ pub fn sin_cos_lanes_with<A: MulAdd>(x: &[f64; LANES], s: &mut [f64; LANES], c: 
         .fold(true, |ok, v| ok & (v.abs() < REDUCTION_LIMIT));
     if !all_small {
         for i in 0..LANES {
-            (s[i], c[i]) = sin_cos(x[i]);
+            (s[i], c[i]) = sin_cos_with::<A>(x[i]);
         }
         return;
     }

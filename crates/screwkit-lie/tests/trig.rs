@@ -181,3 +181,69 @@ fn lanes_match_std_on_every_path() {
         assert_eq!((s[i], c[i]), sin_cos(x[i]));
     }
 }
+
+/// `sin_cos_in` on every lane path this CPU has: each lane bit for bit the value the scalar
+/// lanes give with that path's multiply-add policy, over the users' range and the fallback cases
+/// (a huge or non-finite angle beside ordinary ones gives each angle its own value).
+#[test]
+fn lane_sines_equal_the_scalar_lanes_on_every_path() {
+    use screwkit_lie::fma::{Fused, KernelPath, MulAdd, Plain};
+    use screwkit_lie::lanes::{dispatch_lanes_on, LaneKernel, Lanes};
+    use screwkit_lie::trig::{sin_cos_in, sin_cos_lanes_with};
+
+    /// Every block of eight arguments through `sin_cos_in`; the count of values that differ
+    /// from the scalar lanes with the policy `A`.
+    struct Sweep<'a, A>(&'a [f64], std::marker::PhantomData<A>);
+
+    impl<A: MulAdd> LaneKernel for Sweep<'_, A> {
+        type Output = usize;
+        #[inline(always)]
+        fn run<L: Lanes>(self, l: L) -> usize {
+            let mut differ = 0;
+            for x in self.0.chunks_exact(LANES) {
+                let x: &[f64; LANES] = x.try_into().unwrap();
+                let (s, c) = sin_cos_in(l, l.load(x));
+                let (mut gs, mut gc) = ([0.0; LANES], [0.0; LANES]);
+                l.store(s, &mut gs);
+                l.store(c, &mut gc);
+                let (mut ws, mut wc) = ([0.0; LANES], [0.0; LANES]);
+                sin_cos_lanes_with::<A>(x, &mut ws, &mut wc);
+                for i in 0..LANES {
+                    differ += (gs[i].to_bits() != ws[i].to_bits()) as usize;
+                    differ += (gc[i].to_bits() != wc[i].to_bits()) as usize;
+                }
+            }
+            differ
+        }
+    }
+
+    let mut xs = arguments(40_000, 40_000, 0x1234_5678_9ABC_DEF0);
+    xs.truncate(xs.len() / LANES * LANES);
+    xs.extend([0.3, 1e10, -2.0, f64::NAN, 5.0, f64::INFINITY, -3e7, 0.0]);
+    xs.extend([
+        -0.0,
+        1e-300,
+        823_549.0,
+        -823_550.0,
+        f64::NEG_INFINITY,
+        7.0,
+        1e6,
+        -1e-9,
+    ]);
+    let mut ran = 0;
+    for path in KernelPath::ALL {
+        let differ = if path == KernelPath::Portable {
+            dispatch_lanes_on(path, Sweep::<Plain>(&xs, Default::default())).ok()
+        } else {
+            dispatch_lanes_on(path, Sweep::<Fused>(&xs, Default::default())).ok()
+        };
+        if let Some(d) = differ {
+            assert_eq!(d, 0, "{path:?}");
+            ran += 1;
+        }
+    }
+    assert_eq!(
+        ran,
+        KernelPath::ALL.iter().filter(|p| p.available()).count()
+    );
+}

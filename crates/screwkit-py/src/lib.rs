@@ -42,8 +42,9 @@ fn row_seed(seed: u64, k: usize) -> u64 {
     screwkit_solve::batch::row_seed(seed, k)
 }
 
-/// The kernel path the hot kernels take on this CPU: "avx2+fma" (the fused clone, chosen at
-/// run time) or "portable" — for benchmarks to say where they ran.
+/// The kernel path the hot kernels take on this CPU, chosen at run time: "avx512" (the batch
+/// kernels on 512-bit registers, the single calls fused), "avx2+fma" or "portable" — for
+/// benchmarks to say where they ran.
 #[pyfunction]
 fn kernel_path() -> &'static str {
     screwkit_lie::fma::kernel_path()

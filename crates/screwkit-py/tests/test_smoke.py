@@ -108,7 +108,7 @@ def test_a_picture_and_an_error() -> None:
 def test_where_it_runs() -> None:
     """The host line benchmarks print: the kernel path is one of the two, and the line names
     it and the pool's threads."""
-    assert screwkit.kernel_path() in ("avx2+fma", "portable")
+    assert screwkit.kernel_path() in ("avx512", "avx2+fma", "portable")
     line = screwkit.host()
     assert line.endswith(f"kernels {screwkit.kernel_path()}")
     assert f"{screwkit.num_threads()} pool threads" in line

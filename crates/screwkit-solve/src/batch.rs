@@ -21,14 +21,14 @@ use std::time::Instant;
 
 use nalgebra::Matrix6xX;
 use rayon::prelude::*;
-use screwkit_lie::fma::dispatch;
+use screwkit_lie::lanes::dispatch_lanes;
 use screwkit_lie::{Frame, Se3};
 
-use crate::columns::W;
+use crate::block::{SpaceJacobianBlock, TipBlock, W};
 use crate::error::{RowError, SolveError};
-use crate::fk::{fk_unchecked, link_poses_unchecked, TipBlock};
+use crate::fk::{fk_unchecked, link_poses_unchecked};
 use crate::ik::{check_options, check_target, solve_unchecked, IkOptions, IkStatus};
-use crate::jacobian::{fk_jacobian_into, SpaceJacobianBlock};
+use crate::jacobian::fk_jacobian_into;
 use crate::kinematics::Kinematics;
 use crate::sample::SplitMix64;
 use crate::workspace::Workspace;
@@ -243,7 +243,7 @@ pub fn fk_batch(kin: &Kinematics, qs: &[f64], poses: &mut [f64]) -> Result<(), S
         qs,
         (poses, 16),
         None,
-        Some(&|q, out, _| dispatch(TipBlock { kin, qs: q, out })),
+        Some(&|q, out, _| dispatch_lanes(TipBlock { kin, qs: q, out })),
         |_, q, out, _| fk_unchecked(kin, q).write_row_major(out),
     ))
 }
@@ -318,7 +318,7 @@ pub fn jacobian_batch(
             (jacobians, 6 * n),
             poses,
             Some(&|q, jac, poses| {
-                dispatch(SpaceJacobianBlock {
+                dispatch_lanes(SpaceJacobianBlock {
                     kin,
                     qs: q,
                     jac,

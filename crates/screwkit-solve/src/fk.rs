@@ -9,10 +9,10 @@
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::Se3;
 
-use crate::columns::{Block, Columns, W};
+use crate::columns::Columns;
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
-use crate::poe::{walk, walk_block};
+use crate::poe::walk;
 use crate::workspace::Workspace;
 
 /// The tip pose T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M. Checks q (length, finite).
@@ -71,31 +71,6 @@ impl Kernel for TipPose<'_> {
             |_, jc, theta, s, c| jc.apply::<A>(&mut t, theta, s, c),
         );
         t.compose::<A>(kin.home.rotation(), &(*kin.home.translation()).into())
-    }
-}
-
-/// The tip poses of W = [`crate::columns::W`] configurations at once (structure of arrays,
-/// [`Block`]): `qs` holds W rows of dof finite values, `out` W row-major 4 × 4 poses. Each row
-/// equals [`fk`] of that row bit for bit (same multiply-adds, same order, the same vectorised
-/// sine and cosine, here across configurations instead of joints). Used by
-/// [`crate::batch::fk_batch`].
-pub(crate) struct TipBlock<'a> {
-    pub(crate) kin: &'a Kinematics,
-    pub(crate) qs: &'a [f64],
-    pub(crate) out: &'a mut [f64],
-}
-
-impl Kernel for TipBlock<'_> {
-    type Output = ();
-    #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-    fn run<A: MulAdd>(self) {
-        let kin = self.kin;
-        let n = kin.dof();
-        let mut t = Block::identity();
-        walk_block::<A>(&kin.space, kin.identity_map, &self.qs[..W * n], n, &mut t);
-        t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
-        t.write_all_row_major(&mut self.out[..16 * W]);
     }
 }
 

@@ -9,10 +9,10 @@ use nalgebra::Matrix6xX;
 use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{Frame, Se3};
 
-use crate::columns::{Block, Columns, Lane, Lanes, W};
+use crate::columns::{Columns, Lane};
 use crate::error::SolveError;
 use crate::kinematics::Kinematics;
-use crate::poe::{walk, walk_block, walk_rev, BlockStep, PoeJoint};
+use crate::poe::{walk, walk_rev, PoeJoint};
 use crate::workspace::Workspace;
 
 /// The tip pose and the Jacobian of one pass (see [`fk_jacobian`]).
@@ -211,75 +211,6 @@ impl Kernel for PoseAndJacobian<'_> {
                 });
                 kin.home_columns.then::<A>(&t.inverse::<A>()).to_se3()
             }
-        }
-    }
-}
-
-/// Tip poses and space Jacobians of W = [`W`] configurations at once (structure of arrays,
-/// [`Block`]), for chains whose joints each own their variable: `qs` W rows of dof values,
-/// `jac` W row-major 6 × dof Jacobians, `poses` W row-major 4 × 4 (when given). Column j is
-/// \[Ad\] of the joints before j applied to S_j, as in [`PoseAndJacobian`], with the same
-/// operations in the same order: each row equals the single call bit for bit.
-pub(crate) struct SpaceJacobianBlock<'a> {
-    pub(crate) kin: &'a Kinematics,
-    pub(crate) qs: &'a [f64],
-    pub(crate) jac: &'a mut [f64],
-    pub(crate) poses: Option<&'a mut [f64]>,
-}
-
-/// The FK + Jacobian block's step: column j of each lane's space Jacobian is \[Ad_T\] S_j with
-/// T the product of the joints before j ([`PoeJoint::adjoint_column_block`]), then T ← T e^{[S_j]θ_j}.
-struct JacobianStep<'a> {
-    t: Block,
-    /// Scratch for the column (ω, v) of every lane.
-    w: [Lanes; 3],
-    v: [Lanes; 3],
-    jac: &'a mut [f64],
-    n: usize,
-}
-
-impl BlockStep for JacobianStep<'_> {
-    #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-    fn step<A: MulAdd>(&mut self, j: usize, jc: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes) {
-        let n = self.n;
-        let (w, v) = (&mut self.w, &mut self.v);
-        jc.adjoint_column_block::<A>(&self.t, w, v);
-        for l in 0..W {
-            let out = &mut self.jac[6 * n * l..6 * n * (l + 1)];
-            for i in 0..3 {
-                out[i * n + j] = w[i][l];
-                out[(i + 3) * n + j] = v[i][l];
-            }
-        }
-        jc.apply_block::<A>(&mut self.t, theta, s, c);
-    }
-}
-
-impl Kernel for SpaceJacobianBlock<'_> {
-    type Output = ();
-    #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-    fn run<A: MulAdd>(self) {
-        let Self {
-            kin,
-            qs,
-            jac,
-            poses,
-        } = self;
-        let n = kin.dof();
-        let mut step = JacobianStep {
-            t: Block::identity(),
-            w: [[0.0; W]; 3],
-            v: [[0.0; W]; 3],
-            jac,
-            n,
-        };
-        walk_block::<A>(&kin.space, true, &qs[..W * n], n, &mut step);
-        let mut t = step.t;
-        if let Some(p) = poses {
-            t.compose_fixed::<A>(kin.home.rotation(), &(*kin.home.translation()).into());
-            t.write_all_row_major(&mut p[..16 * W]);
         }
     }
 }

@@ -52,6 +52,7 @@
 pub mod analysis;
 pub mod analytic;
 pub mod batch;
+mod block;
 pub mod box_qp;
 mod columns;
 mod dls;
@@ -93,7 +94,67 @@ pub(crate) fn test_chains() -> Vec<(&'static str, Kinematics)> {
         let chain = screwkit_model::load_chain(&path, base, tip).unwrap();
         (file, Kinematics::new(&chain))
     })
+    .chain([("every update", every_update())])
     .collect()
+}
+
+/// A chain with a joint for every update of [`poe::PoeJoint::apply`]: axes near a coordinate
+/// axis (1e-11 off, as rounded π/2 puts them), helical joints about exact and near axes, a
+/// general axis, a prismatic joint, and ten joints in all (blocks of four and a remainder).
+#[cfg(test)]
+fn every_update() -> Kinematics {
+    use nalgebra::Vector3;
+    let revolute = |w: Vector3<f64>, at: Vector3<f64>, pitch: f64| {
+        let w = w.normalize();
+        let v = -w.cross(&at) + pitch * w;
+        [w.x, w.y, w.z, v.x, v.y, v.z]
+    };
+    let screws = vec![
+        revolute(
+            Vector3::new(3e-11, -2e-12, 1.0),
+            Vector3::new(0.1, 0.2, 0.0),
+            0.0,
+        ),
+        revolute(Vector3::x(), Vector3::new(0.0, 0.1, 0.3), 0.05),
+        revolute(
+            Vector3::new(0.3, -0.5, 0.8),
+            Vector3::new(0.2, 0.0, 0.4),
+            0.0,
+        ),
+        [0.0, 0.0, 0.0, 0.0, 0.6, 0.8],
+        revolute(
+            Vector3::new(1e-10, -1.0, 4e-11),
+            Vector3::new(0.3, 0.0, 0.5),
+            0.0,
+        ),
+        revolute(Vector3::x(), Vector3::new(0.0, 0.2, 0.6), 0.0),
+        revolute(
+            Vector3::new(1.0, 2e-11, 0.0),
+            Vector3::new(0.0, 0.1, 0.7),
+            0.1,
+        ),
+        revolute(Vector3::y(), Vector3::new(0.4, 0.0, 0.8), -0.02),
+        revolute(
+            Vector3::new(0.0, 0.6, -0.8),
+            Vector3::new(0.1, 0.1, 0.9),
+            0.0,
+        ),
+        revolute(-Vector3::z(), Vector3::new(0.2, 0.3, 0.0), 0.03),
+    ];
+    let home = [
+        0.0, -1.0, 0.0, 0.3, 1.0, 0.0, 0.0, 0.1, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0,
+    ];
+    let limits = vec![(-3.0, 3.0); screws.len()];
+    let robot = screwkit_model::screws::ScrewRobot::new(
+        "every update",
+        home,
+        screws,
+        screwkit_lie::Frame::Space,
+        Some(limits),
+        None,
+    )
+    .unwrap();
+    Kinematics::new(&robot.chain().unwrap())
 }
 
 /// Every kernel's portable and fused instantiations agree (the public functions run only one
@@ -162,32 +223,39 @@ mod kernels_agree {
         }
     }
 
-    /// The block kernels with each policy equal the single-pose kernels with the same policy,
-    /// bit for bit (the dispatched batch tests cover only the policy this CPU runs).
+    /// The block kernels on every lane path this CPU has equal the single-pose kernels with
+    /// that path's multiply-add policy, bit for bit (the dispatched batch tests cover only the
+    /// path this process runs).
     #[test]
-    fn block_kernels_equal_single_kernels_under_both_policies() {
-        use crate::columns::W;
-        use crate::fk::TipBlock;
-        use crate::jacobian::SpaceJacobianBlock;
-        use screwkit_lie::fma::MulAdd;
-        fn check<A: MulAdd>(file: &str, kin: &crate::Kinematics) {
+    fn block_kernels_equal_single_kernels_on_every_path() {
+        use crate::block::{SpaceJacobianBlock, TipBlock, W};
+        use screwkit_lie::fma::{KernelPath, MulAdd};
+        use screwkit_lie::lanes::dispatch_lanes_on;
+        fn check<A: MulAdd>(path: KernelPath, file: &str, kin: &crate::Kinematics) -> bool {
             let n = kin.dof();
-            let qs = crate::sample::configurations(kin, W, 5);
+            let mut qs = crate::sample::configurations(kin, W, 5);
+            // Angles past the vector sine's reduction range in one lane: its joint's eight
+            // angles take the scalar path, each with the value the single call gives it.
+            qs[3 * n] = 1e6;
             let (mut poses, mut jac, mut jposes) =
                 (vec![0.0; 16 * W], vec![0.0; 6 * n * W], vec![0.0; 16 * W]);
-            TipBlock {
+            let tip = TipBlock {
                 kin,
                 qs: &qs,
                 out: &mut poses,
+            };
+            if dispatch_lanes_on(path, tip).is_err() {
+                return false;
             }
-            .run::<A>();
-            SpaceJacobianBlock {
-                kin,
-                qs: &qs,
-                jac: &mut jac,
-                poses: Some(&mut jposes),
+            if kin.identity_map {
+                let block = SpaceJacobianBlock {
+                    kin,
+                    qs: &qs,
+                    jac: &mut jac,
+                    poses: Some(&mut jposes),
+                };
+                assert!(dispatch_lanes_on(path, block).is_ok());
             }
-            .run::<A>();
             let mut j1 = Matrix6xX::zeros(n);
             for (l, q) in qs.chunks(n).enumerate() {
                 let mut want = [0.0; 16];
@@ -195,8 +263,11 @@ mod kernels_agree {
                     .run::<A>()
                     .to_se3()
                     .write_row_major(&mut want);
-                assert_eq!(&poses[16 * l..16 * (l + 1)], &want, "{file}");
-                assert_eq!(&jposes[16 * l..16 * (l + 1)], &want, "{file}");
+                assert_eq!(&poses[16 * l..16 * (l + 1)], &want, "{file} {path:?}");
+                if !kin.identity_map {
+                    continue;
+                }
+                assert_eq!(&jposes[16 * l..16 * (l + 1)], &want, "{file} {path:?}");
                 PoseAndJacobian {
                     kin,
                     jac: &mut j1,
@@ -206,14 +277,30 @@ mod kernels_agree {
                 .run::<A>();
                 let mut row_major = vec![0.0; 6 * n];
                 crate::batch::write_jacobian(&j1, &mut row_major);
-                assert_eq!(&jac[6 * n * l..6 * n * (l + 1)], &row_major[..], "{file}");
+                assert_eq!(
+                    &jac[6 * n * l..6 * n * (l + 1)],
+                    &row_major[..],
+                    "{file} {path:?}"
+                );
             }
+            true
         }
+        let mut paths = 0;
         for (file, kin) in test_chains() {
-            if kin.dof() > 0 && kin.identity_map {
-                check::<Plain>(file, &kin);
-                check::<Fused>(file, &kin);
+            if kin.dof() == 0 {
+                continue;
+            }
+            paths = 0;
+            for path in KernelPath::ALL {
+                let ran = if path == KernelPath::Portable {
+                    check::<Plain>(path, file, &kin)
+                } else {
+                    check::<Fused>(path, file, &kin)
+                };
+                paths += ran as usize;
             }
         }
+        let have = KernelPath::ALL.iter().filter(|p| p.available()).count();
+        assert_eq!(paths, have);
     }
 }

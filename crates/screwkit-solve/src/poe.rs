@@ -14,7 +14,7 @@ use screwkit_lie::se3::{translation_from_coefficients, translation_of_rotation};
 use screwkit_lie::{so3, trig, Twist};
 use screwkit_model::{Drive, JointKind};
 
-use crate::columns::{add, cross, Align64, Block, Columns, Lane, Lanes, W};
+use crate::columns::{add, cross, Columns, Lane};
 
 /// Largest off-axis component |δ| of a revolute axis ω = ±e_k + δ that still takes the
 /// near-axis update ([`Columns::rotate_near_axis`]): the terms that update drops are
@@ -69,19 +69,19 @@ impl Aligned {
 #[derive(Debug, Clone)]
 pub(crate) struct PoeJoint {
     pub(crate) prismatic: bool,
-    aligned: Aligned,
+    pub(crate) aligned: Aligned,
     /// A revolute or continuous joint (pitch 0: ω · v is the rounding of v = −ω × q, which the
     /// update drops): its translation is [`translation_of_rotation`]. A helical joint takes the
     /// general G(θ)v, whatever its pitch.
-    pitch_zero: bool,
+    pub(crate) pitch_zero: bool,
     /// Pitch 0 about an exact coordinate axis e_K (`aligned` with u = 0): e^{[S]θ} moves p
     /// within the plane of the other two axes only, and R ω is ±column K of R, so the updates
     /// skip the K components (zero, or rounding of v = −ω × q, which the axis update drops too).
-    planar: bool,
-    w: [f64; 3],
-    v: [f64; 3],
-    wv: [f64; 3],
-    wwv: [f64; 3],
+    pub(crate) planar: bool,
+    pub(crate) w: [f64; 3],
+    pub(crate) v: [f64; 3],
+    pub(crate) wv: [f64; 3],
+    pub(crate) wwv: [f64; 3],
     pub(crate) drive: Drive,
 }
 
@@ -202,163 +202,6 @@ impl PoeJoint {
         }
     }
 
-    /// [`PoeJoint::apply`] for the W configurations of a [`Block`] (θ, sin θ, cos θ per lane),
-    /// with the same multiply-adds in the same order, so each lane equals the single-pose
-    /// update bit for bit.
-    #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-    pub(crate) fn apply_block<A: MulAdd>(
-        &self,
-        t: &mut Block,
-        theta: &Lanes,
-        s: &Lanes,
-        c: &Lanes,
-    ) {
-        // Plain loops only: iterator adaptors and `array::from_fn` may stay out of line, and
-        // then their `mul_add` is compiled without FMA (a library call) outside the clone.
-        // Scratch aligned like the block's rows, so it is stored and read as whole aligned
-        // vectors (measured: the FK + J block 1.5 ns, 3 %, slower with plain 8-byte-aligned
-        // arrays in the default build; no difference on the FK block).
-        let mut step = Align64([[0.0; W]; 3]);
-        if self.prismatic {
-            for i in 0..3 {
-                for l in 0..W {
-                    step.0[i][l] = self.v[i] * theta[l];
-                }
-            }
-            t.translate::<A>(&step.0);
-            return;
-        }
-        // `translation` per lane (the same operations as `translation_of_rotation` or
-        // `translation_from_coefficients`).
-        if self.pitch_zero {
-            for i in 0..3 {
-                for l in 0..W {
-                    step.0[i][l] = A::madd(self.wv[i], 1.0 - c[l], self.v[i] * s[l]);
-                }
-            }
-        } else {
-            for i in 0..3 {
-                for l in 0..W {
-                    step.0[i][l] = A::madd(
-                        self.v[i],
-                        theta[l],
-                        A::madd(self.wv[i], 1.0 - c[l], self.wwv[i] * (theta[l] - s[l])),
-                    );
-                }
-            }
-        }
-        let p_local = &step.0;
-        let mut gs = Align64([0.0; W]);
-        match self.aligned {
-            Aligned::General => {
-                // so3::rotation_from_coefficients(ω, 1, s, 1 − c) per lane.
-                let [x, y, z] = self.w;
-                // One entry of so3::rotation_from_coefficients for every lane (a = sin θ,
-                // b = 1 − cos θ, d = 1 − b·1·1), the expression written as there.
-                macro_rules! lane {
-                    (|$a:ident, $b:ident| $e:expr) => {{
-                        let mut out: Lanes = [0.0; W];
-                        for l in 0..W {
-                            let ($a, $b) = (s[l], 1.0 - c[l]);
-                            let _ = $a;
-                            out[l] = $e;
-                        }
-                        out
-                    }};
-                }
-                let e = [
-                    [
-                        lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * x * x),
-                        lane!(|a, b| b * x * y - a * z),
-                        lane!(|a, b| b * x * z + a * y),
-                    ],
-                    [
-                        lane!(|a, b| b * x * y + a * z),
-                        lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * y * y),
-                        lane!(|a, b| b * y * z - a * x),
-                    ],
-                    [
-                        lane!(|a, b| b * x * z - a * y),
-                        lane!(|a, b| b * y * z + a * x),
-                        lane!(|a, b| (1.0 - b * 1.0 * 1.0) + b * z * z),
-                    ],
-                ];
-                t.compose::<A>(&e, p_local);
-            }
-            Aligned::X(g, u) | Aligned::Y(g, u) | Aligned::Z(g, u) => {
-                for l in 0..W {
-                    gs.0[l] = g * s[l];
-                }
-                if self.planar {
-                    match self.aligned {
-                        Aligned::X(..) => {
-                            t.translate_pair::<A, 1, 2>(p_local);
-                            t.rotate_axis::<A, 1, 2>(&gs.0, c);
-                        }
-                        Aligned::Y(..) => {
-                            t.translate_pair::<A, 2, 0>(p_local);
-                            t.rotate_axis::<A, 2, 0>(&gs.0, c);
-                        }
-                        _ => {
-                            t.translate_pair::<A, 0, 1>(p_local);
-                            t.rotate_axis::<A, 0, 1>(&gs.0, c);
-                        }
-                    }
-                    return;
-                }
-                t.translate::<A>(p_local);
-                // One arm for the three axes, then the axis and exactness: written as separate
-                // top-level arms (or with a guard) this block came out 8–10 % slower on the
-                // exact-axes Panda (measured); the scalar `apply` is the other way round.
-                match (self.aligned, u == [0.0; 2]) {
-                    (Aligned::X(..), true) => t.rotate_axis::<A, 1, 2>(&gs.0, c),
-                    (Aligned::Y(..), true) => t.rotate_axis::<A, 2, 0>(&gs.0, c),
-                    (Aligned::Z(..), true) => t.rotate_axis::<A, 0, 1>(&gs.0, c),
-                    (Aligned::X(..), false) => t.rotate_near_axis::<A, 1, 2, 0>(&gs.0, c, &u),
-                    (Aligned::Y(..), false) => t.rotate_near_axis::<A, 2, 0, 1>(&gs.0, c, &u),
-                    _ => t.rotate_near_axis::<A, 0, 1, 2>(&gs.0, c, &u),
-                }
-            }
-        }
-    }
-
-    /// [`PoeJoint::adjoint_column`] for the W configurations of a [`Block`]: (R ω, R v + p × R ω)
-    /// per lane, the same operations in the same order.
-    #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-    pub(crate) fn adjoint_column_block<A: MulAdd>(
-        &self,
-        t: &Block,
-        w: &mut [Lanes; 3],
-        v: &mut [Lanes; 3],
-    ) {
-        match (self.planar, self.aligned) {
-            (true, Aligned::X(g, _)) => self.planar_adjoint_block::<A, 1, 2, 0>(t, g, w, v),
-            (true, Aligned::Y(g, _)) => self.planar_adjoint_block::<A, 2, 0, 1>(t, g, w, v),
-            (true, Aligned::Z(g, _)) => self.planar_adjoint_block::<A, 0, 1, 2>(t, g, w, v),
-            _ => {
-                *w = t.rotate::<A>(&self.w);
-                *v = t.rotate::<A>(&self.v);
-                cross_add_block(&t.c[3], w, v);
-            }
-        }
-    }
-
-    /// [`PoeJoint::adjoint_column_block`] of a planar joint about ±e_K.
-    #[inline(always)]
-    fn planar_adjoint_block<A: MulAdd, const I: usize, const J: usize, const K: usize>(
-        &self,
-        t: &Block,
-        g: f64,
-        w: &mut [Lanes; 3],
-        v: &mut [Lanes; 3],
-    ) {
-        *w = t.column_scaled(K, g);
-        *v = t.rotate_pair::<A, I, J>(&self.v);
-        cross_add_block(&t.c[3], w, v);
-    }
-
     /// \[Ad_T\] S = (R ω, R v + p × R ω) as two lanes (w = 0): the Jacobian column of this joint
     /// when the joints before it make T ([`screwkit_lie::Se3::adjoint_apply`] on columns).
     #[inline(always)]
@@ -372,22 +215,6 @@ impl PoeJoint {
         };
         let v = add(v, cross(t.p(), w));
         (w, v)
-    }
-}
-
-/// v ← v + p × w lane by lane ([`crate::columns::cross`]'s operations).
-#[inline(always)]
-#[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-fn cross_add_block(p: &[Lanes; 3], w: &[Lanes; 3], v: &mut [Lanes; 3]) {
-    for l in 0..W {
-        let cross = [
-            p[1][l] * w[2][l] - p[2][l] * w[1][l],
-            p[2][l] * w[0][l] - p[0][l] * w[2][l],
-            p[0][l] * w[1][l] - p[1][l] * w[0][l],
-        ];
-        for i in 0..3 {
-            v[i][l] += cross[i];
-        }
     }
 }
 
@@ -412,72 +239,6 @@ pub(crate) fn walk<A: MulAdd>(
         for (i, jc) in block.iter().enumerate() {
             f(b * L + i, jc, theta[i], s[i], c[i]);
         }
-    }
-}
-
-/// [`walk`] for W configurations at once ([`Block`] kernels): `qs` holds W rows of `n` values;
-/// `f(j, joint, θ, sin θ, cos θ)` per joint, base → tip, one lane per configuration. The sines
-/// and cosines of up to 8 joints are computed before those joints are applied (independent
-/// work; measured the same speed as one joint at a time: the lane sin/cos is throughput-bound,
-/// ≈ 400 instructions per 8 angles, half of a 7-joint block's time).
-#[inline(always)]
-#[allow(clippy::needless_range_loop)] // index loops on purpose: see `Block`
-pub(crate) fn walk_block<A: MulAdd>(
-    joints: &[PoeJoint],
-    identity_map: bool,
-    qs: &[f64],
-    n: usize,
-    visit: &mut impl BlockStep,
-) {
-    const AHEAD: usize = 8;
-    let mut theta = Align64([[0.0; W]; AHEAD]);
-    let mut s = Align64([[0.0; W]; AHEAD]);
-    let mut c = Align64([[0.0; W]; AHEAD]);
-    let mut start = 0;
-    while start < joints.len() {
-        let end = (start + AHEAD).min(joints.len());
-        // θ of joints start..end for every row: row by row, reading each row's values
-        // contiguously (a lane-by-lane read of one joint across rows becomes a hardware gather
-        // when the build enables AVX-512, slow on this class of CPU).
-        for l in 0..W {
-            let row = &qs[l * n..(l + 1) * n];
-            if identity_map {
-                for (k, &v) in row[start..end].iter().enumerate() {
-                    theta.0[k][l] = v;
-                }
-            } else {
-                for j in start..end {
-                    theta.0[j - start][l] = joint_theta(joints, false, j, row);
-                }
-            }
-        }
-        for j in start..end {
-            let k = j - start;
-            trig::sin_cos_lanes_with::<A>(&theta.0[k], &mut s.0[k], &mut c.0[k]);
-        }
-        for j in start..end {
-            let k = j - start;
-            visit.step::<A>(j, &joints[j], &theta.0[k], &s.0[k], &c.0[k]);
-        }
-        start = end;
-    }
-}
-
-/// What a block kernel does at joint j of [`walk_block`], given (θ, sin θ, cos θ) per lane.
-/// A trait with an `#[inline(always)]` method rather than a closure: a closure is a separate
-/// function the inliner may leave out of line, and then, outside the AVX2 + FMA clone, every
-/// fused multiply-add in it is a library call (measured: the FK + Jacobian block 8× slower once
-/// its closure grew past the inliner's threshold).
-pub(crate) trait BlockStep {
-    /// The work at joint `j` (its prepared `joint`).
-    fn step<A: MulAdd>(&mut self, j: usize, joint: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes);
-}
-
-/// The FK block's step: T ← T e^{[S_j]θ_j} lane by lane ([`PoeJoint::apply_block`]).
-impl BlockStep for Block {
-    #[inline(always)]
-    fn step<A: MulAdd>(&mut self, _: usize, joint: &PoeJoint, theta: &Lanes, s: &Lanes, c: &Lanes) {
-        joint.apply_block::<A>(self, theta, s, c);
     }
 }
 
