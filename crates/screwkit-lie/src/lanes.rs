@@ -1,63 +1,72 @@
-//! Eight f64 lanes on the vector unit, and the dispatch of the kernels written on them.
+//! f64 lanes on the vector unit, and the dispatch of the kernels written on them.
 //!
-//! The batch kernels compute eight configurations at once, one per lane. They are written once
-//! against [`Lanes`], the operations on eight lanes, and run through [`dispatch_lanes`], which
-//! picks the widest unit this CPU has ([`KernelPath::current`]):
-//! - [`Avx512`]: a value is one 512-bit register (32 of them: a pose's twelve values and the
-//!   joint's stay in registers along a chain);
-//! - [`Avx2`]: a value is two 256-bit registers (16 of them);
-//! - [`Portable`]: eight f64 in an array, for the compiler to vectorise as it can.
+//! The batch kernels compute several configurations at once, one per lane. They are written
+//! once against [`Lanes`], the operations on a value of [`Lanes::WIDTH`] lanes, and run through
+//! [`dispatch_lanes`], which picks the widest unit this CPU has ([`KernelPath::current`]):
+//! - [`Avx512`]: eight lanes, a value is one 512-bit register (32 of them: a pose's twelve
+//!   values and the joint's stay in registers along a chain);
+//! - [`Avx2`]: four lanes, one 256-bit register (16 of them);
+//! - [`Portable`]: four lanes in an array, for the compiler to vectorise as it can.
 //!
 //! Every operation is the scalar one lane by lane, and the multiply-add rounds as
-//! [`Lanes::Scalar`] does: [`Fused`](crate::fma::Fused) on AVX-512 and AVX2, [`Plain`] portably — the policies
-//! [`crate::fma::dispatch`] gives the single calls on the same path. So lane l of a kernel that
-//! repeats a single call's operations in the same order equals that call on configuration l,
-//! bit for bit.
+//! [`Lanes::Scalar`] does: [`Fused`](crate::fma::Fused) on AVX-512 and AVX2, [`Plain`]
+//! portably — the policies [`crate::fma::dispatch`] gives the single calls on the same path. So
+//! lane l of a kernel that repeats a single call's operations in the same order equals that
+//! call on configuration l, bit for bit.
 //!
 //! The instruction-set types are tokens: only the dispatch creates one, after checking the CPU,
 //! so holding one is the proof that its instructions exist.
 //!
 //! ```
-//! use screwkit_lie::lanes::{dispatch_lanes, LaneKernel, Lanes};
+//! use screwkit_lie::lanes::{dispatch_lanes, LaneKernel, Lanes, MAX_WIDTH};
 //!
-//! /// a·b + c in eight lanes.
-//! struct Madd<'a>(&'a [f64; 8], &'a [f64; 8], &'a [f64; 8]);
+//! /// a·b + c, value by value, [`Lanes::WIDTH`] at a time.
+//! struct Madd<'a>(&'a [f64; MAX_WIDTH], &'a [f64; MAX_WIDTH], &'a [f64; MAX_WIDTH]);
 //!
 //! impl LaneKernel for Madd<'_> {
-//!     type Output = [f64; 8];
+//!     type Output = [f64; MAX_WIDTH];
 //!     #[inline(always)]
-//!     fn run<L: Lanes>(self, l: L) -> [f64; 8] {
-//!         let mut out = [0.0; 8];
-//!         l.store(l.madd(l.load(self.0), l.load(self.1), l.load(self.2)), &mut out);
+//!     fn run<L: Lanes>(self, l: L) -> [f64; MAX_WIDTH] {
+//!         let mut out = [0.0; MAX_WIDTH];
+//!         for k in (0..MAX_WIDTH).step_by(L::WIDTH) {
+//!             let (a, b, c) = (&self.0[k..], &self.1[k..], &self.2[k..]);
+//!             l.store(l.madd(l.load(a), l.load(b), l.load(c)), &mut out[k..]);
+//!         }
 //!         out
 //!     }
 //! }
 //!
 //! let x = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0];
-//! assert_eq!(dispatch_lanes(Madd(&x, &x, &x))[2], 12.0);
+//! assert_eq!(dispatch_lanes(Madd(&x, &x, &x))[7], 72.0);
 //! ```
 
 use crate::fma::{KernelPath, MulAdd, Plain};
 
-/// Lanes per value.
-pub const WIDTH: usize = 8;
+/// The most lanes a value holds (the widest [`Lanes::WIDTH`]); every width divides it.
+pub const MAX_WIDTH: usize = 8;
 
-/// The operations on eight f64 lanes of one instruction set (a token: see the module
-/// documentation). Each is the scalar operation lane by lane, exactly rounded as that is, with
-/// [`Lanes::madd`] rounded as [`Lanes::Scalar`]'s.
+/// Lanes of a portable value.
+const PORTABLE_WIDTH: usize = 4;
+
+/// The operations on f64 lanes of one instruction set (a token: see the module documentation).
+/// Each is the scalar operation lane by lane, exactly rounded as that is, with [`Lanes::madd`]
+/// rounded as [`Lanes::Scalar`]'s.
 pub trait Lanes: Copy {
-    /// Eight f64 in this unit's registers.
+    /// [`Lanes::WIDTH`] f64 in this unit's registers.
     type V: Copy;
     /// The scalar multiply-add policy whose results [`Lanes::madd`] equals.
     type Scalar: MulAdd;
     /// The path this is.
     const PATH: KernelPath;
+    /// Lanes per value: 8 on AVX-512, 4 on AVX2 (one register either way) and portably; it
+    /// divides [`MAX_WIDTH`].
+    const WIDTH: usize;
     /// x in every lane.
     fn splat(self, x: f64) -> Self::V;
-    /// The eight values of `x`.
-    fn load(self, x: &[f64; WIDTH]) -> Self::V;
-    /// Writes the eight lanes to `out`.
-    fn store(self, v: Self::V, out: &mut [f64; WIDTH]);
+    /// The first [`Lanes::WIDTH`] values of `x` (panics if shorter).
+    fn load(self, x: &[f64]) -> Self::V;
+    /// Writes the lanes to the first [`Lanes::WIDTH`] values of `out` (panics if shorter).
+    fn store(self, v: Self::V, out: &mut [f64]);
     /// a + b.
     fn add(self, a: Self::V, b: Self::V) -> Self::V;
     /// a − b.
@@ -91,9 +100,10 @@ pub trait Lanes: Copy {
     fn load_transposed(self, src: &[f64], at: usize, stride: usize, m: usize) -> [Self::V; 4];
 }
 
-/// A kernel on eight lanes, written once for every [`Lanes`] and run through
-/// [`dispatch_lanes`]. `run` and every helper it calls are `#[inline(always)]`, so the whole
-/// body is compiled inside the dispatch's clone for the chosen instruction set.
+/// A kernel on lanes, written once for every [`Lanes`] and run through [`dispatch_lanes`].
+/// `run` and every helper it calls are `#[inline(always)]`, with no closures or iterator
+/// adaptors in the hot code (one the inliner leaves out of line is compiled without the
+/// dispatch's instruction set), so the whole body is compiled inside the dispatch's clone.
 pub trait LaneKernel {
     /// What the kernel returns.
     type Output;
@@ -131,15 +141,17 @@ pub fn dispatch_lanes_on<K: LaneKernel>(path: KernelPath, kernel: K) -> Result<K
     }
 }
 
-/// Portable lanes: eight f64 in an array, two roundings per multiply-add ([`Plain`]).
+/// Portable lanes: four f64 in an array (a pose's twelve rows of them fit baseline x86-64's
+/// sixteen 2-lane registers better than eight would), two roundings per multiply-add
+/// ([`Plain`]).
 #[derive(Debug, Clone, Copy)]
 pub struct Portable(());
 
-/// `[f64; 8]` lane by lane.
+/// The portable value lane by lane.
 macro_rules! each {
     (|$i:ident| $e:expr) => {{
-        let mut out = [0.0; WIDTH];
-        for $i in 0..WIDTH {
+        let mut out = [0.0; PORTABLE_WIDTH];
+        for $i in 0..PORTABLE_WIDTH {
             out[$i] = $e;
         }
         out
@@ -147,20 +159,23 @@ macro_rules! each {
 }
 
 impl Lanes for Portable {
-    type V = [f64; WIDTH];
+    type V = [f64; PORTABLE_WIDTH];
     type Scalar = Plain;
     const PATH: KernelPath = KernelPath::Portable;
+    const WIDTH: usize = PORTABLE_WIDTH;
     #[inline(always)]
     fn splat(self, x: f64) -> Self::V {
-        [x; WIDTH]
+        [x; PORTABLE_WIDTH]
     }
     #[inline(always)]
-    fn load(self, x: &[f64; WIDTH]) -> Self::V {
-        *x
+    fn load(self, x: &[f64]) -> Self::V {
+        let mut v = [0.0; PORTABLE_WIDTH];
+        v.copy_from_slice(&x[..PORTABLE_WIDTH]);
+        v
     }
     #[inline(always)]
-    fn store(self, v: Self::V, out: &mut [f64; WIDTH]) {
-        *out = v;
+    fn store(self, v: Self::V, out: &mut [f64]) {
+        out[..PORTABLE_WIDTH].copy_from_slice(&v);
     }
     #[inline(always)]
     fn add(self, a: Self::V, b: Self::V) -> Self::V {
@@ -188,7 +203,11 @@ impl Lanes for Portable {
     }
     #[inline(always)]
     fn all_below(self, a: Self::V, limit: f64) -> bool {
-        a.iter().fold(true, |ok, x| ok & (*x < limit))
+        let mut all = true;
+        for x in a {
+            all &= x < limit;
+        }
+        all
     }
     #[inline(always)]
     fn bits_add(self, a: Self::V, k: u64) -> Self::V {
@@ -211,19 +230,20 @@ impl Lanes for Portable {
         at: usize,
         stride: usize,
     ) {
-        for l in 0..WIDTH {
+        for l in 0..PORTABLE_WIDTH {
             let dst = &mut out[at + l * stride..][..m];
-            for (r, d) in dst.iter_mut().enumerate() {
-                *d = v[r][l];
+            for r in 0..m {
+                dst[r] = v[r][l];
             }
         }
     }
     #[inline(always)]
     fn load_transposed(self, src: &[f64], at: usize, stride: usize, m: usize) -> [Self::V; 4] {
-        let mut out = [[0.0; WIDTH]; 4];
-        for l in 0..WIDTH {
-            for (r, x) in src[at + l * stride..][..m].iter().enumerate() {
-                out[r][l] = *x;
+        let mut out = [[0.0; PORTABLE_WIDTH]; 4];
+        for l in 0..PORTABLE_WIDTH {
+            let row = &src[at + l * stride..][..m];
+            for r in 0..m {
+                out[r][l] = row[r];
             }
         }
         out
@@ -238,15 +258,17 @@ pub use x86::{Avx2, Avx512};
 #[cfg(target_arch = "x86_64")]
 #[allow(clippy::needless_range_loop)]
 mod x86 {
-    use super::{KernelPath, LaneKernel, Lanes, WIDTH};
+    use super::{KernelPath, LaneKernel, Lanes};
     use crate::fma::Fused;
     use std::arch::x86_64::*;
 
-    /// AVX2 + FMA lanes: two 256-bit registers per value, fused multiply-adds ([`Fused`]).
+    /// AVX2 + FMA lanes: four, one 256-bit register per value (sixteen registers: a pose's
+    /// twelve values of four configurations stay in them), fused multiply-adds ([`Fused`]).
     #[derive(Debug, Clone, Copy)]
     pub struct Avx2(());
 
-    /// AVX-512 lanes: one 512-bit register per value, fused multiply-adds ([`Fused`]).
+    /// AVX-512 lanes: eight, one 512-bit register per value (32 registers), fused multiply-adds
+    /// ([`Fused`]).
     #[derive(Debug, Clone, Copy)]
     pub struct Avx512(());
 
@@ -293,10 +315,10 @@ mod x86 {
         ]
     }
 
-    /// Four lanes' rows of [`Lanes::store_transposed`]: lane `first + r` of the half gets
-    /// row r of the transpose of `v` (m values each).
+    /// Four lanes of [`Lanes::store_transposed`] (lanes `first_lane..first_lane + 4`): lane
+    /// `first_lane + r` gets row r of the transpose of `v` (its first m values).
     #[inline(always)]
-    unsafe fn store_half(
+    unsafe fn store_four(
         v: [__m256d; 4],
         m: usize,
         out: &mut [f64],
@@ -306,19 +328,19 @@ mod x86 {
     ) {
         let rows = transpose4(v[0], v[1], v[2], v[3]);
         let mask = first(m);
-        for (r, row) in rows.into_iter().enumerate() {
+        for r in 0..4 {
             let dst = &mut out[at + (first_lane + r) * stride..][..m];
             if m == 4 {
-                _mm256_storeu_pd(dst.as_mut_ptr(), row);
+                _mm256_storeu_pd(dst.as_mut_ptr(), rows[r]);
             } else {
-                _mm256_maskstore_pd(dst.as_mut_ptr(), mask, row);
+                _mm256_maskstore_pd(dst.as_mut_ptr(), mask, rows[r]);
             }
         }
     }
 
-    /// Four lanes' values of [`Lanes::load_transposed`] (lanes `first_lane..first_lane + 4`).
+    /// Four lanes of [`Lanes::load_transposed`] (lanes `first_lane..first_lane + 4`).
     #[inline(always)]
-    unsafe fn load_half(
+    unsafe fn load_four(
         src: &[f64],
         at: usize,
         stride: usize,
@@ -326,15 +348,16 @@ mod x86 {
         first_lane: usize,
     ) -> [__m256d; 4] {
         let mask = first(m);
-        let row = |r: usize| {
+        let mut rows = [_mm256_setzero_pd(); 4];
+        for r in 0..4 {
             let s = &src[at + (first_lane + r) * stride..][..m];
-            if m == 4 {
+            rows[r] = if m == 4 {
                 _mm256_loadu_pd(s.as_ptr())
             } else {
                 _mm256_maskload_pd(s.as_ptr(), mask)
-            }
-        };
-        transpose4(row(0), row(1), row(2), row(3))
+            };
+        }
+        transpose4(rows[0], rows[1], rows[2], rows[3])
     }
 
     /// The sign bit.
@@ -343,95 +366,68 @@ mod x86 {
     // SAFETY (every method below): an `Avx2` exists only once the CPU was found to have AVX2
     // and FMA (`dispatch_lanes_on`), the instructions used here.
     impl Lanes for Avx2 {
-        type V = [__m256d; 2];
+        type V = __m256d;
         type Scalar = Fused;
         const PATH: KernelPath = KernelPath::Avx2Fma;
+        const WIDTH: usize = 4;
         #[inline(always)]
         fn splat(self, x: f64) -> Self::V {
-            unsafe { [_mm256_set1_pd(x); 2] }
+            unsafe { _mm256_set1_pd(x) }
         }
         #[inline(always)]
-        fn load(self, x: &[f64; WIDTH]) -> Self::V {
-            unsafe {
-                [
-                    _mm256_loadu_pd(x.as_ptr()),
-                    _mm256_loadu_pd(x[4..].as_ptr()),
-                ]
-            }
+        fn load(self, x: &[f64]) -> Self::V {
+            unsafe { _mm256_loadu_pd(x[..4].as_ptr()) }
         }
         #[inline(always)]
-        fn store(self, v: Self::V, out: &mut [f64; WIDTH]) {
-            unsafe {
-                _mm256_storeu_pd(out.as_mut_ptr(), v[0]);
-                _mm256_storeu_pd(out[4..].as_mut_ptr(), v[1]);
-            }
+        fn store(self, v: Self::V, out: &mut [f64]) {
+            unsafe { _mm256_storeu_pd(out[..4].as_mut_ptr(), v) }
         }
         #[inline(always)]
         fn add(self, a: Self::V, b: Self::V) -> Self::V {
-            unsafe { [_mm256_add_pd(a[0], b[0]), _mm256_add_pd(a[1], b[1])] }
+            unsafe { _mm256_add_pd(a, b) }
         }
         #[inline(always)]
         fn sub(self, a: Self::V, b: Self::V) -> Self::V {
-            unsafe { [_mm256_sub_pd(a[0], b[0]), _mm256_sub_pd(a[1], b[1])] }
+            unsafe { _mm256_sub_pd(a, b) }
         }
         #[inline(always)]
         fn mul(self, a: Self::V, b: Self::V) -> Self::V {
-            unsafe { [_mm256_mul_pd(a[0], b[0]), _mm256_mul_pd(a[1], b[1])] }
+            unsafe { _mm256_mul_pd(a, b) }
         }
         #[inline(always)]
         fn madd(self, a: Self::V, b: Self::V, c: Self::V) -> Self::V {
-            unsafe {
-                [
-                    _mm256_fmadd_pd(a[0], b[0], c[0]),
-                    _mm256_fmadd_pd(a[1], b[1], c[1]),
-                ]
-            }
+            unsafe { _mm256_fmadd_pd(a, b, c) }
         }
         #[inline(always)]
         fn neg(self, a: Self::V) -> Self::V {
-            unsafe {
-                let s = _mm256_castsi256_pd(_mm256_set1_epi64x(SIGN));
-                [_mm256_xor_pd(a[0], s), _mm256_xor_pd(a[1], s)]
-            }
+            unsafe { _mm256_xor_pd(a, _mm256_castsi256_pd(_mm256_set1_epi64x(SIGN))) }
         }
         #[inline(always)]
         fn abs(self, a: Self::V) -> Self::V {
-            unsafe {
-                let s = _mm256_castsi256_pd(_mm256_set1_epi64x(SIGN));
-                [_mm256_andnot_pd(s, a[0]), _mm256_andnot_pd(s, a[1])]
-            }
+            unsafe { _mm256_andnot_pd(_mm256_castsi256_pd(_mm256_set1_epi64x(SIGN)), a) }
         }
         #[inline(always)]
         fn all_below(self, a: Self::V, limit: f64) -> bool {
             unsafe {
-                let l = _mm256_set1_pd(limit);
-                let both = _mm256_and_pd(
-                    _mm256_cmp_pd::<_CMP_LT_OQ>(a[0], l),
-                    _mm256_cmp_pd::<_CMP_LT_OQ>(a[1], l),
-                );
-                _mm256_movemask_pd(both) == 0b1111
+                let below = _mm256_cmp_pd::<_CMP_LT_OQ>(a, _mm256_set1_pd(limit));
+                _mm256_movemask_pd(below) == 0b1111
             }
         }
         #[inline(always)]
         fn bits_add(self, a: Self::V, k: u64) -> Self::V {
             unsafe {
-                let k = _mm256_set1_epi64x(k as i64);
-                let f =
-                    |x: __m256d| _mm256_castsi256_pd(_mm256_add_epi64(_mm256_castpd_si256(x), k));
-                [f(a[0]), f(a[1])]
+                _mm256_castsi256_pd(_mm256_add_epi64(
+                    _mm256_castpd_si256(a),
+                    _mm256_set1_epi64x(k as i64),
+                ))
             }
         }
         #[inline(always)]
         fn select_bits(self, m: Self::V, bit: u64, a: Self::V, b: Self::V) -> Self::V {
             unsafe {
-                let bit = _mm256_set1_epi64x(bit as i64);
-                let zero = _mm256_setzero_si256();
-                let f = |m: __m256d, a: __m256d, b: __m256d| {
-                    let none =
-                        _mm256_cmpeq_epi64(_mm256_and_si256(_mm256_castpd_si256(m), bit), zero);
-                    _mm256_blendv_pd(a, b, _mm256_castsi256_pd(none))
-                };
-                [f(m[0], a[0], b[0]), f(m[1], a[1], b[1])]
+                let bits = _mm256_and_si256(_mm256_castpd_si256(m), _mm256_set1_epi64x(bit as i64));
+                let none = _mm256_cmpeq_epi64(bits, _mm256_setzero_si256());
+                _mm256_blendv_pd(a, b, _mm256_castsi256_pd(none))
             }
         }
         #[inline(always)]
@@ -443,33 +439,11 @@ mod x86 {
             at: usize,
             stride: usize,
         ) {
-            unsafe {
-                for h in 0..2 {
-                    store_half(
-                        [v[0][h], v[1][h], v[2][h], v[3][h]],
-                        m,
-                        out,
-                        at,
-                        stride,
-                        4 * h,
-                    );
-                }
-            }
+            unsafe { store_four(*v, m, out, at, stride, 0) }
         }
         #[inline(always)]
         fn load_transposed(self, src: &[f64], at: usize, stride: usize, m: usize) -> [Self::V; 4] {
-            unsafe {
-                let (lo, hi) = (
-                    load_half(src, at, stride, m, 0),
-                    load_half(src, at, stride, m, 4),
-                );
-                [
-                    [lo[0], hi[0]],
-                    [lo[1], hi[1]],
-                    [lo[2], hi[2]],
-                    [lo[3], hi[3]],
-                ]
-            }
+            unsafe { load_four(src, at, stride, m, 0) }
         }
     }
 
@@ -491,17 +465,18 @@ mod x86 {
         type V = __m512d;
         type Scalar = Fused;
         const PATH: KernelPath = KernelPath::Avx512;
+        const WIDTH: usize = 8;
         #[inline(always)]
         fn splat(self, x: f64) -> Self::V {
             unsafe { _mm512_set1_pd(x) }
         }
         #[inline(always)]
-        fn load(self, x: &[f64; WIDTH]) -> Self::V {
-            unsafe { _mm512_loadu_pd(x.as_ptr()) }
+        fn load(self, x: &[f64]) -> Self::V {
+            unsafe { _mm512_loadu_pd(x[..8].as_ptr()) }
         }
         #[inline(always)]
-        fn store(self, v: Self::V, out: &mut [f64; WIDTH]) {
-            unsafe { _mm512_storeu_pd(out.as_mut_ptr(), v) }
+        fn store(self, v: Self::V, out: &mut [f64]) {
+            unsafe { _mm512_storeu_pd(out[..8].as_mut_ptr(), v) }
         }
         #[inline(always)]
         fn add(self, a: Self::V, b: Self::V) -> Self::V {
@@ -560,7 +535,7 @@ mod x86 {
             unsafe {
                 let h = [halves(v[0]), halves(v[1]), halves(v[2]), halves(v[3])];
                 for k in 0..2 {
-                    store_half(
+                    store_four(
                         [h[0][k], h[1][k], h[2][k], h[3][k]],
                         m,
                         out,
@@ -575,8 +550,8 @@ mod x86 {
         fn load_transposed(self, src: &[f64], at: usize, stride: usize, m: usize) -> [Self::V; 4] {
             unsafe {
                 let (lo, hi) = (
-                    load_half(src, at, stride, m, 0),
-                    load_half(src, at, stride, m, 4),
+                    load_four(src, at, stride, m, 0),
+                    load_four(src, at, stride, m, 4),
                 );
                 [
                     join(lo[0], hi[0]),
@@ -603,66 +578,83 @@ mod tests {
         type Output = ();
         #[inline(always)]
         fn run<L: Lanes>(self, l: L) {
+            let w = L::WIDTH;
+            assert!(w > 0 && MAX_WIDTH.is_multiple_of(w));
             let a = [1.5, -0.0, 3.25e-7, -2.0, f64::NAN, 1e300, -7.5, 0.1];
             let b = [0.3, 2.0, -1.0, 0.7, 1.0, 1e10, 3.0, -0.2];
             let c = [-4.0, 1e-20, 0.5, 0.0, 2.0, -1e299, 8.0, 0.3];
-            let (va, vb, vc) = (l.load(&a), l.load(&b), l.load(&c));
+            // Every lane of every value meets every special input: all the lane offsets.
+            for at in (0..MAX_WIDTH).step_by(w) {
+                let (a, b, c) = (&a[at..], &b[at..], &c[at..]);
+                let (va, vb, vc) = (l.load(a), l.load(b), l.load(c));
+                let out = |v: L::V| {
+                    let mut o = [0.0; MAX_WIDTH];
+                    l.store(v, &mut o);
+                    o
+                };
+                let same = |got: [f64; MAX_WIDTH], want: &dyn Fn(usize) -> f64, what: &str| {
+                    for i in 0..w {
+                        assert_eq!(
+                            got[i].to_bits(),
+                            want(i).to_bits(),
+                            "{:?} {what} lane {i}",
+                            L::PATH
+                        );
+                    }
+                };
+                same(out(l.add(va, vb)), &|i| a[i] + b[i], "add");
+                same(out(l.sub(va, vb)), &|i| a[i] - b[i], "sub");
+                same(out(l.mul(va, vb)), &|i| a[i] * b[i], "mul");
+                same(
+                    out(l.madd(va, vb, vc)),
+                    &|i| L::Scalar::madd(a[i], b[i], c[i]),
+                    "madd",
+                );
+                same(out(l.neg(va)), &|i| -a[i], "neg");
+                same(out(l.abs(va)), &|i| a[i].abs(), "abs");
+                same(out(l.splat(0.25)), &|_| 0.25, "splat");
+                same(
+                    out(l.bits_add(va, 1)),
+                    &|i| f64::from_bits(a[i].to_bits().wrapping_add(1)),
+                    "bits_add",
+                );
+                same(
+                    out(l.select_bits(va, 2, vb, vc)),
+                    &|i| if a[i].to_bits() & 2 != 0 { b[i] } else { c[i] },
+                    "select",
+                );
+                let below = |x: &[f64], limit: f64| x[..w].iter().all(|v| *v < limit);
+                assert_eq!(l.all_below(va, 1e301), below(a, 1e301), "NaN is not below");
+                assert_eq!(l.all_below(vb, 1e11), below(b, 1e11));
+                assert_eq!(l.all_below(vb, 1.5), below(b, 1.5));
+            }
+            // Transposes, whole and partial, with a stride and an offset.
+            let vals: [L::V; 4] = std::array::from_fn(|r| {
+                l.load(&std::array::from_fn::<f64, MAX_WIDTH, _>(|k| {
+                    (10 * r + k) as f64
+                }))
+            });
             let out = |v: L::V| {
-                let mut o = [0.0; WIDTH];
+                let mut o = [0.0; MAX_WIDTH];
                 l.store(v, &mut o);
                 o
             };
-            let same = |got: [f64; WIDTH], want: &dyn Fn(usize) -> f64, what: &str| {
-                for i in 0..WIDTH {
-                    assert_eq!(
-                        got[i].to_bits(),
-                        want(i).to_bits(),
-                        "{:?} {what} lane {i}",
-                        L::PATH
-                    );
-                }
-            };
-            same(out(l.add(va, vb)), &|i| a[i] + b[i], "add");
-            same(out(l.sub(va, vb)), &|i| a[i] - b[i], "sub");
-            same(out(l.mul(va, vb)), &|i| a[i] * b[i], "mul");
-            same(
-                out(l.madd(va, vb, vc)),
-                &|i| L::Scalar::madd(a[i], b[i], c[i]),
-                "madd",
-            );
-            same(out(l.neg(va)), &|i| -a[i], "neg");
-            same(out(l.abs(va)), &|i| a[i].abs(), "abs");
-            same(out(l.splat(0.25)), &|_| 0.25, "splat");
-            same(
-                out(l.bits_add(va, 1)),
-                &|i| f64::from_bits(a[i].to_bits().wrapping_add(1)),
-                "bits_add",
-            );
-            same(
-                out(l.select_bits(va, 2, vb, vc)),
-                &|i| if a[i].to_bits() & 2 != 0 { b[i] } else { c[i] },
-                "select",
-            );
-            assert!(!l.all_below(va, 1e301), "NaN is not below");
-            assert!(l.all_below(vb, 1e11) && !l.all_below(vb, 1e10));
-            // Transposes, whole and partial, with a stride and an offset.
-            let vals: [L::V; 4] =
-                std::array::from_fn(|r| l.load(&std::array::from_fn(|k| (10 * r + k) as f64)));
             for m in 1..=4 {
-                let mut buf = vec![-1.0; 3 + 7 * 6 + 4];
+                let len = 3 + (w - 1) * 6 + 4;
+                let mut buf = vec![-1.0; len];
                 l.store_transposed(&vals, m, &mut buf, 3, 6);
                 for (x, got) in buf.iter().enumerate() {
                     let want = match x.checked_sub(3) {
-                        Some(y) if y % 6 < m && y / 6 < WIDTH => (10 * (y % 6) + y / 6) as f64,
+                        Some(y) if y % 6 < m && y / 6 < w => (10 * (y % 6) + y / 6) as f64,
                         _ => -1.0,
                     };
                     assert_eq!(*got, want, "{:?} store m = {m} at {x}", L::PATH);
                 }
-                let src: Vec<f64> = (0..3 + 7 * 6 + 4).map(|x| x as f64).collect();
+                let src: Vec<f64> = (0..len).map(|x| x as f64).collect();
                 let got = l.load_transposed(&src, 3, 6, m);
                 for (r, v) in got.iter().enumerate() {
                     let o = out(*v);
-                    for k in 0..WIDTH {
+                    for k in 0..w {
                         let want = if r < m { (3 + 6 * k + r) as f64 } else { 0.0 };
                         assert_eq!(o[k], want, "{:?} load m = {m}", L::PATH);
                     }

@@ -18,7 +18,7 @@
 #![allow(clippy::excessive_precision)]
 
 use crate::fma::{MulAdd, Plain};
-use crate::lanes::Lanes;
+use crate::lanes::{Lanes, MAX_WIDTH};
 
 /// 1.5·2⁵²: adding and subtracting it rounds to the nearest integer.
 const SHIFTER: f64 = 6_755_399_441_055_744.0;
@@ -109,18 +109,18 @@ fn sin_cos_with<A: MulAdd>(x: f64) -> (f64, f64) {
     sin_cos_reduced::<A>(x)
 }
 
-/// Sines and cosines of eight angles in the lanes of `l` ([`crate::lanes`]): lane by lane the
+/// Sines and cosines of the angles in the lanes of `l` ([`crate::lanes`]): lane by lane the
 /// value [`sin_cos_lanes_with`] gives with `l`'s multiply-add policy, bit for bit (the same
-/// operations in the same order; a lane holding a non-finite or huge angle sends the eight
+/// operations in the same order; a lane holding a non-finite or huge angle sends them all
 /// through the scalar path, which gives each angle the same value).
 #[inline(always)]
 pub fn sin_cos_in<L: Lanes>(l: L, x: L::V) -> (L::V, L::V) {
     // NaN fails the comparison, so it takes the scalar path too.
     if !l.all_below(l.abs(x), REDUCTION_LIMIT) {
-        let mut a = [0.0; LANES];
+        let mut a = [0.0; MAX_WIDTH];
         l.store(x, &mut a);
-        let (mut s, mut c) = ([0.0; LANES], [0.0; LANES]);
-        for i in 0..LANES {
+        let (mut s, mut c) = ([0.0; MAX_WIDTH], [0.0; MAX_WIDTH]);
+        for i in 0..L::WIDTH {
             (s[i], c[i]) = sin_cos_with::<L::Scalar>(a[i]);
         }
         return (l.load(&s), l.load(&c));

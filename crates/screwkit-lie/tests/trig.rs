@@ -202,10 +202,12 @@ fn lane_sines_equal_the_scalar_lanes_on_every_path() {
             let mut differ = 0;
             for x in self.0.chunks_exact(LANES) {
                 let x: &[f64; LANES] = x.try_into().unwrap();
-                let (s, c) = sin_cos_in(l, l.load(x));
                 let (mut gs, mut gc) = ([0.0; LANES], [0.0; LANES]);
-                l.store(s, &mut gs);
-                l.store(c, &mut gc);
+                for k in (0..LANES).step_by(L::WIDTH) {
+                    let (s, c) = sin_cos_in(l, l.load(&x[k..]));
+                    l.store(s, &mut gs[k..]);
+                    l.store(c, &mut gc[k..]);
+                }
                 let (mut ws, mut wc) = ([0.0; LANES], [0.0; LANES]);
                 sin_cos_lanes_with::<A>(x, &mut ws, &mut wc);
                 for i in 0..LANES {

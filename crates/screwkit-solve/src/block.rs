@@ -1,6 +1,7 @@
 //! The block kernels of the batches: the tip pose, and the tip pose with the space Jacobian,
-//! of W = 8 configurations at once, one per lane of [`screwkit_lie::lanes`] (on AVX-512 one
-//! register holds a value of all eight).
+//! of W = 8 configurations at once, one per lane of [`screwkit_lie::lanes`]: the eight in one
+//! pass on AVX-512 (one register holds a value of all eight), in two passes of four on AVX2
+//! and portably.
 //!
 //! T ← T e^{\[S\]θ} multiplies T on the right, so each row (R_i0, R_i1, R_i2, p_i) of T's top
 //! three changes on its own: the kernels walk the chain one row at a time, the row's four
@@ -18,224 +19,210 @@
 // and then it is compiled without the dispatch's instruction set.
 #![allow(clippy::needless_range_loop)]
 
-use screwkit_lie::lanes::{LaneKernel, Lanes, WIDTH};
+use screwkit_lie::lanes::{LaneKernel, Lanes, MAX_WIDTH};
 use screwkit_lie::trig;
 
 use crate::kinematics::Kinematics;
-use crate::poe::{Aligned, PoeJoint};
+use crate::poe::{Aligned, PoeJoint, Update};
 
 /// Configurations per block.
-pub(crate) const W: usize = WIDTH;
+pub(crate) const W: usize = MAX_WIDTH;
 
-/// Which update a joint takes (see [`PoeJoint::apply`]), with its axis: X, Y, Z mix columns
-/// (1, 2), (2, 0), (0, 1) of R.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Step {
-    /// p ← p + R (v θ).
-    Prismatic,
-    /// Pitch 0 about an exact coordinate axis: the two-column translation and rotation.
-    PlanarX,
-    PlanarY,
-    PlanarZ,
-    /// An exact coordinate axis with a pitch (the full translation, the axis rotation).
-    AxisX,
-    AxisY,
-    AxisZ,
-    /// Within [`crate::poe::NEAR_AXIS`] of a coordinate axis: the near-axis rotation.
-    NearX,
-    NearY,
-    NearZ,
-    /// Any other axis: Rodrigues' matrix.
-    General,
-}
-
-impl Step {
-    fn of(joint: &PoeJoint) -> Step {
-        if joint.prismatic {
-            return Step::Prismatic;
+/// T ← T e^{\[S\]θ} for the eight configurations (θ, sin θ, cos θ per lane) on the rows
+/// (R_i0, R_i1, R_i2, p_i) of T: [`PoeJoint::apply`]'s update row by row, the joint's constants
+/// computed once for the three rows. One match per joint ([`Update`]), each arm computing only
+/// what its update reads.
+#[inline(always)]
+fn apply_joint<L: Lanes>(
+    l: L,
+    joint: &PoeJoint,
+    th: L::V,
+    s: L::V,
+    c: L::V,
+    rows: &mut [[L::V; 4]; 3],
+) {
+    match joint.update {
+        Update::Prismatic => {
+            // p ← p + R (v θ).
+            let v = &joint.v;
+            let t = [
+                l.mul(l.splat(v[0]), th),
+                l.mul(l.splat(v[1]), th),
+                l.mul(l.splat(v[2]), th),
+            ];
+            for r in rows.iter_mut() {
+                translate(l, r, &t);
+            }
         }
-        let exact = |u: [f64; 2]| u == [0.0; 2];
-        match joint.aligned {
-            Aligned::General => Step::General,
-            Aligned::X(..) if joint.planar => Step::PlanarX,
-            Aligned::Y(..) if joint.planar => Step::PlanarY,
-            Aligned::Z(..) if joint.planar => Step::PlanarZ,
-            Aligned::X(_, u) if exact(u) => Step::AxisX,
-            Aligned::Y(_, u) if exact(u) => Step::AxisY,
-            Aligned::Z(_, u) if exact(u) => Step::AxisZ,
-            Aligned::X(..) => Step::NearX,
-            Aligned::Y(..) => Step::NearY,
-            Aligned::Z(..) => Step::NearZ,
-        }
+        Update::Planar(0, g) => planar::<L, 1, 2>(l, joint, g, s, c, rows),
+        Update::Planar(1, g) => planar::<L, 2, 0>(l, joint, g, s, c, rows),
+        Update::Planar(_, g) => planar::<L, 0, 1>(l, joint, g, s, c, rows),
+        Update::Axis(0, g) => axis::<L, 1, 2>(l, joint, g, th, s, c, rows),
+        Update::Axis(1, g) => axis::<L, 2, 0>(l, joint, g, th, s, c, rows),
+        Update::Axis(_, g) => axis::<L, 0, 1>(l, joint, g, th, s, c, rows),
+        Update::Near(0, g, u) => near::<L, 1, 2, 0>(l, joint, g, &u, th, s, c, rows),
+        Update::Near(1, g, u) => near::<L, 2, 0, 1>(l, joint, g, &u, th, s, c, rows),
+        Update::Near(_, g, u) => near::<L, 0, 1, 2>(l, joint, g, &u, th, s, c, rows),
+        Update::General => general(l, joint, th, s, c, rows),
     }
 }
 
-/// One joint's constants for the eight configurations of a block.
-#[derive(Clone, Copy)]
-struct JointLanes<V> {
-    step: Step,
-    /// The translation of e^{\[S\]θ} (v θ for a prismatic joint).
-    t: [V; 3],
-    /// The rotation's coefficients: for an axis update (g sin θ, −g sin θ, cos θ) and, near an
-    /// axis, the four of [`crate::columns::Columns::rotate_near_axis`]; for a general axis the
-    /// entries of e^{\[ω\]θ}, row-major.
-    r: [V; 9],
+/// The translation of e^{\[S\]θ} (b = 1 − cos θ): `translation_of_rotation` at pitch 0, else
+/// `translation_from_coefficients` with a = θ, c = θ − sin θ.
+#[inline(always)]
+fn translation<L: Lanes>(l: L, joint: &PoeJoint, th: L::V, s: L::V, b: L::V) -> [L::V; 3] {
+    let (v, wv, wwv) = (&joint.v, &joint.wv, &joint.wwv);
+    let mut t = [b; 3];
+    // No closures or `map` in the kernels: a closure may stay out of line, and then it is
+    // compiled without the dispatch's instruction set.
+    if joint.pitch_zero {
+        for i in 0..3 {
+            t[i] = l.madd(l.splat(wv[i]), b, l.mul(l.splat(v[i]), s));
+        }
+    } else {
+        let ts = l.sub(th, s);
+        for i in 0..3 {
+            t[i] = l.madd(
+                l.splat(v[i]),
+                th,
+                l.madd(l.splat(wv[i]), b, l.mul(l.splat(wwv[i]), ts)),
+            );
+        }
+    }
+    t
 }
 
-impl<V: Copy> JointLanes<V> {
-    /// θ, sin θ and cos θ of `joint` (`th`, `s`, `c`) to its constants, with the operations of
-    /// [`PoeJoint::apply`].
-    #[inline(always)]
-    fn new<L: Lanes<V = V>>(l: L, joint: &PoeJoint, th: V, s: V, c: V) -> Self {
-        let step = Step::of(joint);
-        let zero = l.splat(0.0);
-        let mut out = JointLanes {
-            step,
-            t: [zero; 3],
-            r: [zero; 9],
-        };
-        let (v, wv, wwv) = (&joint.v, &joint.wv, &joint.wwv);
-        if step == Step::Prismatic {
-            for i in 0..3 {
-                out.t[i] = l.mul(l.splat(v[i]), th);
-            }
-            return out;
-        }
-        let b = l.sub(l.splat(1.0), c);
-        // No closures or `map` in the kernels: a closure may stay out of line, and then it is
-        // compiled without the dispatch's instruction set.
-        if joint.pitch_zero {
-            // `translation_of_rotation`.
-            for i in 0..3 {
-                out.t[i] = l.madd(l.splat(wv[i]), b, l.mul(l.splat(v[i]), s));
-            }
-        } else {
-            // `translation_from_coefficients` with a = θ, c = θ − sin θ.
-            let ts = l.sub(th, s);
-            for i in 0..3 {
-                out.t[i] = l.madd(
-                    l.splat(v[i]),
-                    th,
-                    l.madd(l.splat(wv[i]), b, l.mul(l.splat(wwv[i]), ts)),
-                );
-            }
-        }
-        match joint.aligned {
-            Aligned::General => {
-                // `so3::rotation_from_coefficients(ω, 1, sin θ, 1 − cos θ)`, as written there.
-                let [x, y, z] = [
-                    l.splat(joint.w[0]),
-                    l.splat(joint.w[1]),
-                    l.splat(joint.w[2]),
-                ];
-                let d = l.sub(l.splat(1.0), l.mul(l.mul(b, l.splat(1.0)), l.splat(1.0)));
-                let (bx, by) = (l.mul(b, x), l.mul(b, y));
-                let (bxy, bxz, byz) = (l.mul(bx, y), l.mul(bx, z), l.mul(by, z));
-                let (ax, ay, az) = (l.mul(s, x), l.mul(s, y), l.mul(s, z));
-                out.r = [
-                    l.add(d, l.mul(bx, x)),
-                    l.sub(bxy, az),
-                    l.add(bxz, ay),
-                    l.add(bxy, az),
-                    l.add(d, l.mul(by, y)),
-                    l.sub(byz, ax),
-                    l.sub(bxz, ay),
-                    l.add(byz, ax),
-                    l.add(d, l.mul(l.mul(b, z), z)),
-                ];
-            }
-            Aligned::X(g, u) | Aligned::Y(g, u) | Aligned::Z(g, u) => {
-                let gs = l.mul(l.splat(g), s);
-                out.r[0] = gs;
-                out.r[1] = l.neg(gs);
-                out.r[2] = c;
-                if matches!(step, Step::NearX | Step::NearY | Step::NearZ) {
-                    // `Columns::rotate_near_axis`'s coefficients (s = g sin θ there).
-                    let (ui, uj) = (l.splat(u[0]), l.splat(u[1]));
-                    out.r[3] = l.madd(b, ui, l.neg(l.mul(gs, uj)));
-                    out.r[4] = l.madd(b, uj, l.mul(gs, ui));
-                    out.r[5] = l.madd(b, ui, l.mul(gs, uj));
-                    out.r[6] = l.madd(b, uj, l.neg(l.mul(gs, ui)));
-                }
-            }
-        }
-        out
+/// Pitch 0 about ±e_K exactly: `translate_pair::<I, J>` (only components I and J of the
+/// translation, the K one being zero) then `rotate_axis::<I, J>`.
+#[inline(always)]
+fn planar<L: Lanes, const I: usize, const J: usize>(
+    l: L,
+    joint: &PoeJoint,
+    g: f64,
+    s: L::V,
+    c: L::V,
+    rows: &mut [[L::V; 4]; 3],
+) {
+    let (v, wv) = (&joint.v, &joint.wv);
+    let b = l.sub(l.splat(1.0), c);
+    let ti = l.madd(l.splat(wv[I]), b, l.mul(l.splat(v[I]), s));
+    let tj = l.madd(l.splat(wv[J]), b, l.mul(l.splat(v[J]), s));
+    let gs = l.mul(l.splat(g), s);
+    let minus_gs = l.neg(gs);
+    for r in rows.iter_mut() {
+        r[3] = l.madd(r[I], ti, l.madd(r[J], tj, r[3]));
+        rotate_axis::<L, I, J>(l, r, gs, minus_gs, c);
     }
+}
 
-    /// T ← T e^{\[S\]θ} on the rows (R_i0, R_i1, R_i2, p_i) of T: the single call's update
-    /// row by row ([`crate::columns::Columns`]' operations, row i of each column).
-    #[inline(always)]
-    fn apply<L: Lanes<V = V>>(&self, l: L, rows: &mut [[V; 4]; 3]) {
-        // One match, then the three rows inside each arm (no closures: see `new`).
-        macro_rules! each_row {
-            ($r:ident => $e:expr) => {
-                for $r in rows.iter_mut() {
-                    $e
-                }
-            };
-        }
-        match self.step {
-            Step::Prismatic => each_row!(r => translate(l, r, &self.t)),
-            Step::PlanarX => each_row!(r => self.planar::<L, 1, 2>(l, r)),
-            Step::PlanarY => each_row!(r => self.planar::<L, 2, 0>(l, r)),
-            Step::PlanarZ => each_row!(r => self.planar::<L, 0, 1>(l, r)),
-            Step::AxisX => each_row!(r => self.axis::<L, 1, 2>(l, r)),
-            Step::AxisY => each_row!(r => self.axis::<L, 2, 0>(l, r)),
-            Step::AxisZ => each_row!(r => self.axis::<L, 0, 1>(l, r)),
-            Step::NearX => each_row!(r => self.near::<L, 1, 2, 0>(l, r)),
-            Step::NearY => each_row!(r => self.near::<L, 2, 0, 1>(l, r)),
-            Step::NearZ => each_row!(r => self.near::<L, 0, 1, 2>(l, r)),
-            Step::General => each_row!(r => self.general(l, r)),
-        }
+/// An exact coordinate axis with a pitch: `translate` then `rotate_axis::<I, J>`.
+#[inline(always)]
+fn axis<L: Lanes, const I: usize, const J: usize>(
+    l: L,
+    joint: &PoeJoint,
+    g: f64,
+    th: L::V,
+    s: L::V,
+    c: L::V,
+    rows: &mut [[L::V; 4]; 3],
+) {
+    let b = l.sub(l.splat(1.0), c);
+    let t = translation(l, joint, th, s, b);
+    let gs = l.mul(l.splat(g), s);
+    let minus_gs = l.neg(gs);
+    for r in rows.iter_mut() {
+        translate(l, r, &t);
+        rotate_axis::<L, I, J>(l, r, gs, minus_gs, c);
     }
+}
 
-    /// `translate` then the rotation columns times Rodrigues' matrix (`Columns::compose`).
-    #[inline(always)]
-    fn general<L: Lanes<V = V>>(&self, l: L, r: &mut [V; 4]) {
-        translate(l, r, &self.t);
-        let [a, b, c, _] = *r;
-        let e = &self.r;
-        for k in 0..3 {
-            r[k] = l.madd(a, e[k], l.madd(b, e[3 + k], l.mul(c, e[6 + k])));
-        }
-    }
+/// `rotate_axis::<I, J>` on one row: col_I ← c col_I + s col_J, col_J ← c col_J − s col_I
+/// (s = g sin θ).
+#[inline(always)]
+fn rotate_axis<L: Lanes, const I: usize, const J: usize>(
+    l: L,
+    r: &mut [L::V; 4],
+    s: L::V,
+    minus_s: L::V,
+    c: L::V,
+) {
+    let (u, w) = (r[I], r[J]);
+    r[I] = l.madd(w, s, l.mul(u, c));
+    r[J] = l.madd(u, minus_s, l.mul(w, c));
+}
 
-    /// `translate_pair::<I, J>` then `rotate_axis::<I, J>`.
-    #[inline(always)]
-    fn planar<L: Lanes<V = V>, const I: usize, const J: usize>(&self, l: L, r: &mut [V; 4]) {
-        r[3] = l.madd(r[I], self.t[I], l.madd(r[J], self.t[J], r[3]));
-        self.rotate_axis::<L, I, J>(l, r);
-    }
-
-    /// `translate` then `rotate_axis::<I, J>`.
-    #[inline(always)]
-    fn axis<L: Lanes<V = V>, const I: usize, const J: usize>(&self, l: L, r: &mut [V; 4]) {
-        translate(l, r, &self.t);
-        self.rotate_axis::<L, I, J>(l, r);
-    }
-
-    /// `rotate_axis::<I, J>`: col_I ← c col_I + s col_J, col_J ← c col_J − s col_I.
-    #[inline(always)]
-    fn rotate_axis<L: Lanes<V = V>, const I: usize, const J: usize>(&self, l: L, r: &mut [V; 4]) {
-        let (u, w) = (r[I], r[J]);
-        let [gs, minus_gs, c, ..] = self.r;
-        r[I] = l.madd(w, gs, l.mul(u, c));
-        r[J] = l.madd(u, minus_gs, l.mul(w, c));
-    }
-
-    /// `translate` then `rotate_near_axis::<I, J, K>`.
-    #[inline(always)]
-    fn near<L: Lanes<V = V>, const I: usize, const J: usize, const K: usize>(
-        &self,
-        l: L,
-        r: &mut [V; 4],
-    ) {
-        translate(l, r, &self.t);
-        let [s, minus_s, c, ki, kj, ii, ij, ..] = self.r;
+/// Within [`crate::poe::NEAR_AXIS`] of ±e_K: `translate` then `rotate_near_axis::<I, J, K>`
+/// (its four coefficients once for the rows).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)] // the joint's lanes, spelled out for the kernel
+fn near<L: Lanes, const I: usize, const J: usize, const K: usize>(
+    l: L,
+    joint: &PoeJoint,
+    g: f64,
+    u: &[f64; 2],
+    th: L::V,
+    s: L::V,
+    c: L::V,
+    rows: &mut [[L::V; 4]; 3],
+) {
+    let b = l.sub(l.splat(1.0), c);
+    let t = translation(l, joint, th, s, b);
+    let gs = l.mul(l.splat(g), s);
+    let minus_gs = l.neg(gs);
+    let (ui, uj) = (l.splat(u[0]), l.splat(u[1]));
+    let ki = l.madd(b, ui, l.neg(l.mul(gs, uj)));
+    let kj = l.madd(b, uj, l.mul(gs, ui));
+    let ii = l.madd(b, ui, l.mul(gs, uj));
+    let ij = l.madd(b, uj, l.neg(l.mul(gs, ui)));
+    for r in rows.iter_mut() {
+        translate(l, r, &t);
         let (ri, rj, rk) = (r[I], r[J], r[K]);
-        r[I] = l.madd(rk, ki, l.madd(rj, s, l.mul(ri, c)));
-        r[J] = l.madd(rk, kj, l.madd(ri, minus_s, l.mul(rj, c)));
+        r[I] = l.madd(rk, ki, l.madd(rj, gs, l.mul(ri, c)));
+        r[J] = l.madd(rk, kj, l.madd(ri, minus_gs, l.mul(rj, c)));
         r[K] = l.madd(ri, ii, l.madd(rj, ij, rk));
+    }
+}
+
+/// Any other axis: `translate` then the rotation columns times Rodrigues' matrix
+/// (`so3::rotation_from_coefficients(ω, 1, sin θ, 1 − cos θ)`, as written there;
+/// `Columns::compose`).
+#[inline(always)]
+fn general<L: Lanes>(
+    l: L,
+    joint: &PoeJoint,
+    th: L::V,
+    s: L::V,
+    c: L::V,
+    rows: &mut [[L::V; 4]; 3],
+) {
+    let b = l.sub(l.splat(1.0), c);
+    let t = translation(l, joint, th, s, b);
+    let [x, y, z] = [
+        l.splat(joint.w[0]),
+        l.splat(joint.w[1]),
+        l.splat(joint.w[2]),
+    ];
+    let d = l.sub(l.splat(1.0), l.mul(l.mul(b, l.splat(1.0)), l.splat(1.0)));
+    let (bx, by) = (l.mul(b, x), l.mul(b, y));
+    let (bxy, bxz, byz) = (l.mul(bx, y), l.mul(bx, z), l.mul(by, z));
+    let (ax, ay, az) = (l.mul(s, x), l.mul(s, y), l.mul(s, z));
+    let e = [
+        l.add(d, l.mul(bx, x)),
+        l.sub(bxy, az),
+        l.add(bxz, ay),
+        l.add(bxy, az),
+        l.add(d, l.mul(by, y)),
+        l.sub(byz, ax),
+        l.sub(bxz, ay),
+        l.add(byz, ax),
+        l.add(d, l.mul(l.mul(b, z), z)),
+    ];
+    for r in rows.iter_mut() {
+        translate(l, r, &t);
+        let [r0, r1, r2, _] = *r;
+        for k in 0..3 {
+            r[k] = l.madd(r0, e[k], l.madd(r1, e[3 + k], l.mul(r2, e[6 + k])));
+        }
     }
 }
 
@@ -293,9 +280,9 @@ fn identity_rows<L: Lanes>(l: L) -> [[L::V; 4]; 3] {
     [[o, z, z, z], [z, o, z, z], [z, z, o, z]]
 }
 
-/// The rows of T = e^{\[S₁\]θ₁} ⋯ e^{\[Sₙ\]θₙ} for the W configurations of `qs` (W rows of dof
-/// values), and with `jac` (W row-major 6 × dof; the chain's joints must each own their
-/// variable) the space Jacobians.
+/// The rows of T = e^{\[S₁\]θ₁} ⋯ e^{\[Sₙ\]θₙ} for the [`Lanes::WIDTH`] configurations at the
+/// start of `qs` (rows of dof values), and with `jac` (row-major 6 × dof each; the chain's
+/// joints must each own their variable) their space Jacobians.
 #[inline(always)]
 fn chain_rows<L: Lanes>(
     l: L,
@@ -321,7 +308,7 @@ fn chain_rows<L: Lanes>(
             } else {
                 for (t, joint) in theta.iter_mut().zip(&joints[j..j + m]) {
                     let mut lanes = [0.0; W];
-                    for (x, row) in lanes.iter_mut().zip(qs.chunks_exact(n)) {
+                    for (x, row) in lanes[..L::WIDTH].iter_mut().zip(qs.chunks_exact(n)) {
                         *x = joint.drive.theta(row);
                     }
                     *t = l.load(&lanes);
@@ -348,7 +335,7 @@ fn chain_rows<L: Lanes>(
             }
         }
         let (s, c) = trig::sin_cos_in(l, theta[k]);
-        JointLanes::new(l, joint, theta[k], s, c).apply(l, &mut rows);
+        apply_joint(l, joint, theta[k], s, c, &mut rows);
         if let (Some(jac), true) = (jac.as_deref_mut(), k == 3 || j + 1 == joints.len()) {
             let first = j - k;
             for (i, col) in cols.iter().enumerate() {
@@ -359,8 +346,8 @@ fn chain_rows<L: Lanes>(
     rows
 }
 
-/// The rows times the home pose M (`Columns::compose` with M's constants), written as W
-/// row-major 4 × 4 poses.
+/// The rows times the home pose M (`Columns::compose` with M's constants), written as
+/// [`Lanes::WIDTH`] row-major 4 × 4 poses.
 #[inline(always)]
 fn write_poses<L: Lanes>(l: L, kin: &Kinematics, rows: &[[L::V; 4]; 3], out: &mut [f64]) {
     let (e, t) = (kin.home.rotation(), kin.home.translation());
@@ -377,7 +364,7 @@ fn write_poses<L: Lanes>(l: L, kin: &Kinematics, rows: &[[L::V; 4]; 3], out: &mu
         }
         l.store_transposed(&four, 4, out, 4 * i, 16);
     }
-    for pose in out[..16 * W].chunks_exact_mut(16) {
+    for pose in out[..16 * L::WIDTH].chunks_exact_mut(16) {
         pose[12..].copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
     }
 }
@@ -395,8 +382,11 @@ impl LaneKernel for TipBlock<'_> {
     type Output = ();
     #[inline(always)]
     fn run<L: Lanes>(self, l: L) {
-        let rows = chain_rows(l, self.kin, self.qs, None);
-        write_poses(l, self.kin, &rows, self.out);
+        let n = self.kin.dof();
+        for first in (0..W).step_by(L::WIDTH) {
+            let rows = chain_rows(l, self.kin, &self.qs[first * n..], None);
+            write_poses(l, self.kin, &rows, &mut self.out[16 * first..]);
+        }
     }
 }
 
@@ -415,26 +405,42 @@ impl LaneKernel for SpaceJacobianBlock<'_> {
     #[inline(always)]
     fn run<L: Lanes>(self, l: L) {
         debug_assert!(self.kin.identity_map);
-        let rows = chain_rows(l, self.kin, self.qs, Some(self.jac));
-        if let Some(p) = self.poses {
-            write_poses(l, self.kin, &rows, p);
+        let Self {
+            kin,
+            qs,
+            jac,
+            mut poses,
+        } = self;
+        let n = kin.dof();
+        for first in (0..W).step_by(L::WIDTH) {
+            let rows = chain_rows(l, kin, &qs[first * n..], Some(&mut jac[6 * n * first..]));
+            if let Some(p) = poses.as_deref_mut() {
+                write_poses(l, kin, &rows, &mut p[16 * first..]);
+            }
         }
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::Step;
+    use crate::poe::Update;
 
-    /// The test chains (`kernels_agree` checks the block kernels on them) take every update.
+    /// The test chains (`kernels_agree` checks the block kernels on them) take every update,
+    /// about every axis.
     #[test]
     fn the_test_chains_take_every_update() {
         let mut seen = Vec::new();
         for (_, kin) in crate::test_chains() {
             for joint in &kin.space {
-                let step = Step::of(joint);
-                if !seen.contains(&step) {
-                    seen.push(step);
+                let kind = match joint.update {
+                    Update::Prismatic => (0, 0),
+                    Update::Planar(k, _) => (1, k),
+                    Update::Axis(k, _) => (2, k),
+                    Update::Near(k, ..) => (3, k),
+                    Update::General => (4, 0),
+                };
+                if !seen.contains(&kind) {
+                    seen.push(kind);
                 }
             }
         }

@@ -63,6 +63,22 @@ impl Aligned {
     }
 }
 
+/// Which update [`PoeJoint::apply`] makes, decided once per joint (the block kernels match on
+/// it): the axis k (0, 1, 2 for x, y, z) and its sign g where the axis is ±e_k or near it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Update {
+    /// p ← p + R (v θ).
+    Prismatic,
+    /// Pitch 0 about ±e_k exactly: two columns of R and two components of p.
+    Planar(usize, f64),
+    /// ±e_k exactly, with a pitch: the full translation, two columns of R.
+    Axis(usize, f64),
+    /// Within [`NEAR_AXIS`] of ±e_k: the near-axis update, with u of [`Aligned`].
+    Near(usize, f64, [f64; 2]),
+    /// Any other axis: Rodrigues' matrix.
+    General,
+}
+
 /// One joint of the chain prepared for the kernels: its unit screw S = (ω, v) with the
 /// precomputed ω × v and ω × (ω × v), how its θ follows from q ([`Drive`]), and which update
 /// it takes.
@@ -78,6 +94,8 @@ pub(crate) struct PoeJoint {
     /// within the plane of the other two axes only, and R ω is ±column K of R, so the updates
     /// skip the K components (zero, or rounding of v = −ω × q, which the axis update drops too).
     pub(crate) planar: bool,
+    /// The update the joint takes (from the fields above).
+    pub(crate) update: Update,
     pub(crate) w: [f64; 3],
     pub(crate) v: [f64; 3],
     pub(crate) wv: [f64; 3],
@@ -116,11 +134,31 @@ impl PoeJoint {
         };
         let pitch_zero = matches!(kind, JointKind::Revolute | JointKind::Continuous);
         let exact_axis = matches!(aligned, Aligned::X(_, u) | Aligned::Y(_, u) | Aligned::Z(_, u) if u == [0.0; 2]);
+        let planar = pitch_zero && exact_axis;
+        let update = match aligned {
+            _ if prismatic => Update::Prismatic,
+            Aligned::General => Update::General,
+            Aligned::X(g, u) | Aligned::Y(g, u) | Aligned::Z(g, u) => {
+                let k = match aligned {
+                    Aligned::X(..) => 0,
+                    Aligned::Y(..) => 1,
+                    _ => 2,
+                };
+                if planar {
+                    Update::Planar(k, g)
+                } else if u == [0.0; 2] {
+                    Update::Axis(k, g)
+                } else {
+                    Update::Near(k, g, u)
+                }
+            }
+        };
         Self {
             prismatic,
             aligned,
             pitch_zero,
-            planar: pitch_zero && exact_axis,
+            planar,
+            update,
             w: s.w.into(),
             v: s.v.into(),
             wv: wv.into(),
