@@ -2,6 +2,8 @@
 
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use screwkit_solve::ik::IkStatus;
 
 /// The outcome of `Robot.ik` for one target (4, 4).
 #[pyclass(frozen, get_all, module = "screwkit")]
@@ -41,36 +43,101 @@ impl IkResult {
 }
 
 /// The outcome of `Robot.ik` for N targets (N, 4, 4): every attribute is one entry per target.
-#[pyclass(frozen, get_all, module = "screwkit")]
+/// The per-target arrays other than `q` are made on first access (then the same array each
+/// time): a small batch costs its solutions, not five arrays nobody reads.
+#[pyclass(frozen, module = "screwkit")]
 pub struct IkBatchResult {
-    /// Solutions, shape (N, dof) (NaN rows for invalid targets or seeds).
-    pub q: Py<PyArray2<f64>>,
-    /// Converged or not, shape (N,), bool.
-    pub converged: Py<PyArray1<bool>>,
-    /// Iterations per target, shape (N,), int64.
-    pub iterations: Py<PyArray1<i64>>,
-    /// Restarts per target, shape (N,), int64.
-    pub restarts: Py<PyArray1<i64>>,
-    /// Final rotation errors (rad), shape (N,).
-    pub error_rot: Py<PyArray1<f64>>,
-    /// Final position errors (m), shape (N,).
-    pub error_pos: Py<PyArray1<f64>>,
-    /// Why each solve stopped (as in `IkResult.stop`, plus "invalid input").
-    pub stop: Vec<String>,
+    q: Py<PyArray2<f64>>,
+    status: Vec<IkStatus>,
+    converged: PyOnceLock<Py<PyArray1<bool>>>,
+    iterations: PyOnceLock<Py<PyArray1<i64>>>,
+    restarts: PyOnceLock<Py<PyArray1<i64>>>,
+    error_rot: PyOnceLock<Py<PyArray1<f64>>>,
+    error_pos: PyOnceLock<Py<PyArray1<f64>>>,
+}
+
+impl IkBatchResult {
+    /// The result of solutions `q` (N, dof) and how each solve ended.
+    pub fn new(q: Py<PyArray2<f64>>, status: Vec<IkStatus>) -> Self {
+        Self {
+            q,
+            status,
+            converged: PyOnceLock::new(),
+            iterations: PyOnceLock::new(),
+            restarts: PyOnceLock::new(),
+            error_rot: PyOnceLock::new(),
+            error_pos: PyOnceLock::new(),
+        }
+    }
+
+    /// The array in `cell`, made from `f` of every status on first access.
+    fn column<T: numpy::Element>(
+        &self,
+        py: Python<'_>,
+        cell: &PyOnceLock<Py<PyArray1<T>>>,
+        f: fn(&IkStatus) -> T,
+    ) -> Py<PyArray1<T>> {
+        cell.get_or_init(py, || {
+            PyArray1::from_vec(py, self.status.iter().map(f).collect()).unbind()
+        })
+        .clone_ref(py)
+    }
 }
 
 #[pymethods]
 impl IkBatchResult {
-    fn __len__(&self) -> usize {
-        self.stop.len()
+    /// Solutions, shape (N, dof) (NaN rows for invalid targets or seeds).
+    #[getter]
+    fn q(&self, py: Python<'_>) -> Py<PyArray2<f64>> {
+        self.q.clone_ref(py)
     }
 
-    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
-        let converged = self.converged.bind(py).call_method0("sum")?;
-        Ok(format!(
+    /// Converged or not, shape (N,), bool.
+    #[getter]
+    fn converged(&self, py: Python<'_>) -> Py<PyArray1<bool>> {
+        self.column(py, &self.converged, |s| s.converged)
+    }
+
+    /// Iterations per target, shape (N,), int64.
+    #[getter]
+    fn iterations(&self, py: Python<'_>) -> Py<PyArray1<i64>> {
+        self.column(py, &self.iterations, |s| s.iterations as i64)
+    }
+
+    /// Restarts per target, shape (N,), int64.
+    #[getter]
+    fn restarts(&self, py: Python<'_>) -> Py<PyArray1<i64>> {
+        self.column(py, &self.restarts, |s| s.restarts as i64)
+    }
+
+    /// Final rotation errors (rad), shape (N,).
+    #[getter]
+    fn error_rot(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.column(py, &self.error_rot, |s| s.error_rot)
+    }
+
+    /// Final position errors (m), shape (N,).
+    #[getter]
+    fn error_pos(&self, py: Python<'_>) -> Py<PyArray1<f64>> {
+        self.column(py, &self.error_pos, |s| s.error_pos)
+    }
+
+    /// Why each solve stopped (as in `IkResult.stop`, plus "invalid input").
+    #[getter]
+    fn stop(&self) -> Vec<&'static str> {
+        self.status.iter().map(|s| s.stop.as_str()).collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.status.len()
+    }
+
+    fn __repr__(&self) -> String {
+        let converged = self.status.iter().filter(|s| s.converged).count();
+        format!(
             "IkBatchResult(targets={}, converged={converged})",
-            self.stop.len()
-        ))
+            self.status.len()
+        )
     }
 }
 

@@ -316,33 +316,23 @@ impl Robot {
                 })?
                 .into_any())
             }
-            Rows::Many(n) if keep == frames => run_batch(
-                py,
-                &[n, frames, 4, 4],
-                qs,
-                FK_CHUNK / 64,
-                Inline::Never,
-                |qs, o| tree::batch::fk_frames_batch(&kin, qs, o),
-            ),
+            Rows::Many(n) if keep == frames => {
+                run_batch(py, &[n, frames, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
+                    tree::batch::fk_frames_batch(&kin, qs, o)
+                })
+            }
             Rows::Many(n) => {
                 // The links are the first frames: computed with the added ones, copied out.
-                run_batch(
-                    py,
-                    &[n, keep, 4, 4],
-                    qs,
-                    FK_CHUNK / 64,
-                    Inline::Never,
-                    |qs, o| {
-                        // A tree has at least its root link: keep ≥ 1.
-                        let rows = o.len() / (16 * keep);
-                        let mut all = vec![0.0; rows * frames * 16];
-                        let r = tree::batch::fk_frames_batch(&kin, qs, &mut all);
-                        for (dst, src) in o.chunks_mut(16 * keep).zip(all.chunks(16 * frames)) {
-                            dst.copy_from_slice(&src[..16 * keep]);
-                        }
-                        r
-                    },
-                )
+                run_batch(py, &[n, keep, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
+                    // A tree has at least its root link: keep ≥ 1.
+                    let rows = o.len() / (16 * keep);
+                    let mut all = vec![0.0; rows * frames * 16];
+                    let r = tree::batch::fk_frames_batch(&kin, qs, &mut all);
+                    for (dst, src) in o.chunks_mut(16 * keep).zip(all.chunks(16 * frames)) {
+                        dst.copy_from_slice(&src[..16 * keep]);
+                    }
+                    r
+                })
             }
         }
     }
@@ -457,17 +447,17 @@ struct IkArgs<'a> {
     weights: Option<Vec<f64>>,
 }
 
-/// Runs a batch function into a new zeroed float64 array of `shape` (N, …) on the batch pool
-/// with the GIL released, `chunk` rows at a time with a Ctrl-C check between chunks
-/// ([`pool::chunked`]): `f(rows of input, rows of output)` is the library's batch call on
-/// those rows (`input` holds N rows). Bad rows raise `BatchError` carrying the array (every
-/// other row computed).
+/// Runs a batch function into a new zeroed float64 array of `shape` (N, …) with the GIL
+/// released: a batch of at most [`batch::INLINE_ROWS`] rows on this thread (the library runs
+/// that many as one task, on the calling thread), a larger one on the batch pool, `chunk` rows
+/// at a time with a Ctrl-C check between chunks ([`pool::chunked`]). `f(rows of input, rows of
+/// output)` is the library's batch call on those rows (`input` holds N rows). Bad rows raise
+/// `BatchError` carrying the array (every other row computed).
 fn run_batch<'py>(
     py: Python<'py>,
     shape: &[usize],
     input: &[f64],
     chunk: usize,
-    inline: Inline,
     f: impl Fn(&[f64], &mut [f64]) -> Result<(), SolveError> + Send + Sync,
 ) -> PyResult<Bound<'py, PyAny>> {
     let out = zeros(py, shape)?;
@@ -477,13 +467,13 @@ fn run_batch<'py>(
     let res = {
         let mut w = out.readwrite();
         let o = w.as_slice_mut()?;
-        if inline == Inline::Small && rows <= SMALL_BATCH {
-            // A small batch on this thread with the GIL released: the library runs it inline
-            // (one chunk), where the pool's hand-off cost more than the rows (18 µs for one
-            // Panda FK row, against 0.3 µs for the single call).
+        if rows <= batch::INLINE_ROWS {
+            // No pool: its hand-off cost more than the rows (18 µs for one Panda FK row,
+            // against 0.3 µs for the single call). The library touches no thread pool for so
+            // few rows (rayon's global one would not survive `fork`).
             py.detach(|| f(input, o))
         } else {
-            pool::chunked(py, rows, chunk, |r| {
+            pool::chunked(py, rows, chunk, batch::INLINE_ROWS, |r| {
                 f(
                     &input[r.start * in_width..r.end * in_width],
                     &mut o[r.start * out_width..r.end * out_width],
@@ -493,20 +483,6 @@ fn run_batch<'py>(
     };
     res.map_err(|e| batch_error(py, e, out.clone().into_any()))?;
     Ok(out.into_any())
-}
-
-/// The most rows of an FK or Jacobian batch run on the calling thread (the library's own
-/// chunk: it runs that many inline); above, the pool's threads share the rows.
-const SMALL_BATCH: usize = 256;
-
-/// Whether [`run_batch`] may run a small batch on the calling thread: only for the library's
-/// chain batches, which run at most [`SMALL_BATCH`] rows inline (the tree's batches share
-/// rows on a pool, which must be the package's own: rayon's global one does not survive
-/// `fork`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Inline {
-    Small,
-    Never,
 }
 
 /// Rows per chunk of a batch between two Ctrl-C checks (a few ms of work each).
@@ -537,21 +513,9 @@ fn write_text(path: Option<PathBuf>, text: &str) -> PyResult<()> {
 }
 
 /// The IK status fields of a batch as arrays.
-fn batch_result(
-    py: Python<'_>,
-    q: Bound<'_, PyArrayDyn<f64>>,
-    st: &[IkStatus],
-) -> PyResult<IkBatchResult> {
+fn batch_result(q: Bound<'_, PyArrayDyn<f64>>, st: &[IkStatus]) -> PyResult<IkBatchResult> {
     let q = q.cast_into::<PyArray2<f64>>()?;
-    Ok(IkBatchResult {
-        q: q.unbind(),
-        converged: PyArray1::from_iter(py, st.iter().map(|s| s.converged)).unbind(),
-        iterations: PyArray1::from_iter(py, st.iter().map(|s| s.iterations as i64)).unbind(),
-        restarts: PyArray1::from_iter(py, st.iter().map(|s| s.restarts as i64)).unbind(),
-        error_rot: PyArray1::from_iter(py, st.iter().map(|s| s.error_rot)).unbind(),
-        error_pos: PyArray1::from_iter(py, st.iter().map(|s| s.error_pos)).unbind(),
-        stop: st.iter().map(|s| s.stop.as_str().to_string()).collect(),
-    })
+    Ok(IkBatchResult::new(q.unbind(), st.to_vec()))
 }
 
 /// What `ik_all` says of a target no solution within the limits reaches.
@@ -984,17 +948,10 @@ impl Robot {
                         .map_err(solve_error)?;
                     Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
                 }
-                Rows::Many(n) => run_batch(
-                    py,
-                    &[n, 4, 4],
-                    qs,
-                    FK_CHUNK / 4,
-                    Inline::Never,
-                    |qs, o| match b {
-                        Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
-                        None => tree::batch::fk_frame_batch(&kin, a, qs, o),
-                    },
-                ),
+                Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK / 4, |qs, o| match b {
+                    Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
+                    None => tree::batch::fk_frame_batch(&kin, a, qs, o),
+                }),
             };
         }
         let kin = self.kin()?;
@@ -1007,7 +964,7 @@ impl Robot {
                 let t = fk::fk(kin, &mut *self.workspace()?, qs).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, Inline::Small, |qs, o| {
+            Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, |qs, o| {
                 batch::fk_batch(kin, qs, o)
             }),
         }
@@ -1040,14 +997,9 @@ impl Robot {
                 })?
                 .into_any())
             }
-            Rows::Many(n) => run_batch(
-                py,
-                &[n, links, 4, 4],
-                qs,
-                FK_CHUNK / 16,
-                Inline::Small,
-                |qs, o| batch::fk_all_links_batch(kin, qs, o),
-            ),
+            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], qs, FK_CHUNK / 16, |qs, o| {
+                batch::fk_all_links_batch(kin, qs, o)
+            }),
         }
     }
 
@@ -1106,19 +1058,12 @@ impl Robot {
                     )
                 }),
                 Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
-                Rows::Many(n) => run_batch(
-                    py,
-                    &[n, 6, nv],
-                    qs,
-                    FK_CHUNK / 16,
-                    Inline::Never,
-                    |qs, o| match b {
-                        Some(b) => {
-                            tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
-                        }
-                        None => tree::batch::frame_jacobian_batch(&kin, a, form, qs, o, None),
-                    },
-                ),
+                Rows::Many(n) => run_batch(py, &[n, 6, nv], qs, FK_CHUNK / 16, |qs, o| match b {
+                    Some(b) => {
+                        tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
+                    }
+                    None => tree::batch::frame_jacobian_batch(&kin, a, form, qs, o, None),
+                }),
             };
         }
         let frame = which.screw();
@@ -1141,17 +1086,12 @@ impl Robot {
             // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
             // empty rows).
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
-            Rows::Many(rows) => run_batch(
-                py,
-                &[rows, 6, n],
-                qs,
-                FK_CHUNK / 4,
-                Inline::Small,
-                |qs, o| match frame {
+            Rows::Many(rows) => {
+                run_batch(py, &[rows, 6, n], qs, FK_CHUNK / 4, |qs, o| match frame {
                     Some(f) => batch::jacobian_batch(kin, qs, f, o, None),
                     None => batch::jacobian_world_aligned_batch(kin, qs, o, None),
-                },
-            ),
+                })
+            }
         }
     }
 
@@ -1911,21 +1851,30 @@ impl Robot {
                     let qo = w.as_slice_mut()?;
                     let st = &mut status;
                     let kin = self.kin()?;
-                    // Restart seeds by global row: the same answers whatever the chunking.
-                    pool::chunked(py, rows, IK_CHUNK, |r| {
-                        batch::ik_batch_from(
-                            kin,
-                            r.start,
-                            &tv[16 * r.start..16 * r.end],
-                            seeds.map(|s| &s[n * r.start..n * r.end]),
-                            &opts,
-                            &mut qo[n * r.start..n * r.end],
-                            &mut st[r.clone()],
-                            None,
-                        )
-                    })?
+                    if rows <= batch::IK_INLINE_ROWS {
+                        // A few targets in turn on this thread, in the robot's workspace:
+                        // handing them to the pool would cost more than sharing them saves.
+                        let mut ws = self.workspace()?;
+                        let ws = &mut *ws;
+                        py.detach(|| batch::ik_batch_in(kin, ws, 0, tv, seeds, &opts, qo, st, None))
+                    } else {
+                        // Restart seeds by global row: the same answers whatever the chunking.
+                        let piece = |r: std::ops::Range<usize>| {
+                            batch::ik_batch_from(
+                                kin,
+                                r.start,
+                                &tv[16 * r.start..16 * r.end],
+                                seeds.map(|s| &s[n * r.start..n * r.end]),
+                                &opts,
+                                &mut qo[n * r.start..n * r.end],
+                                &mut st[r.clone()],
+                                None,
+                            )
+                        };
+                        pool::chunked(py, rows, IK_CHUNK, batch::IK_INLINE_ROWS, piece)?
+                    }
                 };
-                let result = Bound::new(py, batch_result(py, q, &status)?)?.into_any();
+                let result = Bound::new(py, batch_result(q, &status)?)?.into_any();
                 res.map_err(|e| batch_error(py, e, result.clone()))?;
                 Ok(result)
             }

@@ -33,9 +33,19 @@ use crate::kinematics::Kinematics;
 use crate::sample::SplitMix64;
 use crate::workspace::Workspace;
 
-/// Rows per rayon task for the cheap kernels: large enough to amortise scheduling, small
-/// enough to balance.
-pub(crate) const CHUNK: usize = 256;
+/// Rows per rayon task for the cheap kernels (FK, Jacobians, chain or tree): large enough to
+/// amortise scheduling, small enough to balance. A batch of at most this many rows is one task,
+/// so it runs on the calling thread, with no thread pool involved: handing it over would cost
+/// more than the rows (measured from Python: 18–20 µs, against 0.3 µs per Panda FK row).
+pub const INLINE_ROWS: usize = 256;
+pub(crate) const CHUNK: usize = INLINE_ROWS;
+
+/// An IK batch of at most this many targets runs on the calling thread, one after another: a
+/// solve costs a few µs, and up to this count handing the targets to a pool's threads costs
+/// about what sharing them saves (measured on a 2-vCPU virtual machine, from Python: the pool's
+/// threads wake 20–60 µs after the hand-off, each; 64 Panda targets took 0.43 ms either way,
+/// 16 took 0.15 ms through the pool against 0.11 ms in turn).
+pub const IK_INLINE_ROWS: usize = 64;
 
 /// The number of rows of a flat buffer of `len` values with `width` per row.
 pub(crate) fn rows_of(len: usize, width: usize, what: &'static str) -> Result<usize, SolveError> {
@@ -208,7 +218,7 @@ fn for_each_block(
     // single calls). The same kernels either way: the rows are bit for bit the same.
     if chunks <= 1 {
         let e = extra_chunks.pop().flatten();
-        return work(&mut Workspace::new(kin), 0, out, e, qs);
+        return Workspace::local(kin, |ws| work(ws, 0, out, e, qs));
     }
     out.par_chunks_mut(CHUNK * out_width)
         .zip(extra_chunks)
@@ -440,18 +450,12 @@ pub fn ik_batch_from(
     status: &mut [IkStatus],
     times_us: Option<&mut [f64]>,
 ) -> Result<(), SolveError> {
+    let rows = check_ik_batch(kin, targets, seeds, opts, q, status, times_us.as_deref())?;
+    let batch = IkRows::new(kin, first_row, targets, seeds, opts, times_us.is_some());
+    if rows <= IK_INLINE_ROWS {
+        return Workspace::local(kin, |ws| batch.in_turn(ws, q, status, times_us));
+    }
     let n = kin.dof();
-    check_options(opts)?;
-    let rows = rows_of(targets.len(), 16, "target values (N × 16)")?;
-    if let Some(s) = seeds {
-        check_out(s.len(), rows, n, "seed values (N × dof)")?;
-    }
-    check_out(q.len(), rows, n, "solution values (N × dof)")?;
-    check_out(status.len(), rows, 1, "status entries (N)")?;
-    if let Some(t) = &times_us {
-        check_out(t.len(), rows, 1, "times (N)")?;
-    }
-    let timed = times_us.is_some();
     let mut no_times = Vec::new();
     let times = match times_us {
         Some(t) => t,
@@ -468,7 +472,6 @@ pub fn ik_batch_from(
     } else {
         q
     };
-    let mid = kin.midpoint();
     let errors: Vec<RowError> = q
         .par_chunks_mut(n.max(1))
         .zip(status.par_iter_mut())
@@ -482,36 +485,150 @@ pub fn ik_batch_from(
         .map_init(
             || Workspace::new(kin),
             |ws, (k, ((q_row, st), time))| {
-                let q_row = &mut q_row[..n];
-                let seed = seeds.map_or(mid.as_slice(), |s| &s[k * n..(k + 1) * n]);
-                let row = target_row(&targets[16 * k..16 * (k + 1)])
-                    .and_then(|t| kin.check_q(seed).map(|()| t));
-                match row {
-                    Ok(target) => {
-                        let o = IkOptions {
-                            seed: row_seed(opts.seed, first_row + k),
-                            ..opts.clone()
-                        };
-                        if timed {
-                            let t0 = Instant::now();
-                            *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
-                            *time = t0.elapsed().as_secs_f64() * 1e6;
-                        } else {
-                            *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
-                        }
-                        None
-                    }
-                    Err(error) => {
-                        q_row.fill(f64::NAN);
-                        *st = IkStatus::unsolved();
-                        Some(RowError { row: k, error })
-                    }
-                }
+                let (error, took) = batch.row(ws, k, &mut q_row[..n], st);
+                *time = took;
+                error
             },
         )
         .flatten()
         .collect();
     finish(errors)
+}
+
+/// [`ik_batch_from`] solved in turn on the calling thread, in the caller's workspace: no thread
+/// pool, no workspace made. What a front end holding a workspace runs for a batch of at most
+/// [`IK_INLINE_ROWS`] targets; each row's answer is the one [`ik_batch_from`] gives.
+#[allow(clippy::too_many_arguments)]
+pub fn ik_batch_in(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    first_row: usize,
+    targets: &[f64],
+    seeds: Option<&[f64]>,
+    opts: &IkOptions,
+    q: &mut [f64],
+    status: &mut [IkStatus],
+    times_us: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
+    check_ik_batch(kin, targets, seeds, opts, q, status, times_us.as_deref())?;
+    ws.fit(kin);
+    IkRows::new(kin, first_row, targets, seeds, opts, times_us.is_some())
+        .in_turn(ws, q, status, times_us)
+}
+
+/// The checks of an IK batch's buffers and options; its number of rows.
+fn check_ik_batch(
+    kin: &Kinematics,
+    targets: &[f64],
+    seeds: Option<&[f64]>,
+    opts: &IkOptions,
+    q: &[f64],
+    status: &[IkStatus],
+    times_us: Option<&[f64]>,
+) -> Result<usize, SolveError> {
+    let n = kin.dof();
+    check_options(opts)?;
+    let rows = rows_of(targets.len(), 16, "target values (N × 16)")?;
+    if let Some(s) = seeds {
+        check_out(s.len(), rows, n, "seed values (N × dof)")?;
+    }
+    check_out(q.len(), rows, n, "solution values (N × dof)")?;
+    check_out(status.len(), rows, 1, "status entries (N)")?;
+    if let Some(t) = times_us {
+        check_out(t.len(), rows, 1, "times (N)")?;
+    }
+    Ok(rows)
+}
+
+/// What every row of an IK batch shares: the chain, the rows' inputs, the options.
+struct IkRows<'a> {
+    kin: &'a Kinematics,
+    first_row: usize,
+    targets: &'a [f64],
+    seeds: Option<&'a [f64]>,
+    opts: &'a IkOptions,
+    /// The seed of rows without one: the middle of the limits.
+    mid: Vec<f64>,
+    timed: bool,
+}
+
+impl<'a> IkRows<'a> {
+    fn new(
+        kin: &'a Kinematics,
+        first_row: usize,
+        targets: &'a [f64],
+        seeds: Option<&'a [f64]>,
+        opts: &'a IkOptions,
+        timed: bool,
+    ) -> Self {
+        Self {
+            kin,
+            first_row,
+            targets,
+            seeds,
+            opts,
+            mid: kin.midpoint(),
+            timed,
+        }
+    }
+
+    /// Row k solved into `q_row` and `st`: the row's error when its target or seed is bad (NaN
+    /// q, [`IkStatus::unsolved`]), and the solve's wall time in µs when timed (else 0).
+    fn row(
+        &self,
+        ws: &mut Workspace,
+        k: usize,
+        q_row: &mut [f64],
+        st: &mut IkStatus,
+    ) -> (Option<RowError>, f64) {
+        let (kin, n) = (self.kin, self.kin.dof());
+        let seed = self
+            .seeds
+            .map_or(self.mid.as_slice(), |s| &s[k * n..(k + 1) * n]);
+        let row = target_row(&self.targets[16 * k..16 * (k + 1)])
+            .and_then(|t| kin.check_q(seed).map(|()| t));
+        match row {
+            Ok(target) => {
+                let o = IkOptions {
+                    seed: row_seed(self.opts.seed, self.first_row + k),
+                    ..self.opts.clone()
+                };
+                if self.timed {
+                    let t0 = Instant::now();
+                    *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                    (None, t0.elapsed().as_secs_f64() * 1e6)
+                } else {
+                    *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                    (None, 0.0)
+                }
+            }
+            Err(error) => {
+                q_row.fill(f64::NAN);
+                *st = IkStatus::unsolved();
+                (Some(RowError { row: k, error }), 0.0)
+            }
+        }
+    }
+
+    /// Every row in turn on this thread, in `ws`.
+    fn in_turn(
+        &self,
+        ws: &mut Workspace,
+        q: &mut [f64],
+        status: &mut [IkStatus],
+        mut times_us: Option<&mut [f64]>,
+    ) -> Result<(), SolveError> {
+        let n = self.kin.dof();
+        let mut errors = Vec::new();
+        for (k, st) in status.iter_mut().enumerate() {
+            let (error, took) = self.row(ws, k, &mut q[k * n..(k + 1) * n], st);
+            if let Some(t) = times_us.as_deref_mut() {
+                t[k] = took;
+            }
+            errors.extend(error);
+        }
+        finish(errors)
+    }
 }
 
 /// A target row as an [`Se3`]: finite, last row (0, 0, 0, 1), rotation orthonormal to 1e-6

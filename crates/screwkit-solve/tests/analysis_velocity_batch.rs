@@ -259,6 +259,20 @@ fn batches_equal_single_calls_and_ignore_thread_count() {
     };
     let (q1, st1) = run_ik(1);
     assert_eq!((q1.clone(), st1.clone()), run_ik(2));
+    // A batch small enough to be solved in turn on the calling thread gives the same rows.
+    let few = screwkit_solve::batch::IK_INLINE_ROWS;
+    let (mut q, mut st) = (vec![0.0; few * n], vec![IkStatus::default(); few]);
+    ik_batch(
+        &kin,
+        &targets[..16 * few],
+        None,
+        &opts,
+        &mut q,
+        &mut st,
+        None,
+    )
+    .unwrap();
+    assert_eq!((&q[..], &st[..]), (&q1[..few * n], &st1[..few]));
     for k in 0..200 {
         let t = screwkit_lie::Se3::from_row_major(&targets[16 * k..16 * (k + 1)], 1e-6).unwrap();
         let single = solve(
@@ -332,22 +346,35 @@ fn batches_report_bad_rows_and_finish_the_rest() {
         let t = fk1(&kin, &qs[..n]).unwrap().to_homogeneous();
         (0..16).map(|i| t[(i / 4, i % 4)]).collect::<Vec<f64>>()
     };
-    let mut targets = [good.clone(), good.clone(), good.clone()].concat();
-    targets[16] = 3.0; // R no longer orthonormal
-    targets[32 + 3] = f64::NAN;
-    let (mut q, mut st) = (vec![0.0; 3 * n], vec![IkStatus::default(); 3]);
-    let opts = IkOptions {
-        timeout: None,
-        ..IkOptions::default()
-    };
-    let err = ik_batch(&kin, &targets, None, &opts, &mut q, &mut st, None).unwrap_err();
-    let SolveError::Rows(bad) = &err else {
-        panic!("{err}")
-    };
-    assert_eq!(bad.iter().map(|r| r.row).collect::<Vec<_>>(), [1, 2]);
-    assert!(st[0].converged);
-    assert_eq!(st[1].stop, StopReason::InvalidInput);
-    assert!(q[n..].iter().all(|x| x.is_nan()));
+    // A batch run in turn on the calling thread and one run on the pool.
+    for rows in [3, screwkit_solve::batch::IK_INLINE_ROWS + 5] {
+        let mut targets = good.repeat(rows);
+        targets[16] = 3.0; // R no longer orthonormal
+        targets[32 + 3] = f64::NAN;
+        let last = 16 * (rows - 1);
+        if rows > 3 {
+            targets[last + 15] = 0.5; // bottom row not (0, 0, 0, 1)
+        }
+        let (mut q, mut st) = (vec![0.0; rows * n], vec![IkStatus::default(); rows]);
+        let opts = IkOptions {
+            timeout: None,
+            ..IkOptions::default()
+        };
+        let err = ik_batch(&kin, &targets, None, &opts, &mut q, &mut st, None).unwrap_err();
+        let SolveError::Rows(bad) = &err else {
+            panic!("{err}")
+        };
+        let want: Vec<usize> = if rows > 3 {
+            vec![1, 2, rows - 1]
+        } else {
+            vec![1, 2]
+        };
+        assert_eq!(bad.iter().map(|r| r.row).collect::<Vec<_>>(), want);
+        assert!(st[0].converged && st[3..rows.max(4) - 1].iter().all(|s| s.converged));
+        assert_eq!(st[1].stop, StopReason::InvalidInput);
+        assert!(q[n..3 * n].iter().all(|x| x.is_nan()));
+        assert!(q[(rows - 1) * n..].iter().all(|x| x.is_nan()) || rows == 3);
+    }
 }
 
 /// Warm start along a path: each solve starts at the previous solution and takes few

@@ -24,7 +24,8 @@ use screwkit_lie::Se3;
 type RowFn<'a> =
     &'a (dyn Fn(&mut TreeWorkspace, &[f64], &Se3, &mut [f64], Option<&mut [f64]>) + Sync);
 
-/// Runs `f` over the rows in parallel chunks of [`CHUNK`]; bad rows get NaN and an entry.
+/// Runs `f` over the rows in parallel chunks of [`CHUNK`] (one chunk on the calling thread);
+/// bad rows get NaN and an entry.
 fn rows(
     kin: &TreeKinematics,
     qs: &[f64],
@@ -56,39 +57,44 @@ fn rows(
         None => Vec::new(),
     };
     extra_chunks.resize_with(chunks, || None);
+    let work = |ws: &mut TreeWorkspace,
+                (chunk, (o, mut e)): (usize, (&mut [f64], Option<&mut [f64]>))| {
+        let mut errors = Vec::new();
+        let first = chunk * CHUNK;
+        let here = (n - first).min(CHUNK);
+        for i in 0..here {
+            let q = &qs[(first + i) * nq..(first + i + 1) * nq];
+            let row = &mut o[i * width..(i + 1) * width];
+            let row_extra = e
+                .as_deref_mut()
+                .map(|e| &mut e[i * extra_width..(i + 1) * extra_width]);
+            match kin.check_q(q) {
+                Ok(base) => f(ws, q, &base, row, row_extra),
+                Err(error) => {
+                    row.fill(f64::NAN);
+                    if let Some(x) = row_extra {
+                        x.fill(f64::NAN);
+                    }
+                    errors.push(RowError {
+                        row: first + i,
+                        error,
+                    });
+                }
+            }
+        }
+        errors
+    };
+    // One chunk (at most `INLINE_ROWS` rows) runs on the calling thread: a thread pool's
+    // hand-off would cost more than the rows.
+    if chunks <= 1 {
+        let e = extra_chunks.pop().flatten();
+        return finish(TreeWorkspace::local(kin, |ws| work(ws, (0, (out, e)))));
+    }
     let errors: Vec<RowError> = out
         .par_chunks_mut(CHUNK * width.max(1))
         .zip(extra_chunks)
         .enumerate()
-        .map_init(
-            || TreeWorkspace::new(kin),
-            |ws, (chunk, (o, mut e))| {
-                let mut errors = Vec::new();
-                let first = chunk * CHUNK;
-                let here = (n - first).min(CHUNK);
-                for i in 0..here {
-                    let q = &qs[(first + i) * nq..(first + i + 1) * nq];
-                    let row = &mut o[i * width..(i + 1) * width];
-                    let row_extra = e
-                        .as_deref_mut()
-                        .map(|e| &mut e[i * extra_width..(i + 1) * extra_width]);
-                    match kin.check_q(q) {
-                        Ok(base) => f(ws, q, &base, row, row_extra),
-                        Err(error) => {
-                            row.fill(f64::NAN);
-                            if let Some(x) = row_extra {
-                                x.fill(f64::NAN);
-                            }
-                            errors.push(RowError {
-                                row: first + i,
-                                error,
-                            });
-                        }
-                    }
-                }
-                errors
-            },
-        )
+        .map_init(|| TreeWorkspace::new(kin), work)
         .flatten()
         .collect();
     finish(errors)
