@@ -114,7 +114,7 @@ const EPS: f64 = 1e-12;
 /// R(k, θ) p for a unit k (Rodrigues, written out; the oracle of the tests is the library's
 /// `so3::exp`).
 pub fn rotate(k: &Vector3<f64>, theta: f64, p: &Vector3<f64>) -> Vector3<f64> {
-    let (s, c) = theta.sin_cos();
+    let (s, c) = screwkit_lie::trig::sin_cos(theta);
     k * k.dot(p) * (1.0 - c) + p * c + k.cross(p) * s
 }
 
