@@ -114,10 +114,15 @@ pub trait LaneKernel {
 /// Runs `kernel` on the widest lanes of [`KernelPath::current`].
 #[inline(always)]
 pub fn dispatch_lanes<K: LaneKernel>(kernel: K) -> K::Output {
-    match dispatch_lanes_on(KernelPath::current(), kernel) {
-        Ok(out) => out,
-        // Unreachable: the current path is one the CPU has.
-        Err(kernel) => kernel.run(Portable(())),
+    // The current path is one the CPU has (no second check: this runs once per block).
+    match KernelPath::current() {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: `KernelPath::current` never reports a path the CPU lacks.
+        KernelPath::Avx512 => unsafe { x86::run_avx512(kernel) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: as above.
+        KernelPath::Avx2Fma => unsafe { x86::run_avx2(kernel) },
+        _ => kernel.run(Portable(())),
     }
 }
 

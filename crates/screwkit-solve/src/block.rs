@@ -369,7 +369,7 @@ fn write_poses<L: Lanes>(l: L, kin: &Kinematics, rows: &[[L::V; 4]; 3], out: &mu
     }
 }
 
-/// The tip poses of W configurations: `qs` holds W rows of dof finite values, `out` gets W
+/// The tip poses of W configurations: `qs` holds W rows of dof values, `out` gets W
 /// row-major 4 × 4 poses, each equal to [`crate::fk::fk`] of its row bit for bit. Used by
 /// [`crate::batch::fk_batch`].
 pub(crate) struct TipBlock<'a> {
@@ -378,15 +378,30 @@ pub(crate) struct TipBlock<'a> {
     pub(crate) out: &'a mut [f64],
 }
 
+/// Whether every value of `xs` (a whole number of lane values long) is finite.
+#[inline(always)]
+fn all_finite<L: Lanes>(l: L, xs: &[f64]) -> bool {
+    let mut finite = true;
+    for x in xs.chunks_exact(L::WIDTH) {
+        finite &= l.all_below(l.abs(l.load(x)), f64::INFINITY);
+    }
+    finite
+}
+
 impl LaneKernel for TipBlock<'_> {
-    type Output = ();
+    /// False (nothing written) when a value of `qs` is not finite.
+    type Output = bool;
     #[inline(always)]
-    fn run<L: Lanes>(self, l: L) {
+    fn run<L: Lanes>(self, l: L) -> bool {
         let n = self.kin.dof();
+        if !all_finite(l, &self.qs[..W * n]) {
+            return false;
+        }
         for first in (0..W).step_by(L::WIDTH) {
             let rows = chain_rows(l, self.kin, &self.qs[first * n..], None);
             write_poses(l, self.kin, &rows, &mut self.out[16 * first..]);
         }
+        true
     }
 }
 
@@ -401,9 +416,10 @@ pub(crate) struct SpaceJacobianBlock<'a> {
 }
 
 impl LaneKernel for SpaceJacobianBlock<'_> {
-    type Output = ();
+    /// False (nothing written) when a value of `qs` is not finite.
+    type Output = bool;
     #[inline(always)]
-    fn run<L: Lanes>(self, l: L) {
+    fn run<L: Lanes>(self, l: L) -> bool {
         debug_assert!(self.kin.identity_map);
         let Self {
             kin,
@@ -412,12 +428,16 @@ impl LaneKernel for SpaceJacobianBlock<'_> {
             mut poses,
         } = self;
         let n = kin.dof();
+        if !all_finite(l, &qs[..W * n]) {
+            return false;
+        }
         for first in (0..W).step_by(L::WIDTH) {
             let rows = chain_rows(l, kin, &qs[first * n..], Some(&mut jac[6 * n * first..]));
             if let Some(p) = poses.as_deref_mut() {
                 write_poses(l, kin, &rows, &mut p[16 * first..]);
             }
         }
+        true
     }
 }
 

@@ -244,8 +244,23 @@ mod kernels_agree {
                 qs: &qs,
                 out: &mut poses,
             };
-            if dispatch_lanes_on(path, tip).is_err() {
-                return false;
+            match dispatch_lanes_on(path, tip) {
+                Err(_) => return false,
+                Ok(done) => assert!(done, "{file} {path:?}"),
+            }
+            // A value that is not finite anywhere in the block: refused, nothing written (the
+            // batch then goes row by row).
+            for bad in [f64::NAN, f64::INFINITY] {
+                let mut qs = qs.clone();
+                qs[W * n - 1] = bad;
+                let mut untouched = vec![7.0; 16 * W];
+                let tip = TipBlock {
+                    kin,
+                    qs: &qs,
+                    out: &mut untouched,
+                };
+                assert_eq!(dispatch_lanes_on(path, tip).ok(), Some(false));
+                assert!(untouched.iter().all(|x| *x == 7.0));
             }
             if kin.identity_map {
                 let block = SpaceJacobianBlock {
@@ -254,7 +269,7 @@ mod kernels_agree {
                     jac: &mut jac,
                     poses: Some(&mut jposes),
                 };
-                assert!(dispatch_lanes_on(path, block).is_ok());
+                assert_eq!(dispatch_lanes_on(path, block).ok(), Some(true));
             }
             let mut j1 = Matrix6xX::zeros(n);
             for (l, q) in qs.chunks(n).enumerate() {

@@ -3,7 +3,8 @@
 #
 #   crates/screwkit-solve/benches/peer/run_pinocchio.sh [URDF [FRAME]] [--rounds N]
 #
-# Default: TALOS (../shared/urdf/trees/talos_full_v2.urdf) and its left gripper's base link.
+# Default: TALOS ($SCREWKIT_SHARED_URDF/trees/talos_full_v2.urdf, the CI data) and its left
+# gripper's base link.
 # Prints, per round, screwkit's `SCREWKIT ...` line (benches/tree.rs) and Pinocchio's
 # `PINOCCHIO ...` line (pinocchio_tree.cpp, the same protocol), then the minimum of each figure
 # over the rounds and the ratios. Take the ratios, not the absolute figures (the host is shared).
@@ -20,7 +21,7 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 repo="$(cd "$here/../../../.." && pwd)"
 peer="$repo/target/peer"
-urdf="$repo/../shared/urdf/trees/talos_full_v2.urdf"
+urdf="${SCREWKIT_SHARED_URDF:-}/trees/talos_full_v2.urdf"
 frame="gripper_left_base_link"
 rounds=3
 pos=()
@@ -32,7 +33,9 @@ while [ $# -gt 0 ]; do
 done
 [ ${#pos[@]} -ge 1 ] && urdf="${pos[0]}"
 [ ${#pos[@]} -ge 2 ] && frame="${pos[1]}"
-[ -f "$urdf" ] || { echo "run_pinocchio.sh: no such URDF: $urdf" >&2; exit 2; }
+[ -f "$urdf" ] || { echo "run_pinocchio.sh: no such URDF: $urdf (give one, or set SCREWKIT_SHARED_URDF for TALOS)" >&2; exit 2; }
+# Absolute: the benches run in their crate's directory.
+urdf="$(cd "$(dirname "$urdf")" && pwd)/$(basename "$urdf")"
 
 version=4.1.0
 mkdir -p "$peer"
