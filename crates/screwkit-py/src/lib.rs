@@ -66,7 +66,8 @@ fn xacro(
 }
 
 /// The one set of defaults (the floor's), for the suite that checks the signatures and the
-/// stubs against it: {"ik": {keyword: value}, "reach": {keyword: value}}.
+/// stubs against it: {"ik": {keyword: value}, "reach": {keyword: value}, "tasks": {type:
+/// {field: value}}, …}.
 #[pyfunction]
 fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
     use screwkit_service::words::Word;
@@ -74,7 +75,6 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
     let m = screwkit_service::ReachSpec::default();
     let wb = screwkit_solve::tree::differential_ik::TasksOptions::default();
     let limits = screwkit_solve::tree::differential_ik::Limits::default();
-    let task = screwkit_solve::tree::tasks::Task::damping(1.0);
     let d = serde_json::json!({
         "ik": {
             "method": ik.method.as_str(), "tol_rot": ik.tol_rot, "tol_pos": ik.tol_pos,
@@ -91,7 +91,11 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
         "ik_step": {
             "position_limits": limits.position, "velocity_limits": limits.velocity,
         },
-        "task": {"gain": task.gain, "tol_pos": task.tol_pos, "tol_rot": task.tol_rot},
+        // Every task type's defaults, by its JSON word (the floor's one home of them).
+        "tasks": screwkit_service::tasks::TaskType::ALL
+            .iter()
+            .map(|t| (t.name(), t.defaults()))
+            .collect::<std::collections::BTreeMap<_, _>>(),
         "reach": {
             "resolution": m.resolution, "orientations": m.orientations,
             "mode": m.mode.as_str(), "solver": m.solver.as_str(), "seed": m.seed,

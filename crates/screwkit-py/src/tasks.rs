@@ -50,30 +50,34 @@ fn pose(x: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
     Ok(a.readonly().as_slice()?.to_vec())
 }
 
-/// The gain, weights and tolerances every task takes.
+/// The gain, weights and tolerances a task class sets; `None` leaves a field to the floor's
+/// default for the task's type (`TaskType::defaults`, the one home of those defaults).
 #[allow(clippy::too_many_arguments)]
 fn common(
     mut spec: TaskSpec,
-    gain: f64,
-    weight: f64,
-    position_weight: &Bound<'_, PyAny>,
-    orientation_weight: &Bound<'_, PyAny>,
-    tol_pos: f64,
-    tol_rot: f64,
+    gain: Option<f64>,
+    weight: Option<f64>,
+    position_weight: Option<&Bound<'_, PyAny>>,
+    orientation_weight: Option<&Bound<'_, PyAny>>,
+    tol_pos: Option<f64>,
+    tol_rot: Option<f64>,
 ) -> PyResult<TaskSpec> {
-    spec.gain = Some(gain);
-    spec.weight = Some(weight);
-    spec.position_weight = Some(weights(position_weight, "position_weight")?);
-    spec.orientation_weight = Some(weights(orientation_weight, "orientation_weight")?);
-    spec.tol_pos = Some(tol_pos);
-    spec.tol_rot = Some(tol_rot);
+    spec.gain = gain;
+    spec.weight = weight;
+    spec.position_weight = position_weight
+        .map(|w| weights(w, "position_weight"))
+        .transpose()?;
+    spec.orientation_weight = orientation_weight
+        .map(|w| weights(w, "orientation_weight"))
+        .transpose()?;
+    spec.tol_pos = tol_pos;
+    spec.tol_rot = tol_rot;
     Ok(spec)
 }
 
 /// A frame or relative frame task's spec (the two share every field but `relative_to`).
 #[allow(clippy::too_many_arguments)]
 fn frame_spec(
-    py: Python<'_>,
     kind: TaskType,
     frame: String,
     relative_to: Option<String>,
@@ -89,15 +93,14 @@ fn frame_spec(
     spec.frame = Some(frame);
     spec.relative_to = relative_to;
     spec.target = Some(pose(target, "target")?);
-    let one = 1.0_f64.into_pyobject(py)?.into_any();
     common(
         spec,
-        gain,
-        weight,
-        position_weight.as_ref().unwrap_or(&one),
-        orientation_weight.as_ref().unwrap_or(&one),
-        tol_pos,
-        tol_rot,
+        Some(gain),
+        Some(weight),
+        position_weight.as_ref(),
+        orientation_weight.as_ref(),
+        Some(tol_pos),
+        Some(tol_rot),
     )
 }
 
@@ -115,7 +118,6 @@ impl FrameTask {
     #[pyo3(signature = (frame, target, *, gain = 1.0, weight = 1.0, position_weight = None, orientation_weight = None, tol_pos = 1e-9, tol_rot = 1e-9))]
     #[allow(clippy::too_many_arguments)]
     fn new(
-        py: Python<'_>,
         frame: String,
         target: &Bound<'_, PyAny>,
         gain: f64,
@@ -126,7 +128,6 @@ impl FrameTask {
         tol_rot: f64,
     ) -> PyResult<Self> {
         let spec = frame_spec(
-            py,
             TaskType::Frame,
             frame,
             None,
@@ -159,7 +160,6 @@ impl RelativeFrameTask {
     #[pyo3(signature = (frame, relative_to, target, *, gain = 1.0, weight = 1.0, position_weight = None, orientation_weight = None, tol_pos = 1e-9, tol_rot = 1e-9))]
     #[allow(clippy::too_many_arguments)]
     fn new(
-        py: Python<'_>,
         frame: String,
         relative_to: String,
         target: &Bound<'_, PyAny>,
@@ -171,7 +171,6 @@ impl RelativeFrameTask {
         tol_rot: f64,
     ) -> PyResult<Self> {
         let spec = frame_spec(
-            py,
             TaskType::Relative,
             frame,
             Some(relative_to),
@@ -225,17 +224,16 @@ impl AxisTask {
         spec.axis = Some(vector::<3>(axis, "axis")?);
         spec.direction = Some(vector::<3>(direction, "direction")?);
         spec.point = point.map(|p| vector::<3>(&p, "point")).transpose()?;
-        let one = 1.0_f64.into_pyobject(py)?.into_any();
         let ow = orientation_weight.into_pyobject(py)?.into_any();
         Ok(Self {
             spec: common(
                 spec,
-                gain,
-                weight,
-                position_weight.as_ref().unwrap_or(&one),
-                &ow,
-                tol_pos,
-                tol_rot,
+                Some(gain),
+                Some(weight),
+                position_weight.as_ref(),
+                Some(&ow),
+                Some(tol_pos),
+                Some(tol_rot),
             )?,
         })
     }
@@ -257,7 +255,6 @@ impl ComTask {
     #[new]
     #[pyo3(signature = (target, *, gain = 1.0, weight = 1.0, position_weight = None, tol_pos = 1e-9))]
     fn new(
-        py: Python<'_>,
         target: &Bound<'_, PyAny>,
         gain: f64,
         weight: f64,
@@ -266,16 +263,15 @@ impl ComTask {
     ) -> PyResult<Self> {
         let mut spec = TaskSpec::new(TaskType::Com);
         spec.target = Some(vector::<3>(target, "target")?.to_vec());
-        let one = 1.0_f64.into_pyobject(py)?.into_any();
         Ok(Self {
             spec: common(
                 spec,
-                gain,
-                weight,
-                position_weight.as_ref().unwrap_or(&one),
-                &one,
-                tol_pos,
-                1e-9,
+                Some(gain),
+                Some(weight),
+                position_weight.as_ref(),
+                None,
+                Some(tol_pos),
+                None,
             )?,
         })
     }
@@ -312,7 +308,11 @@ impl PostureTask {
     }
 
     fn __repr__(&self) -> String {
-        format!("PostureTask(weight={})", self.spec.weight.unwrap_or(1.0))
+        let weight = self
+            .spec
+            .weight
+            .unwrap_or(TaskType::Posture.defaults().weight);
+        format!("PostureTask(weight={weight})")
     }
 }
 
@@ -333,7 +333,11 @@ impl DampingTask {
     }
 
     fn __repr__(&self) -> String {
-        format!("DampingTask({})", self.spec.weight.unwrap_or(1e-3))
+        let weight = self
+            .spec
+            .weight
+            .unwrap_or(TaskType::Damping.defaults().weight);
+        format!("DampingTask({weight})")
     }
 }
 

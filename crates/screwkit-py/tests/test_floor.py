@@ -104,10 +104,40 @@ def test_signature_defaults_are_the_floors() -> None:
         params = inspect.signature(method).parameters
         for name, value in d["ik_step"].items():
             assert params[name].default == value, (method, name)
-    for cls in [screwkit.FrameTask, screwkit.RelativeFrameTask, screwkit.AxisTask]:
+    # Every task class against its JSON type, field by field: a default the signature shows
+    # is the floor's (a weight of None leaves the floor's per-axis weights), and a field the
+    # class does not expose is left to the floor (checked on the resolved tasks below).
+    classes: dict[str, type] = {
+        "frame": screwkit.FrameTask,
+        "relative": screwkit.RelativeFrameTask,
+        "axis": screwkit.AxisTask,
+        "com": screwkit.ComTask,
+        "posture": screwkit.PostureTask,
+        "damping": screwkit.DampingTask,
+    }
+    assert sorted(classes) == sorted(d["tasks"])
+    for kind, cls in classes.items():
         params = inspect.signature(cls).parameters
-        for name, value in d["task"].items():
-            assert params[name].default == value, (cls, name)
+        fields = d["tasks"][kind]
+        assert set(fields) == {
+            "gain",
+            "weight",
+            "position_weight",
+            "orientation_weight",
+            "tol_pos",
+            "tol_rot",
+        }
+        shown = [name for name in fields if name in params]
+        assert "weight" in shown, cls
+        for name in shown:
+            default = params[name].default
+            if default is None:
+                assert name.endswith("_weight"), (cls, name)
+            elif isinstance(fields[name], list):
+                assert [default] * 3 == fields[name], (cls, name)
+            else:
+                assert default == fields[name], (cls, name)
+    assert d["tasks"]["damping"]["weight"] == 1e-3 and d["tasks"]["frame"]["weight"] == 1.0
     # The numbers behind them are the library's (IkOptions::default, ReachSpec::default).
     assert d["ik"]["tol_rot"] == 1e-9 and d["ik"]["max_restarts"] == 200
     assert d["reach"]["resolution"] == 0.05 and d["reach"]["orientations"] == 50

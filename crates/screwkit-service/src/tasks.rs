@@ -1,6 +1,6 @@
 //! Whole-body IK tasks as front ends take them: frames by name, targets as numbers, one set of
-//! defaults — written once for the CLI's `--tasks` JSON and Python's task classes, resolved
-//! against a robot into the library's [`Task`]s ([`screwkit_solve::tree::tasks`]).
+//! defaults ([`TaskType::defaults`]) for the CLI's `--tasks` JSON and Python's task classes,
+//! resolved against a robot into the library's [`Task`]s ([`screwkit_solve::tree::tasks`]).
 //!
 //! JSON (one object per task; `type` is `frame`, `relative`, `axis`, `com`, `posture` or
 //! `damping`; every other field optional unless its type needs it):
@@ -19,7 +19,7 @@
 //! Weights are a number (every axis) or three numbers.
 
 use nalgebra::Vector3;
-use screwkit_solve::tree::tasks::{Task, TaskKind};
+use screwkit_solve::tree::tasks::{Task, TaskKind, DAMPING_WEIGHT};
 use screwkit_solve::TreeKinematics;
 use serde::Deserialize;
 use serde_json::Value;
@@ -43,6 +43,67 @@ pub enum TaskType {
     Posture,
     /// Small steps.
     Damping,
+}
+
+impl TaskType {
+    /// Every task type, in the order of the module documentation.
+    pub const ALL: [TaskType; 6] = [
+        TaskType::Frame,
+        TaskType::Relative,
+        TaskType::Axis,
+        TaskType::Com,
+        TaskType::Posture,
+        TaskType::Damping,
+    ];
+
+    /// The type's word in JSON (`"type": …`).
+    pub fn name(self) -> &'static str {
+        match self {
+            TaskType::Frame => "frame",
+            TaskType::Relative => "relative",
+            TaskType::Axis => "axis",
+            TaskType::Com => "com",
+            TaskType::Posture => "posture",
+            TaskType::Damping => "damping",
+        }
+    }
+
+    /// What a task of this type takes for every field left out: **the one home of the
+    /// whole-body defaults**. The CLI's JSON leaves fields out; Python's task classes pass
+    /// what their signatures show (a test checks every signature default against this, field by
+    /// field) and leave out the fields they do not expose. The library's [`Task`] defaults, but
+    /// a damping task's weight [`DAMPING_WEIGHT`].
+    pub fn defaults(self) -> TaskDefaults {
+        let d = Task::posture(Vec::new());
+        TaskDefaults {
+            gain: d.gain,
+            weight: match self {
+                TaskType::Damping => DAMPING_WEIGHT,
+                _ => d.weight,
+            },
+            position_weight: d.position_weight,
+            orientation_weight: d.orientation_weight,
+            tol_pos: d.tol_pos,
+            tol_rot: d.tol_rot,
+        }
+    }
+}
+
+/// The defaults of a task type's optional fields ([`TaskType::defaults`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct TaskDefaults {
+    /// The task's gain (the fraction of its error corrected per step).
+    pub gain: f64,
+    /// Its weight against the other tasks.
+    pub weight: f64,
+    /// Per-axis weights of the position rows.
+    pub position_weight: [f64; 3],
+    /// Per-axis weights of the orientation rows.
+    pub orientation_weight: [f64; 3],
+    /// Position tolerance (m).
+    pub tol_pos: f64,
+    /// Orientation tolerance (rad).
+    pub tol_rot: f64,
 }
 
 /// Per-axis weights: one number for every axis, or three.
@@ -199,7 +260,7 @@ impl TaskSpec {
             },
             TaskType::Damping => TaskKind::Damping,
         };
-        let d = Task::posture(Vec::new());
+        let d = self.kind.defaults();
         Ok(Task {
             kind,
             gain: self.gain.unwrap_or(d.gain),
@@ -388,6 +449,39 @@ mod tests {
             }
         ));
         assert_eq!(tasks[3].weight, 1e-3);
+        // Every field left out takes the type's default: damping's weight is 1e-3, as Python's
+        // DampingTask() (it was 1.0 in JSON until the defaults got one home).
+        for kind in TaskType::ALL {
+            let spec = TaskSpec::new(kind);
+            let mut spec = spec;
+            spec.frame = Some("left_hand".into());
+            spec.relative_to = Some("right_hand".into());
+            spec.target = Some(match kind {
+                TaskType::Com => vec![0.0, 0.0, 0.5],
+                _ => serde_json::from_str(eye).unwrap(),
+            });
+            spec.axis = Some([0.0, 0.0, 1.0]);
+            spec.direction = Some([1.0, 0.0, 0.0]);
+            spec.q_ref = Some(vec![0.0; kin.nq()]);
+            let task = spec.resolve(&kin).unwrap();
+            let d = kind.defaults();
+            assert_eq!(
+                (
+                    task.gain,
+                    task.weight,
+                    task.position_weight,
+                    task.orientation_weight
+                ),
+                (d.gain, d.weight, d.position_weight, d.orientation_weight),
+                "{}",
+                kind.name()
+            );
+            assert_eq!((task.tol_pos, task.tol_rot), (d.tol_pos, d.tol_rot));
+            let json = format!(r#"[{{"type": "{}"}}]"#, kind.name());
+            assert_eq!(parse_json(&json).unwrap()[0].kind, kind);
+        }
+        assert_eq!(TaskType::Damping.defaults().weight, 1e-3);
+        assert_eq!(TaskType::Frame.defaults().weight, 1.0);
         for (bad, words) in [
             (
                 r#"[{"type": "frame", "frame": "nowhere", "target": [1]}]"#,

@@ -76,6 +76,11 @@ pub enum TaskKind {
     Damping,
 }
 
+/// The weight of a damping task given none (every front end's default): small next to the
+/// goals' weight 1, so it only settles what they leave free and slows the steps near
+/// singularities, as a regulariser should.
+pub const DAMPING_WEIGHT: f64 = 1e-3;
+
 /// A task: what it asks, its gain, weights and tolerances (module documentation).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Task {
@@ -153,7 +158,7 @@ impl Task {
         Task::new(TaskKind::Posture { q_ref })
     }
 
-    /// Damping of weight `weight`.
+    /// Damping of weight `weight` (the front ends' default: [`DAMPING_WEIGHT`]).
     pub fn damping(weight: f64) -> Task {
         Task::new(TaskKind::Damping).with_weight(weight)
     }
