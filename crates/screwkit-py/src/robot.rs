@@ -26,10 +26,12 @@ use crate::pool;
 use crate::results::{Analysis, IkBatchResult, IkResult};
 use screwkit_solve::tree::differential_ik::{self, DiffIkWorkspace};
 
-/// A serial chain base → tip of a robot description, ready for kinematics.
+/// A whole robot (URDF, xacro, MJCF or a screw table), ready for kinematics: its chain base →
+/// tip when it has one, and every frame of its tree (`link=…`).
 ///
 /// Conventions: twists and screw axes (ω, v); metres, radians; poses are row-major 4 × 4
-/// float64; the space frame is the base link, the body frame the tip link.
+/// float64; the space frame is the base link, the body frame the frame asked for (the tip by
+/// default).
 #[pyclass(frozen, module = "screwkit")]
 pub struct Robot {
     /// The floor's robot: tree, chain, kinematics, URDF text (for pickling).

@@ -123,12 +123,14 @@ pub fn analyze_position(
 /// or of the world-aligned Jacobian).
 pub fn analyze_position_jacobian(jv: &nalgebra::DMatrix<f64>) -> PositionAnalysis {
     let n = jv.ncols();
+    // The crate's one SVD (`svd`, for 6 × n) on Jv stacked over three zero rows: the same
+    // singular values, then zeros.
     let mut sv: Vec<f64> = if n == 0 {
         Vec::new()
     } else {
-        jv.singular_values().iter().copied().collect()
+        let padded = nalgebra::Matrix6xX::from_fn(n, |r, c| if r < 3 { jv[(r, c)] } else { 0.0 });
+        crate::svd::jacobian_svd(&padded, None).map_or_else(|_| vec![f64::NAN; n.min(3)], |d| d.s)
     };
-    sv.sort_by(|a, b| b.total_cmp(a));
     sv.truncate(n.min(3));
     let s1 = sv.first().copied().unwrap_or(0.0);
     let tol = 3.max(n) as f64 * f64::EPSILON * s1;

@@ -83,16 +83,16 @@ fn exact(j: &Matrix6xX<f64>, v: &Vector6<f64>) -> Result<DVector<f64>, SolveErro
     }
     let sq: Matrix6<f64> = j.fixed_columns::<6>(0).into_owned();
     // Rounding makes a singular J look invertible to LU (pivots of 1e-17, answers of 1e16), so
-    // the rank is decided first, with the tolerance of the analysis (6 ε σ₁).
-    let s = sq.singular_values();
+    // the rank is decided first, with the tolerance of the analysis (6 ε σ₁), by the crate's
+    // one SVD.
+    let s = crate::svd::jacobian_svd(j, None)?.s;
+    let (s_max, s_min) = (s[0], s[s.len() - 1]);
     let singular = || {
         SolveError::Numerical(format!(
-            "the Jacobian is singular (σ_min = {:.3e}, σ_max = {:.3e}): no exact joint velocities; use the pseudo-inverse or damped least squares",
-            s.min(),
-            s.max()
+            "the Jacobian is singular (σ_min = {s_min:.3e}, σ_max = {s_max:.3e}): no exact joint velocities; use the pseudo-inverse or damped least squares"
         ))
     };
-    if s.min() <= 6.0 * f64::EPSILON * s.max() {
+    if s_min <= 6.0 * f64::EPSILON * s_max {
         return Err(singular());
     }
     let x = sq.lu().solve(v).ok_or_else(singular)?;

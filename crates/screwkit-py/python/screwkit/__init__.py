@@ -1,10 +1,11 @@
-"""screwkit: robot kinematics from URDF with screw theory.
+"""screwkit: robot kinematics with screw theory.
 
-Screw axes and home pose, forward kinematics, space and body Jacobians, singularity analysis
-and inverse kinematics of any serial chain in a URDF, one configuration at a time or N at once
-on all cores (with the GIL released). Conventions: twists and screw axes (omega, v); metres,
-radians, float64; poses are row-major 4x4 arrays; the space frame is the chain's base link, the
-body frame its tip link.
+A whole robot from URDF, xacro, MJCF or a screw table: screw axes and home pose, every frame's
+pose (FK), space, body and world-aligned Jacobians, singularity analysis, inverse kinematics
+(numerical, every analytic solution, whole-body tasks), one configuration at a time or N at
+once on all cores (with the GIL released). Conventions: twists and screw axes (omega, v);
+metres, radians, float64; poses are row-major 4x4 arrays; the space frame is the base link,
+the body frame the frame asked for.
 
 >>> import screwkit
 >>> robot = screwkit.Robot.from_urdf("ur5.urdf")          # doctest: +SKIP

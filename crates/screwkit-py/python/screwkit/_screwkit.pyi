@@ -262,10 +262,12 @@ class Analysis:
 
 @final
 class Robot:
-    """A serial chain base -> tip of a URDF, ready for kinematics.
+    """A whole robot (URDF, xacro, MJCF or a screw table), ready for kinematics: its chain
+    base -> tip when it has one, and every frame of its tree (`link=...`).
 
     Conventions: twists and screw axes (omega, v); metres, radians; poses row-major (4, 4)
-    float64; the space frame is the base link, the body frame the tip link. q of shape (dof,)
+    float64; the space frame is the base link, the body frame the frame asked for (the tip by
+    default). q of shape (dof,)
     gives one result, q of shape (N, dof) N results computed on all cores, GIL released.
     """
 

@@ -1,4 +1,5 @@
-//! The parser and evaluator of `${…}` expressions (Pratt parsing, evaluated as parsed; the
+//! The parser and evaluator of `${…}` expressions (recursive descent, one function per
+//! precedence level from `ternary` down to `postfix`, evaluated as parsed; the
 //! branch not taken of `a if c else b`, `and`, `or` is parsed, not evaluated): Python's
 //! semantics on 64-bit integers and floats.
 
