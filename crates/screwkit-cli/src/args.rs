@@ -126,7 +126,8 @@ pub struct ReachArgs {
     /// The box to map, xmin,ymin,zmin,xmax,ymax,zmax in metres (default: the chain's reach).
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub bounds: Option<List>,
-    /// auto (analytic for 6R arms with a closed form, else numerical), analytic, numerical.
+    /// auto (analytic for non-degenerate 6R arms of revolute joints, else numerical), analytic,
+    /// numerical.
     #[arg(long, value_parser = word::<SolverChoice>(), default_value_t = map().solver)]
     pub solver: SolverChoice,
     /// Seed of numerical IK's restarts.

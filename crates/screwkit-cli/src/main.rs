@@ -1,5 +1,7 @@
-//! The `screwkit` command line: screw tables, FK, Jacobians, IK, the exp/log calculator and
-//! the IK benchmark, in text for people and JSON for scripts.
+//! The `screwkit` command line, in text for people and JSON for scripts: `info`, `table`
+//! (screw tables), `fk`, `jacobian`, `ik` (numerical, `--all` analytic, `--tasks` whole-body),
+//! `exp`/`log` (the screw calculator), `bench` (the IK benchmark), `draw` and `view` (pictures),
+//! `reach` (maps), `xacro` and `urdf` (a file expanded or written as URDF).
 //!
 //! Exit codes: 0 success, 1 a failed operation (bad URDF, unknown link, wrong number of joint
 //! values, IK not converged, failed batch lines), 2 bad usage, 130 interrupted (Ctrl-C). Errors are one line on stderr.

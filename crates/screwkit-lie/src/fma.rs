@@ -9,9 +9,10 @@
 //!
 //! A kernel is a value holding its inputs that implements [`Kernel`]: one generic function
 //! `run::<A>`, marked `#[inline(always)]` (as must be every helper it calls, so the whole body
-//! is compiled inside the AVX2 + FMA clone). Call it through [`dispatch`], which is the only
-//! place in the workspace that checks the CPU, holds the `unsafe` call and the
-//! `#[target_feature]` twin:
+//! is compiled inside the AVX2 + FMA clone). Call it through [`dispatch`], which holds the
+//! `unsafe` call and the `#[target_feature]` twin of the single calls (the batch kernels have
+//! the other dispatch, [`crate::lanes::dispatch_lanes`]; both ask [`KernelPath::current`], the
+//! one place that checks the CPU):
 //!
 //! ```
 //! use screwkit_lie::fma::{dispatch, Kernel, MulAdd, Plain};

@@ -8,8 +8,9 @@
 //! - [`Se3`]: rigid transforms T = (R, p) — composition, inverse, exp/log, adjoint.
 //! - [`Twist`] V = (ω, v), [`Wrench`] F = (m, f), [`ScrewAxis`] S ↔ (ŝ, q, h).
 //! - [`Frame`]: space or body, the frame a twist or Jacobian is expressed in.
-//! - [`fma`]: the multiply-add policies and the one run-time dispatch of the hot kernels;
-//!   [`lanes`]: eight f64 lanes on the widest vector unit, for the batch kernels;
+//! - [`fma`]: the multiply-add policies, the CPU's kernel path and the run-time dispatch of
+//!   the single calls' kernels; [`lanes`]: f64 lanes of the widest vector unit (8 on AVX-512,
+//!   4 on AVX2 and portably) and the batch kernels' dispatch;
 //!   [`trig`]: the inlined, vectorisable sine/cosine those kernels use.
 //!
 //! Conventions: twists and screw axes are ordered (ω, v); wrenches (m, f). A twist changes frame

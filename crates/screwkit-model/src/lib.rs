@@ -1,16 +1,20 @@
 //! # screwkit-model
 //!
-//! URDF → kinematic tree → serial chain with the screw axes of the product of exponentials,
+//! A robot file (URDF, xacro, MJCF) or a screw table → kinematic tree → serial chain with the
+//! screw axes of the product of exponentials,
 //! T(q) = e^\[S₁\]θ₁ ⋯ e^\[Sₙ\]θₙ M (space form) = M e^\[B₁\]θ₁ ⋯ e^\[Bₙ\]θₙ (body form).
 //!
 //! - [`input`]: bounded reads and the XML checks every robot file passes (the stated limits).
 //! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
+//! - [`xacro`]: xacro expanded natively into URDF (ROS's xacro semantics, no ROS).
 //! - [`mjcf`]: reading MuJoCo's MJCF (bodies, joints, sites, classes, includes) into the same tree.
 //! - [`tree`]: links, joints, paths between links.
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
-//! - [`table`]: screw-axis tables (Markdown, CSV, JSON).
+//! - [`table`]: screw-axis tables (Markdown, CSV, JSON), and reading them back.
+//! - [`screws`]: robots given by M and screw axes ([`ScrewRobot`]: its exact chain and an
+//!   equivalent tree).
 //!
 //! ```
 //! let chain = screwkit_model::load_chain(

@@ -14,8 +14,11 @@
 //! past — a missing mesh file is never an error.
 //!
 //! **Bodies as links.** Each body is a link of its name; MuJoCo's world body is the root link
-//! `world`, unless the file has a single top-level body with a free joint: that body is then
-//! the root and the tree has a floating base ([`Tree::floating_root`]). A body welded to its
+//! `world`, unless a top-level body floats freely (a free joint) and no fixed-base mechanism
+//! stands beside it: that body (of several, the one with the most bodies below it; the others
+//! are read past with a warning, as props) is then the root and the tree has a floating base
+//! ([`Tree::floating_root`]). Beside a fixed-base mechanism, free bodies are props, read past
+//! with a warning. A body welded to its
 //! parent (no joint) hangs from a fixed joint. MuJoCo moves a body by its joints in order,
 //! B(q) = B₀ · M₁(q₁) ⋯ M_k(q_k), with B₀ the body's pose in its parent and, for a hinge at
 //! `pos` p with unit `axis` a, M = Trans(p) Rot(a, q − ref) Trans(−p), for a slide
@@ -27,13 +30,14 @@
 //! MuJoCo's joint order (bodies depth first, joints in order), coupled followers excluded.
 //!
 //! **Refused** with an error naming the file, the line and the element: `ball` joints (three
-//! rotations about one point: not a one-variable joint), a free joint anywhere but on the only
-//! top-level body, an unknown joint type, numbers that do not parse, a missing or circular
+//! rotations about one point: not a one-variable joint), a free joint below the root,
+//! `coordinate="global"`, elements in a namespace, an unknown joint type, numbers that do not parse, a missing or circular
 //! `<include>`, an unknown class, a polynomial coupling with terms above the linear,
 //! `<replicate>` and `<attach>` (bodies MuJoCo generates: load the model MuJoCo saves).
 //! **Warned about** ([`Tree::warnings`]): tendons, equalities other than joint couplings
 //! (`connect`, `weld`: loop closures the tree does not hold), `<composite>` and `<flexcomp>`
-//! soft bodies (read past).
+//! soft bodies (read past), free bodies read past as props, bodies whose mass comes from their
+//! geoms (`inertiafromgeom`: the tree counts `<inertial>` elements only).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};

@@ -1,5 +1,6 @@
-//! `screwkit.Robot`: a chain of a URDF, prepared once, with FK, Jacobians, analysis and IK on
-//! one configuration or on N at once (all cores, GIL released).
+//! `screwkit.Robot`: a whole robot (URDF, xacro, MJCF or a screw table) prepared once, its
+//! chain and its tree, with FK, Jacobians, analysis and IK on one configuration or on N at once
+//! (all cores, GIL released).
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard, RwLock};

@@ -1,7 +1,8 @@
 //! Reachability maps of a robot arm (Zacharias et al., IROS 2007; Vahrenkamp et al.): the
 //! workspace cut into voxels, K tool orientations tested at every voxel centre by screwkit's
-//! IK — every solution by the analytic solver where the chain has a closed form, one solution
-//! within the limits by numerical IK otherwise — and per voxel the reachability index
+//! IK — every solution by the analytic solver for a 6R arm of revolute joints that is not
+//! degenerate (a closed form for the special families, algebraic elimination for the others),
+//! one solution within the limits by numerical IK otherwise — and per voxel the reachability index
 //! (reached ÷ K), per pose the best manipulability √det(J Jᵀ) over its solutions.
 //!
 //! A front end of the library: the poses come from [`grid`], the solving from

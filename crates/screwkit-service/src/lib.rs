@@ -2,9 +2,9 @@
 //! maps; a C API or a ROS node later) needs between the library and its users, written once.
 //!
 //! - [`whole`]: the whole tree's requests: which frames to answer, frame names to indices.
-//! - [`load`]: [`Robot::load`] from a path, text or standard input ([`Source`]), URDF or xacro
-//!   told apart by content, one decoding rule, package paths, xacro arguments, base, tip and
-//!   tool frame ([`LoadOptions`]).
+//! - [`load`]: [`Robot::load`] from a path, text or standard input ([`Source`]): URDF, xacro,
+//!   MJCF or a screw table, told apart by content, one decoding rule, package paths, xacro
+//!   arguments, base, tip, tool frame and floating base ([`LoadOptions`]).
 //! - [`words`]: the option words (`lm`/`dls`/`nr`, `space`/`body`/`world-aligned`, map modes,
 //!   views, …): `FromStr` + `Display` + one `ALL` list each.
 //! - [`request`]: requests with their one set of defaults ([`IkSettings`], [`ReachSpec`],

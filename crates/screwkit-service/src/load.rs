@@ -1,6 +1,6 @@
 //! A robot loaded once for every front end: [`Robot::load`] reads a path, text or standard
-//! input (bounded, decoded by one rule), expands xacro when the content is xacro, picks the
-//! chain and adds the tool frame. The CLI, Python, the pictures and the maps all start here.
+//! input (bounded, decoded by one rule): URDF, xacro (expanded), MuJoCo's MJCF or a screw
+//! table, told apart by content; picks the chain and adds the tool frame. The CLI, Python, the pictures and the maps all start here.
 
 use std::path::{Path, PathBuf};
 
@@ -15,8 +15,8 @@ use crate::error::{Error, Result};
 /// Where a robot description comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Source {
-    /// A file (URDF or xacro, told apart by content); relative xacro includes resolve from
-    /// its folder.
+    /// A file (URDF, xacro, MJCF or a screw table, told apart by content); relative includes
+    /// resolve from its folder.
     Path(PathBuf),
     /// Text in memory; `label` names it in errors, relative includes resolve from `dir`.
     Text {

@@ -1,5 +1,5 @@
 //! The reports front ends print or return: serde structs that ARE the JSON contract (the field
-//! names are decided here, once; the README lists them). Numbers follow [`crate::io::json`]'s
+//! names are decided here, once; docs/guide/json.md lists them). Numbers follow [`crate::io::json`]'s
 //! rule. [`to_value`] gives the JSON value the CLI prints (keys in alphabetical order, as
 //! every screwkit JSON object has had them).
 

@@ -4,12 +4,11 @@
 //! and portably.
 //!
 //! T ← T e^{\[S\]θ} multiplies T on the right, so each row (R_i0, R_i1, R_i2, p_i) of T's top
-//! three changes on its own: the kernels walk the chain one row at a time, the row's four
-//! values staying in registers, and read each joint's per-configuration constants (sin θ,
-//! cos θ, the translation of e^{\[S\]θ}, the rotation's coefficients), computed once per joint
-//! beforehand ([`JointLanes`]). The space Jacobian's column j, \[Ad_T\] S_j = (R ω, R v + p × R ω)
-//! with T the joints before j, is row by row too except for p × R ω, which is finished once
-//! the three rows are known.
+//! three changes on its own: the kernels walk the chain joint by joint, the three rows'
+//! twelve values in registers, compute each joint's per-configuration constants once (sin θ,
+//! cos θ, the translation of e^{\[S\]θ}, the rotation's coefficients) and apply them to the
+//! three rows ([`apply_joint`]). The space Jacobian's column j, \[Ad_T\] S_j = (R ω, R v + p × R ω)
+//! with T the joints before j, is row by row too except for p × R ω, finished per joint.
 //!
 //! The operations and their order are those of [`PoeJoint::apply`] and
 //! [`PoeJoint::adjoint_column`] (the multiply-add rounded as the lanes' scalar policy), so

@@ -72,7 +72,7 @@ impl Family {
     ];
 
     /// The family's word in the JSON contract (`"family"` of `screwkit ik --all`, `info`): a
-    /// lower-case identifier that stays when the enum is renamed. Listed in the README.
+    /// lower-case identifier that stays when the enum is renamed. Listed in docs/guide/json.md.
     pub fn word(self) -> &'static str {
         match self {
             Family::SphericalWristTwoParallel => "spherical_wrist_two_parallel",

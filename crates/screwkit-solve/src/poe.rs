@@ -4,9 +4,10 @@
 //!
 //! The formulas are those of `screwkit_lie` ([`screwkit_lie::so3::rotation_from_coefficients`],
 //! [`screwkit_lie::se3::translation_from_coefficients`], the adjoint
-//! [`screwkit_lie::Se3::adjoint_apply`]); the one specialisation — an axis-aligned revolute
-//! joint mixing two columns of R instead of multiplying by Rodrigues' matrix — is tested equal
-//! to `T · Se3::exp(S θ)` below.
+//! [`screwkit_lie::Se3::adjoint_apply`]); the specialisations ([`Update`]: a revolute joint
+//! about an exact coordinate axis mixing two columns of R instead of multiplying by Rodrigues'
+//! matrix, its planar form skipping the zero component, the near-axis update) are each tested
+//! equal to `T · Se3::exp(S θ)` below.
 
 use nalgebra::Vector3;
 use screwkit_lie::fma::MulAdd;

@@ -1,5 +1,6 @@
-//! The singular value decomposition of a 6 × n Jacobian, J = U Σ Vᵀ: the one SVD of the crate,
-//! for the singularity analysis and the pseudo-inverse.
+//! The singular value decomposition of a 6 × n Jacobian, J = U Σ Vᵀ: the SVD of every
+//! Jacobian in the crate (the singularity analyses, the pseudo-inverse, the check of exact
+//! joint velocities); subproblem 6's 4 × 2 least-squares system takes nalgebra's.
 //!
 //! One-sided Jacobi (Hestenes) on A = Jᵀ, whose six columns are few: plane rotations G_pq
 //! applied to pairs of columns until every pair is orthogonal, A G₁ G₂ ⋯ = W, so that

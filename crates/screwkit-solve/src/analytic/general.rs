@@ -10,7 +10,7 @@
 //! ```
 //!
 //! Read from joint s + 1 (*roles* 1…6 are joints s+1, …, s+6 mod 6, K_j the link after role
-//! j; s is chosen so that roles 1 and 2 are neither parallel nor meeting, [`shift`]):
+//! j; s is chosen so that roles 1 and 2 are neither parallel nor meeting, [`choose_shift`]):
 //!
 //! ```text
 //! R₃ K₃ R₄ K₄ R₅ K₅ R₆ = K₂⁻¹ R₂⁻¹ K₁⁻¹ R₁⁻¹ K₆⁻¹.

@@ -3,8 +3,10 @@
 //! by algebraic elimination for any other six revolute axes (the general 6R: two
 //! intersecting or two parallel axes anywhere, or none). A chain of several families takes the
 //! first row of the table that applies to any of them; the general 6R's row, last, applies to
-//! all. Only a 6R chain with a spherical shoulder and a spherical wrist (a self-motion, no
-//! finite solution set) and chains that are not 6R or 7R revolute are refused.
+//! all. Refused: a 6R chain with a spherical shoulder and a spherical wrist (a self-motion, no
+//! finite solution set), 6R chains whose Jacobian has rank below 6 at every configuration
+//! (coincident or all-parallel axes: `family::generic_rank`), and chains that are not 6R or
+//! 7R revolute.
 //!
 //! Solved here (with g = T_d M⁻¹ = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆, k_i the unit axes, r_i points on
 //! them, e_i = e^\[S_i\]θ_i, R_i = R(k_i, θ_i)), one decomposition per file, each file's
