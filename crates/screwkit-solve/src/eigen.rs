@@ -310,6 +310,49 @@ fn hqr<const N: usize>(a: &mut [[f64; N]; N]) -> Option<[(f64, f64); N]> {
 mod tests {
     use super::*;
 
+    /// The eigenvalues of random 24 × 24 matrices and of companion matrices of the general 6R's
+    /// shape ([[0, I], [−C, −B]]) equal faer's (an independent eigensolver), as multisets.
+    #[test]
+    fn equal_to_faer() {
+        let mut rng = crate::sample::SplitMix64(0x0FAE_0000_0000_0002);
+        for trial in 0..60 {
+            let mut a = [[0.0; 24]; 24];
+            for row in a.iter_mut() {
+                for v in row.iter_mut() {
+                    *v = rng.uniform() - 0.5;
+                }
+            }
+            if trial % 2 == 1 {
+                for i in 0..12 {
+                    for j in 0..12 {
+                        a[i][j] = 0.0;
+                        a[i][12 + j] = f64::from(u8::from(i == j));
+                    }
+                }
+            }
+            let m = faer::Mat::<f64>::from_fn(24, 24, |i, j| a[i][j]);
+            let scale = m.norm_l2().max(1.0);
+            let theirs = m.eigenvalues().unwrap();
+            let ours = eigenvalues(&mut a).expect("converges");
+            // Each of faer's eigenvalues is one of ours, and each of ours one of faer's.
+            let near = |x: (f64, f64), set: &mut dyn Iterator<Item = (f64, f64)>| {
+                set.map(|y| ((x.0 - y.0).powi(2) + (x.1 - y.1).powi(2)).sqrt())
+                    .fold(f64::INFINITY, f64::min)
+            };
+            for t in &theirs {
+                let d = near((t.re, t.im), &mut ours.iter().copied());
+                assert!(
+                    d < 1e-9 * scale,
+                    "trial {trial}: faer's {t:?} missing ({d:e})"
+                );
+            }
+            for o in &ours {
+                let d = near(*o, &mut theirs.iter().map(|t| (t.re, t.im)));
+                assert!(d < 1e-9 * scale, "trial {trial}: {o:?} not faer's ({d:e})");
+            }
+        }
+    }
+
     /// The eigenvalues of random matrices (and of matrices with repeated, complex and zero
     /// eigenvalues) equal nalgebra's Schur decomposition's, as multisets.
     #[test]

@@ -129,6 +129,36 @@ mod tests {
     /// square and narrow (n < 6) matrices, rank-deficient ones and with a locked column; the
     /// singular values against the eigenvalues of J Jᵀ (an independent route: σ² = λ), and the
     /// columns of U past the rank orthogonal to J's range.
+    /// The singular values equal faer's (an independent SVD, not nalgebra's) to 1e-14 σ₁, on
+    /// wide, square and narrow Jacobians, rank-deficient ones, and at extreme scales.
+    #[test]
+    fn singular_values_equal_faer() {
+        let mut rng = crate::sample::SplitMix64(0x0FAE_0000_0000_0001);
+        for n in 1..=12 {
+            for case in 0..8 {
+                let scale = [1.0, 1e-150, 1e150, 1.0][case % 4];
+                let mut j = Matrix6xX::from_fn(n, |_, _| (rng.uniform() - 0.5) * scale);
+                if case >= 4 && n >= 3 {
+                    // Rank-deficient: a column made of two others, another zeroed.
+                    let c = j.column(0) * 0.3 + j.column(1) * -1.7;
+                    j.set_column(n - 1, &c);
+                    j.column_mut(n / 2).fill(0.0);
+                }
+                let ours = jacobian_svd(&j, None).unwrap().s;
+                let m = faer::Mat::<f64>::from_fn(6, n, |r, c| j[(r, c)]);
+                let mut theirs: Vec<f64> = m.singular_values().unwrap();
+                theirs.sort_by(|a, b| b.total_cmp(a));
+                assert_eq!(ours.len(), n.min(6));
+                for (a, b) in ours.iter().zip(&theirs) {
+                    assert!(
+                        (a - b).abs() <= 1e-14 * theirs[0].max(f64::MIN_POSITIVE),
+                        "n = {n}, case {case}: {ours:?} against {theirs:?}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn decomposes_and_sorts() {
         let mut rng = crate::sample::SplitMix64(0x5EED_0000_0000_0042);
