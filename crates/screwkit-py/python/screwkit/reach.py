@@ -2,8 +2,9 @@
 
 The workspace is cut into voxels; at every voxel centre K tool orientations are tested by
 screwkit's IK (analytic, every solution, for 6R arms of revolute joints that are not
-degenerate; numerical within the limits otherwise). A map holds per voxel the reachability index (reached / K) and the best
-manipulability, per pose the best manipulability over its solutions (NaN: not reached).
+degenerate; numerical within the limits otherwise). A map holds per voxel the reachability
+index (reached / K) and the best manipulability, per pose the best manipulability over its
+solutions (NaN: not reached).
 Maps are ``.npz`` files that numpy reads directly; :func:`reach` computes one on this machine
 (the GIL released, on all cores), :func:`screwkit.distributed.reach` on a Ray cluster.
 """
