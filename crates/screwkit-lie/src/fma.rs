@@ -147,12 +147,17 @@ impl KernelPath {
     pub fn current() -> KernelPath {
         static CURRENT: std::sync::OnceLock<KernelPath> = std::sync::OnceLock::new();
         *CURRENT.get_or_init(|| {
-            let widest = KernelPath::detected();
-            let asked = std::env::var(KERNELS_VAR)
-                .ok()
-                .and_then(|v| KernelPath::from_name(v.trim()));
-            asked.map_or(widest, |a| a.min(widest))
+            KernelPath::detected().narrowed_by(std::env::var(KERNELS_VAR).ok().as_deref())
         })
+    }
+
+    /// This path narrowed by [`KERNELS_VAR`]'s value `asked`: the path it names when that is
+    /// no wider; unset, an unknown word or a wider path leave it (a typo shows in the benches'
+    /// `host` line, which names the path taken).
+    pub fn narrowed_by(self, asked: Option<&str>) -> KernelPath {
+        asked
+            .and_then(|v| KernelPath::from_name(v.trim()))
+            .map_or(self, |a| a.min(self))
     }
 
     /// Whether this CPU can run the path.
@@ -184,4 +189,37 @@ impl KernelPath {
 /// or `"portable"`), for benchmarks to say where they ran.
 pub fn kernel_path() -> &'static str {
     KernelPath::current().name()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::KernelPath;
+
+    /// The override's words, and that it only ever narrows (never asks for instructions the
+    /// CPU lacks), whatever it holds.
+    #[test]
+    fn the_override_narrows_only() {
+        use KernelPath::{Avx2Fma, Avx512, Portable};
+        for path in KernelPath::ALL {
+            assert_eq!(KernelPath::from_name(path.name()), Some(path));
+            assert_eq!(path.narrowed_by(None), path);
+            for junk in [
+                "",
+                "AVX512",
+                "avx-512",
+                "sse",
+                "avx2 fma",
+                "\0",
+                "portable!",
+            ] {
+                assert_eq!(path.narrowed_by(Some(junk)), path, "{junk:?}");
+            }
+        }
+        assert_eq!(Avx512.narrowed_by(Some("avx2")), Avx2Fma);
+        assert_eq!(Avx512.narrowed_by(Some(" portable\n")), Portable);
+        assert_eq!(Avx2Fma.narrowed_by(Some("avx512")), Avx2Fma);
+        assert_eq!(Portable.narrowed_by(Some("avx512")), Portable);
+        assert_eq!(Portable.narrowed_by(Some("avx2+fma")), Portable);
+        assert!(KernelPath::current().available() && KernelPath::Portable.available());
+    }
 }
