@@ -125,13 +125,35 @@ fn axis<L: Lanes, const I: usize, const J: usize>(
     c: L::V,
     rows: &mut [[L::V; 4]; 3],
 ) {
-    let b = l.sub(l.splat(1.0), c);
-    let t = translation(l, joint, th, s, b);
-    let gs = l.mul(l.splat(g), s);
-    let minus_gs = l.neg(gs);
+    let AxisLanes {
+        t, gs, minus_gs, ..
+    } = AxisLanes::new(l, joint, g, th, s, c);
     for r in rows.iter_mut() {
         translate(l, r, &t);
         rotate_axis::<L, I, J>(l, r, gs, minus_gs, c);
+    }
+}
+
+/// What the updates about (or near) a coordinate axis with a full translation share: b = 1 −
+/// cos θ, the translation of e^{\[S\]θ}, and g sin θ with its negative.
+struct AxisLanes<V> {
+    b: V,
+    t: [V; 3],
+    gs: V,
+    minus_gs: V,
+}
+
+impl<V: Copy> AxisLanes<V> {
+    #[inline(always)]
+    fn new<L: Lanes<V = V>>(l: L, joint: &PoeJoint, g: f64, th: V, s: V, c: V) -> Self {
+        let b = l.sub(l.splat(1.0), c);
+        let gs = l.mul(l.splat(g), s);
+        AxisLanes {
+            b,
+            t: translation(l, joint, th, s, b),
+            gs,
+            minus_gs: l.neg(gs),
+        }
     }
 }
 
@@ -164,10 +186,7 @@ fn near<L: Lanes, const I: usize, const J: usize, const K: usize>(
     c: L::V,
     rows: &mut [[L::V; 4]; 3],
 ) {
-    let b = l.sub(l.splat(1.0), c);
-    let t = translation(l, joint, th, s, b);
-    let gs = l.mul(l.splat(g), s);
-    let minus_gs = l.neg(gs);
+    let AxisLanes { b, t, gs, minus_gs } = AxisLanes::new(l, joint, g, th, s, c);
     let (ui, uj) = (l.splat(u[0]), l.splat(u[1]));
     let ki = l.madd(b, ui, l.neg(l.mul(gs, uj)));
     let kj = l.madd(b, uj, l.mul(gs, ui));
