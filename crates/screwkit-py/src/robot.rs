@@ -1667,8 +1667,9 @@ impl Robot {
                 Some(JointRef::Name(screwkit_service::joint::ARM_ANGLE.into()))
             }
             None => None,
-            Some(j) => Some(if let Ok(name) = j.extract::<String>() {
-                JointRef::Name(name)
+            // (A str checked by type, not by a failed extraction: this runs on every call.)
+            Some(j) => Some(if let Ok(name) = j.downcast::<pyo3::types::PyString>() {
+                JointRef::Name(name.extract::<String>()?)
             } else {
                 JointRef::Index(j.extract::<usize>().map_err(|_| {
                     PyValueError::new_err("lock: a joint name or its index in q (from 0)")

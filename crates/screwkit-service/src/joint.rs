@@ -36,7 +36,9 @@ impl JointRef {
                 )
             }),
             JointRef::Index(i) => {
-                if let Some(k) = names.iter().position(|x| *x == i.to_string()) {
+                // A joint named by the number first (compared without formatting it: this
+                // runs on every locked `ik_all` call).
+                if let Some(k) = names.iter().position(|x| names_number(x, *i)) {
                     return Ok(k);
                 }
                 if *i < names.len() {
@@ -66,6 +68,15 @@ impl JointRef {
     pub fn is_arm_angle(&self, kin: &Kinematics) -> bool {
         matches!(self, JointRef::Name(n) if n == ARM_ANGLE && !kin.names().iter().any(|x| x == n))
     }
+}
+
+/// True when `name` is `i` written in decimal, as `i.to_string()` writes it.
+fn names_number(name: &str, i: usize) -> bool {
+    let b = name.as_bytes();
+    !b.is_empty()
+        && b.iter().all(u8::is_ascii_digit)
+        && (b.len() == 1 || b[0] != b'0')
+        && name.parse::<usize>() == Ok(i)
 }
 
 /// A locked joint and, optionally, its value: `JOINT[=VALUE]`.
@@ -152,5 +163,34 @@ mod tests {
         );
         assert_eq!(Lock::parse("3").unwrap().value, None);
         assert!(Lock::parse("3=nan").is_err() && Lock::parse("3=x").is_err());
+    }
+
+    #[test]
+    fn a_number_names_a_joint_as_it_is_written() {
+        for i in [0usize, 1, 7, 10, 42, 123_456, usize::MAX] {
+            assert!(names_number(&i.to_string(), i), "{i}");
+        }
+        for (name, i) in [
+            ("07", 7),
+            ("+7", 7),
+            (" 7", 7),
+            ("", 0),
+            ("7a", 7),
+            ("8", 7),
+        ] {
+            assert!(!names_number(name, i), "{name:?} {i}");
+        }
+        // A joint named "3" is the one a 3 means, wherever it is in the chain.
+        let urdf = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../assets/urdf/panda.urdf"
+        ))
+        .unwrap()
+        .replace("\"panda_joint1\"", "\"3\"");
+        let tree = screwkit_model::urdf::load_str(&urdf, "panda").unwrap();
+        let chain = screwkit_model::Chain::from_tree(&tree, None, None).unwrap();
+        let kin = Kinematics::new(&chain);
+        assert_eq!(JointRef::Index(3).resolve(&kin, "lock").unwrap(), 0);
+        assert_eq!(JointRef::Index(4).resolve(&kin, "lock").unwrap(), 4);
     }
 }

@@ -4,6 +4,7 @@
 //! [`AnalyticIk::solve_nearest_batch`], and the report.
 
 use screwkit_lie::Se3;
+use std::borrow::Cow;
 use std::sync::OnceLock;
 
 use screwkit_solve::analytic::{AnalyticIk, Solutions, MAX_DOF};
@@ -37,50 +38,63 @@ impl Solvers {
             .unwrap_or(f64::NAN))
     }
 
-    /// The solver for `joint` (module documentation of [`AllSolutions::with_solvers`]).
-    pub fn get(&self, kin: &Kinematics, joint: Option<&JointRef>) -> Result<AnalyticIk> {
-        let kept =
-            |cell: &OnceLock<_>,
-             build: &dyn Fn() -> std::result::Result<AnalyticIk, SolveError>| {
-                cell.get_or_init(build).clone()
-            };
-        Ok(match joint {
-            None => kept(&self.auto, &|| AnalyticIk::auto(kin))?,
+    /// The solver for `joint` (module documentation of [`AllSolutions::with_solvers`]),
+    /// borrowed from the kept ones (a call per target clones nothing).
+    pub fn get(&self, kin: &Kinematics, joint: Option<&JointRef>) -> Result<Cow<'_, AnalyticIk>> {
+        fn kept<'s>(
+            cell: &'s OnceLock<std::result::Result<AnalyticIk, SolveError>>,
+            build: impl FnOnce() -> std::result::Result<AnalyticIk, SolveError>,
+        ) -> Result<Cow<'s, AnalyticIk>> {
+            match cell.get_or_init(build) {
+                Ok(solver) => Ok(Cow::Borrowed(solver)),
+                Err(e) => Err(e.clone().into()),
+            }
+        }
+        match joint {
+            None => kept(&self.auto, || AnalyticIk::auto(kin)),
             Some(joint) if joint.is_arm_angle(kin) => {
-                kept(&self.arm_angle, &|| AnalyticIk::arm_angle(kin))?
+                kept(&self.arm_angle, || AnalyticIk::arm_angle(kin))
             }
             Some(joint) => {
                 let j = joint.resolve(kin, "lock")?;
                 match self.locked.get(j) {
-                    Some(cell) => kept(cell, &|| AnalyticIk::locked(kin, j))?,
-                    None => AnalyticIk::locked(kin, j)?,
+                    Some(cell) => kept(cell, || AnalyticIk::locked(kin, j)),
+                    None => Ok(Cow::Owned(AnalyticIk::locked(kin, j)?)),
                 }
             }
-        })
+        }
     }
 }
 
-/// The analytic solver with its lock options.
+/// The analytic solver with its lock options; the solver borrowed from a front end's kept
+/// [`Solvers`] (`'s`), or owned.
 #[derive(Debug, Clone)]
-pub struct AllSolutions {
-    solver: AnalyticIk,
+pub struct AllSolutions<'s> {
+    solver: Cow<'s, AnalyticIk>,
     value: Option<f64>,
     sweep: Option<usize>,
     reps: RepresentativesChoice,
 }
 
-impl AllSolutions {
+impl<'s> AllSolutions<'s> {
     /// The default solver ([`AnalyticIk::auto`]) or, with `lock`, the one with that joint
     /// locked (its value, or the seed's per target; `sweep`: that many values over its
     /// limits). The options are checked here, before any target.
     pub fn new(kin: &Kinematics, lock: Option<&Lock>, sweep: Option<usize>) -> Result<Self> {
-        Self::with_solvers(
+        let solvers = Solvers::default();
+        let all = AllSolutions::with_solvers(
             kin,
             lock.map(|l| &l.joint),
             lock.and_then(|l| l.value),
             sweep,
-            &Solvers::default(),
-        )
+            &solvers,
+        )?;
+        Ok(AllSolutions {
+            solver: Cow::Owned(all.solver.into_owned()),
+            value: all.value,
+            sweep: all.sweep,
+            reps: all.reps,
+        })
     }
 
     /// The solver with `joint` locked (None: the default solver, which for a 7R arm locks a
@@ -93,10 +107,10 @@ impl AllSolutions {
         joint: Option<&JointRef>,
         value: Option<f64>,
         sweep: Option<usize>,
-        solvers: &Solvers,
+        solvers: &'s Solvers,
     ) -> Result<Self> {
         let solver = solvers.get(kin, joint)?;
-        solver.lock_values(kin, &kin.midpoint(), value, sweep)?;
+        solver.check_lock_options(kin, value, sweep)?;
         Ok(Self {
             solver,
             value,
@@ -106,9 +120,12 @@ impl AllSolutions {
     }
 
     /// The solver polling `interrupt` between a sweep's lock values (a front end's Ctrl-C:
-    /// [`AnalyticIk::with_interrupt`]).
+    /// [`AnalyticIk::with_interrupt`]). Without a sweep there is nothing to poll (one value
+    /// is one closed form, microseconds) and the solver is left as it is, borrowed.
     pub fn with_interrupt(mut self, interrupt: screwkit_solve::ik::Interrupt) -> Self {
-        self.solver = self.solver.with_interrupt(interrupt);
+        if self.sweep.is_some() {
+            self.solver = Cow::Owned(self.solver.into_owned().with_interrupt(interrupt));
+        }
         self
     }
 

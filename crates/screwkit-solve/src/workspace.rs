@@ -17,6 +17,8 @@ pub struct Workspace {
     /// The link poses as the all-link kernel writes them (columns), converted into `links`.
     pub(crate) link_columns: Vec<Columns>,
     pub(crate) ik: IkScratch,
+    /// A locked analytic solver's prepared problem at its last lock value.
+    pub(crate) analytic: Option<crate::analytic::PreparedAt>,
 }
 
 /// The per-solve buffers of the IK loop, kept in the workspace so a solve allocates only the
@@ -47,6 +49,7 @@ impl Workspace {
                 best_q: vec![0.0; n],
                 locked: vec![false; n],
             },
+            analytic: None,
         }
     }
 }
@@ -59,6 +62,7 @@ impl Default for Workspace {
             links: Vec::new(),
             link_columns: Vec::new(),
             ik: IkScratch::default(),
+            analytic: None,
         }
     }
 }

@@ -746,3 +746,48 @@ fn degenerate_arms_name_their_self_motion() {
     assert_eq!(generic_rank(&kin), 6);
     assert!(AnalyticIk::new(&kin).is_ok());
 }
+
+/// A workspace keeps a locked solver's prepared problem at its last lock value: a workspace
+/// shared by two locked solvers (and a clone), alternating values, gives bit for bit what a
+/// fresh workspace gives every call.
+#[test]
+fn a_kept_prepared_problem_equals_a_fresh_one() {
+    let (_, _, panda) = common::load("panda.urdf", None, None);
+    let seven = AnalyticIk::locked(&panda, 6).unwrap();
+    let five = AnalyticIk::locked(&panda, 4).unwrap();
+    let copy = seven.clone();
+    let mut rng = Sampler::new(11);
+    let mut shared = Workspace::new(&panda);
+    let (mut kept, mut fresh) = (Solutions::default(), Solutions::default());
+    let mut compared = 0;
+    for k in 0..60 {
+        let q = rng.config(&panda);
+        let target = fk1(&panda, &q).unwrap();
+        let solver = [&seven, &five, &copy][k % 3];
+        let joint = solver.locked_joint().unwrap();
+        // One value shared by every solver (a kept problem of another solver at the same
+        // value: the key's solver), then the pose's own value twice (the kept one reused).
+        for value in [0.3, q[joint], q[joint], 0.3] {
+            solver
+                .solve(&panda, &mut shared, &target, value, &mut kept)
+                .unwrap();
+            solver
+                .solve(
+                    &panda,
+                    &mut Workspace::new(&panda),
+                    &target,
+                    value,
+                    &mut fresh,
+                )
+                .unwrap();
+            assert_eq!(kept.len(), fresh.len());
+            for i in 0..kept.len() {
+                assert_eq!(kept.q(i), fresh.q(i), "pose {k}, value {value}");
+                assert_eq!(kept.exact(i), fresh.exact(i));
+                assert_eq!(kept.residual(i).to_bits(), fresh.residual(i).to_bits());
+            }
+            compared += kept.len();
+        }
+    }
+    assert!(compared > 200, "{compared} solutions compared");
+}

@@ -48,6 +48,7 @@ impl AnalyticIk {
             arm: None,
             fallback_shift: std::sync::OnceLock::new(),
             interrupt: None,
+            id: next_solver_id(),
         };
         for (slot, j) in (0..7).filter(|&j| j != joint).enumerate() {
             solver.free[slot] = j;

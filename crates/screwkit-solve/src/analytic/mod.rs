@@ -68,6 +68,7 @@ use arm_angle::*;
 use general::*;
 use lock::*;
 pub use lock::{AUTO_POSES, AUTO_SWEEP};
+pub(crate) use prepared::PreparedAt;
 use prepared::*;
 pub use solutions::{Posture, Postures, RepresentativeKind, Representatives, Solutions};
 pub use solver::{AnalyticIk, MAX_REPRESENTATIVE_ROWS, MAX_SWEEP};

@@ -6,7 +6,7 @@ use super::*;
 /// A 6R problem ready to solve: lines in the order solved, the home of the 6R chain (chain
 /// order), the method's points.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Prepared {
+pub(crate) struct Prepared {
     pub(super) k: [V3; 6],
     pub(super) r: [V3; 6],
     pub(super) home: Se3,
@@ -68,4 +68,25 @@ impl Prepared {
             shift,
         }
     }
+}
+
+/// A locked solver's prepared problem at one lock value, kept in the caller's workspace
+/// ([`crate::Workspace`]): a 7R arm solved again and again at the same lock value (EAIK's
+/// fixed axes, a user's locked joint) prepares its 6R problem once. Keyed by the solver's
+/// identity and the value's bits, so a workspace shared by several solvers, or a sweep, only
+/// ever reads the problem it would build.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PreparedAt {
+    /// [`AnalyticIk`]'s identity (`id`: one per construction, kept by its clones).
+    pub(super) solver: u64,
+    /// The lock value's bits.
+    pub(super) value: u64,
+    pub(super) prepared: Prepared,
+}
+
+/// A new solver identity ([`PreparedAt`]).
+pub(super) fn next_solver_id() -> u64 {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
 }

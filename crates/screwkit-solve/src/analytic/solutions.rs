@@ -194,9 +194,36 @@ impl Solutions {
 
     /// Orders the solutions nearest to `seed` first ([`Solutions::distance`]): the first is
     /// the one that moves the arm least from where it is (branch-stable tracking). Ties keep
-    /// their order.
+    /// their order. Up to [`MAX_POSTURES`] · 2 solutions (every posture, one row each: the
+    /// single call's case) are sorted in place by insertion, without allocating; more by an
+    /// index sort. Both are stable, so the order is the same.
     #[inline]
     pub fn sort_nearest(&mut self, seed: &[f64], weights: Option<&[f64]>) {
+        const SMALL: usize = 2 * MAX_POSTURES;
+        let len = self.len();
+        if len > SMALL {
+            return self.sort_nearest_by_index(seed, weights);
+        }
+        let mut d = [0.0; SMALL];
+        for (i, x) in d[..len].iter_mut().enumerate() {
+            *x = self.distance(i, seed, weights);
+        }
+        let n = self.dof;
+        for i in 1..len {
+            let mut j = i;
+            while j > 0 && d[j - 1].total_cmp(&d[j]).is_gt() {
+                d.swap(j - 1, j);
+                self.exact.swap(j - 1, j);
+                self.residual.swap(j - 1, j);
+                let (a, b) = self.q.split_at_mut(j * n);
+                a[(j - 1) * n..].swap_with_slice(&mut b[..n]);
+                j -= 1;
+            }
+        }
+    }
+
+    /// [`Solutions::sort_nearest`] by sorting an index (any count).
+    fn sort_nearest_by_index(&mut self, seed: &[f64], weights: Option<&[f64]>) {
         let mut order: Vec<usize> = (0..self.len()).collect();
         let d: Vec<f64> = order
             .iter()
@@ -216,11 +243,61 @@ impl Solutions {
     #[inline]
     pub(super) fn clear(&mut self, dof: usize) {
         self.dof = dof;
+        // Room for one row per posture at once (a single call's case: no regrowth).
+        self.q.reserve(MAX_POSTURES * dof);
+        self.exact.reserve(MAX_POSTURES);
+        self.residual.reserve(MAX_POSTURES);
         self.q.clear();
         self.exact.clear();
         self.residual.clear();
         self.singular = false;
         self.branches = 0;
         self.refined.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `count` solutions of `dof` joints, values from a small set so that distances tie.
+    fn solutions(count: usize, dof: usize, seed: u64) -> Solutions {
+        let mut x = seed;
+        let mut next = || {
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((x >> 33) % 5) as f64 - 2.0
+        };
+        let mut s = Solutions::default();
+        s.clear(dof);
+        for k in 0..count {
+            s.q.extend((0..dof).map(|_| next()));
+            s.exact.push(k % 3 != 0);
+            s.residual.push(k as f64);
+        }
+        s
+    }
+
+    #[test]
+    fn the_in_place_sort_equals_the_index_sort() {
+        for count in 0..=2 * MAX_POSTURES {
+            for (case, dof) in [(1u64, 1usize), (2, 6), (3, 7)] {
+                let seed: Vec<f64> = (0..dof).map(|i| 0.3 * i as f64 - 0.5).collect();
+                let weights: Vec<f64> = (0..dof).map(|i| 1.0 + i as f64).collect();
+                for w in [None, Some(&weights[..])] {
+                    let mut a = solutions(count, dof, case * 100 + count as u64);
+                    let mut b = a.clone();
+                    a.sort_nearest(&seed, w);
+                    b.sort_nearest_by_index(&seed, w);
+                    assert_eq!(a.q, b.q, "{count} × {dof}");
+                    assert_eq!(a.exact, b.exact);
+                    // The residuals are the original indices: ties kept their order.
+                    assert_eq!(a.residual, b.residual);
+                    let d: Vec<f64> = (0..a.len()).map(|i| a.distance(i, &seed, w)).collect();
+                    assert!(d.windows(2).all(|p| p[0] <= p[1]), "{d:?}");
+                }
+            }
+        }
     }
 }

@@ -31,6 +31,9 @@ pub struct AnalyticIk {
     /// The caller's "stop now" check ([`AnalyticIk::with_interrupt`]), polled between the
     /// lock values of a sweep and the steps of its refinement.
     pub(super) interrupt: Option<crate::ik::Interrupt>,
+    /// This solver's identity, for the prepared problem a workspace keeps ([`PreparedAt`]):
+    /// one per construction; a clone (the same lines, method and reading) keeps it.
+    pub(super) id: u64,
 }
 
 /// What the arm-angle solver says of itself.
@@ -130,6 +133,7 @@ impl AnalyticIk {
             arm: None,
             fallback_shift: std::sync::OnceLock::new(),
             interrupt: None,
+            id: next_solver_id(),
             lines: c.axes,
             home: kin.home,
         })
@@ -169,6 +173,7 @@ impl AnalyticIk {
             arm: Some(arm),
             fallback_shift: std::sync::OnceLock::new(),
             interrupt: None,
+            id: next_solver_id(),
             lines: c.axes,
             home: kin.home,
         })
@@ -215,6 +220,18 @@ impl AnalyticIk {
     /// locked joint's value (ignored without a lock). The target must be finite (checked by
     /// [`AnalyticIk::solve`]).
     pub fn postures(&self, target: &Se3, lock_value: f64, out: &mut Postures) {
+        self.postures_kept(target, lock_value, &mut None, out);
+    }
+
+    /// [`AnalyticIk::postures`], a locked chain's prepared problem taken from `kept` when it
+    /// is this solver's at this value, else built and left there ([`PreparedAt`]).
+    pub(super) fn postures_kept(
+        &self,
+        target: &Se3,
+        lock_value: f64,
+        kept: &mut Option<PreparedAt>,
+        out: &mut Postures,
+    ) {
         if let Some(a) = &self.arm {
             out.len = 0;
             out.dof = 7;
@@ -229,13 +246,31 @@ impl AnalyticIk {
             out.singular = singular;
             return;
         }
-        let prepared;
         let p = match &self.fixed {
             Some(p) => p,
             None => {
-                let (lines, home) = self.locked_lines(lock_value);
-                prepared = Prepared::new(self.method, &lines, home, self.reversed, self.shift);
-                &prepared
+                let value = lock_value.to_bits();
+                match kept {
+                    Some(k) if k.solver == self.id && k.value == value => {}
+                    _ => {
+                        let (lines, home) = self.locked_lines(lock_value);
+                        *kept = Some(PreparedAt {
+                            solver: self.id,
+                            value,
+                            prepared: Prepared::new(
+                                self.method,
+                                &lines,
+                                home,
+                                self.reversed,
+                                self.shift,
+                            ),
+                        });
+                    }
+                }
+                match kept {
+                    Some(k) => &k.prepared,
+                    None => return,
+                }
             }
         };
         self.run(self.method, self.reversed, p, target, lock_value, out);
@@ -383,7 +418,7 @@ impl AnalyticIk {
         if let [v] = lock_values {
             // One value (the hot path, allocation-free for the closed forms).
             let mut raw = Postures::default();
-            self.postures(target, *v, &mut raw);
+            self.postures_kept(target, *v, &mut ws.analytic, &mut raw);
             let any_exact = raw.as_slice().iter().any(|p| p.exact);
             self.collect(kin, ws, target, &raw, any_exact, reps, out)?;
             return Ok(());
@@ -636,6 +671,37 @@ impl AnalyticIk {
             .map_or((0.0, 0.0), |(lo, hi, _)| (lo, hi))
     }
 
+    /// The lock options' errors, before any target ([`AnalyticIk::lock_values`] takes them):
+    /// a value or a sweep for a solver without a lock, both at once, a sweep of 0 or more
+    /// than [`MAX_SWEEP`] values.
+    pub fn check_lock_options(
+        &self,
+        kin: &Kinematics,
+        value: Option<f64>,
+        sweep: Option<usize>,
+    ) -> Result<(), SolveError> {
+        let bad = |m: String| Err(SolveError::InvalidInput(m));
+        if self.lock_span(kin).is_none() {
+            if value.is_some() || sweep.is_some() {
+                return bad(
+                    "a lock value or a sweep is for a 7R chain with a locked joint or \
+                            an arm angle"
+                        .into(),
+                );
+            }
+            return Ok(());
+        }
+        match (value, sweep) {
+            (Some(_), Some(_)) => bad("a lock value and a sweep exclude each other".into()),
+            (None, Some(0)) => bad("a sweep needs at least one value".into()),
+            (None, Some(n)) if n > MAX_SWEEP => bad(format!(
+                "a sweep of {n} values is more than {MAX_SWEEP} (each value gives up to 8 \
+                 postures and their 2π shifts)"
+            )),
+            _ => Ok(()),
+        }
+    }
+
     /// The values of the locked joint (or arm angle) a caller means: `sweep` values evenly
     /// spaced over its limits ([`AnalyticIk::sweep`]), or `value`, or else the seed's value of
     /// that joint (the seed's arm angle); \[0\] without a lock (where a value or a sweep is an
@@ -647,28 +713,14 @@ impl AnalyticIk {
         value: Option<f64>,
         sweep: Option<usize>,
     ) -> Result<Vec<f64>, SolveError> {
+        self.check_lock_options(kin, value, sweep)?;
         if self.lock_span(kin).is_none() {
-            if value.is_some() || sweep.is_some() {
-                return Err(SolveError::InvalidInput(
-                    "a lock value or a sweep is for a 7R chain with a locked joint or an arm \
-                     angle"
-                        .into(),
-                ));
-            }
             return Ok(vec![0.0]);
         }
         match (value, sweep) {
-            (Some(_), Some(_)) => Err(SolveError::InvalidInput(
-                "a lock value and a sweep exclude each other".into(),
-            )),
-            (None, Some(0)) => Err(SolveError::InvalidInput(
-                "a sweep needs at least one value".into(),
-            )),
-            (None, Some(n)) if n > MAX_SWEEP => Err(SolveError::InvalidInput(format!(
-                "a sweep of {n} values is more than {MAX_SWEEP} (each value gives up to 8 postures and their 2π shifts)"
-            ))),
             (None, Some(n)) => Ok(self.sweep(kin, n)),
-            (Some(v), None) => Ok(vec![v]),
+            // (With a sweep too: refused above.)
+            (Some(v), _) => Ok(vec![v]),
             (None, None) => {
                 kin.check_q(seed)?;
                 match (&self.arm, self.lock) {
