@@ -284,7 +284,7 @@ impl Robot {
                 shape_str(arr.shape())
             )));
         }
-        Ok(arr.readonly().as_slice()?.to_vec())
+        Ok(arr.to_vec()?)
     }
 
     /// Every link's (`links_only`) or every frame's pose of the whole tree in one sweep.
@@ -297,8 +297,6 @@ impl Robot {
         let kin = self.tree_model()?;
         let q = f64_array(q, "q")?;
         let rows = Self::tree_rows_of(&kin, &q, "q")?;
-        let q = q.readonly();
-        let qs = q.as_slice()?;
         let frames = kin.frame_count();
         let keep = if links_only {
             kin.model().links.len()
@@ -307,9 +305,10 @@ impl Robot {
         };
         match rows {
             Rows::One => {
+                let qs = q.to_vec()?;
                 let poses = self
                     .with_tree_ws(&kin, |ws| {
-                        tree::fk::fk_frames(&kin, ws, qs).map(|p| p[..keep].to_vec())
+                        tree::fk::fk_frames(&kin, ws, &qs).map(|p| p[..keep].to_vec())
                     })
                     .map_err(solve_error)?;
                 Ok(new_array(py, &[keep, 4, 4], |o| {
@@ -320,13 +319,13 @@ impl Robot {
                 .into_any())
             }
             Rows::Many(n) if keep == frames => {
-                run_batch(py, &[n, frames, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
+                run_batch(py, &[n, frames, 4, 4], &q, FK_CHUNK / 64, |qs, o| {
                     tree::batch::fk_frames_batch(&kin, qs, o)
                 })
             }
             Rows::Many(n) => {
                 // The links are the first frames: computed with the added ones, copied out.
-                run_batch(py, &[n, keep, 4, 4], qs, FK_CHUNK / 64, |qs, o| {
+                run_batch(py, &[n, keep, 4, 4], &q, FK_CHUNK / 64, |qs, o| {
                     // A tree has at least its root link: keep ≥ 1.
                     let rows = o.len() / (16 * keep);
                     let mut all = vec![0.0; rows * frames * 16];
@@ -388,8 +387,7 @@ impl Robot {
                 shape_str(q.shape())
             )));
         }
-        let q = q.readonly();
-        f(Some(q.as_slice()?)).map_err(solve_error)
+        f(Some(&q.to_vec()?)).map_err(solve_error)
     }
 
     fn ik_options(&self, o: IkArgs) -> PyResult<IkOptions> {
@@ -459,10 +457,14 @@ struct IkArgs<'a> {
 fn run_batch<'py>(
     py: Python<'py>,
     shape: &[usize],
-    input: &[f64],
+    input: &Bound<'py, PyArrayDyn<f64>>,
     chunk: usize,
     f: impl Fn(&[f64], &mut [f64]) -> Result<(), SolveError> + Send + Sync,
 ) -> PyResult<Bound<'py, PyAny>> {
+    // Borrowed (numpy's borrow flags) while the GIL is released; a single row is copied
+    // instead (`to_vec`: a tenth of the bookkeeping's cost).
+    let input = input.readonly();
+    let input = input.as_slice()?;
     let out = zeros(py, shape)?;
     let rows = shape.first().copied().unwrap_or(0);
     let in_width = input.len() / rows.max(1);
@@ -622,7 +624,7 @@ impl Robot {
         let rows = |x: &Bound<'_, PyAny>, what: &str, k: usize| -> PyResult<Vec<f64>> {
             let a = crate::array::f64_array(x, what)?;
             match a.shape() {
-                [_, c] if *c == k => Ok(a.readonly().as_slice()?.to_vec()),
+                [_, c] if *c == k => Ok(a.to_vec()?),
                 shape => Err(PyValueError::new_err(format!(
                     "{what}: expected shape (n, {k}), got {}",
                     crate::array::shape_str(shape)
@@ -939,19 +941,18 @@ impl Robot {
                 .transpose()?;
             let q = f64_array(q, "q")?;
             let rows = Self::tree_rows_of(&kin, &q, "q")?;
-            let q = q.readonly();
-            let qs = q.as_slice()?;
             return match rows {
                 Rows::One => {
+                    let qs = q.to_vec()?;
                     let t = self
                         .with_tree_ws(&kin, |ws| match b {
-                            Some(b) => tree::fk::relative_pose(&kin, ws, qs, a, b),
-                            None => tree::fk::fk_frame(&kin, ws, qs, a),
+                            Some(b) => tree::fk::relative_pose(&kin, ws, &qs, a, b),
+                            None => tree::fk::fk_frame(&kin, ws, &qs, a),
                         })
                         .map_err(solve_error)?;
                     Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
                 }
-                Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK / 4, |qs, o| match b {
+                Rows::Many(n) => run_batch(py, &[n, 4, 4], &q, FK_CHUNK / 4, |qs, o| match b {
                     Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
                     None => tree::batch::fk_frame_batch(&kin, a, qs, o),
                 }),
@@ -960,14 +961,12 @@ impl Robot {
         let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
-        let q = q.readonly();
-        let qs = q.as_slice()?;
         match rows {
             Rows::One => {
-                let t = fk::fk(kin, &mut *self.workspace()?, qs).map_err(solve_error)?;
+                let t = fk::fk(kin, &mut *self.workspace()?, &q.to_vec()?).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, 4, 4], qs, FK_CHUNK, |qs, o| {
+            Rows::Many(n) => run_batch(py, &[n, 4, 4], &q, FK_CHUNK, |qs, o| {
                 batch::fk_batch(kin, qs, o)
             }),
         }
@@ -986,13 +985,11 @@ impl Robot {
         let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
-        let q = q.readonly();
-        let qs = q.as_slice()?;
         let links = kin.links().len();
         match rows {
             Rows::One => {
                 let mut ws = self.workspace()?;
-                let poses = fk::fk_all_links(kin, &mut ws, qs).map_err(solve_error)?;
+                let poses = fk::fk_all_links(kin, &mut ws, &q.to_vec()?).map_err(solve_error)?;
                 Ok(new_array(py, &[links, 4, 4], |o| {
                     for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
                         t.write_row_major(out);
@@ -1000,7 +997,7 @@ impl Robot {
                 })?
                 .into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], qs, FK_CHUNK / 16, |qs, o| {
+            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], &q, FK_CHUNK / 16, |qs, o| {
                 batch::fk_all_links_batch(kin, qs, o)
             }),
         }
@@ -1044,24 +1041,25 @@ impl Robot {
             let form = which.form();
             let q = f64_array(q, "q")?;
             let rows = Self::tree_rows_of(&kin, &q, "q")?;
-            let q = q.readonly();
-            let qs = q.as_slice()?;
             let nv = kin.nv();
             return match rows {
                 // Written straight into the new array (no intermediate copy).
-                Rows::One => self.with_tree_ws(&kin, |ws| {
-                    let pj = match b {
-                        Some(b) => tree::jacobian::relative_jacobian(&kin, ws, qs, a, b, form),
-                        None => tree::jacobian::frame_pose_jacobian(&kin, ws, qs, a, form),
-                    }
-                    .map_err(solve_error)?;
-                    Ok(
-                        new_array(py, &[6, nv], |o| batch::write_jacobian(pj.jacobian, o))?
-                            .into_any(),
-                    )
-                }),
+                Rows::One => {
+                    let qs = q.to_vec()?;
+                    self.with_tree_ws(&kin, |ws| {
+                        let pj = match b {
+                            Some(b) => tree::jacobian::relative_jacobian(&kin, ws, &qs, a, b, form),
+                            None => tree::jacobian::frame_pose_jacobian(&kin, ws, &qs, a, form),
+                        }
+                        .map_err(solve_error)?;
+                        Ok(
+                            new_array(py, &[6, nv], |o| batch::write_jacobian(pj.jacobian, o))?
+                                .into_any(),
+                        )
+                    })
+                }
                 Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
-                Rows::Many(n) => run_batch(py, &[n, 6, nv], qs, FK_CHUNK / 16, |qs, o| match b {
+                Rows::Many(n) => run_batch(py, &[n, 6, nv], &q, FK_CHUNK / 16, |qs, o| match b {
                     Some(b) => {
                         tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
                     }
@@ -1073,15 +1071,14 @@ impl Robot {
         let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
-        let q = q.readonly();
-        let qs = q.as_slice()?;
         let n = kin.dof();
         match rows {
             Rows::One => {
+                let qs = q.to_vec()?;
                 let mut ws = self.workspace()?;
                 let j = match frame {
-                    Some(f) => jacobian::jacobian(kin, &mut ws, qs, f),
-                    None => jacobian::jacobian_world_aligned(kin, &mut ws, qs),
+                    Some(f) => jacobian::jacobian(kin, &mut ws, &qs, f),
+                    None => jacobian::jacobian_world_aligned(kin, &mut ws, &qs),
                 }
                 .map_err(solve_error)?;
                 Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
@@ -1090,7 +1087,7 @@ impl Robot {
             // empty rows).
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
             Rows::Many(rows) => {
-                run_batch(py, &[rows, 6, n], qs, FK_CHUNK / 4, |qs, o| match frame {
+                run_batch(py, &[rows, 6, n], &q, FK_CHUNK / 4, |qs, o| match frame {
                     Some(f) => batch::jacobian_batch(kin, qs, f, o, None),
                     None => batch::jacobian_world_aligned_batch(kin, qs, o, None),
                 })
@@ -1417,7 +1414,7 @@ impl Robot {
                 shape_str(arr.shape())
             )));
         }
-        let qpos = arr.readonly().as_slice()?.to_vec();
+        let qpos = arr.to_vec()?;
         let q = screwkit_service::mujoco::from_qpos(&kin, &qpos).map_err(service_error)?;
         Ok(q.to_pyarray(py))
     }
@@ -1656,8 +1653,7 @@ impl Robot {
         let seed = match seed {
             Some(s) => {
                 let a = f64_array(s, "seed")?;
-                let r = a.readonly();
-                r.as_slice()?.to_vec()
+                a.to_vec()?
             }
             None => self.kin()?.midpoint(),
         };
