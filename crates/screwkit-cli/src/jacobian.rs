@@ -5,8 +5,8 @@ use screwkit_lie::display::fixed;
 use screwkit_solve::analysis::{
     analyze_jacobian, analyze_position_jacobian, Analysis, PositionAnalysis,
 };
-use screwkit_solve::batch::{jacobian_batch, jacobian_world_aligned_batch};
-use screwkit_solve::jacobian::{jacobian, jacobian_world_aligned};
+use screwkit_solve::batch::jacobian_batch;
+use screwkit_solve::jacobian::jacobian;
 use screwkit_solve::{Kinematics, SolveError, Workspace};
 use serde_json::{json, Value};
 
@@ -107,10 +107,7 @@ fn run_batch(
         let rows = lines.len();
         let mut jac = vec![0.0; rows * 6 * n];
         let mut poses = vec![0.0; rows * 16];
-        let result = match frame.screw() {
-            Some(f) => jacobian_batch(kin, &qs, f, &mut jac, Some(&mut poses)),
-            None => jacobian_world_aligned_batch(kin, &qs, &mut jac, Some(&mut poses)),
-        };
+        let result = jacobian_batch(kin, &qs, frame.kind(), &mut jac, Some(&mut poses));
         batch::merge_row_errors(result, &mut errors)?;
         Ok(batch::outputs(lines, &errors, |k| {
             let j = Matrix6xX::from_row_slice(&jac[k * 6 * n..(k + 1) * 6 * n]);
@@ -131,10 +128,7 @@ fn one(
     q: &[f64],
     frame: JacobianFrame,
 ) -> Result<Matrix6xX<f64>, SolveError> {
-    match frame.screw() {
-        Some(f) => jacobian(kin, ws, q, f).cloned(),
-        None => jacobian_world_aligned(kin, ws, q).cloned(),
-    }
+    jacobian(kin, ws, q, frame.kind()).cloned()
 }
 
 /// The whole-tree request of `jacobian --of A [--relative-to B]`: the frames, the form and the
@@ -173,7 +167,7 @@ impl TreeRequest<'_> {
         poses: Option<&mut [f64]>,
     ) -> Result<(), SolveError> {
         use screwkit_solve::tree::batch::{frame_jacobian_batch, relative_jacobian_batch};
-        let form = self.frame.form();
+        let form = self.frame.kind();
         match self.b {
             Some(b) => relative_jacobian_batch(self.kin, (self.a, b), form, qs, jac, poses),
             None => frame_jacobian_batch(self.kin, self.a, form, qs, jac, poses),
@@ -242,7 +236,7 @@ fn run_tree(robot: &screwkit_service::Robot, args: &JacobianArgs, format: Format
         .expect("clap requires --q without --input")
         .0;
     let mut ws = robot.tree_workspace()?;
-    let form = args.frame.form();
+    let form = args.frame.kind();
     let pj = match req.b {
         Some(b) => {
             screwkit_solve::tree::jacobian::relative_jacobian(kin, &mut ws, q, req.a, b, form)?
@@ -331,12 +325,9 @@ pub fn run(args: &JacobianArgs, format: Format) -> CliResult {
                 ));
             }
             let n = kin.dof();
-            let frame = args.frame;
+            let kind = args.frame.kind();
             return crate::npy::run(input, output, n, "dof", &[6, n], |qs, _, out| {
-                match frame.screw() {
-                    Some(f) => jacobian_batch(kin, qs, f, out, None),
-                    None => jacobian_world_aligned_batch(kin, qs, out, None),
-                }
+                jacobian_batch(kin, qs, kind, out, None)
             });
         }
         return run_batch(kin, input, args.frame, args.analyze);

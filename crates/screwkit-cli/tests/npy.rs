@@ -188,7 +188,7 @@ fn npy_batches_equal_the_library_batches() {
 fn tree_npy_batches_equal_the_library() {
     use screwkit_model::{urdf, KinematicTree};
     use screwkit_solve::tree::{batch, configuration};
-    use screwkit_solve::{sample::SplitMix64, Form, TreeKinematics};
+    use screwkit_solve::{sample::SplitMix64, JacobianKind, TreeKinematics};
     let dir = std::env::temp_dir().join(format!("screwkit-tree-npy-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let urdf = bundled("torso_two_arms.urdf");
@@ -263,7 +263,7 @@ fn tree_npy_batches_equal_the_library() {
     let _ = batch::frame_jacobian_batch(
         &kin,
         kin.frame("left_hand").unwrap(),
-        Form::WorldAligned,
+        JacobianKind::WorldAligned,
         &qs,
         &mut want,
         None,

@@ -6,7 +6,7 @@ use std::process::Command;
 
 use screwkit_model::{urdf, KinematicTree};
 use screwkit_solve::tree::{fk, jacobian};
-use screwkit_solve::{Form, TreeKinematics, TreeWorkspace};
+use screwkit_solve::{JacobianKind, TreeKinematics, TreeWorkspace};
 use serde_json::Value;
 
 const BIN: &str = env!("CARGO_BIN_EXE_screwkit");
@@ -127,9 +127,9 @@ fn jacobian_of_a_frame_and_relative() {
     let mut ws = TreeWorkspace::new(&kin);
     let q = parse(Q);
     for (form, word) in [
-        (Form::Space, "space"),
-        (Form::Body, "body"),
-        (Form::WorldAligned, "world-aligned"),
+        (JacobianKind::Space, "space"),
+        (JacobianKind::Body, "body"),
+        (JacobianKind::WorldAligned, "world-aligned"),
     ] {
         for relative in [None, Some("head")] {
             let mut args = vec![
@@ -262,7 +262,7 @@ fn tree_batches_answer_each_line_as_the_single_call() {
     let kin = model(false);
     let mut ws = TreeWorkspace::new(&kin);
     let (a, b) = (kin.frame("left_hand").unwrap(), kin.frame("head").unwrap());
-    let j = jacobian::relative_jacobian(&kin, &mut ws, &parse(Q), a, b, Form::Body)
+    let j = jacobian::relative_jacobian(&kin, &mut ws, &parse(Q), a, b, JacobianKind::Body)
         .unwrap()
         .jacobian
         .clone();

@@ -1038,7 +1038,7 @@ impl Robot {
             let b = relative_to
                 .map(|r| Self::frame_index(&kin, r))
                 .transpose()?;
-            let form = which.form();
+            let form = which.kind();
             let q = f64_array(q, "q")?;
             let rows = Self::tree_rows_of(&kin, &q, "q")?;
             let nv = kin.nv();
@@ -1067,31 +1067,24 @@ impl Robot {
                 }),
             };
         }
-        let frame = which.screw();
+        let kind = which.kind();
         let kin = self.kin()?;
         let q = f64_array(q, "q")?;
         let rows = self.rows_of(&q, "q")?;
         let n = kin.dof();
         match rows {
             Rows::One => {
-                let qs = q.to_vec()?;
                 let mut ws = self.workspace()?;
-                let j = match frame {
-                    Some(f) => jacobian::jacobian(kin, &mut ws, &qs, f),
-                    None => jacobian::jacobian_world_aligned(kin, &mut ws, &qs),
-                }
-                .map_err(solve_error)?;
+                let j =
+                    jacobian::jacobian(kin, &mut ws, &q.to_vec()?, kind).map_err(solve_error)?;
                 Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
             }
             // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
             // empty rows).
             Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
-            Rows::Many(rows) => {
-                run_batch(py, &[rows, 6, n], &q, FK_CHUNK / 4, |qs, o| match frame {
-                    Some(f) => batch::jacobian_batch(kin, qs, f, o, None),
-                    None => batch::jacobian_world_aligned_batch(kin, qs, o, None),
-                })
-            }
+            Rows::Many(rows) => run_batch(py, &[rows, 6, n], &q, FK_CHUNK / 4, |qs, o| {
+                batch::jacobian_batch(kin, qs, kind, o, None)
+            }),
         }
     }
 
@@ -1664,7 +1657,7 @@ impl Robot {
             }
             None => None,
             // (A str checked by type, not by a failed extraction: this runs on every call.)
-            Some(j) => Some(if let Ok(name) = j.downcast::<pyo3::types::PyString>() {
+            Some(j) => Some(if let Ok(name) = j.cast::<pyo3::types::PyString>() {
                 JointRef::Name(name.extract::<String>()?)
             } else {
                 JointRef::Index(j.extract::<usize>().map_err(|_| {

@@ -184,21 +184,12 @@ words! {
 }
 
 impl JacobianFrame {
-    /// The library frame of J_s / J_b; None for the world-aligned Jacobian.
-    pub fn screw(self) -> Option<Frame> {
+    /// The library's one Jacobian kind, for a chain's tip and for any frame of the tree.
+    pub fn kind(self) -> screwkit_solve::JacobianKind {
         match self {
-            JacobianFrame::Space => Some(Frame::Space),
-            JacobianFrame::Body => Some(Frame::Body),
-            JacobianFrame::WorldAligned => None,
-        }
-    }
-
-    /// The whole-tree algorithms' form ([`screwkit_solve::Form`]).
-    pub fn form(self) -> screwkit_solve::Form {
-        match self {
-            JacobianFrame::Space => screwkit_solve::Form::Space,
-            JacobianFrame::Body => screwkit_solve::Form::Body,
-            JacobianFrame::WorldAligned => screwkit_solve::Form::WorldAligned,
+            JacobianFrame::Space => screwkit_solve::JacobianKind::Space,
+            JacobianFrame::Body => screwkit_solve::JacobianKind::Body,
+            JacobianFrame::WorldAligned => screwkit_solve::JacobianKind::WorldAligned,
         }
     }
 }

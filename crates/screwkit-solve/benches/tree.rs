@@ -19,7 +19,7 @@ use screwkit_solve::sample::SplitMix64;
 use screwkit_solve::tree::differential_ik::{self, DiffIkWorkspace, Limits};
 use screwkit_solve::tree::tasks::Task;
 use screwkit_solve::tree::{configuration, fk, jacobian};
-use screwkit_solve::{Form, TreeKinematics, TreeWorkspace};
+use screwkit_solve::{JacobianKind, TreeKinematics, TreeWorkspace};
 
 fn main() {
     let args: Vec<String> = std::env::args()
@@ -61,8 +61,14 @@ fn main() {
         }
         let t1 = Instant::now();
         for k in 0..calls {
-            let j = jacobian::frame_jacobian(&kin, &mut ws, &qs[k % 256], f, Form::WorldAligned)
-                .unwrap();
+            let j = jacobian::frame_jacobian(
+                &kin,
+                &mut ws,
+                &qs[k % 256],
+                f,
+                JacobianKind::WorldAligned,
+            )
+            .unwrap();
             black_box(j[(0, 0)]);
         }
         let t2 = Instant::now();

@@ -28,7 +28,7 @@ use crate::block::{SpaceJacobianBlock, TipBlock, W};
 use crate::error::{RowError, SolveError};
 use crate::fk::{fk_unchecked, link_poses_unchecked};
 use crate::ik::{check_options, check_target, solve_unchecked, IkOptions, IkStatus};
-use crate::jacobian::fk_jacobian_into;
+use crate::jacobian::{fk_jacobian_into, JacobianKind};
 use crate::kinematics::Kinematics;
 use crate::sample::SplitMix64;
 use crate::workspace::Workspace;
@@ -289,9 +289,24 @@ pub fn fk_all_links_batch(
     ))
 }
 
-/// Jacobians in `frame` of N configurations: `jacobians[6n·k..6n·(k+1)]` = J(q_k), row-major
-/// 6 × n (rows (ω, v)); with `poses`, also the tip poses (N × 16) from the same pass.
+/// Jacobians of `kind` of N configurations: `jacobians[6n·k..6n·(k+1)]` = J(q_k), row-major
+/// 6 × n (rows (ω, v)); with `poses`, also the tip poses (N × 16) from the same pass. Row k
+/// equals [`crate::jacobian::jacobian`] on row k bit for bit.
 pub fn jacobian_batch(
+    kin: &Kinematics,
+    qs: &[f64],
+    kind: impl Into<JacobianKind>,
+    jacobians: &mut [f64],
+    poses: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
+    match kind.into() {
+        JacobianKind::WorldAligned => world_aligned_batch(kin, qs, jacobians, poses),
+        kind => screw_jacobian_batch(kin, qs, kind.pass(), jacobians, poses),
+    }
+}
+
+/// [`jacobian_batch`] of the space or body kind (`frame`).
+fn screw_jacobian_batch(
     kin: &Kinematics,
     qs: &[f64],
     frame: Frame,
@@ -349,10 +364,21 @@ pub fn jacobian_batch(
     ))
 }
 
-/// Tip-point Jacobians in base axes (see [`crate::jacobian::jacobian_world_aligned`]) of N
-/// configurations, row-major 6 × n each, with the tip poses when asked: the space batch,
-/// then each column moved to the tip point.
+/// Tip-point Jacobians in base axes of N configurations: [`jacobian_batch`] with
+/// [`JacobianKind::WorldAligned`].
+#[deprecated(note = "use `jacobian_batch(kin, qs, JacobianKind::WorldAligned, jacobians, poses)`")]
 pub fn jacobian_world_aligned_batch(
+    kin: &Kinematics,
+    qs: &[f64],
+    jacobians: &mut [f64],
+    poses: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
+    jacobian_batch(kin, qs, JacobianKind::WorldAligned, jacobians, poses)
+}
+
+/// The world-aligned kind of [`jacobian_batch`]: the space batch, then each column moved to
+/// the tip point ([`crate::jacobian::space_to_world_aligned`]), as the single call does.
+fn world_aligned_batch(
     kin: &Kinematics,
     qs: &[f64],
     jacobians: &mut [f64],
@@ -367,7 +393,7 @@ pub fn jacobian_world_aligned_batch(
             &mut own[..]
         }
     };
-    let result = jacobian_batch(kin, qs, Frame::Space, jacobians, Some(&mut *poses));
+    let result = screw_jacobian_batch(kin, qs, Frame::Space, jacobians, Some(&mut *poses));
     if n > 0 {
         let to_world_aligned = |(j, t): (&mut [f64], &[f64])| {
             let p = nalgebra::Vector3::new(t[3], t[7], t[11]);

@@ -15,6 +15,42 @@ use crate::kinematics::Kinematics;
 use crate::poe::{walk, walk_rev, PoeJoint};
 use crate::workspace::Workspace;
 
+/// Which Jacobian of a frame: the one kind for a chain's tip and for any frame of a tree (the
+/// rows are (ω, v) in each; `From<Frame>` gives the space and body kinds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum JacobianKind {
+    /// J_s: the frame's spatial twist, in the world (base) frame: V_s = J_s q̇. Column j is
+    /// joint j's screw axis at q (*Modern Robotics* eq. 5.11).
+    Space,
+    /// J_b = \[Ad_{T⁻¹}\] J_s: the frame's body twist, in the frame itself (eq. 5.18).
+    Body,
+    /// The frame's angular velocity and its origin's linear velocity, both in the world's
+    /// axes (Pinocchio's `LOCAL_WORLD_ALIGNED`, Robotics Toolbox's `jacob0`): (ω, v_s + ω × p)
+    /// ([`space_to_world_aligned`]).
+    WorldAligned,
+}
+
+impl From<Frame> for JacobianKind {
+    fn from(f: Frame) -> JacobianKind {
+        match f {
+            Frame::Space => JacobianKind::Space,
+            Frame::Body => JacobianKind::Body,
+        }
+    }
+}
+
+impl JacobianKind {
+    /// The frame of the screw pass that makes this kind (the world-aligned one comes from the
+    /// space pass).
+    #[inline]
+    pub fn pass(self) -> Frame {
+        match self {
+            JacobianKind::Body => Frame::Body,
+            JacobianKind::Space | JacobianKind::WorldAligned => Frame::Space,
+        }
+    }
+}
+
 /// The tip pose and the Jacobian of one pass (see [`fk_jacobian`]).
 ///
 /// `repr(C)` with the pose first: the kernel then writes the pose straight into the caller's
@@ -54,35 +90,33 @@ pub fn jacobian<'w>(
     kin: &Kinematics,
     ws: &'w mut Workspace,
     q: &[f64],
-    frame: Frame,
+    kind: impl Into<JacobianKind>,
 ) -> Result<&'w Matrix6xX<f64>, SolveError> {
-    Ok(fk_jacobian(kin, ws, q, frame)?.jacobian)
+    Ok(fk_jacobian(kin, ws, q, kind)?.jacobian)
 }
 
-/// The tip-point Jacobian in base axes ("world-aligned": Pinocchio's `LOCAL_WORLD_ALIGNED`,
-/// Robotics Toolbox's `jacob0`), in the workspace: rows (ω, ṗ) — the angular velocity and the
-/// velocity of the tip point, both in base-frame axes — so (ω, ṗ) = J_wa q̇. From the space
-/// Jacobian and the tip position p ([`space_to_world_aligned`]). Checks q.
+/// The tip-point Jacobian in base axes: [`jacobian`] with [`JacobianKind::WorldAligned`].
+#[deprecated(note = "use `jacobian(kin, ws, q, JacobianKind::WorldAligned)`")]
 pub fn jacobian_world_aligned<'w>(
     kin: &Kinematics,
     ws: &'w mut Workspace,
     q: &[f64],
 ) -> Result<&'w Matrix6xX<f64>, SolveError> {
-    kin.check_q(q)?;
-    ws.fit(kin);
-    let pose = fk_jacobian_into(kin, &mut ws.jacobian, q, Frame::Space);
-    let n = ws.jacobian.ncols();
-    for c in 0..n {
+    jacobian(kin, ws, q, JacobianKind::WorldAligned)
+}
+
+/// Every column of a space Jacobian made world-aligned at p ([`space_to_world_aligned`]).
+pub(crate) fn world_aligned_columns(jac: &mut Matrix6xX<f64>, p: &nalgebra::Vector3<f64>) {
+    for c in 0..jac.ncols() {
         let mut col = [0.0; 6];
         for (r, x) in col.iter_mut().enumerate() {
-            *x = ws.jacobian[(r, c)];
+            *x = jac[(r, c)];
         }
-        space_to_world_aligned(&mut col, pose.translation());
+        space_to_world_aligned(&mut col, p);
         for (r, x) in col.iter().enumerate() {
-            ws.jacobian[(r, c)] = *x;
+            jac[(r, c)] = *x;
         }
     }
-    Ok(&ws.jacobian)
 }
 
 /// One column of J_s, (ω, v) with v the velocity of the body point at the base origin, made a
@@ -121,17 +155,21 @@ pub fn joint_screws(
     Ok(out)
 }
 
-/// The tip pose and the Jacobian in `frame`, from the same pass (the cost of the Jacobian
+/// The tip pose and the Jacobian of `kind`, from the same pass (the cost of the Jacobian
 /// alone). Checks q.
 pub fn fk_jacobian<'w>(
     kin: &Kinematics,
     ws: &'w mut Workspace,
     q: &[f64],
-    frame: Frame,
+    kind: impl Into<JacobianKind>,
 ) -> Result<PoseJacobian<'w>, SolveError> {
     kin.check_q(q)?;
     ws.fit(kin);
-    let pose = fk_jacobian_into(kin, &mut ws.jacobian, q, frame);
+    let kind = kind.into();
+    let pose = fk_jacobian_into(kin, &mut ws.jacobian, q, kind.pass());
+    if kind == JacobianKind::WorldAligned {
+        world_aligned_columns(&mut ws.jacobian, pose.translation());
+    }
     Ok(PoseJacobian {
         pose,
         jacobian: &ws.jacobian,

@@ -72,9 +72,12 @@ pub mod velocity;
 mod workspace;
 
 pub use error::{BadTarget, RowError, SolveError};
+pub use jacobian::JacobianKind;
 pub use kinematics::Kinematics;
 pub use screwkit_lie::Frame;
-pub use tree::{Form, TreeKinematics, TreeWorkspace};
+#[allow(deprecated)]
+pub use tree::Form;
+pub use tree::{TreeKinematics, TreeWorkspace};
 pub use workspace::Workspace;
 
 /// The bundled chains the unit tests run every kernel on: (file, prepared chain).

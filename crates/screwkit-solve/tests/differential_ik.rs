@@ -20,7 +20,7 @@ use screwkit_solve::tree::differential_ik::{
 };
 use screwkit_solve::tree::tasks::{Task, TaskKind};
 use screwkit_solve::tree::{com, configuration, fk, jacobian};
-use screwkit_solve::{Form, TreeKinematics, TreeWorkspace};
+use screwkit_solve::{JacobianKind, TreeKinematics, TreeWorkspace};
 use screwkit_testkit::reference::{tree_com, tree_world_poses};
 
 fn load(path: &str, floating: bool) -> (Tree, TreeKinematics) {
@@ -112,12 +112,20 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
             let (pose, jac) = match relative_to {
                 None => {
                     let pj =
-                        jacobian::frame_pose_jacobian(kin, &mut ws, q, *frame, Form::Body).unwrap();
+                        jacobian::frame_pose_jacobian(kin, &mut ws, q, *frame, JacobianKind::Body)
+                            .unwrap();
                     (pj.pose, pj.jacobian.clone())
                 }
                 Some(b) => {
-                    let pj = jacobian::relative_jacobian(kin, &mut ws, q, *frame, *b, Form::Body)
-                        .unwrap();
+                    let pj = jacobian::relative_jacobian(
+                        kin,
+                        &mut ws,
+                        q,
+                        *frame,
+                        *b,
+                        JacobianKind::Body,
+                    )
+                    .unwrap();
                     (pj.pose, pj.jacobian.clone())
                 }
             };
@@ -139,7 +147,8 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
             point,
         } => {
             let pj =
-                jacobian::frame_pose_jacobian(kin, &mut ws, q, *frame, Form::WorldAligned).unwrap();
+                jacobian::frame_pose_jacobian(kin, &mut ws, q, *frame, JacobianKind::WorldAligned)
+                    .unwrap();
             let (pose, jac) = (pj.pose, pj.jacobian.clone());
             let aw = pose.rotation() * axis.normalize();
             let d = direction.normalize();

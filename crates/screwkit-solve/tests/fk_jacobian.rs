@@ -262,8 +262,8 @@ fn joint_screws_recombine_into_the_space_jacobian() {
 /// differences), its angular rows those of J_s; the batch equals the single call bit for bit.
 #[test]
 fn world_aligned_jacobian_is_the_tip_point_velocity() {
-    use screwkit_solve::batch::jacobian_world_aligned_batch;
-    use screwkit_solve::jacobian::jacobian_world_aligned;
+    use screwkit_solve::batch::jacobian_batch;
+    use screwkit_solve::JacobianKind;
     let mut rng = Sampler::new(21);
     for &(file, base, tip) in CHAINS {
         let (_, _, kin) = load(file, base, tip);
@@ -272,7 +272,15 @@ fn world_aligned_jacobian_is_the_tip_point_velocity() {
         let mut qs = Vec::new();
         for _ in 0..4 {
             let q = rng.config(&kin);
-            let jwa = jacobian_world_aligned(&kin, &mut ws, &q).unwrap().clone();
+            let jwa = jacobian(&kin, &mut ws, &q, JacobianKind::WorldAligned)
+                .unwrap()
+                .clone();
+            // The deprecated name of one release answers the same.
+            #[allow(deprecated)]
+            let old = screwkit_solve::jacobian::jacobian_world_aligned(&kin, &mut ws, &q)
+                .unwrap()
+                .clone();
+            assert_eq!(old, jwa, "{file}");
             let js = jacobian(&kin, &mut ws, &q, Frame::Space).unwrap().clone();
             let h = 1e-6;
             for k in 0..n {
@@ -294,9 +302,15 @@ fn world_aligned_jacobian_is_the_tip_point_velocity() {
         }
         let rows = qs.len() / n.max(1);
         let mut batch = vec![0.0; rows * 6 * n];
-        jacobian_world_aligned_batch(&kin, &qs, &mut batch, None).unwrap();
+        jacobian_batch(&kin, &qs, JacobianKind::WorldAligned, &mut batch, None).unwrap();
         for k in 0..rows {
-            let j = jacobian_world_aligned(&kin, &mut ws, &qs[k * n..(k + 1) * n]).unwrap();
+            let j = jacobian(
+                &kin,
+                &mut ws,
+                &qs[k * n..(k + 1) * n],
+                JacobianKind::WorldAligned,
+            )
+            .unwrap();
             for r in 0..6 {
                 for c in 0..n {
                     assert_eq!(batch[k * 6 * n + r * n + c], j[(r, c)], "{file}: row {k}");

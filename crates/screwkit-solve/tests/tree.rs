@@ -8,7 +8,7 @@ use screwkit_lie::Se3;
 use screwkit_model::{urdf, KinematicTree, Tree};
 use screwkit_solve::sample::SplitMix64;
 use screwkit_solve::tree::{batch, configuration, fk, jacobian};
-use screwkit_solve::{Form, Kinematics, TreeKinematics, TreeWorkspace, Workspace};
+use screwkit_solve::{JacobianKind, Kinematics, TreeKinematics, TreeWorkspace, Workspace};
 use screwkit_testkit::reference::tree_world_poses;
 
 /// The bundled files (all of them are trees; most are single chains).
@@ -115,20 +115,20 @@ fn fd_body(
 }
 
 /// The three forms of a Jacobian from its body form and the pose.
-fn forms_from_body(jb: &Vector6<f64>, t: &Se3) -> [(Form, Vector6<f64>); 3] {
+fn forms_from_body(jb: &Vector6<f64>, t: &Se3) -> [(JacobianKind, Vector6<f64>); 3] {
     let tw = screwkit_lie::Twist::new(jb.fixed_rows::<3>(0).into(), jb.fixed_rows::<3>(3).into());
     let s = t.adjoint_apply(&tw);
     let r = t.rotation();
     let wa_w = r * tw.w;
     let wa_v = r * tw.v;
     [
-        (Form::Body, *jb),
+        (JacobianKind::Body, *jb),
         (
-            Form::Space,
+            JacobianKind::Space,
             Vector6::new(s.w[0], s.w[1], s.w[2], s.v[0], s.v[1], s.v[2]),
         ),
         (
-            Form::WorldAligned,
+            JacobianKind::WorldAligned,
             Vector6::new(wa_w[0], wa_w[1], wa_w[2], wa_v[0], wa_v[1], wa_v[2]),
         ),
     ]
@@ -148,7 +148,11 @@ fn check_jacobians(label: &str, tree: &Tree, floating: bool, samples: usize) {
             let pose = |q: &[f64]| fk::fk_frame(&kin, &mut TreeWorkspace::new(&kin), q, f).unwrap();
             let t = pose(&q);
             let fd: Vec<_> = (0..kin.nv()).map(|i| fd_body(&kin, &pose, &q, i)).collect();
-            for form in [Form::Space, Form::Body, Form::WorldAligned] {
+            for form in [
+                JacobianKind::Space,
+                JacobianKind::Body,
+                JacobianKind::WorldAligned,
+            ] {
                 let got = jacobian::frame_pose_jacobian(&kin, &mut ws, &q, f, form).unwrap();
                 assert!(
                     got.pose.max_abs_diff(&t) < 1e-14,
@@ -182,7 +186,11 @@ fn check_jacobians(label: &str, tree: &Tree, floating: bool, samples: usize) {
             let tb = fk::fk_frame(&kin, &mut ws, &q, b).unwrap();
             let trel = rel_pose(&q);
             assert!(trel.max_abs_diff(&tb.inverse_compose(&t)) < 1e-14);
-            for form in [Form::Space, Form::Body, Form::WorldAligned] {
+            for form in [
+                JacobianKind::Space,
+                JacobianKind::Body,
+                JacobianKind::WorldAligned,
+            ] {
                 let got = jacobian::relative_jacobian(&kin, &mut ws, &q, f, b, form).unwrap();
                 assert!(got.pose.max_abs_diff(&trel) < 1e-14);
                 let j = got.jacobian.clone();
@@ -243,7 +251,7 @@ fn check_joint_screws(label: &str, tree: &Tree, floating: bool, samples: usize) 
             }
         }
         for l in 0..model.links.len() {
-            let jac = jacobian::frame_jacobian(&kin, &mut ws, &q, l, Form::Space)
+            let jac = jacobian::frame_jacobian(&kin, &mut ws, &q, l, JacobianKind::Space)
                 .unwrap()
                 .clone();
             for var in 0..model.variables.len() {
@@ -348,7 +356,7 @@ fn the_chain_is_a_view_of_the_tree() {
             )
             .unwrap()
             .clone();
-            let tj = jacobian::frame_jacobian(&kin, &mut ws, &q, tip, Form::Space).unwrap();
+            let tj = jacobian::frame_jacobian(&kin, &mut ws, &q, tip, JacobianKind::Space).unwrap();
             // The tree sweeps in the joints' own frames, the chain kernel in the space
             // screws: the same product, rounded differently.
             for (c, &k) in order.iter().enumerate() {
@@ -383,7 +391,7 @@ fn torso_two_arms_is_one_tree_with_two_hands() {
     for &leaf in &leaves {
         let f = kin.frame(&tree.links[leaf]).unwrap();
         let path = model.path(f);
-        let j = jacobian::frame_jacobian(&kin, &mut ws, &q, f, Form::Space)
+        let j = jacobian::frame_jacobian(&kin, &mut ws, &q, f, JacobianKind::Space)
             .unwrap()
             .clone();
         for v in 0..kin.nv() {
@@ -475,14 +483,25 @@ fn batches_equal_single_calls_and_report_bad_rows() {
         let nv = kin.nv();
         let mut jac = vec![0.0; n * 6 * nv];
         let mut poses = vec![0.0; n * 16];
-        assert!(
-            batch::frame_jacobian_batch(&kin, f, Form::Body, &qs, &mut jac, Some(&mut poses))
-                .is_err()
-        );
+        assert!(batch::frame_jacobian_batch(
+            &kin,
+            f,
+            JacobianKind::Body,
+            &qs,
+            &mut jac,
+            Some(&mut poses)
+        )
+        .is_err());
         let mut rel = vec![0.0; n * 6 * nv];
-        assert!(
-            batch::relative_jacobian_batch(&kin, (f, 1), Form::Space, &qs, &mut rel, None).is_err()
-        );
+        assert!(batch::relative_jacobian_batch(
+            &kin,
+            (f, 1),
+            JacobianKind::Space,
+            &qs,
+            &mut rel,
+            None
+        )
+        .is_err());
         for k in 0..n {
             let q = &qs[k * kin.nq()..(k + 1) * kin.nq()];
             if k == 17 {
@@ -503,7 +522,8 @@ fn batches_equal_single_calls_and_report_bad_rows() {
                 .unwrap()
                 .write_row_major(&mut m);
             assert_eq!(&one[k * 16..(k + 1) * 16], &m);
-            let pj = jacobian::frame_pose_jacobian(&kin, &mut ws, q, f, Form::Body).unwrap();
+            let pj =
+                jacobian::frame_pose_jacobian(&kin, &mut ws, q, f, JacobianKind::Body).unwrap();
             pj.pose.write_row_major(&mut m);
             assert_eq!(&poses[k * 16..(k + 1) * 16], &m);
             let j = pj.jacobian;
@@ -512,7 +532,7 @@ fn batches_equal_single_calls_and_report_bad_rows() {
                     assert_eq!(jac[k * 6 * nv + r * nv + c], j[(r, c)]);
                 }
             }
-            let j = jacobian::relative_jacobian(&kin, &mut ws, q, f, 1, Form::Space)
+            let j = jacobian::relative_jacobian(&kin, &mut ws, q, f, 1, JacobianKind::Space)
                 .unwrap()
                 .jacobian;
             for r in 0..6 {

@@ -15,9 +15,10 @@ use rayon::prelude::*;
 
 use super::fk::{frame_unchecked, frames_unchecked};
 use super::jacobian::{pose_jacobian_unchecked, relative_unchecked};
-use super::{Form, TreeKinematics, TreeWorkspace};
+use super::{TreeKinematics, TreeWorkspace};
 use crate::batch::{check_out, finish, rows_of, write_jacobian, CHUNK};
 use crate::error::{RowError, SolveError};
+use crate::jacobian::JacobianKind;
 use screwkit_lie::Se3;
 
 /// One row's work: (workspace, q, base pose, output row, extra output row).
@@ -133,7 +134,7 @@ pub fn fk_frame_batch(
 pub fn frame_jacobian_batch(
     kin: &TreeKinematics,
     frame: usize,
-    form: Form,
+    form: JacobianKind,
     qs: &[f64],
     jacobians: &mut [f64],
     poses: Option<&mut [f64]>,
@@ -173,7 +174,7 @@ fn jacobian_rows(
 pub fn relative_jacobian_batch(
     kin: &TreeKinematics,
     (a, b): (usize, usize),
-    form: Form,
+    form: JacobianKind,
     qs: &[f64],
     jacobians: &mut [f64],
     poses: Option<&mut [f64]>,

@@ -20,9 +20,10 @@ use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{trig, Se3, Twist};
 
 use super::fk::sin_cos_lanes;
-use super::{Form, TreeKinematics, TreeWorkspace, NONE};
+use super::{TreeKinematics, TreeWorkspace, NONE};
 use crate::columns::{add, cross, sub, Columns, Lane};
 use crate::error::SolveError;
+use crate::jacobian::JacobianKind;
 use crate::jacobian::{space_to_world_aligned, PoseJacobian};
 
 /// The Jacobian of `frame` in `form` (6 × nv), in the workspace. Checks q and the index.
@@ -31,7 +32,7 @@ pub fn frame_jacobian<'w>(
     ws: &'w mut TreeWorkspace,
     q: &[f64],
     frame: usize,
-    form: Form,
+    form: JacobianKind,
 ) -> Result<&'w Matrix6xX<f64>, SolveError> {
     Ok(frame_pose_jacobian(kin, ws, q, frame, form)?.jacobian)
 }
@@ -42,7 +43,7 @@ pub fn frame_pose_jacobian<'w>(
     ws: &'w mut TreeWorkspace,
     q: &[f64],
     frame: usize,
-    form: Form,
+    form: JacobianKind,
 ) -> Result<PoseJacobian<'w>, SolveError> {
     kin.check_frame(frame)?;
     let base = kin.check_q(q)?;
@@ -68,7 +69,7 @@ pub(crate) fn pose_jacobian_unchecked(
     q: &[f64],
     base: &Se3,
     frame: usize,
-    form: Form,
+    form: JacobianKind,
     other: bool,
 ) -> Se3 {
     let TreeWorkspace {
@@ -110,12 +111,12 @@ pub(crate) fn pose_jacobian_unchecked(
     let out = jac.as_mut_slice();
     if kin.floating {
         let ad = match form {
-            Form::Body => base.inverse_compose(&pose).inverse().adjoint(),
+            JacobianKind::Body => base.inverse_compose(&pose).inverse().adjoint(),
             _ => base.adjoint(),
         };
         for i in 0..6 {
             let mut col: [f64; 6] = ad.column(i).into();
-            if form == Form::WorldAligned {
+            if form == JacobianKind::WorldAligned {
                 space_to_world_aligned(&mut col, pose.translation());
             }
             out[6 * i..6 * i + 6].copy_from_slice(&col);
@@ -132,7 +133,7 @@ struct PathColumns<'a> {
     q: &'a [f64],
     base: Columns,
     frame: usize,
-    form: Form,
+    form: JacobianKind,
     /// Joint indices, parents first.
     path: &'a [usize],
     theta: &'a mut [f64],
@@ -172,20 +173,20 @@ impl Kernel for PathColumns<'_> {
             *col = [g.rotate::<A>(w), rv, g.p()];
         }
         let t = kin.frames[self.frame].placement.apply::<A>(&g);
-        let inv = (self.form == Form::Body).then(|| t.inverse::<A>());
+        let inv = (self.form == JacobianKind::Body).then(|| t.inverse::<A>());
         for (&k, &[w, rv, p]) in self.path.iter().zip(self.columns.iter()) {
             let (w, v) = match (self.form, &inv) {
-                (Form::Space, _) => (w, add(cross(p, w), rv)),
+                (JacobianKind::Space, _) => (w, add(cross(p, w), rv)),
                 // (ω, v + ω × p_F) (`jacobian::space_to_world_aligned`) = (ω, (p − p_F) × ω + R v).
-                (Form::WorldAligned, _) => (w, add(cross(sub(p, t.p()), w), rv)),
+                (JacobianKind::WorldAligned, _) => (w, add(cross(sub(p, t.p()), w), rv)),
                 // [Ad_{T_F⁻¹}](ω, v) = (Rᵀω, Rᵀv + (−Rᵀp) × Rᵀω).
-                (Form::Body, Some(inv)) => {
+                (JacobianKind::Body, Some(inv)) => {
                     let v = add(cross(p, w), rv);
                     let (w, v) = ([w[0], w[1], w[2]], [v[0], v[1], v[2]]);
                     let bw = inv.rotate::<A>(&w);
                     (bw, add(inv.rotate::<A>(&v), cross(inv.p(), bw)))
                 }
-                (Form::Body, None) => unreachable!("the inverse is made for the body form"),
+                (JacobianKind::Body, None) => unreachable!("the inverse is made for the body form"),
             };
             let drive = &kin.sweep[k].motion.drive;
             let o = &mut self.out[6 * drive.variable..6 * drive.variable + 6];
@@ -195,20 +196,6 @@ impl Kernel for PathColumns<'_> {
             }
         }
         t
-    }
-}
-
-/// Every column made world-aligned at p ([`space_to_world_aligned`]).
-fn world_aligned(jac: &mut Matrix6xX<f64>, p: &nalgebra::Vector3<f64>) {
-    for c in 0..jac.ncols() {
-        let mut col = [0.0; 6];
-        for (r, x) in col.iter_mut().enumerate() {
-            *x = jac[(r, c)];
-        }
-        space_to_world_aligned(&mut col, p);
-        for (r, x) in col.iter().enumerate() {
-            jac[(r, c)] = *x;
-        }
     }
 }
 
@@ -234,7 +221,7 @@ pub fn relative_jacobian<'w>(
     q: &[f64],
     a: usize,
     b: usize,
-    form: Form,
+    form: JacobianKind,
 ) -> Result<PoseJacobian<'w>, SolveError> {
     kin.check_frame(a)?;
     kin.check_frame(b)?;
@@ -255,20 +242,20 @@ pub(crate) fn relative_unchecked(
     base: &Se3,
     a: usize,
     b: usize,
-    form: Form,
+    form: JacobianKind,
 ) -> Se3 {
-    let ta = pose_jacobian_unchecked(kin, ws, q, base, a, Form::Space, false);
-    let tb = pose_jacobian_unchecked(kin, ws, q, base, b, Form::Space, true);
+    let ta = pose_jacobian_unchecked(kin, ws, q, base, a, JacobianKind::Space, false);
+    let tb = pose_jacobian_unchecked(kin, ws, q, base, b, JacobianKind::Space, true);
     ws.jacobian -= &ws.other;
     let rel = tb.inverse_compose(&ta);
     match form {
-        Form::Space | Form::WorldAligned => {
+        JacobianKind::Space | JacobianKind::WorldAligned => {
             adjoint_columns(&mut ws.jacobian, &tb.inverse());
-            if form == Form::WorldAligned {
-                world_aligned(&mut ws.jacobian, rel.translation());
+            if form == JacobianKind::WorldAligned {
+                crate::jacobian::world_aligned_columns(&mut ws.jacobian, rel.translation());
             }
         }
-        Form::Body => adjoint_columns(&mut ws.jacobian, &ta.inverse()),
+        JacobianKind::Body => adjoint_columns(&mut ws.jacobian, &ta.inverse()),
     }
     rel
 }

@@ -36,7 +36,9 @@ pub mod jacobian;
 pub mod tasks;
 
 use nalgebra::Matrix6xX;
-use screwkit_lie::{Frame, Se3};
+use screwkit_lie::Se3;
+
+pub use crate::jacobian::JacobianKind;
 use screwkit_model::{KinematicTree, ModelError};
 
 use crate::columns::Columns;
@@ -51,26 +53,10 @@ pub(crate) const NONE: usize = usize::MAX;
 /// refused; within it, the quaternion is normalised. Single precision (1e-7) passes.
 pub const QUATERNION_TOLERANCE: f64 = 1e-6;
 
-/// Which form a frame Jacobian takes (the rows are (ω, v) in each).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Form {
-    /// J_s: the frame's spatial twist, in the world (base) frame: V_s = J_s v.
-    Space,
-    /// J_b = \[Ad_{T_F⁻¹}\] J_s: the frame's body twist, in the frame itself.
-    Body,
-    /// The frame's angular velocity and its origin's linear velocity, both in the world's
-    /// axes (Pinocchio's `LOCAL_WORLD_ALIGNED`): (ω, v_s + ω × p_F).
-    WorldAligned,
-}
-
-impl From<Frame> for Form {
-    fn from(f: Frame) -> Form {
-        match f {
-            Frame::Space => Form::Space,
-            Frame::Body => Form::Body,
-        }
-    }
-}
+/// The former name of [`JacobianKind`] (the tree's Jacobians took a `Form`, the chain's a
+/// `Frame` or a separate world-aligned function): one kind now serves both.
+#[deprecated(note = "use `JacobianKind`, the one Jacobian kind of chains and trees")]
+pub type Form = JacobianKind;
 
 /// The chain root → a frame, prepared: its [`Kinematics`] and, for each of its variables, the
 /// index of the tree's joint variable.

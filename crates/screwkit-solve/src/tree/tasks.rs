@@ -35,8 +35,9 @@ use screwkit_lie::{angle, Se3};
 
 use super::com::com_jacobian_unchecked;
 use super::jacobian::{pose_jacobian_unchecked, relative_unchecked};
-use super::{Form, TreeKinematics, TreeWorkspace};
+use super::{TreeKinematics, TreeWorkspace};
 use crate::error::SolveError;
+use crate::jacobian::JacobianKind;
 
 /// What a task asks (frame indices from [`TreeKinematics::frame`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -426,8 +427,10 @@ pub(crate) fn evaluate(
                 relative_to,
             } => {
                 let pose = match relative_to {
-                    None => pose_jacobian_unchecked(kin, ws, q, base, *frame, Form::Body, false),
-                    Some(b) => relative_unchecked(kin, ws, q, base, *frame, *b, Form::Body),
+                    None => {
+                        pose_jacobian_unchecked(kin, ws, q, base, *frame, JacobianKind::Body, false)
+                    }
+                    Some(b) => relative_unchecked(kin, ws, q, base, *frame, *b, JacobianKind::Body),
                 };
                 let xi = pose.inverse_compose(target).log();
                 let e = [xi.w[0], xi.w[1], xi.w[2], xi.v[0], xi.v[1], xi.v[2]];
@@ -458,8 +461,15 @@ pub(crate) fn evaluate(
                 direction,
                 point,
             } => {
-                let pose =
-                    pose_jacobian_unchecked(kin, ws, q, base, *frame, Form::WorldAligned, false);
+                let pose = pose_jacobian_unchecked(
+                    kin,
+                    ws,
+                    q,
+                    base,
+                    *frame,
+                    JacobianKind::WorldAligned,
+                    false,
+                );
                 let aw = pose.rotation() * axis.normalize();
                 let d = direction.normalize();
                 let cross = aw.cross(&d);
