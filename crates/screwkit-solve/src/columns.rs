@@ -42,12 +42,6 @@ pub(crate) fn cross(a: Lane, b: Lane) -> Lane {
     ]
 }
 
-/// `a − b`, lane by lane.
-#[inline(always)]
-pub(crate) fn sub(a: Lane, b: Lane) -> Lane {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2], a[3] - b[3]]
-}
-
 /// `a + b`, lane by lane.
 #[inline(always)]
 pub(crate) fn add(a: Lane, b: Lane) -> Lane {

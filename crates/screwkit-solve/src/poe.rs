@@ -115,12 +115,6 @@ impl PoeJoint {
         self.pitch_zero
     }
 
-    /// The screw axis (ω, v) as arrays.
-    #[inline(always)]
-    pub(crate) fn axis(&self) -> (&[f64; 3], &[f64; 3]) {
-        (&self.w, &self.v)
-    }
-
     /// Prepares joint `s` of `kind` (revolute, continuous, prismatic or helical) driven by
     /// `drive`. The kind, not the numbers, says whether the pitch is 0: a helical joint keeps
     /// its pitch however small.

@@ -16,15 +16,12 @@
 //! (world-aligned). When B is an ancestor of A this is the chain B → A's Jacobian.
 
 use nalgebra::Matrix6xX;
-use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
-use screwkit_lie::{trig, Se3, Twist};
+use screwkit_lie::{Se3, Twist};
 
-use super::fk::sin_cos_lanes;
-use super::{TreeKinematics, TreeWorkspace, NONE};
-use crate::columns::{add, cross, sub, Columns, Lane};
+use super::{TreeKinematics, TreeWorkspace};
 use crate::error::SolveError;
 use crate::jacobian::JacobianKind;
-use crate::jacobian::{space_to_world_aligned, PoseJacobian};
+use crate::jacobian::{fk_jacobian_into, space_to_world_aligned, PoseJacobian};
 
 /// The Jacobian of `frame` in `form` (6 × nv), in the workspace. Checks q and the index.
 pub fn frame_jacobian<'w>(
@@ -57,12 +54,12 @@ pub fn frame_pose_jacobian<'w>(
 
 /// Pose and Jacobian of one frame into `ws.jacobian` (or `ws.other` when `other`), unchecked.
 ///
-/// The path's joints are swept in their own frames as in [`super::fk::fk_frames`] (from the
-/// base's pose: G_k = G_parent X_k e^{[a_k]θ_k}), and joint k's world column is
-/// \[Ad_{G_k}\](a_k, 0) = (R_k a_k, p_k × R_k a_k) (prismatic (0, R_k a_k)) — the space column of
-/// the module's formula, since S_k = Ad_{H_k}(a_k, 0) — with the axis-aligned a_k of most files
-/// a column of R_k. Then each form from the world column, each added (× its mimic multiplier)
-/// into its variable's column; columns off the path stay zero.
+/// A frame's Jacobian is its chain's: the chain root → frame ([`TreeKinematics::view`], the
+/// chain kernels' one pass, mimic columns summed with their multipliers), its columns moved
+/// to the tree's variables, every other column zero. Space and world-aligned columns are
+/// seen from the world (\[Ad_{T_base}\] of the chain's with a floating base), the world-aligned
+/// ones moved to the frame's origin ([`space_to_world_aligned`]); body columns do not depend on
+/// the base. With a floating base, its six columns (module documentation).
 pub(crate) fn pose_jacobian_unchecked(
     kin: &TreeKinematics,
     ws: &mut TreeWorkspace,
@@ -73,42 +70,53 @@ pub(crate) fn pose_jacobian_unchecked(
     other: bool,
 ) -> Se3 {
     let TreeWorkspace {
-        theta,
-        sin,
-        cos,
-        path,
-        path_columns,
+        view_q,
+        view_jacobian,
         jacobian,
         other: second,
         ..
     } = ws;
     let jac = if other { second } else { jacobian };
-    jac.as_mut_slice().fill(0.0);
-    // The path root → the frame's support joint, parents first.
-    let mut n = 0;
-    let mut j = kin.frames[frame].support;
-    while j != NONE {
-        path[n] = j;
-        n += 1;
-        j = kin.parent[j];
-    }
-    path[..n].reverse();
-    let vo = kin.v_offset();
-    let pose = dispatch(PathColumns {
-        kin,
-        q: &q[kin.q_offset()..],
-        base: Columns::from_se3(base),
-        frame,
-        form,
-        path: &path[..n],
-        theta,
-        sin,
-        cos,
-        columns: path_columns,
-        out: &mut jac.as_mut_slice()[6 * vo..],
-    })
-    .to_se3();
+    let view = kin.view(frame);
+    let vq = view.map(|view| super::fk::gather(kin, view, q, view_q));
     let out = jac.as_mut_slice();
+    out.fill(0.0);
+    let vo = kin.v_offset();
+    let place = |local: Se3| {
+        if kin.floating {
+            base.compose(&local)
+        } else {
+            local
+        }
+    };
+    let pose = match (view, vq) {
+        (Some(view), Some(vq)) => {
+            let local = fk_jacobian_into(&view.kin, view_jacobian, vq, form.pass());
+            let pose = place(local);
+            let p = *pose.translation();
+            let columns = view_jacobian.as_slice().chunks_exact(6);
+            for (&v, c) in view.variables.iter().zip(columns) {
+                let mut col = [c[0], c[1], c[2], c[3], c[4], c[5]];
+                if form != JacobianKind::Body {
+                    if kin.floating {
+                        let t = base.adjoint_apply(&Twist::new(
+                            nalgebra::Vector3::new(col[0], col[1], col[2]),
+                            nalgebra::Vector3::new(col[3], col[4], col[5]),
+                        ));
+                        col = [t.w[0], t.w[1], t.w[2], t.v[0], t.v[1], t.v[2]];
+                    }
+                    if form == JacobianKind::WorldAligned {
+                        space_to_world_aligned(&mut col, &p);
+                    }
+                }
+                if let Some(o) = out.get_mut(6 * (vo + v)..6 * (vo + v) + 6) {
+                    o.copy_from_slice(&col);
+                }
+            }
+            pose
+        }
+        _ => place(kin.frames[frame].home),
+    };
     if kin.floating {
         let ad = match form {
             JacobianKind::Body => base.inverse_compose(&pose).inverse().adjoint(),
@@ -123,80 +131,6 @@ pub(crate) fn pose_jacobian_unchecked(
         }
     }
     pose
-}
-
-/// The kernel of [`pose_jacobian_unchecked`]: the frame's pose, its path joints' world
-/// columns, each in `form` and added into its variable's column of `out` (the joint columns).
-struct PathColumns<'a> {
-    kin: &'a TreeKinematics,
-    /// The joint variables.
-    q: &'a [f64],
-    base: Columns,
-    frame: usize,
-    form: JacobianKind,
-    /// Joint indices, parents first.
-    path: &'a [usize],
-    theta: &'a mut [f64],
-    sin: &'a mut [f64],
-    cos: &'a mut [f64],
-    columns: &'a mut [[Lane; 3]],
-    out: &'a mut [f64],
-}
-
-impl Kernel for PathColumns<'_> {
-    type Output = Columns;
-    #[inline(always)]
-    fn run<A: MulAdd>(self) -> Columns {
-        const L: usize = trig::LANES;
-        let kin = self.kin;
-        let n = self.path.len();
-        let lanes = n.div_ceil(L) * L;
-        for (t, &k) in self.theta.iter_mut().zip(self.path) {
-            *t = kin.sweep[k].motion.drive.theta(self.q);
-        }
-        self.theta[n..lanes].fill(0.0);
-        sin_cos_lanes::<A>(&self.theta[..lanes], self.sin, self.cos);
-        let mut g = self.base;
-        for (i, (&k, col)) in self.path.iter().zip(self.columns.iter_mut()).enumerate() {
-            let j = &kin.sweep[k];
-            g = j.fixed.apply::<A>(&g);
-            j.motion
-                .apply::<A>(&mut g, self.theta[i], self.sin[i], self.cos[i]);
-            // [Ad_G](w, v) = (R w, p × R w + R v); the joint's own motion leaves its axis.
-            // Kept as (R w, R v, p); the cross product is taken below, once per form.
-            let (w, v) = j.motion.axis();
-            let rv = if j.motion.prismatic || *v != [0.0; 3] {
-                g.rotate::<A>(v)
-            } else {
-                [0.0; 4]
-            };
-            *col = [g.rotate::<A>(w), rv, g.p()];
-        }
-        let t = kin.frames[self.frame].placement.apply::<A>(&g);
-        let inv = (self.form == JacobianKind::Body).then(|| t.inverse::<A>());
-        for (&k, &[w, rv, p]) in self.path.iter().zip(self.columns.iter()) {
-            let (w, v) = match (self.form, &inv) {
-                (JacobianKind::Space, _) => (w, add(cross(p, w), rv)),
-                // (ω, v + ω × p_F) (`jacobian::space_to_world_aligned`) = (ω, (p − p_F) × ω + R v).
-                (JacobianKind::WorldAligned, _) => (w, add(cross(sub(p, t.p()), w), rv)),
-                // [Ad_{T_F⁻¹}](ω, v) = (Rᵀω, Rᵀv + (−Rᵀp) × Rᵀω).
-                (JacobianKind::Body, Some(inv)) => {
-                    let v = add(cross(p, w), rv);
-                    let (w, v) = ([w[0], w[1], w[2]], [v[0], v[1], v[2]]);
-                    let bw = inv.rotate::<A>(&w);
-                    (bw, add(inv.rotate::<A>(&v), cross(inv.p(), bw)))
-                }
-                (JacobianKind::Body, None) => unreachable!("the inverse is made for the body form"),
-            };
-            let drive = &kin.sweep[k].motion.drive;
-            let o = &mut self.out[6 * drive.variable..6 * drive.variable + 6];
-            let m = drive.multiplier;
-            for (r, x) in [w[0], w[1], w[2], v[0], v[1], v[2]].into_iter().enumerate() {
-                o[r] = A::madd(m, x, o[r]);
-            }
-        }
-        t
-    }
 }
 
 /// Applies \[Ad_T\] to every column.

@@ -404,11 +404,10 @@ pub struct TreeWorkspace {
     pub(crate) cos: Vec<f64>,
     pub(crate) frame_columns: Vec<Columns>,
     pub(crate) frames: Vec<Se3>,
-    /// The gathered q of one frame's chain.
+    /// The gathered q of one frame's chain, and that chain's Jacobian (6 × its variables, in
+    /// the first columns).
     pub(crate) view_q: Vec<f64>,
-    /// One frame's path (joint indices, parents first) and its joints' world columns.
-    pub(crate) path: Vec<usize>,
-    pub(crate) path_columns: Vec<[crate::columns::Lane; 3]>,
+    pub(crate) view_jacobian: Matrix6xX<f64>,
     pub(crate) jacobian: Matrix6xX<f64>,
     pub(crate) other: Matrix6xX<f64>,
     /// The centre of mass's Jacobian and, per joint, the mass and the mass-weighted centre of
@@ -433,8 +432,7 @@ impl TreeWorkspace {
             frame_columns: vec![Columns::identity(); kin.frames.len()],
             frames: vec![Se3::identity(); kin.frames.len()],
             view_q: vec![0.0; kin.max_view_dof],
-            path: vec![0; kin.joints.len()],
-            path_columns: vec![[[0.0; 4]; 3]; kin.joints.len()],
+            view_jacobian: Matrix6xX::zeros(kin.max_view_dof),
             jacobian: Matrix6xX::zeros(kin.nv()),
             other: Matrix6xX::zeros(kin.nv()),
             com_jacobian: nalgebra::Matrix3xX::zeros(kin.nv()),
