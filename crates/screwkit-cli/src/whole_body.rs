@@ -15,7 +15,7 @@ use screwkit_solve::tree::differential_ik::{
     ik_tasks, ik_tasks_batch, ik_trajectory, DiffIkWorkspace, Segments, TasksOptions, TasksProblem,
     TasksResult,
 };
-use screwkit_solve::tree::tasks::{Task, TaskKind};
+use screwkit_solve::tree::tasks::{Measures, Task};
 use screwkit_solve::TreeKinematics;
 use serde_json::Value;
 
@@ -201,11 +201,11 @@ pub fn run(args: &IkArgs, path: &Path, format: Format) -> CliResult {
             kin.q_names().join(", "),
         );
         for (i, (t, e)) in tasks.iter().zip(&r.task_errors).enumerate() {
-            let error = match t.kind {
-                TaskKind::Damping => String::new(),
-                TaskKind::Posture { .. } => format!(": |q - q_ref| {:.3e}", e.position),
-                TaskKind::Com { .. } => format!(": position {:.3e} m", e.position),
-                _ => format!(
+            let error = match t.kind.measures() {
+                Measures::Nothing => String::new(),
+                Measures::Configuration => format!(": |q - q_ref| {:.3e}", e.position),
+                Measures::Position => format!(": position {:.3e} m", e.position),
+                Measures::PositionAndRotation => format!(
                     ": position {:.3e} m, rotation {:.3e} rad",
                     e.position, e.rotation
                 ),

@@ -19,7 +19,10 @@
 //! Weights are a number (every axis) or three numbers.
 
 use nalgebra::Vector3;
-use screwkit_solve::tree::tasks::{Task, TaskKind, DAMPING_WEIGHT};
+use screwkit_solve::tree::tasks::{
+    AxisTask, ComTask, DampingTask, FrameTask, PostureTask, RelativeTask, Task, TaskKind,
+    DAMPING_WEIGHT,
+};
 use screwkit_solve::TreeKinematics;
 use serde::Deserialize;
 use serde_json::Value;
@@ -77,9 +80,14 @@ impl TaskType {
         let d = Task::posture(Vec::new());
         TaskDefaults {
             gain: d.gain,
+            // (Every type named: a new one must say its weight.)
             weight: match self {
                 TaskType::Damping => DAMPING_WEIGHT,
-                _ => d.weight,
+                TaskType::Frame
+                | TaskType::Relative
+                | TaskType::Axis
+                | TaskType::Com
+                | TaskType::Posture => d.weight,
             },
             position_weight: d.position_weight,
             orientation_weight: d.orientation_weight,
@@ -221,22 +229,21 @@ impl TaskSpec {
                 .ok_or_else(|| Error::option(field, "is required for this task"))
         };
         let kind = match self.kind {
-            TaskType::Frame => TaskKind::Frame {
+            TaskType::Frame => TaskKind::Frame(FrameTask {
                 frame: frame(&self.frame, "frame")?,
                 target: pose()?,
-                relative_to: None,
-            },
-            TaskType::Relative => TaskKind::Frame {
+            }),
+            TaskType::Relative => TaskKind::Relative(RelativeTask {
                 frame: frame(&self.frame, "frame")?,
+                relative_to: frame(&self.relative_to, "relative_to")?,
                 target: pose()?,
-                relative_to: Some(frame(&self.relative_to, "relative_to")?),
-            },
-            TaskType::Axis => TaskKind::Axis {
+            }),
+            TaskType::Axis => TaskKind::Axis(AxisTask {
                 frame: frame(&self.frame, "frame")?,
                 axis: vec3(self.axis, "axis")?,
                 direction: vec3(self.direction, "direction")?,
                 point: self.point.map(Vector3::from),
-            },
+            }),
             TaskType::Com => {
                 let t = self
                     .target
@@ -248,17 +255,17 @@ impl TaskSpec {
                         format!("needs 3 numbers (a point), got {}", t.len()),
                     ));
                 };
-                TaskKind::Com {
+                TaskKind::Com(ComTask {
                     target: Vector3::new(*x, *y, *z),
-                }
+                })
             }
-            TaskType::Posture => TaskKind::Posture {
+            TaskType::Posture => TaskKind::Posture(PostureTask {
                 q_ref: self
                     .q_ref
                     .clone()
                     .ok_or_else(|| Error::option("q_ref", "is required for this task"))?,
-            },
-            TaskType::Damping => TaskKind::Damping,
+            }),
+            TaskType::Damping => TaskKind::Damping(DampingTask),
         };
         let d = self.kind.defaults();
         Ok(Task {
@@ -441,13 +448,7 @@ mod tests {
         assert_eq!(tasks[0].position_weight, [1.0; 3]);
         assert_eq!(tasks[1].position_weight, [1.0, 1.0, 0.0]);
         assert_eq!((tasks[0].gain, tasks[0].tol_pos), (1.0, 1e-9));
-        assert!(matches!(
-            tasks[1].kind,
-            TaskKind::Frame {
-                relative_to: Some(_),
-                ..
-            }
-        ));
+        assert!(matches!(tasks[1].kind, TaskKind::Relative(_)));
         assert_eq!(tasks[3].weight, 1e-3);
         // Every field left out takes the type's default: damping's weight is 1e-3, as Python's
         // DampingTask() (it was 1.0 in JSON until the defaults got one home).

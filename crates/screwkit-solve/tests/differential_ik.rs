@@ -18,7 +18,7 @@ use screwkit_solve::tree::differential_ik::{
     ik_step, ik_tasks, ik_tasks_batch, ik_trajectory, DiffIkWorkspace, Limits, Segments,
     TasksOptions, TasksProblem, TasksStop,
 };
-use screwkit_solve::tree::tasks::{Task, TaskKind};
+use screwkit_solve::tree::tasks::{AxisTask, ComTask, PostureTask, Task, TaskKind};
 use screwkit_solve::tree::{com, configuration, fk, jacobian};
 use screwkit_solve::{JacobianKind, TreeKinematics, TreeWorkspace};
 use screwkit_testkit::reference::{tree_com, tree_world_poses};
@@ -103,12 +103,16 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
             rhs.push(wr * task.gain * e);
         }
     };
+    // A world frame task is a relative one without the second frame.
+    let frame_like = match &task.kind {
+        TaskKind::Frame(f) => Some((f.frame, f.target, None)),
+        TaskKind::Relative(r) => Some((r.frame, r.target, Some(r.relative_to))),
+        _ => None,
+    };
     match &task.kind {
-        TaskKind::Frame {
-            frame,
-            target,
-            relative_to,
-        } => {
+        TaskKind::Frame(_) | TaskKind::Relative(_) => {
+            let (frame, target, relative_to) = frame_like.expect("a frame task");
+            let (frame, target) = (&frame, &target);
             let (pose, jac) = match relative_to {
                 None => {
                     let pj =
@@ -117,15 +121,9 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
                     (pj.pose, pj.jacobian.clone())
                 }
                 Some(b) => {
-                    let pj = jacobian::relative_jacobian(
-                        kin,
-                        &mut ws,
-                        q,
-                        *frame,
-                        *b,
-                        JacobianKind::Body,
-                    )
-                    .unwrap();
+                    let pj =
+                        jacobian::relative_jacobian(kin, &mut ws, q, *frame, b, JacobianKind::Body)
+                            .unwrap();
                     (pj.pose, pj.jacobian.clone())
                 }
             };
@@ -140,12 +138,12 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
                 push(wr, jac.row(r).iter().copied().collect(), e);
             }
         }
-        TaskKind::Axis {
+        TaskKind::Axis(AxisTask {
             frame,
             axis,
             direction,
             point,
-        } => {
+        }) => {
             let pj =
                 jacobian::frame_pose_jacobian(kin, &mut ws, q, *frame, JacobianKind::WorldAligned)
                     .unwrap();
@@ -172,7 +170,7 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
                 }
             }
         }
-        TaskKind::Com { target } => {
+        TaskKind::Com(ComTask { target }) => {
             let (c, jac) = com::com_jacobian(kin, &mut ws, q).unwrap();
             let e = target - c;
             for r in 0..3 {
@@ -183,7 +181,7 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
                 );
             }
         }
-        TaskKind::Posture { q_ref } => {
+        TaskKind::Posture(PostureTask { q_ref }) => {
             let (qo, vo) = (
                 kin.nq() - kin.model().variables.len(),
                 nv - kin.model().variables.len(),
@@ -193,7 +191,7 @@ fn reference_rows(kin: &TreeKinematics, q: &[f64], task: &Task) -> ReferenceRows
                 diag.push((vo + j, w * w, w * w * task.gain * e));
             }
         }
-        TaskKind::Damping => {
+        TaskKind::Damping(_) => {
             for k in 0..nv {
                 diag.push((k, w * w, 0.0));
             }
@@ -321,15 +319,18 @@ fn frame_error(tree: &Tree, kin: &TreeKinematics, q: &[f64], task: &Task) -> (f6
         let fr = &kin.model().frames[f];
         se3(&poses[fr.link]).compose(&fr.placement)
     };
+    let frame_like = match &task.kind {
+        TaskKind::Frame(f) => Some((f.frame, f.target, None)),
+        TaskKind::Relative(r) => Some((r.frame, r.target, Some(r.relative_to))),
+        _ => None,
+    };
     match &task.kind {
-        TaskKind::Frame {
-            frame,
-            target,
-            relative_to,
-        } => {
-            let mut t = pose_of(*frame);
+        TaskKind::Frame(_) | TaskKind::Relative(_) => {
+            let (frame, target, relative_to) = frame_like.expect("a frame task");
+            let target = &target;
+            let mut t = pose_of(frame);
             if let Some(b) = relative_to {
-                t = pose_of(*b).inverse_compose(&t);
+                t = pose_of(b).inverse_compose(&t);
             }
             let xi = t.inverse_compose(target).log();
             let rot: f64 = (0..3)
@@ -342,12 +343,12 @@ fn frame_error(tree: &Tree, kin: &TreeKinematics, q: &[f64], task: &Task) -> (f6
                 .sum();
             (pos.sqrt(), rot.sqrt())
         }
-        TaskKind::Axis {
+        TaskKind::Axis(AxisTask {
             frame,
             axis,
             direction,
             point,
-        } => {
+        }) => {
             let t = pose_of(*frame);
             let aw = t.rotation() * axis.normalize();
             let d = direction.normalize();
@@ -355,8 +356,8 @@ fn frame_error(tree: &Tree, kin: &TreeKinematics, q: &[f64], task: &Task) -> (f6
             let pos = point.map_or(0.0, |p| (p - t.translation()).norm());
             (pos, rot)
         }
-        TaskKind::Com { target } => ((target - tree_com(tree, &poses)).norm(), 0.0),
-        _ => (0.0, 0.0),
+        TaskKind::Com(ComTask { target }) => ((target - tree_com(tree, &poses)).norm(), 0.0),
+        TaskKind::Posture(_) | TaskKind::Damping(_) => (0.0, 0.0),
     }
 }
 

@@ -52,7 +52,7 @@
 use rayon::prelude::*;
 use screwkit_lie::Se3;
 
-use super::tasks::{check_tasks, evaluate, Rows, Task, TaskError, TaskKind};
+use super::tasks::{check_tasks, evaluate, Rows, Task, TaskError};
 use super::{TreeKinematics, TreeWorkspace};
 use crate::box_qp::{self, BoxQpWorkspace};
 use crate::error::SolveError;
@@ -299,41 +299,11 @@ fn normal_equations(
     }
 }
 
-/// The velocity entries each goal depends on: the variables of its frames' paths and a
-/// floating base's six (every entry for a centre-of-mass task); empty for regularisers.
+/// The velocity entries each goal depends on ([`Task`]'s dependence: the variables of its
+/// frames' paths and a floating base's six, every entry for a centre-of-mass task); empty for
+/// regularisers.
 fn dependence(kin: &TreeKinematics, tasks: &[Task]) -> Vec<Vec<usize>> {
-    let model = kin.model();
-    let vo = kin.v_offset();
-    let path = |f: usize, out: &mut Vec<usize>| {
-        out.extend(
-            model
-                .path(f)
-                .into_iter()
-                .map(|j| vo + model.joints[j].drive.variable),
-        );
-    };
-    tasks
-        .iter()
-        .map(|t| {
-            let mut out: Vec<usize> = (0..vo).collect();
-            match &t.kind {
-                TaskKind::Frame {
-                    frame, relative_to, ..
-                } => {
-                    path(*frame, &mut out);
-                    if let Some(b) = relative_to {
-                        path(*b, &mut out);
-                    }
-                }
-                TaskKind::Axis { frame, .. } => path(*frame, &mut out),
-                TaskKind::Com { .. } => out = (0..kin.nv()).collect(),
-                _ => out.clear(),
-            }
-            out.sort_unstable();
-            out.dedup();
-            out
-        })
-        .collect()
+    tasks.iter().map(|t| t.dependence(kin)).collect()
 }
 
 impl Damping {
