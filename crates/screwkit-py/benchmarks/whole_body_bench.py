@@ -17,8 +17,9 @@ from __future__ import annotations
 import re
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import mink  # type: ignore[import-not-found]
 import mujoco  # type: ignore[import-untyped]
@@ -124,8 +125,19 @@ def main(path: Path) -> None:
     mlimits = [mink.ConfigurationLimit(mj)]
 
     q0 = mid.copy()
+    # The prepared form a control loop uses (as mink's tasks above): frames found once, the
+    # first hand's target set anew every tick.
+    task_set = robot.task_set(tasks)
+    first = targets[HANDS[0]]
+
+    def set_and_step() -> object:
+        task_set.set_target(0, first)
+        return robot.ik_step(q0, task_set, DT)
+
     runs: dict[str, Callable[[], object]] = {
         "screwkit": lambda: robot.ik_step(q0, tasks, DT),
+        "screwkit_task_set": lambda: robot.ik_step(q0, task_set, DT),
+        "screwkit_task_set_new_target": set_and_step,
         "pink_daqp": lambda: pink.solve_ik(config, ptasks, DT, solver="daqp", limits=plimits),
         "mink_daqp": lambda: mink.solve_ik(mconf, mtasks, DT, solver="daqp", limits=mlimits),
     }
@@ -240,7 +252,7 @@ def convergence(
     def hand_errors(q_pin: Any, targets: list[np.ndarray]) -> tuple[float, float]:
         pin.framesForwardKinematics(model, data, q_pin)
         pos, rot = 0.0, 0.0
-        for f, t in zip(fids, targets):
+        for f, t in zip(fids, targets, strict=False):
             err = pin.log6(data.oMf[f].actInv(pin.SE3(t[:3, :3], t[:3, 3]))).vector
             pos, rot = (
                 max(pos, float(np.linalg.norm(err[:3]))),
@@ -262,7 +274,7 @@ def convergence(
         c["seconds"] += seconds
 
     for targets in problems:
-        tasks = [screwkit.FrameTask(h, t) for h, t in zip(HANDS, targets)]
+        tasks = [screwkit.FrameTask(h, t) for h, t in zip(HANDS, targets, strict=False)]
         for name, restarts in [("screwkit_no_restarts", 0), ("screwkit", 50)]:
             t0 = time.perf_counter()
             r = robot.ik_tasks(tasks, seed=mid, restarts=restarts)
@@ -272,7 +284,7 @@ def convergence(
             record(name, max(pos, rot) < 1e-6, max(pos, rot) < 1e-9, bad, dt)
         # pink
         ptasks = []
-        for h, t in zip(HANDS, targets):
+        for h, t in zip(HANDS, targets, strict=False):
             task = pink.tasks.FrameTask(h, position_cost=1.0, orientation_cost=1.0)
             task.set_target(pin.SE3(t[:3, :3], t[:3, 3]))
             ptasks.append(task)
@@ -290,7 +302,7 @@ def convergence(
         record("pink", max(pos, rot) < 1e-6, max(pos, rot) < 1e-9, bad, dt)
         # mink
         mtasks = []
-        for h, t in zip(HANDS, targets):
+        for h, t in zip(HANDS, targets, strict=False):
             task = mink.FrameTask(h, "body", position_cost=1.0, orientation_cost=1.0)
             task.set_target(mink.SE3.from_matrix(t))
             mtasks.append(task)

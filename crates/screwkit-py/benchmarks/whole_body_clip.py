@@ -73,7 +73,7 @@ def main(path: Path, n: int = 10_000) -> None:
         pin.framesForwardKinematics(model, data, qp)
         return max(
             float(np.abs(data.oMf[fid].homogeneous - targets[f][k]).max())
-            for fid, f in zip(fids, FRAMES)
+            for fid, f in zip(fids, FRAMES, strict=False)
         )
 
     threads = screwkit.num_threads()
@@ -103,7 +103,10 @@ def main(path: Path, n: int = 10_000) -> None:
             f"max_error={max(errors):.1e} limit_violations={violations} "
             f"mean_iterations={iterations.mean():.2f} max_iterations={iterations.max()}"
         )
-    same = all(np.array_equal(a.q, b.q) for a, b in zip(answers["sequential"], answers["segments"]))
+    same = all(
+        np.array_equal(a.q, b.q)
+        for a, b in zip(answers["sequential"], answers["segments"], strict=False)
+    )
     print(
         f"NOTE task objects built in {build:.2f} s (not timed); segments equal sequential: {same}"
     )

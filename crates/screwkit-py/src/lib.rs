@@ -141,6 +141,7 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<tasks::ComTask>()?;
     m.add_class::<tasks::PostureTask>()?;
     m.add_class::<tasks::DampingTask>()?;
+    m.add_class::<tasks::TaskSet>()?;
     m.add_class::<tasks::TasksResult>()?;
     m.add("BatchError", m.py().get_type::<errors::BatchError>())?;
     lie::register(m)?;

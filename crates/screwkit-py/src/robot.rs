@@ -105,6 +105,32 @@ fn tasks_result(
     })
 }
 
+/// The tasks of a step: a list resolved for this call, or a prepared set.
+enum StepTasks<'t> {
+    List(Vec<screwkit_solve::tree::tasks::Task>),
+    Set(&'t Mutex<screwkit_solve::tree::tasks::TaskSet>),
+}
+
+impl StepTasks<'_> {
+    /// One `ik_step` with these tasks.
+    fn step<'w>(
+        &self,
+        kin: &TreeKinematics,
+        ws: &'w mut DiffIkWorkspace,
+        q: &[f64],
+        dt: f64,
+        limits: &differential_ik::Limits,
+    ) -> Result<&'w [f64], screwkit_solve::SolveError> {
+        match self {
+            StepTasks::List(tasks) => differential_ik::ik_step(kin, ws, q, tasks, dt, limits),
+            StepTasks::Set(set) => {
+                let set = set.lock().expect("the task set's lock");
+                differential_ik::ik_step_set(kin, ws, q, &set, dt, limits)
+            }
+        }
+    }
+}
+
 /// Whether q is one configuration (dof,) or a stack (N, dof); the error names the joints.
 enum Rows {
     One,
@@ -224,24 +250,37 @@ impl Robot {
         screwkit_service::tasks::resolve_all(&specs, kin).map_err(service_error)
     }
 
-    /// The inputs of a step: the tree, q, the tasks, the limits.
+    /// The inputs of a step: the tree, q, the tasks (a list resolved now, or a prepared
+    /// `TaskSet`), the limits.
     #[allow(clippy::type_complexity)]
-    fn step_inputs(
+    fn step_inputs<'t>(
         &self,
         q: &Bound<'_, PyAny>,
-        tasks: &Bound<'_, PyAny>,
+        tasks: &'t Bound<'_, PyAny>,
         position: bool,
         velocity: bool,
         caps: Option<Bound<'_, PyAny>>,
     ) -> PyResult<(
         Arc<TreeKinematics>,
         Vec<f64>,
-        Vec<screwkit_solve::tree::tasks::Task>,
+        StepTasks<'t>,
         differential_ik::Limits,
     )> {
         let kin = self.tree_model()?;
         let q = Self::tree_vector(q, kin.nq(), "q")?;
-        let tasks = self.resolve_tasks(&kin, tasks)?;
+        let tasks = match tasks.cast::<crate::tasks::TaskSet>() {
+            Ok(set) => {
+                let set = set.get();
+                if !Arc::ptr_eq(&set.kin, &kin) {
+                    return Err(PyValueError::new_err(
+                        "tasks: this TaskSet was prepared for the robot as it was before \
+                         frames were added (or for another robot): prepare it again",
+                    ));
+                }
+                StepTasks::Set(&set.set)
+            }
+            Err(_) => StepTasks::List(self.resolve_tasks(&kin, tasks)?),
+        };
         let n = kin.model().variables.len();
         let velocity_caps = caps
             .map(|c| Self::tree_vector(&c, n, "velocity_caps"))
@@ -1192,11 +1231,26 @@ impl Robot {
         Ok(tree::com::total_mass(&*self.tree_model()?))
     }
 
+    /// The tasks prepared for this robot's whole tree (`TaskSet`): frames found and every task
+    /// checked once; change a target with `TaskSet.set_target` and step with
+    /// `ik_step(q, task_set, dt)` (or `ik_step_qp`), which then looks no name up. Adding a
+    /// frame to the robot makes a new model: prepare the set again.
+    fn task_set(&self, tasks: &Bound<'_, PyAny>) -> PyResult<crate::tasks::TaskSet> {
+        let kin = self.tree_model()?;
+        let specs = crate::tasks::specs(tasks)?;
+        let set = screwkit_service::tasks::prepare(&specs, &kin).map_err(service_error)?;
+        Ok(crate::tasks::TaskSet {
+            kin,
+            set: Mutex::new(set),
+        })
+    }
+
     /// One whole-body differential IK step: the velocity v (nv,) that moves every task by its
     /// gain in time `dt` as the weights decide, q + v·dt within the joints' position limits and
     /// |v| within their velocity limits (the file's `velocity`, and `velocity_caps` (joint
     /// variables,) when given). A q outside its limits raises ValueError naming the joint. The
-    /// GIL is released.
+    /// GIL is released. `tasks`: task objects, or a `TaskSet` prepared by `task_set` (no name
+    /// lookup per step: a control loop's form).
     #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_step<'py>(
@@ -1214,7 +1268,7 @@ impl Robot {
         let v = py
             .detach(|| {
                 self.with_diff_ws(&kin, |ws| {
-                    differential_ik::ik_step(&kin, ws, &q, &tasks, dt, &limits).map(|v| v.to_vec())
+                    tasks.step(&kin, ws, &q, dt, &limits).map(|v| v.to_vec())
                 })
             })
             .map_err(solve_error)?;
@@ -1241,7 +1295,7 @@ impl Robot {
         let nv = kin.nv();
         let (h, c, l, u) = self
             .with_diff_ws(&kin, |ws| {
-                differential_ik::ik_step(&kin, ws, &q, &tasks, dt, &limits)?;
+                tasks.step(&kin, ws, &q, dt, &limits)?;
                 let (h, c, l, u) = ws.qp();
                 Ok::<_, screwkit_solve::SolveError>((
                     h.to_vec(),

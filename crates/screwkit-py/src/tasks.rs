@@ -2,12 +2,17 @@
 //! (`screwkit_service::tasks`), which the robot resolves (frames by name, targets checked) —
 //! the same path as the CLI's `--tasks` JSON. The result object of `Robot.ik_tasks`.
 
+use std::sync::{Arc, Mutex};
+
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::{PyIndexError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use screwkit_service::tasks::{TaskSpec, TaskType, Weights};
+use screwkit_solve::tree::tasks::TaskKind;
+use screwkit_solve::TreeKinematics;
 
 use crate::array::{f64_array, shape_str};
+use crate::errors::{service_error, solve_error};
 
 /// A number or three numbers, for per-axis weights.
 fn weights(x: &Bound<'_, PyAny>, what: &str) -> PyResult<Weights> {
@@ -338,6 +343,57 @@ impl DampingTask {
             .weight
             .unwrap_or(TaskType::Damping.defaults().weight);
         format!("DampingTask({weight})")
+    }
+}
+
+/// Tasks prepared for one robot (`Robot.task_set`): frames found and every task checked once,
+/// targets then changed in place with `set_target`, so that a control loop's
+/// `robot.ik_step(q, task_set, dt)` looks no name up and checks only what changed.
+#[pyclass(frozen, module = "screwkit")]
+pub struct TaskSet {
+    /// The whole tree it was prepared for.
+    pub(crate) kin: Arc<TreeKinematics>,
+    pub(crate) set: Mutex<screwkit_solve::tree::tasks::TaskSet>,
+}
+
+#[pymethods]
+impl TaskSet {
+    /// Task `index`'s new target, as its class takes it: a frame or relative frame task a
+    /// (4, 4) pose, a centre-of-mass task a point (3,), an axis task its origin's point (3,)
+    /// or, with `direction=True`, its world direction (3,), a posture task q_ref (nq,).
+    /// Raises `IndexError` for an index out of range and `ValueError` for a target the task
+    /// does not take (the task then keeps its target).
+    #[pyo3(signature = (index, target, *, direction = false))]
+    fn set_target(&self, index: usize, target: &Bound<'_, PyAny>, direction: bool) -> PyResult<()> {
+        let a = f64_array(target, "target")?;
+        let values = a.to_vec()?;
+        let mut set = self.set.lock().expect("the task set's lock");
+        let Some(task) = set.tasks().get(index) else {
+            return Err(PyIndexError::new_err(format!(
+                "task index {index} is out of range: the set has {} tasks",
+                set.len()
+            )));
+        };
+        let pose = matches!(task.kind, TaskKind::Frame(_) | TaskKind::Relative(_));
+        if pose && a.shape() != [4, 4] {
+            return Err(PyValueError::new_err(format!(
+                "target: expected a (4, 4) pose, got shape {}",
+                shape_str(a.shape())
+            )));
+        }
+        let new =
+            screwkit_service::tasks::new_target(task, &values, direction).map_err(service_error)?;
+        set.set_target(&self.kin, index, new).map_err(solve_error)
+    }
+
+    fn __len__(&self) -> usize {
+        self.set.lock().expect("the task set's lock").len()
+    }
+
+    fn __repr__(&self) -> String {
+        let set = self.set.lock().expect("the task set's lock");
+        let tasks: Vec<String> = set.tasks().iter().map(|t| t.describe(&self.kin)).collect();
+        format!("TaskSet([{}])", tasks.join(", "))
     }
 }
 

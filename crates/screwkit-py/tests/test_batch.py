@@ -46,7 +46,7 @@ def test_same_results_with_one_and_two_threads(threads: None, panda: screwkit.Ro
             (panda.fk(qs), panda.jacobian(qs, "body"), panda.fk_all_links(qs), ik.q, ik.iterations)
         )
     for other in results[1:]:
-        for a, b in zip(results[0], other):
+        for a, b in zip(results[0], other, strict=False):
             np.testing.assert_array_equal(a, b)
 
 

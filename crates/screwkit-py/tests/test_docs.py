@@ -66,7 +66,7 @@ def same(got: str, want: str) -> bool:
     """Equal text outside the numbers, and equal numbers within the tolerances."""
     if NUMBER.sub("#", got) != NUMBER.sub("#", want):
         return False
-    for a, b in zip(NUMBER.findall(got), NUMBER.findall(want)):
+    for a, b in zip(NUMBER.findall(got), NUMBER.findall(want), strict=False):
         x, y = float(a), float(b)
         if abs(x - y) > max(1e-12, 1e-9 * abs(y)):
             return False
@@ -111,7 +111,7 @@ def test_example_prints_what_the_page_says(example: Example, tmp_path: Path) -> 
     if example.printed is None:
         return  # it ran without an error: that is its check
     got, want = got_text.splitlines(), example.printed.splitlines()
-    ok = len(got) == len(want) and all(same(g, w) for g, w in zip(got, want))
+    ok = len(got) == len(want) and all(same(g, w) for g, w in zip(got, want, strict=False))
     if not ok and os.environ.get("SCREWKIT_UPDATE_DOCS") and example.span is not None:
         text = example.doc.read_text()
         start, end = example.span
@@ -119,7 +119,7 @@ def test_example_prints_what_the_page_says(example: Example, tmp_path: Path) -> 
         example.doc.write_text(text[:start] + got_text + text[end:])
         pytest.fail(f"{example.where}: pasted the new output; read it in git diff")
     assert len(got) == len(want), f"{example.where}: {len(got)} lines, the page has {len(want)}"
-    for g, w in zip(got, want):
+    for g, w in zip(got, want, strict=False):
         assert same(g, w), f"{example.where}: got\n  {g}\nthe page has\n  {w}"
 
 

@@ -24,7 +24,7 @@ def test_ik_answers_reach_their_targets_within_limits(spec: ChainSpec) -> None:
     assert result.q.shape == (30, robot.dof)
     assert result.converged.dtype == np.bool_ and result.iterations.dtype == np.int64
     assert result.converged.mean() >= 0.9, result.stop
-    for q, ok, t in zip(result.q, result.converged, targets):
+    for q, ok, t in zip(result.q, result.converged, targets, strict=False):
         assert np.all(q >= robot.lower - 1e-12) and np.all(q <= robot.upper + 1e-12)
         if ok:
             reached = oracle.fk(robot.joint_names, q)
@@ -150,7 +150,7 @@ def test_ik_all_batch(ur5: screwkit.Robot) -> None:
     targets = ur5.fk(qs)
     got = ur5.ik_all(targets, seed=qs[0])
     assert isinstance(got, list) and len(got) == 30
-    for t, sols in zip(targets, got):
+    for t, sols in zip(targets, got, strict=False):
         np.testing.assert_array_equal(sols, ur5.ik_all(t, seed=qs[0]))
     far = np.eye(4)
     far[0, 3] = 5.0

@@ -31,7 +31,7 @@ def test_fk_equals_urdf_composition(spec: ChainSpec) -> None:
     qs = configurations(robot, 50, seed=1)
     batch = robot.fk(qs)
     assert batch.shape == (50, 4, 4)
-    for q, t in zip(qs, batch):
+    for q, t in zip(qs, batch, strict=False):
         np.testing.assert_allclose(t, chain.fk(robot.joint_names, q), rtol=0, atol=1e-12)
     np.testing.assert_allclose(robot.home, chain.home(), rtol=0, atol=1e-12)
 
@@ -44,7 +44,7 @@ def test_all_links_equal_urdf_composition(spec: ChainSpec) -> None:
     qs = configurations(robot, 10, seed=2)
     batch = robot.fk_all_links(qs)
     assert batch.shape == (10, len(chain.links), 4, 4)
-    for q, poses in zip(qs, batch):
+    for q, poses in zip(qs, batch, strict=False):
         expected = chain.poses(robot.joint_names, q)
         np.testing.assert_allclose(poses, np.array(expected), rtol=0, atol=1e-12)
         np.testing.assert_array_equal(poses[-1], robot.fk(q))
@@ -74,7 +74,7 @@ def test_world_aligned_jacobian_is_the_tip_point_velocity(spec: ChainSpec) -> No
     qs = configurations(robot, 4, seed=4)
     batch = robot.jacobian(qs, "world-aligned")
     h = 1e-6
-    for q, jwa in zip(qs, batch):
+    for q, jwa in zip(qs, batch, strict=False):
         np.testing.assert_array_equal(jwa, robot.jacobian(q, "world-aligned"))
         np.testing.assert_array_equal(jwa[:3], robot.jacobian(q, "space")[:3])
         for k in range(robot.dof):

@@ -50,7 +50,9 @@ def rotations(g: np.random.Generator, n: int, lo: float = 0.0, hi: float = np.pi
 
 def transforms(g: np.random.Generator, n: int) -> Array:
     r = rotations(g, n, 0.01, 3.1)
-    return np.array([mr.RpToTrans(x, p) for x, p in zip(r, g.normal(size=(n, 3)) * 2)])
+    return np.array(
+        [mr.RpToTrans(x, p) for x, p in zip(r, g.normal(size=(n, 3)) * 2, strict=False)]
+    )
 
 
 # --- MR's documented examples (the docstrings' inputs and printed outputs) --------------------
@@ -176,7 +178,7 @@ def rows_equal(
         single = single if isinstance(single, tuple) else (single,)
         expected = theirs(*row)
         expected = expected if isinstance(expected, tuple) else (expected,)
-        for o, s, e in zip(outs, single, expected):
+        for o, s, e in zip(outs, single, expected, strict=False):
             np.testing.assert_array_equal(o[i], s)
             tol = atol * max(1.0, float(np.abs(e).max()))
             np.testing.assert_allclose(o[i], e, rtol=0, atol=tol, err_msg=f"row {i}")
@@ -285,7 +287,7 @@ def test_random_projections() -> None:
     ours = lie.project_to_so3(m)
     assert np.all(lie.is_so3(ours, 1e-14))
     flipped = 0
-    for x, p in zip(m, ours):
+    for x, p in zip(m, ours, strict=False):
         u, sv, vt = np.linalg.svd(x)
         theirs = mr.ProjectToSO3(x)
         d_ours, d_theirs = np.linalg.norm(x - p), np.linalg.norm(x - theirs)

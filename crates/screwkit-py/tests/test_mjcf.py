@@ -108,7 +108,7 @@ class MuJoCo:
         coupling formula here): {follower: (leader, c1, c0)}."""
         m = self.model
         out = m.qpos0.copy()
-        values = dict(zip(self.robot.q_names, q.tolist()))
+        values = dict(zip(self.robot.q_names, q.tolist(), strict=False))
         for j in range(m.njnt):
             name = m.joint(j).name
             adr = m.jnt_qposadr[j]
@@ -469,13 +469,13 @@ def test_whole_body_tasks_on_the_mujoco_humanoid() -> None:
         peer.run(star)
         targets = [pose(peer.data.xpos[b], peer.data.xmat[b]) for b in bodies]
         tasks: list[screwkit.FrameTask | screwkit.PostureTask] = [
-            screwkit.FrameTask(n, t) for n, t in zip(names, targets)
+            screwkit.FrameTask(n, t) for n, t in zip(names, targets, strict=False)
         ]
         tasks.append(screwkit.PostureTask(robot.neutral(), weight=1e-2))
         r = robot.ik_tasks(tasks)
         assert r.converged, r
         peer.run(r.q)
-        for b, t in zip(bodies, targets):
+        for b, t in zip(bodies, targets, strict=False):
             assert np.abs(pose(peer.data.xpos[b], peer.data.xmat[b]) - t).max() < 1e-8
 
 

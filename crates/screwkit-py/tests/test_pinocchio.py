@@ -52,7 +52,7 @@ class PinChain:
     def q(self, q: Array) -> Array:
         """Pinocchio's configuration: the chain's joints (and mimic joints by their rule),
         every other joint at its neutral position."""
-        values = dict(zip(self.names, q.tolist()))
+        values = dict(zip(self.names, q.tolist(), strict=False))
         out = pin.neutral(self.model)
         for jid in range(1, self.model.njoints):
             name = self.model.names[jid]
@@ -76,7 +76,7 @@ class PinChain:
         j_local = pin.getFrameJacobian(m, d, self.tip, pin.LOCAL)  # rows (v, omega)
         # Chain rule onto the chain's variables: a joint driven by variable k with multiplier
         # mult adds mult * its column to column k.
-        values = dict(zip(self.names, q.tolist()))
+        values = dict(zip(self.names, q.tolist(), strict=False))
         jb = np.zeros((6, len(self.names)))
         for jid in range(1, m.njoints):
             name = m.names[jid]
@@ -102,7 +102,7 @@ def test_fk_and_jacobians_equal_pinocchio(spec: ChainSpec) -> None:
     poses = robot.fk(qs)
     jbs = robot.jacobian(qs, "body")
     jss = robot.jacobian(qs, "space")
-    for q, t, jb, js in zip(qs, poses, jbs, jss):
+    for q, t, jb, js in zip(qs, poses, jbs, jss, strict=False):
         t_pin, jb_pin = peer.pose_and_body_jacobian(q)
         np.testing.assert_allclose(t, t_pin, rtol=0, atol=1e-12)
         np.testing.assert_allclose(jb, jb_pin, rtol=0, atol=1e-12)

@@ -29,7 +29,7 @@ def se3(x: Array) -> Array:
 def poe_space(m: Array, s: Array, q: Array) -> Array:
     """e^[S1]q1 ... e^[Sn]qn M by numpy, S rows."""
     t = np.eye(4)
-    for row, x in zip(s, q):
+    for row, x in zip(s, q, strict=False):
         t = t @ expm(se3(row * x))
     return t @ m
 

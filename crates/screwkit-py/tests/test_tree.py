@@ -74,7 +74,7 @@ class Peer:
 
     def q(self, robot: screwkit.Robot, q: Array) -> Array:
         off = 7 if self.floating else 0
-        values = dict(zip(robot.variable_names, q[off:].tolist()))
+        values = dict(zip(robot.variable_names, q[off:].tolist(), strict=False))
         out = pin.neutral(self.model)
         if self.floating:
             out[:7] = q[:7]

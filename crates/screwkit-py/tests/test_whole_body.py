@@ -92,13 +92,13 @@ def test_talos_floating_reaches_feet_and_hands_checked_by_pinocchio() -> None:
         pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, qs))
         targets = [peer.data.oMf[f].homogeneous.copy() for f in fids]
         tasks: list[screwkit.FrameTask | screwkit.PostureTask] = [
-            screwkit.FrameTask(n, t) for n, t in zip(names, targets)
+            screwkit.FrameTask(n, t) for n, t in zip(names, targets, strict=False)
         ]
         tasks.append(screwkit.PostureTask(robot.neutral(), weight=1e-2))
         r = robot.ik_tasks(tasks)
         assert r.task_errors.shape == (5, 2)
         pin.framesForwardKinematics(peer.model, peer.data, peer.q(robot, r.q))
-        for f, t in zip(fids, targets):
+        for f, t in zip(fids, targets, strict=False):
             err = float(np.abs(peer.data.oMf[f].homogeneous - t).max())
             if r.converged:
                 assert err < 1e-8, err
@@ -128,6 +128,69 @@ def test_control_loop_steps_are_qp_optima_within_limits() -> None:
         q = robot.integrate(q, v, dt)
         assert np.all(q >= lo - 1e-12) and np.all(q <= hi + 1e-12)
     assert active > 0, "the loop drives joints into their limits"
+
+
+def test_a_prepared_task_set_steps_as_the_list_and_takes_new_targets() -> None:
+    robot = screwkit.Robot.from_urdf(REPO / "assets" / "urdf" / "humanoid.urdf")
+    q0 = np.array(robot.neutral())
+    q = q0.copy()
+    target = np.eye(4)
+    target[:3, 3] = [0.3, 0.3, 1.1]
+
+    def tasks(t: npt.NDArray[np.float64], c: list[float]) -> list[object]:
+        return [
+            screwkit.FrameTask("left_hand", t),
+            screwkit.ComTask(c, weight=0.1),
+            screwkit.AxisTask("head", axis=[0, 0, 1], direction=[0, 0, 1], point=[0, 0, 1.5]),
+            screwkit.PostureTask(q0, weight=1e-2),
+            screwkit.DampingTask(),
+        ]
+
+    ts = robot.task_set(tasks(target, [0.0, 0.0, 0.8]))  # type: ignore[arg-type]
+    assert len(ts) == 5 and 'frame task on "left_hand"' in repr(ts)
+    for k in range(10):
+        target[1, 3] = 0.3 - 0.01 * k
+        c = [0.01 * k, 0.0, 0.8]
+        ts.set_target(0, target)
+        ts.set_target(1, c)
+        ts.set_target(2, [0.0, 0.01 * k, 1.5])
+        ts.set_target(2, [0.0, 0.1, 1.0], direction=True)
+        listed = tasks(target, c)
+        listed[2] = screwkit.AxisTask(
+            "head", axis=[0, 0, 1], direction=[0, 0.1, 1.0], point=[0, 0.01 * k, 1.5]
+        )
+        v = robot.ik_step(q, ts, 0.01)
+        np.testing.assert_array_equal(v, robot.ik_step(q, listed, 0.01))  # type: ignore[arg-type]
+        np.testing.assert_array_equal(
+            robot.ik_step_qp(q, ts, 0.01)[1],
+            robot.ik_step_qp(q, listed, 0.01)[1],  # type: ignore[arg-type]
+        )
+        assert np.any(v != 0.0)
+        q = robot.integrate(q, v, 0.01)
+    # Refused targets: the task keeps its own.
+    before = robot.ik_step(q, ts, 0.01)
+    with pytest.raises(IndexError, match="out of range"):
+        ts.set_target(5, [0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"\(4, 4\) pose"):
+        ts.set_target(0, np.eye(3))
+    with pytest.raises(ValueError, match="rigid"):
+        ts.set_target(0, np.full((4, 4), np.nan))
+    with pytest.raises(ValueError, match="no target"):
+        ts.set_target(4, [1.0])
+    with pytest.raises(ValueError, match="is for an axis task"):
+        ts.set_target(1, [0.0, 0.0, 1.0], direction=True)
+    with pytest.raises(ValueError, match="no direction"):
+        ts.set_target(2, [0.0, 0.0, 0.0], direction=True)
+    with pytest.raises(ValueError, match="q_ref has 3 values"):
+        ts.set_target(3, [0.0, 0.0, 0.0])
+    np.testing.assert_array_equal(robot.ik_step(q, ts, 0.01), before)
+    with pytest.raises(TypeError, match=r"tasks\[0\]"):
+        robot.task_set(["nope"])  # type: ignore[list-item]
+    # A frame added makes a new model: the set is prepared again.
+    robot.add_frame("tool", "left_hand", np.eye(4))
+    with pytest.raises(ValueError, match="prepare it again"):
+        robot.ik_step(q, ts, 0.01)
+    assert len(robot.ik_step(q, robot.task_set([screwkit.DampingTask()]), 0.01)) == robot.nv
 
 
 def test_task_errors_are_named() -> None:
@@ -234,7 +297,7 @@ def test_com_task_balances_a_floating_humanoid_checked_by_pinocchio() -> None:
         soles = [peer.data.oMf[f].homogeneous.copy() for f in fids]
         c = pin.centerOfMass(peer.model, peer.data, star).copy()
         tasks: list[screwkit.FrameTask | screwkit.ComTask | screwkit.PostureTask] = [
-            screwkit.FrameTask(n, t) for n, t in zip(feet, soles)
+            screwkit.FrameTask(n, t) for n, t in zip(feet, soles, strict=False)
         ]
         tasks.append(screwkit.ComTask(c))
         tasks.append(screwkit.PostureTask(robot.neutral(), weight=1e-2))
@@ -243,7 +306,7 @@ def test_com_task_balances_a_floating_humanoid_checked_by_pinocchio() -> None:
         got = peer.q(robot, r.q)
         assert np.abs(pin.centerOfMass(peer.model, peer.data, got) - c).max() < 1e-8
         pin.framesForwardKinematics(peer.model, peer.data, got)
-        for f, t in zip(fids, soles):
+        for f, t in zip(fids, soles, strict=False):
             assert np.abs(peer.data.oMf[f].homogeneous - t).max() < 1e-8
         assert within_limits(robot, r.q)
 

@@ -133,7 +133,7 @@ class UrdfChain:
 
     def poses(self, names: list[str], q: npt.ArrayLike) -> list[Array]:
         """The pose of every link on the path (base first) in the base frame."""
-        values = dict(zip(names, np.asarray(q, dtype=np.float64).tolist()))
+        values = dict(zip(names, np.asarray(q, dtype=np.float64).tolist(), strict=False))
         t = np.eye(4)
         out = [t.copy()]
         for j in self.joints:

@@ -20,8 +20,8 @@
 
 use nalgebra::Vector3;
 use screwkit_solve::tree::tasks::{
-    AxisTask, ComTask, DampingTask, FrameTask, PostureTask, RelativeTask, Task, TaskKind,
-    DAMPING_WEIGHT,
+    AxisTask, ComTask, DampingTask, FrameTask, PostureTask, RelativeTask, Target, Task, TaskKind,
+    TaskSet, DAMPING_WEIGHT,
 };
 use screwkit_solve::TreeKinematics;
 use serde::Deserialize;
@@ -397,6 +397,51 @@ pub fn default_seed(kin: &TreeKinematics) -> Vec<f64> {
         q[i] = q[i].clamp(lo[i], hi[i].max(lo[i]));
     }
     q
+}
+
+/// A task set prepared from front-end specs ([`resolve_all`], then checked once:
+/// [`TaskSet::new`]); its targets are then changed with [`new_target`].
+pub fn prepare(specs: &[TaskSpec], kin: &TreeKinematics) -> Result<TaskSet> {
+    Ok(TaskSet::new(kin, resolve_all(specs, kin)?)?)
+}
+
+/// A new target for `task` from a front end's numbers, read as the task's type takes it: a
+/// frame or relative task 16 values (a row-major 4 x 4 pose, its rotation under the targets'
+/// tolerance), a centre-of-mass or axis task 3 (a point; an axis task's `direction` with
+/// `direction`), a posture task nq (q_ref). The error says what was expected.
+pub fn new_target(task: &Task, values: &[f64], direction: bool) -> Result<Target> {
+    let point = |what: &str| -> Result<Vector3<f64>> {
+        match values {
+            [x, y, z] => Ok(Vector3::new(*x, *y, *z)),
+            _ => Err(Error::option(
+                "target",
+                format!("needs 3 numbers ({what}), got {}", values.len()),
+            )),
+        }
+    };
+    if direction && !matches!(task.kind, TaskKind::Axis(_)) {
+        return Err(Error::option("direction", "is for an axis task"));
+    }
+    Ok(match &task.kind {
+        TaskKind::Frame(_) | TaskKind::Relative(_) => {
+            if values.len() != 16 {
+                return Err(Error::option(
+                    "target",
+                    format!(
+                        "needs 16 numbers (a row-major 4 x 4 pose), got {}",
+                        values.len()
+                    ),
+                ));
+            }
+            Target::Pose(target::from_row_major(values)?)
+        }
+        TaskKind::Axis(_) if direction => Target::Direction(point("a direction")?),
+        TaskKind::Axis(_) | TaskKind::Com(_) => Target::Point(point("a point")?),
+        TaskKind::Posture(_) => Target::Configuration(values.to_vec()),
+        TaskKind::Damping(_) => {
+            return Err(Error::option("target", "a damping task has no target"))
+        }
+    })
 }
 
 /// Every spec resolved; the error names the task's index.

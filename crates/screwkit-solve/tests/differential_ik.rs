@@ -927,3 +927,88 @@ fn a_follower_that_cannot_follow_is_named_and_does_not_lock_its_leader() {
     .unwrap();
     assert!(ok.warnings.is_empty(), "{:?}", ok.warnings);
 }
+
+/// A prepared task set steps exactly as the task list does; its targets change in place, each
+/// checked alone, a refused one leaving the task as it was.
+#[test]
+fn a_prepared_task_set_steps_as_the_list_and_takes_new_targets() {
+    use screwkit_solve::tree::differential_ik::ik_step_set;
+    use screwkit_solve::tree::tasks::{Target, TaskSet};
+    let path = screwkit_testkit::bundled("humanoid.urdf");
+    let (_, kin) = load(&path, false);
+    let (l, r) = (
+        kin.frame("left_hand").unwrap(),
+        kin.frame("right_hand").unwrap(),
+    );
+    let a = Se3::from_translation(Vector3::new(0.3, 0.4, 1.1));
+    let b = Se3::from_translation(Vector3::new(0.2, -0.3, 1.0));
+    let list = |ta: Se3, c: Vector3<f64>| {
+        vec![
+            Task::frame(l, ta),
+            Task::relative(r, l, b).with_weight(0.5),
+            Task::com(c).with_weight(0.1),
+            Task::posture(vec![0.1; kin.nq()]).with_weight(1e-2),
+            Task::damping(1e-3),
+        ]
+    };
+    let c0 = Vector3::new(0.0, 0.0, 0.5);
+    let mut set = TaskSet::new(&kin, list(a, c0)).unwrap();
+    let (mut ws1, mut ws2) = (DiffIkWorkspace::new(&kin), DiffIkWorkspace::new(&kin));
+    let limits = Limits::default();
+    // Mid-range within every joint's limits.
+    let mut q: Vec<f64> = kin
+        .lower()
+        .iter()
+        .zip(kin.upper())
+        .map(|(lo, hi)| 0.5 * (lo.max(-3.0) + hi.min(3.0)))
+        .collect();
+    for k in 0..20 {
+        let ta = Se3::from_translation(Vector3::new(0.3, 0.4 - 0.01 * k as f64, 1.1));
+        let c = Vector3::new(0.01 * k as f64, 0.0, 0.5);
+        set.set_target(&kin, 0, Target::Pose(ta)).unwrap();
+        set.set_target(&kin, 2, Target::Point(c)).unwrap();
+        let v_set = ik_step_set(&kin, &mut ws1, &q, &set, 0.01, &limits)
+            .unwrap()
+            .to_vec();
+        let v_list = ik_step(&kin, &mut ws2, &q, &list(ta, c), 0.01, &limits)
+            .unwrap()
+            .to_vec();
+        assert_eq!(v_set, v_list, "step {k}");
+        assert!(v_set.iter().any(|x| *x != 0.0));
+        for (qi, vi) in q.iter_mut().zip(&v_set) {
+            *qi += 0.01 * vi;
+        }
+    }
+    // Refused targets name the task and leave it unchanged.
+    let before = set.clone();
+    let mut bad = Se3::identity();
+    bad = Se3::from_parts_unchecked(*bad.rotation(), Vector3::new(f64::NAN, 0.0, 0.0));
+    for (i, t, words) in [
+        (0, Target::Pose(bad), "not finite"),
+        (0, Target::Point(c0), "takes a pose"),
+        (4, Target::Point(c0), "takes nothing"),
+        (3, Target::Configuration(vec![0.0; 2]), "q_ref has 2 values"),
+        (9, Target::Point(c0), "out of range"),
+    ] {
+        let e = set.set_target(&kin, i, t).unwrap_err().to_string();
+        assert!(e.contains(words), "{e}");
+        if i < 9 {
+            assert!(e.starts_with(&format!("task {i} (")), "{e}");
+        }
+    }
+    assert_eq!(set, before);
+    // Another model: refused.
+    let other = screwkit_testkit::bundled("torso_two_arms.urdf");
+    let (_, kin2) = load(&other, false);
+    let e = ik_step_set(
+        &kin2,
+        &mut DiffIkWorkspace::new(&kin2),
+        &vec![0.0; kin2.nq()],
+        &set,
+        0.01,
+        &limits,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("another model"), "{e}");
+}

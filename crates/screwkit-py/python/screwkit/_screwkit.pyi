@@ -2,11 +2,10 @@
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any, Literal, final
+from typing import Any, Literal, TypeAlias, final
 
 import numpy as np
 import numpy.typing as npt
-from typing_extensions import TypeAlias
 
 __version__: str
 __all__ = [
@@ -21,6 +20,7 @@ __all__ = [
     "ComTask",
     "PostureTask",
     "DampingTask",
+    "TaskSet",
     "TasksResult",
     "exp",
     "log",
@@ -147,6 +147,14 @@ class DampingTask:
     def __new__(cls, weight: float = 1e-3) -> DampingTask: ...
 
 _Task: TypeAlias = FrameTask | RelativeFrameTask | AxisTask | ComTask | PostureTask | DampingTask
+
+@final
+class TaskSet:
+    """Tasks prepared for one robot (`Robot.task_set`): frames found and checked once; targets
+    changed in place, so that `ik_step(q, task_set, dt)` looks no name up."""
+
+    def set_target(self, index: int, target: _ArrayLike, *, direction: bool = False) -> None: ...
+    def __len__(self) -> int: ...
 
 @final
 class TasksResult:
@@ -403,10 +411,11 @@ class Robot:
     def com_jacobian(self, q: _ArrayLike) -> _F64: ...
     @property
     def total_mass(self) -> float: ...
+    def task_set(self, tasks: Sequence[_Task]) -> TaskSet: ...
     def ik_step(
         self,
         q: _ArrayLike,
-        tasks: Sequence[_Task],
+        tasks: Sequence[_Task] | TaskSet,
         dt: float,
         *,
         position_limits: bool = True,
@@ -416,7 +425,7 @@ class Robot:
     def ik_step_qp(
         self,
         q: _ArrayLike,
-        tasks: Sequence[_Task],
+        tasks: Sequence[_Task] | TaskSet,
         dt: float,
         *,
         position_limits: bool = True,

@@ -52,7 +52,7 @@
 use rayon::prelude::*;
 use screwkit_lie::Se3;
 
-use super::tasks::{check_tasks, evaluate, Rows, Task, TaskError};
+use super::tasks::{check_tasks, evaluate, Rows, Task, TaskError, TaskSet};
 use super::{TreeKinematics, TreeWorkspace};
 use crate::box_qp::{self, BoxQpWorkspace};
 use crate::error::SolveError;
@@ -346,10 +346,41 @@ pub fn ik_step<'w>(
     let base = kin.check_q(q)?;
     check_tasks(kin, tasks)?;
     check_dt(dt)?;
+    step(kin, ws, q, &base, tasks, dt, limits)
+}
+
+/// [`ik_step`] with a prepared task set (checked once; its targets updated in place by
+/// [`TaskSet::set_target`]): the same step, without checking the tasks again. Checks q, dt
+/// and that the set was prepared for this model.
+pub fn ik_step_set<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut DiffIkWorkspace,
+    q: &[f64],
+    tasks: &TaskSet,
+    dt: f64,
+    limits: &Limits,
+) -> Result<&'w [f64], SolveError> {
+    check_size(kin)?;
+    let base = kin.check_q(q)?;
+    tasks.check_model(kin)?;
+    check_dt(dt)?;
+    step(kin, ws, q, &base, tasks.tasks(), dt, limits)
+}
+
+/// The step of [`ik_step`] on checked inputs.
+fn step<'w>(
+    kin: &TreeKinematics,
+    ws: &'w mut DiffIkWorkspace,
+    q: &[f64],
+    base: &Se3,
+    tasks: &[Task],
+    dt: f64,
+    limits: &Limits,
+) -> Result<&'w [f64], SolveError> {
     ws.fit(kin);
     let nv = kin.nv();
     bounds(kin, q, limits, Some(dt), &mut ws.lo, &mut ws.hi)?;
-    evaluate(kin, &mut ws.tree, q, &base, tasks, &mut ws.rows);
+    evaluate(kin, &mut ws.tree, q, base, tasks, &mut ws.rows);
     normal_equations(&ws.rows, nv, None, &mut ws.h, &mut ws.c)?;
     box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
     for (v, d) in ws.v.iter_mut().zip(&ws.delta) {

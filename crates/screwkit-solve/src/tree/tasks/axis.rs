@@ -6,8 +6,8 @@
 use nalgebra::Vector3;
 
 use super::{
-    base_and_path, check_frame, check_unit, frame_name, At, Measures, Objective, Rows, Task,
-    TaskError,
+    base_and_path, check_frame, check_unit, frame_name, wrong_target, At, Measures, Objective,
+    Rows, Target, Task, TaskError,
 };
 use crate::jacobian::JacobianKind;
 use crate::tree::jacobian::pose_jacobian_unchecked;
@@ -52,6 +52,21 @@ impl Objective for AxisTask {
 
     fn measures(&self) -> Measures {
         Measures::PositionAndRotation
+    }
+
+    /// A point (its origin's target) or a direction (its axis's).
+    fn set_target(&mut self, target: Target) -> Result<(), String> {
+        match target {
+            Target::Point(p) => {
+                self.point = Some(p);
+                Ok(())
+            }
+            Target::Direction(d) => {
+                self.direction = d;
+                Ok(())
+            }
+            other => Err(wrong_target("axis task", "a point or a direction", &other)),
+        }
     }
 
     fn rows(&self, at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError {

@@ -3,7 +3,7 @@
 
 use nalgebra::Vector3;
 
-use super::{At, Measures, Objective, Rows, Task, TaskError};
+use super::{wrong_target, At, Measures, Objective, Rows, Target, Task, TaskError};
 use crate::tree::com::com_jacobian_unchecked;
 use crate::tree::TreeKinematics;
 
@@ -40,6 +40,16 @@ impl Objective for ComTask {
 
     fn measures(&self) -> Measures {
         Measures::Position
+    }
+
+    fn set_target(&mut self, target: Target) -> Result<(), String> {
+        match target {
+            Target::Point(p) => {
+                self.target = p;
+                Ok(())
+            }
+            other => Err(wrong_target("centre-of-mass task", "a point", &other)),
+        }
     }
 
     fn rows(&self, at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError {

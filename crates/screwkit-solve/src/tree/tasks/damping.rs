@@ -1,7 +1,7 @@
 //! **Damping task** (a regulariser): small steps, ‖Δ‖² weighted — the identity on every
 //! velocity entry, as diagonal terms. No error.
 
-use super::{At, Measures, Objective, Rows, Task, TaskError};
+use super::{wrong_target, At, Measures, Objective, Rows, Target, Task, TaskError};
 use crate::tree::TreeKinematics;
 
 /// Small steps: ‖Δ‖² weighted by the task's weight squared.
@@ -25,6 +25,10 @@ impl Objective for DampingTask {
 
     fn measures(&self) -> Measures {
         Measures::Nothing
+    }
+
+    fn set_target(&mut self, target: Target) -> Result<(), String> {
+        Err(wrong_target("damping task", "nothing", &target))
     }
 
     fn rows(&self, _at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError {

@@ -4,7 +4,8 @@
 use screwkit_lie::Se3;
 
 use super::{
-    base_and_path, check_frame, frame_name, At, Measures, Objective, Rows, Task, TaskError,
+    base_and_path, check_frame, frame_name, wrong_target, At, Measures, Objective, Rows, Target,
+    Task, TaskError,
 };
 use crate::jacobian::JacobianKind;
 use crate::tree::jacobian::pose_jacobian_unchecked;
@@ -39,6 +40,16 @@ impl Objective for FrameTask {
 
     fn measures(&self) -> Measures {
         Measures::PositionAndRotation
+    }
+
+    fn set_target(&mut self, target: Target) -> Result<(), String> {
+        match target {
+            Target::Pose(t) => {
+                self.target = t;
+                Ok(())
+            }
+            other => Err(wrong_target("frame task", "a pose", &other)),
+        }
     }
 
     fn rows(&self, at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError {

@@ -48,6 +48,7 @@ mod damping;
 mod frame;
 mod posture;
 mod relative;
+mod set;
 
 pub use axis::AxisTask;
 pub use com::ComTask;
@@ -55,6 +56,7 @@ pub use damping::DampingTask;
 pub use frame::FrameTask;
 pub use posture::PostureTask;
 pub use relative::RelativeTask;
+pub use set::{Target, TaskSet};
 
 /// What a task asks (frame indices from [`TreeKinematics::frame`]): one variant per task
 /// type, each type in its own file.
@@ -77,6 +79,18 @@ pub enum TaskKind {
 impl TaskKind {
     /// The task type's behaviour: the one match over the types (no catch-all arm).
     pub(crate) fn objective(&self) -> &dyn Objective {
+        match self {
+            TaskKind::Frame(t) => t,
+            TaskKind::Relative(t) => t,
+            TaskKind::Axis(t) => t,
+            TaskKind::Com(t) => t,
+            TaskKind::Posture(t) => t,
+            TaskKind::Damping(t) => t,
+        }
+    }
+
+    /// The same, to change its target ([`TaskSet::set_target`]).
+    pub(crate) fn objective_mut(&mut self) -> &mut dyn Objective {
         match self {
             TaskKind::Frame(t) => t,
             TaskKind::Relative(t) => t,
@@ -120,9 +134,20 @@ pub(crate) trait Objective {
     fn dependence(&self, kin: &TreeKinematics, out: &mut Vec<usize>);
     /// Which errors it reports.
     fn measures(&self) -> Measures;
+    /// Takes `target` as its new target (the message when the type takes no such target;
+    /// [`TaskSet::set_target`] then checks the task).
+    fn set_target(&mut self, target: Target) -> Result<(), String>;
     /// Its rows (or a regulariser's diagonal terms) at the evaluation's q, weighted by `task`'s
     /// weights and gain, into `rows`; returns its error (`converged` is set by the caller).
     fn rows(&self, at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError;
+}
+
+/// The message of a target a task type does not take.
+pub(crate) fn wrong_target(task: &str, takes: &str, target: &Target) -> String {
+    format!(
+        "a {task} takes {takes} as its target, not {}",
+        target.what()
+    )
 }
 
 /// Where a task set is evaluated: the model, its scratch, q and the base pose, and whether any

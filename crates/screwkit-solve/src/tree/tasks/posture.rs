@@ -4,7 +4,7 @@
 
 use screwkit_lie::angle;
 
-use super::{At, Measures, Objective, Rows, Task, TaskError};
+use super::{wrong_target, At, Measures, Objective, Rows, Target, Task, TaskError};
 use crate::tree::TreeKinematics;
 
 /// q towards `q_ref` (nq values; a floating base's seven are not used).
@@ -46,6 +46,16 @@ impl Objective for PostureTask {
 
     fn measures(&self) -> Measures {
         Measures::Configuration
+    }
+
+    fn set_target(&mut self, target: Target) -> Result<(), String> {
+        match target {
+            Target::Configuration(q) => {
+                self.q_ref = q;
+                Ok(())
+            }
+            other => Err(wrong_target("posture task", "a configuration", &other)),
+        }
     }
 
     fn rows(&self, at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError {

@@ -6,7 +6,8 @@ use screwkit_lie::Se3;
 
 use super::frame::{check_pose, pose_rows};
 use super::{
-    base_and_path, check_frame, frame_name, At, Measures, Objective, Rows, Task, TaskError,
+    base_and_path, check_frame, frame_name, wrong_target, At, Measures, Objective, Rows, Target,
+    Task, TaskError,
 };
 use crate::jacobian::JacobianKind;
 use crate::tree::jacobian::relative_unchecked;
@@ -52,6 +53,16 @@ impl Objective for RelativeTask {
 
     fn measures(&self) -> Measures {
         Measures::PositionAndRotation
+    }
+
+    fn set_target(&mut self, target: Target) -> Result<(), String> {
+        match target {
+            Target::Pose(t) => {
+                self.target = t;
+                Ok(())
+            }
+            other => Err(wrong_target("relative frame task", "a pose", &other)),
+        }
     }
 
     fn rows(&self, at: &mut At<'_>, task: &Task, rows: &mut Rows) -> TaskError {
