@@ -293,6 +293,7 @@ impl Robot {
                 position,
                 velocity,
                 velocity_caps,
+                ..Default::default()
             },
         ))
     }

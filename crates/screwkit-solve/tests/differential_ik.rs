@@ -1012,3 +1012,65 @@ fn a_prepared_task_set_steps_as_the_list_and_takes_new_targets() {
     .to_string();
     assert!(e.contains("another model"), "{e}");
 }
+
+/// A limit of the caller's own kind (a joint held still) joins the built-in ones through
+/// `Limits::extra`: the step's box and answer respect it, and the other joints still move.
+#[test]
+fn an_extra_limit_narrows_the_step_box() {
+    use screwkit_solve::tree::limits::Limit;
+    use screwkit_solve::SolveError;
+    #[derive(Debug)]
+    struct Hold(usize);
+    impl Limit for Hold {
+        fn check(&self, kin: &TreeKinematics) -> Result<(), SolveError> {
+            if self.0 < kin.nv() {
+                Ok(())
+            } else {
+                Err(SolveError::InvalidInput(format!(
+                    "no velocity entry {}",
+                    self.0
+                )))
+            }
+        }
+        fn narrow(
+            &self,
+            _kin: &TreeKinematics,
+            _q: &[f64],
+            _dt: Option<f64>,
+            lo: &mut [f64],
+            hi: &mut [f64],
+        ) -> Result<(), SolveError> {
+            lo[self.0] = lo[self.0].max(0.0);
+            hi[self.0] = hi[self.0].min(0.0);
+            Ok(())
+        }
+    }
+    let path = screwkit_testkit::bundled("torso_two_arms.urdf");
+    let (_, kin) = load(&path, false);
+    let l = kin.frame("left_hand").unwrap();
+    let far = Se3::from_translation(Vector3::new(0.5, 0.5, 1.0));
+    let tasks = [Task::frame(l, far), Task::damping(1e-3)];
+    let q = vec![0.0; kin.nq()];
+    let mut ws = DiffIkWorkspace::new(&kin);
+    let free = ik_step(&kin, &mut ws, &q, &tasks, 0.01, &Limits::default())
+        .unwrap()
+        .to_vec();
+    assert!(free[0] != 0.0, "the waist moves without the hold");
+    let held = Limits {
+        extra: vec![std::sync::Arc::new(Hold(0))],
+        ..Limits::default()
+    };
+    let v = ik_step(&kin, &mut ws, &q, &tasks, 0.01, &held)
+        .unwrap()
+        .to_vec();
+    let (_, _, lo, hi) = ws.qp();
+    assert_eq!((lo[0], hi[0]), (0.0, 0.0));
+    assert_eq!(v[0], 0.0);
+    assert!(v[1..].iter().any(|x| *x != 0.0));
+    let bad = Limits {
+        extra: vec![std::sync::Arc::new(Hold(99))],
+        ..Limits::default()
+    };
+    let e = ik_step(&kin, &mut ws, &q, &tasks, 0.01, &bad).unwrap_err();
+    assert!(e.to_string().contains("no velocity entry 99"), "{e}");
+}

@@ -45,9 +45,10 @@
 //! sets before it — the segments depend on the options only, never on the thread count, so the
 //! answers do not either.
 //!
-//! **Self-collision** is not a limit here (it needs geometry): it would be a general inequality
-//! row G Δ ≤ h beside the box, handed to a general QP in place of [`crate::box_qp`] (the
-//! `Limits` struct is where it would be switched on).
+//! **Limits are types** ([`super::limits`]: position, velocity, one file each, behind the
+//! [`super::limits::Limit`] trait). Self-collision is not one yet (it needs geometry): it would
+//! be a general inequality row G Δ ≤ h beside the box, handed to a general QP in place of
+//! [`crate::box_qp`].
 
 use rayon::prelude::*;
 use screwkit_lie::Se3;
@@ -58,30 +59,7 @@ use crate::box_qp::{self, BoxQpWorkspace};
 use crate::error::SolveError;
 use crate::ik::Interrupt;
 
-/// Which limits a step respects (module documentation).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Limits {
-    /// q + v·dt within the position bounds (default true).
-    pub position: bool,
-    /// |v_j| within the file's `velocity` limits (default true).
-    pub velocity: bool,
-    /// The caller's speed caps per joint variable (n values, rad/s or m/s; ∞ for none),
-    /// combined with the file's by the minimum.
-    pub velocity_caps: Option<Vec<f64>>,
-}
-
-impl Default for Limits {
-    fn default() -> Self {
-        Limits {
-            position: true,
-            velocity: true,
-            velocity_caps: None,
-        }
-    }
-}
-
-/// Relative tolerance of "already outside the limits".
-pub const LIMIT_TOLERANCE: f64 = 1e-9;
+pub use super::limits::{Limits, LIMIT_TOLERANCE};
 
 /// The most velocity variables (nv) a whole-body IK problem may have. Its QP is dense: H is
 /// nv × nv (32 MiB of f64 at this limit, and the active set's factor as much again); whole
@@ -171,65 +149,6 @@ fn check_dt(dt: f64) -> Result<(), SolveError> {
             "dt must be a finite number > 0, got {dt}"
         )))
     }
-}
-
-/// The box l ≤ Δ ≤ u for one step from q (module documentation); `dt` None: no velocity limit.
-fn bounds(
-    kin: &TreeKinematics,
-    q: &[f64],
-    limits: &Limits,
-    dt: Option<f64>,
-    lo: &mut [f64],
-    hi: &mut [f64],
-) -> Result<(), SolveError> {
-    lo.fill(f64::NEG_INFINITY);
-    hi.fill(f64::INFINITY);
-    let (qo, vo) = (kin.q_offset(), kin.v_offset());
-    if let Some(caps) = &limits.velocity_caps {
-        if caps.len() != kin.variable_bounds.len() {
-            return Err(SolveError::InvalidInput(format!(
-                "velocity_caps has {} values, the model has {} joint variables",
-                caps.len(),
-                kin.variable_bounds.len()
-            )));
-        }
-        if let Some(i) = caps.iter().position(|c| c.is_nan() || *c < 0.0) {
-            return Err(SolveError::InvalidInput(format!(
-                "velocity_caps[{i}] = {} is not a number ≥ 0",
-                caps[i]
-            )));
-        }
-    }
-    for (j, &(bl, bu)) in kin.variable_bounds.iter().enumerate() {
-        let x = q[qo + j];
-        let (l, u) = (&mut lo[vo + j], &mut hi[vo + j]);
-        if limits.position {
-            let tol = |b: f64| LIMIT_TOLERANCE * b.abs().max(1.0);
-            if x < bl - tol(bl) || x > bu + tol(bu) {
-                return Err(SolveError::InvalidInput(format!(
-                    "joint \"{}\" is at {x}, outside its limits [{bl}, {bu}]: bring it inside first (the step does not clip it)",
-                    kin.q_names()[qo + j]
-                )));
-            }
-            *l = (bl - x).min(0.0);
-            *u = (bu - x).max(0.0);
-        }
-        if let Some(dt) = dt {
-            let mut speed = if limits.velocity {
-                kin.variable_speed[j]
-            } else {
-                f64::INFINITY
-            };
-            if let Some(caps) = &limits.velocity_caps {
-                speed = speed.min(caps[j]);
-            }
-            if speed.is_finite() {
-                *l = l.max(-speed * dt);
-                *u = u.min(speed * dt);
-            }
-        }
-    }
-    Ok(())
 }
 
 /// Per velocity entry, the merit of the goals it moves ([`Damping::merit`]) and whether any
@@ -379,7 +298,7 @@ fn step<'w>(
 ) -> Result<&'w [f64], SolveError> {
     ws.fit(kin);
     let nv = kin.nv();
-    bounds(kin, q, limits, Some(dt), &mut ws.lo, &mut ws.hi)?;
+    limits.bounds(kin, q, Some(dt), &mut ws.lo, &mut ws.hi)?;
     evaluate(kin, &mut ws.tree, q, base, tasks, &mut ws.rows);
     normal_equations(&ws.rows, nv, None, &mut ws.h, &mut ws.c)?;
     box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
@@ -503,9 +422,9 @@ pub fn ik_tasks(
     let limits = Limits {
         position: opts.position_limits,
         velocity: false,
-        velocity_caps: None,
+        ..Limits::default()
     };
-    bounds(kin, seed, &limits, None, &mut ws.lo, &mut ws.hi)?;
+    limits.bounds(kin, seed, None, &mut ws.lo, &mut ws.hi)?;
     // Which velocity entries each goal moves: once per call (descents and restarts share it).
     let deps = dependence(kin, tasks);
     let mut rng = crate::sample::SplitMix64(opts.seed);
@@ -643,7 +562,7 @@ fn descend(
         }
         let e = ws.rows.merit;
         damping.update(deps, &ws.rows);
-        bounds(kin, &ws.q, limits, None, &mut ws.lo, &mut ws.hi)?;
+        limits.bounds(kin, &ws.q, None, &mut ws.lo, &mut ws.hi)?;
         let mut accepted = false;
         while damping.lambda < 1e10 {
             normal_equations(&ws.rows, nv, Some(&damping), &mut ws.h, &mut ws.c)?;

@@ -33,6 +33,7 @@ pub mod configuration;
 pub mod differential_ik;
 pub mod fk;
 pub mod jacobian;
+pub mod limits;
 pub mod tasks;
 
 use nalgebra::Matrix6xX;
