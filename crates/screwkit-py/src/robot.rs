@@ -689,7 +689,7 @@ impl Robot {
             floating_base,
             ..LoadOptions::default()
         };
-        let build = |screws: Vec<[f64; 6]>| {
+        let describe = |screws: Vec<[f64; 6]>| {
             screwkit_model::ScrewRobot::new(
                 "<screws>",
                 home,
@@ -698,20 +698,21 @@ impl Robot {
                 limits.clone(),
                 names.clone(),
             )
-            .map_err(screwkit_service::Error::from)
-            .and_then(|d| screwkit_service::Robot::from_screws(d, &options))
         };
-        match build(screws.clone()) {
+        let built = describe(screws.clone())
+            .map_err(screwkit_service::Error::from)
+            .and_then(|d| screwkit_service::Robot::from_screws(d, &options));
+        match built {
             Ok(robot) => Self::wrap(robot),
             Err(e) => {
-                // Modern Robotics' Slist holds the axes as columns: say so when S.T would do.
+                // Modern Robotics' Slist holds the axes as columns: say so when S.T would do
+                // (its rows read again and made a chain, no robot built).
                 let n = screws.len();
                 let transposed: Vec<[f64; 6]> = (0..6)
                     .map(|r| std::array::from_fn(|c| if c < n { screws[c][r] } else { f64::NAN }))
                     .collect();
-                let hint = n == 6 && build(transposed).is_ok();
                 let err = service_error(e);
-                if hint {
+                if n == 6 && describe(transposed).and_then(|d| d.chain()).is_ok() {
                     let msg = format!(
                         "{} (S's columns are screw axes: rows are expected, pass S.T)",
                         err.value(_cls.py())

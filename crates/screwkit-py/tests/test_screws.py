@@ -143,11 +143,21 @@ def test_random_arms_equal_mr_and_numpy() -> None:
             np.testing.assert_allclose(
                 space.jacobian(q, "body"), mr.JacobianBody(b, q), rtol=0, atol=1e-12
             )
-        # The whole-tree form (the robot's frames at each joint) is the same robot.
-        np.testing.assert_allclose(space.fk(qs[:5], link="tip"), fk_s[:5], atol=1e-13)
-        np.testing.assert_allclose(
-            space.jacobian(qs[:5], "space", link="tip"), js_s[:5], atol=1e-13
-        )
+        # One exact model: the tip as a frame of the whole tree answers with the screws as
+        # given, the very numbers of the chain, single and batched, in every Jacobian kind.
+        for robot in (space, body):
+            np.testing.assert_array_equal(robot.fk(qs, link="tip"), robot.fk(qs))
+            for q in qs[:5]:
+                np.testing.assert_array_equal(robot.fk(q, link="tip"), robot.fk(q))
+                for kind in ("space", "body", "world-aligned"):
+                    np.testing.assert_array_equal(
+                        robot.jacobian(q, kind, link="tip"), robot.jacobian(q, kind)
+                    )
+            for kind in ("space", "body", "world-aligned"):
+                np.testing.assert_array_equal(
+                    robot.jacobian(qs, kind, link="tip"), robot.jacobian(qs, kind)
+                )
+
     assert kinds == {"revolute", "helical", "prismatic"}
 
 

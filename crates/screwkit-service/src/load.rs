@@ -264,15 +264,24 @@ impl Robot {
             }
         }
         let tool = options.tool_pose()?;
-        let chain = screws.chain()?;
+        let exact = screws.chain()?;
         let chain = match &tool {
-            Some(tool) => chain.with_tool(tool),
-            None => chain,
+            Some(tool) => exact.with_tool(tool),
+            None => exact.clone(),
         };
         let kin = Kinematics::new(&chain);
         let tree = screws.tree()?;
         let whole = KinematicTree::from_tree(&tree)
-            .and_then(|m| TreeKinematics::new(&m.with_floating_base(options.floating_base)));
+            .and_then(|m| TreeKinematics::new(&m.with_floating_base(options.floating_base)))
+            .inspect(|whole| {
+                // One exact model: the tree's "tip" answers with the screws as given (its
+                // frames are computed from them, equal to rounding), so `fk(q)` and
+                // `fk(q, link="tip")` are the same numbers. The chain always fits the tree it
+                // was made with; were it not to, the tree's own chain answers (to rounding).
+                if let Ok(tip) = whole.frame("tip") {
+                    let _ = whole.set_chain(tip, &exact, 1e-9);
+                }
+            });
         let text = serde_json::to_string_pretty(&screws.to_json())
             .map_err(|e| Error::option("screws", e.to_string()))?;
         Ok(Robot {

@@ -357,12 +357,57 @@ fn the_chain_is_a_view_of_the_tree() {
             .unwrap()
             .clone();
             let tj = jacobian::frame_jacobian(&kin, &mut ws, &q, tip, JacobianKind::Space).unwrap();
-            // The tree sweeps in the joints' own frames, the chain kernel in the space
-            // screws: the same product, rounded differently.
+            // The tree's frame Jacobian runs its own chain root → frame (`chain_to`), the
+            // same chain as `Chain::from_tree` to rounding.
             for (c, &k) in order.iter().enumerate() {
                 let d = (cj.column(c) - tj.column(k)).amax();
                 assert!(d < 1e-14, "{file}: column {c} differs by {d:e}");
             }
+        }
+    }
+}
+
+/// A frame can take a chain known more exactly than its tree (a robot from screws): its pose
+/// and Jacobians are then that chain's bit for bit; a chain that does not fit is refused and
+/// changes nothing.
+#[test]
+fn a_frame_answers_with_the_chain_it_is_given() {
+    let tree = tree_of(&screwkit_testkit::bundled("ur5.urdf"));
+    let chain = screwkit_model::Chain::from_tree(&tree, None, None).unwrap();
+    let (_, kin) = prepared(&tree, false);
+    let tip = kin.frame(&chain.tip).unwrap();
+    // The same chain, its home moved by 1e-12 (as screws given to rounding would be).
+    let mut exact = chain.clone();
+    let m = *exact.home.translation() + nalgebra::Vector3::new(1e-12, 0.0, 0.0);
+    exact.home = Se3::from_parts_unchecked(*exact.home.rotation(), m);
+    // Refused: a variable the tree does not have, a home elsewhere, a bad index.
+    let mut renamed = exact.clone();
+    renamed.variables[0].name = "elsewhere".into();
+    let e = kin.set_chain(tip, &renamed, 1e-9).unwrap_err().to_string();
+    assert!(e.contains("\"elsewhere\" is not the tree's"), "{e}");
+    let e = kin.set_chain(tip, &exact, 1e-13).unwrap_err().to_string();
+    assert!(e.contains("home is not frame"), "{e}");
+    assert!(kin.set_chain(999, &exact, 1e-9).is_err());
+    kin.set_chain(tip, &exact, 1e-9).unwrap();
+    let e = kin.set_chain(tip, &exact, 1e-9).unwrap_err().to_string();
+    assert!(e.contains("built already"), "{e}");
+    let ck = Kinematics::new(&exact);
+    let (mut cws, mut ws) = (Workspace::new(&ck), TreeWorkspace::new(&kin));
+    let mut rng = SplitMix64(5);
+    for _ in 0..20 {
+        let q = configuration::random(&kin, &mut rng);
+        let t = screwkit_solve::fk::fk(&ck, &mut cws, &q).unwrap();
+        assert_eq!(fk::fk_frame(&kin, &mut ws, &q, tip).unwrap(), t);
+        for kind in [
+            JacobianKind::Space,
+            JacobianKind::Body,
+            JacobianKind::WorldAligned,
+        ] {
+            let cj = screwkit_solve::jacobian::jacobian(&ck, &mut cws, &q, kind)
+                .unwrap()
+                .clone();
+            let tj = jacobian::frame_jacobian(&kin, &mut ws, &q, tip, kind).unwrap();
+            assert_eq!(&cj, tj, "{kind:?}");
         }
     }
 }

@@ -221,6 +221,49 @@ impl TreeKinematics {
             .as_ref()
     }
 
+    /// Makes `chain` the kernel of `frame`'s own queries (its pose and Jacobians), for a model
+    /// whose chain to that frame is known more exactly than its tree gives it: a robot from
+    /// screw axes holds its screws as given in its chain, while its tree's joint frames are
+    /// computed from them (equal to rounding). Its answers for that frame are then the chain's,
+    /// bit for bit. The chain's variables must be the tree's (by name), its home the frame's
+    /// within `tol` (metres and radians, entry by entry), and the frame's chain not built yet;
+    /// otherwise an error says which, and nothing changes.
+    pub fn set_chain(
+        &self,
+        frame: usize,
+        chain: &screwkit_model::Chain,
+        tol: f64,
+    ) -> Result<(), SolveError> {
+        self.check_frame(frame)?;
+        let bad = |m: String| Err(SolveError::InvalidInput(m));
+        let variables = match chain
+            .variables
+            .iter()
+            .map(|v| self.variable_index.get(&v.name).copied().ok_or(&v.name))
+            .collect::<Result<Vec<_>, _>>()
+        {
+            Ok(v) => v,
+            Err(name) => return bad(format!("the chain's variable \"{name}\" is not the tree's")),
+        };
+        let kin = Kinematics::new(chain);
+        let home = &self.frames[frame].home;
+        if kin.home().max_abs_diff(home) > tol {
+            return bad(format!(
+                "the chain's home is not frame \"{}\"'s",
+                self.frame_name(frame)
+            ));
+        }
+        self.frames[frame]
+            .view
+            .set(Some(View { kin, variables }))
+            .or_else(|_| {
+                bad(format!(
+                    "frame \"{}\"'s chain is built already",
+                    self.frame_name(frame)
+                ))
+            })
+    }
+
     /// The model it was built from.
     pub fn model(&self) -> &KinematicTree {
         &self.model
