@@ -6,27 +6,23 @@ use screwkit_solve::batch::{fk_all_links_batch, fk_batch};
 use screwkit_solve::fk::{fk, fk_all_links};
 use screwkit_solve::tree::batch::fk_frames_batch;
 use screwkit_solve::{Kinematics, TreeKinematics, Workspace};
-use serde_json::{json, Value};
+use serde_json::Value;
 
 use crate::args::{FkArgs, Format};
 use crate::batch;
-use crate::output::{
-    matrix_text, nums, pose_json, pose_summary, print_json, rows_json, tuple, CliResult,
-};
+use crate::output::{matrix_text, pose_summary, print_json, tuple, CliResult};
+use screwkit_service::report::{self, FkReport, FramesReport, NamedPose};
 
-/// The JSON object of one configuration: `{"q", "pose"}` (+ `"links"`).
-fn fk_json(kin: &Kinematics, q: &[f64], pose: Value, links: Option<Vec<Value>>) -> Value {
-    let mut v = json!({"q": nums(q), "pose": pose});
-    if let Some(poses) = links {
-        v["links"] = Value::Array(
-            kin.links()
-                .iter()
-                .zip(poses)
-                .map(|(l, p)| json!({"name": l.name, "pose": p}))
-                .collect(),
-        );
-    }
-    v
+/// The JSON object of one configuration: `{"q", "pose"}` (+ `"links"`), the floor's report.
+fn fk_json(kin: &Kinematics, q: &[f64], pose: &[f64], links: Option<&[f64]>) -> Value {
+    let links = links.map(|l| {
+        kin.links()
+            .iter()
+            .zip(l.chunks(16))
+            .map(|(link, p)| NamedPose::from_row_major(&link.name, p))
+            .collect()
+    });
+    report::to_value(&FkReport::new(q, pose, links))
 }
 
 /// Batch mode: streamed chunk by chunk, every chunk through the library's FK batch.
@@ -43,15 +39,14 @@ fn run_batch(kin: &Kinematics, input: &str, all_links: bool) -> CliResult {
             batch::merge_row_errors(fk_all_links_batch(kin, &qs, &mut links), &mut errors)?;
         }
         Ok(batch::outputs(lines, &errors, |k| {
-            let link_poses = all_links.then(|| {
-                links[k * l * 16..(k + 1) * l * 16]
-                    .chunks(16)
-                    .map(|m| rows_json(m, 4))
-                    .collect()
-            });
-            let pose = rows_json(&poses[k * 16..(k + 1) * 16], 4);
+            let link_poses = all_links.then(|| &links[k * l * 16..(k + 1) * l * 16]);
             (
-                fk_json(kin, &qs[k * n..(k + 1) * n], pose, link_poses),
+                fk_json(
+                    kin,
+                    &qs[k * n..(k + 1) * n],
+                    &poses[k * 16..(k + 1) * 16],
+                    link_poses,
+                ),
                 true,
             )
         }))
@@ -66,15 +61,15 @@ fn pick(frames: &[usize], all: &[f64], out: &mut [f64]) {
 }
 
 /// `{"q", "frames": [{"name", "pose"}]}` of one configuration (`poses`: the chosen frames',
-/// K × 16).
+/// K × 16), the floor's report.
 fn tree_json(kin: &TreeKinematics, frames: &[usize], q: &[f64], poses: &[f64]) -> Value {
-    json!({
-        "q": nums(q),
-        "frames": frames
+    report::to_value(&FramesReport {
+        q: q.to_vec(),
+        frames: frames
             .iter()
             .zip(poses.chunks(16))
-            .map(|(&f, p)| json!({"name": kin.frame_name(f), "pose": rows_json(p, 4)}))
-            .collect::<Vec<_>>(),
+            .map(|(&f, p)| NamedPose::from_row_major(kin.frame_name(f), p))
+            .collect(),
     })
 }
 
@@ -200,8 +195,15 @@ pub fn run(args: &FkArgs, format: Format) -> CliResult {
         None
     };
     if format == Format::Json {
-        let link_poses = links.as_ref().map(|ls| ls.iter().map(pose_json).collect());
-        print_json(&fk_json(kin, q, pose_json(&t), link_poses))?;
+        let flat = |ts: &[Se3]| {
+            let mut v = vec![0.0; 16 * ts.len()];
+            for (o, t) in v.chunks_mut(16).zip(ts) {
+                t.write_row_major(o);
+            }
+            v
+        };
+        let link_poses = links.as_deref().map(flat);
+        print_json(&fk_json(kin, q, &flat(&[t]), link_poses.as_deref()))?;
         return Ok(());
     }
     let mut s = format!(

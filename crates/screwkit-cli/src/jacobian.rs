@@ -2,9 +2,8 @@
 
 use nalgebra::Matrix6xX;
 use screwkit_lie::display::fixed;
-use screwkit_solve::analysis::{
-    analyze_jacobian, analyze_position_jacobian, Analysis, PositionAnalysis,
-};
+use screwkit_service::report::{self, JacobianReport};
+use screwkit_solve::analysis::{analyze_jacobian, analyze_position_jacobian};
 use screwkit_solve::batch::jacobian_batch;
 use screwkit_solve::jacobian::jacobian;
 use screwkit_solve::{Kinematics, SolveError, Workspace};
@@ -12,56 +11,11 @@ use serde_json::{json, Value};
 
 use crate::args::{Format, JacobianArgs};
 use crate::batch;
-use crate::output::{num, nums, print_json, tuple, CliResult, Failure, PREC};
+use crate::output::{print_json, tuple, CliResult, Failure, PREC};
 use screwkit_service::words::{JacobianFrame, Word};
 
-fn analysis_json(a: &Analysis) -> Value {
-    json!({
-        "singular_values": nums(&a.singular_values),
-        "rank": a.rank,
-        "rank_tolerance": num(a.rank_tolerance),
-        "manipulability": num(a.manipulability),
-        "condition_number": num(a.condition_number),
-        "determinant": a.determinant.map_or(Value::Null, num),
-        "lost_directions": a.lost_directions.iter().map(|d| nums(d.as_slice())).collect::<Vec<_>>(),
-        "verdict": a.verdict(),
-    })
-}
-
-fn position_json(p: &PositionAnalysis) -> Value {
-    json!({
-        "singular_values": nums(&p.singular_values),
-        "rank": p.rank,
-        "manipulability": num(p.manipulability),
-        "condition_number": num(p.condition_number),
-    })
-}
-
-/// The 3 × n Jacobian of the tip point's velocity from a Jacobian of `frame` (J_b and J_wa
-/// have it as their linear rows; J_s's linear rows are the velocity at the base origin, moved
-/// to the tip position p).
-fn tip_point_rows(
-    j: &Matrix6xX<f64>,
-    frame: JacobianFrame,
-    p: &nalgebra::Vector3<f64>,
-) -> nalgebra::DMatrix<f64> {
-    let n = j.ncols();
-    nalgebra::DMatrix::from_fn(3, n, |r, c| {
-        if frame == JacobianFrame::Space {
-            let mut col = [0.0; 6];
-            for (i, x) in col.iter_mut().enumerate() {
-                *x = j[(i, c)];
-            }
-            screwkit_solve::jacobian::space_to_world_aligned(&mut col, p);
-            col[3 + r]
-        } else {
-            j[(3 + r, c)]
-        }
-    })
-}
-
 /// `{"q", "frame", "jacobian"}` (+ `"analysis"` with its `"position"` part) for one
-/// configuration; `p` is the tip position.
+/// configuration, the floor's report; `p` is the frame's position.
 fn value(
     q: &[f64],
     j: &Matrix6xX<f64>,
@@ -69,17 +23,9 @@ fn value(
     with_analysis: bool,
     p: &nalgebra::Vector3<f64>,
 ) -> Result<Value, String> {
-    let rows: Vec<Value> = (0..6)
-        .map(|r| nums(&j.row(r).iter().copied().collect::<Vec<_>>()))
-        .collect();
-    let mut v = json!({"q": nums(q), "frame": frame.as_str(), "jacobian": rows});
-    if with_analysis {
-        let a = analyze_jacobian(j).map_err(|e| e.to_string())?;
-        v["analysis"] = analysis_json(&a);
-        v["analysis"]["position"] =
-            position_json(&analyze_position_jacobian(&tip_point_rows(j, frame, p)));
-    }
-    Ok(v)
+    JacobianReport::new(q, j, frame, with_analysis, p)
+        .map(|r| report::to_value(&r))
+        .map_err(|e| e.to_string())
 }
 
 /// A number for people: scientific notation when it is small (or huge), fixed otherwise.
@@ -152,11 +98,11 @@ impl TreeRequest<'_> {
         analyze: bool,
         p: &nalgebra::Vector3<f64>,
     ) -> Result<Value, String> {
-        let mut v = value(q, j, self.frame, analyze, p)?;
-        v["of"] = json!(self.of);
-        v["relative_to"] = json!(self.reference);
-        v["columns"] = json!(self.kin.v_names());
-        Ok(v)
+        let mut r = JacobianReport::new(q, j, self.frame, analyze, p).map_err(|e| e.to_string())?;
+        r.of = Some(self.of.to_string());
+        r.relative_to = Some(self.reference.clone());
+        r.columns = Some(self.kin.v_names().to_vec());
+        Ok(report::to_value(&r))
     }
 
     /// N Jacobians (N × 6 × nv) and the frame's poses (N × 16) through the library's batch.
@@ -284,7 +230,7 @@ fn analysis_text(
     p: &nalgebra::Vector3<f64>,
 ) -> Result<String, SolveError> {
     let a = analyze_jacobian(j)?;
-    let pos = analyze_position_jacobian(&tip_point_rows(j, frame, p));
+    let pos = analyze_position_jacobian(&report::tip_point_rows(j, frame.kind(), p));
     let mut s = format!(
         "\nsingular values       {}\nrank                  {} of {} (σ ≤ {:.2e} counts as 0)\nmanipulability        {} (√det(J Jᵀ))\ncondition number      {}\n",
         tuple(&a.singular_values),

@@ -66,8 +66,6 @@ pub fn pose_json(t: &Se3) -> Value {
     )
 }
 
-pub use screwkit_service::io::json::rows as rows_json;
-
 /// `(a, b, c)` with [`PREC`] decimals.
 pub fn tuple(xs: &[f64]) -> String {
     format!("({})", fixed_list(xs, PREC))
