@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyType;
 use screwkit_draw::{html, svg, Scene};
 use screwkit_model::{table, Chain};
+use screwkit_service::query::About;
 use screwkit_service::words::{
     self, JacobianFrame, Method, ScrewFrame, TableFormat, TableFrames, Views, Word,
 };
@@ -213,21 +214,6 @@ impl Robot {
         Ok(())
     }
 
-    /// A frame index by name.
-    fn frame_index(kin: &TreeKinematics, name: &str) -> PyResult<usize> {
-        kin.frame(name).map_err(model_error)
-    }
-
-    /// The frame `link` names, or an error saying a frame is needed.
-    fn frame_of(kin: &TreeKinematics, link: Option<&str>, what: &str) -> PyResult<usize> {
-        match link {
-            Some(l) => Self::frame_index(kin, l),
-            None => Err(PyValueError::new_err(format!(
-                "{what}: this robot is a whole tree (no chain: several leaves, or a floating base): name the frame with link=…, one of the frame_names"
-            ))),
-        }
-    }
-
     /// Runs `f` with the shared whole-body IK scratch (a new one when another thread holds it).
     fn with_diff_ws<T>(
         &self,
@@ -296,6 +282,38 @@ impl Robot {
                 ..Default::default()
             },
         ))
+    }
+
+    /// The whole tree this robot answers with (frames added included) when a request needs it
+    /// (`names_frames`, or the floor's rule says the tree answers), else None.
+    fn tree_for(&self, names_frames: bool) -> PyResult<Option<Arc<TreeKinematics>>> {
+        if names_frames || self.tree_mode() {
+            Ok(Some(self.tree_model()?))
+        } else {
+            Ok(None)
+        }
+    }
+
+    /// Checks q's shape for what a query is about: (n,) or (N, n), n its `q_len`; the error
+    /// names the entries (the chain's joints, or the tree's `q_names`).
+    fn rows_about(about: &About<'_>, a: &Bound<'_, PyArrayDyn<f64>>, what: &str) -> PyResult<Rows> {
+        let n = about.q_len();
+        match a.shape() {
+            [m] if *m == n => Ok(Rows::One),
+            [rows, m] if *m == n => Ok(Rows::Many(*rows)),
+            shape => Err(PyValueError::new_err(if about.is_tree() {
+                format!(
+                    "{what}: expected shape ({n},) or (N, {n}) for the whole tree's configuration (q_names), got {}",
+                    shape_str(shape)
+                )
+            } else {
+                format!(
+                    "{what}: expected shape ({n},) or (N, {n}) for the joints {}, got {}",
+                    about.q_names().join(", "),
+                    shape_str(shape)
+                )
+            })),
+        }
     }
 
     /// Checks q's shape for the whole tree: (nq,) or (N, nq).
@@ -974,42 +992,18 @@ impl Robot {
         link: Option<&str>,
         relative_to: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        if link.is_some() || relative_to.is_some() || self.tree_mode() {
-            let kin = self.tree_model()?;
-            let a = Self::frame_of(&kin, link, "fk")?;
-            let b = relative_to
-                .map(|r| Self::frame_index(&kin, r))
-                .transpose()?;
-            let q = f64_array(q, "q")?;
-            let rows = Self::tree_rows_of(&kin, &q, "q")?;
-            return match rows {
-                Rows::One => {
-                    let qs = q.to_vec()?;
-                    let t = self
-                        .with_tree_ws(&kin, |ws| match b {
-                            Some(b) => tree::fk::relative_pose(&kin, ws, &qs, a, b),
-                            None => tree::fk::fk_frame(&kin, ws, &qs, a),
-                        })
-                        .map_err(solve_error)?;
-                    Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
-                }
-                Rows::Many(n) => run_batch(py, &[n, 4, 4], &q, FK_CHUNK / 4, |qs, o| match b {
-                    Some(b) => tree::batch::relative_pose_batch(&kin, (a, b), qs, o),
-                    None => tree::batch::fk_frame_batch(&kin, a, qs, o),
-                }),
-            };
-        }
-        let kin = self.kin()?;
+        let tree = self.tree_for(link.is_some() || relative_to.is_some())?;
+        let about = About::resolve(&self.robot, tree.as_deref(), link, relative_to)
+            .map_err(service_error)?;
         let q = f64_array(q, "q")?;
-        let rows = self.rows_of(&q, "q")?;
-        match rows {
+        match Self::rows_about(&about, &q, "q")? {
             Rows::One => {
-                let t = fk::fk(kin, &mut *self.workspace()?, &q.to_vec()?).map_err(solve_error)?;
+                let t = about.pose(&q.to_vec()?).map_err(solve_error)?;
                 Ok(new_array(py, &[4, 4], |o| t.write_row_major(o))?.into_any())
             }
-            Rows::Many(n) => run_batch(py, &[n, 4, 4], &q, FK_CHUNK, |qs, o| {
-                batch::fk_batch(kin, qs, o)
-            }),
+            Rows::Many(n) => {
+                run_batch(py, &[n, 4, 4], &q, FK_CHUNK / 4, |qs, o| about.poses(qs, o))
+            }
         }
     }
 
@@ -1072,59 +1066,23 @@ impl Robot {
         link: Option<&str>,
         relative_to: Option<&str>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let which = word::<JacobianFrame>("frame", frame)?;
-        if link.is_some() || relative_to.is_some() || self.tree_mode() {
-            let kin = self.tree_model()?;
-            let a = Self::frame_of(&kin, link, "jacobian")?;
-            let b = relative_to
-                .map(|r| Self::frame_index(&kin, r))
-                .transpose()?;
-            let form = which.kind();
-            let q = f64_array(q, "q")?;
-            let rows = Self::tree_rows_of(&kin, &q, "q")?;
-            let nv = kin.nv();
-            return match rows {
-                // Written straight into the new array (no intermediate copy).
-                Rows::One => {
-                    let qs = q.to_vec()?;
-                    self.with_tree_ws(&kin, |ws| {
-                        let pj = match b {
-                            Some(b) => tree::jacobian::relative_jacobian(&kin, ws, &qs, a, b, form),
-                            None => tree::jacobian::frame_pose_jacobian(&kin, ws, &qs, a, form),
-                        }
-                        .map_err(solve_error)?;
-                        Ok(
-                            new_array(py, &[6, nv], |o| batch::write_jacobian(pj.jacobian, o))?
-                                .into_any(),
-                        )
-                    })
-                }
-                Rows::Many(n) if kin.nq() == 0 => Ok(zeros(py, &[n, 6, 0])?.into_any()),
-                Rows::Many(n) => run_batch(py, &[n, 6, nv], &q, FK_CHUNK / 16, |qs, o| match b {
-                    Some(b) => {
-                        tree::batch::relative_jacobian_batch(&kin, (a, b), form, qs, o, None)
-                    }
-                    None => tree::batch::frame_jacobian_batch(&kin, a, form, qs, o, None),
-                }),
-            };
-        }
-        let kind = which.kind();
-        let kin = self.kin()?;
+        let kind = word::<JacobianFrame>("frame", frame)?.kind();
+        let tree = self.tree_for(link.is_some() || relative_to.is_some())?;
+        let about = About::resolve(&self.robot, tree.as_deref(), link, relative_to)
+            .map_err(service_error)?;
         let q = f64_array(q, "q")?;
-        let rows = self.rows_of(&q, "q")?;
-        let n = kin.dof();
-        match rows {
+        let n = about.columns();
+        match Self::rows_about(&about, &q, "q")? {
+            // Written straight into the new array (no intermediate copy).
             Rows::One => {
-                let mut ws = self.workspace()?;
-                let j =
-                    jacobian::jacobian(kin, &mut ws, &q.to_vec()?, kind).map_err(solve_error)?;
-                Ok(new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?.into_any())
+                let q = q.to_vec()?;
+                let mut result = Ok(screwkit_lie::Se3::identity());
+                let array = new_array(py, &[6, n], |o| result = about.pose_jacobian(kind, &q, o))?;
+                result.map_err(solve_error)?;
+                Ok(array.into_any())
             }
-            // A chain without joints: N empty Jacobians (the flat batch cannot tell N from
-            // empty rows).
-            Rows::Many(rows) if n == 0 => Ok(zeros(py, &[rows, 6, 0])?.into_any()),
-            Rows::Many(rows) => run_batch(py, &[rows, 6, n], &q, FK_CHUNK / 4, |qs, o| {
-                batch::jacobian_batch(kin, qs, kind, o, None)
+            Rows::Many(rows) => run_batch(py, &[rows, 6, n], &q, FK_CHUNK / 16, |qs, o| {
+                about.jacobians(kind, qs, o)
             }),
         }
     }

@@ -155,9 +155,11 @@ def test_many_leaf_robot_python_api() -> None:
     assert robot.variable_names == robot.q_names == robot.v_names
     assert robot.frame_names == robot.link_names
     q = np.linspace(-0.3, 0.3, robot.nq)
-    # fk without link= on a many-leaf file says what to do.
-    with pytest.raises(ValueError, match="link="):
-        robot.fk(q)
+    # fk and jacobian without link= on a many-leaf file say what to do (the floor's message,
+    # naming the keyword).
+    for call in (lambda: robot.fk(q), lambda: robot.jacobian(q)):
+        with pytest.raises(ValueError, match="^link: this robot is a whole tree .* name the frame"):
+            call()
     with pytest.raises(ValueError, match="unknown frame"):
         robot.fk(q, link="nope")
     with pytest.raises(ValueError, match="cannot choose a tip"):

@@ -23,6 +23,7 @@ pub mod io;
 pub mod joint;
 pub mod load;
 pub mod mujoco;
+pub mod query;
 pub mod report;
 pub mod request;
 pub mod solutions;

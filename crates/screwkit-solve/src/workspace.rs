@@ -17,8 +17,9 @@ pub struct Workspace {
     /// The link poses as the all-link kernel writes them (columns), converted into `links`.
     pub(crate) link_columns: Vec<Columns>,
     pub(crate) ik: IkScratch,
-    /// A locked analytic solver's prepared problem at its last lock value.
-    pub(crate) analytic: Option<crate::analytic::PreparedAt>,
+    /// A locked analytic solver's prepared problem at its last lock value (boxed: ~500 bytes
+    /// that `Workspace::local` would otherwise move in and out at every call).
+    pub(crate) analytic: Option<Box<crate::analytic::PreparedAt>>,
 }
 
 /// The per-solve buffers of the IK loop, kept in the workspace so a solve allocates only the
@@ -71,10 +72,11 @@ impl Workspace {
     /// Runs `f` in this thread's kept workspace, fitted to `kin`: a batch small enough for the
     /// calling thread then makes none (measured: 0.23 µs for the Panda's, a quarter of a
     /// one-row batch from Python). Taken out while `f` runs, so a batch inside `f` makes its
-    /// own; algorithms never read what a workspace held before.
-    pub(crate) fn local<R>(kin: &Kinematics, f: impl FnOnce(&mut Workspace) -> R) -> R {
+    /// own; algorithms never read what a workspace held before. Kept boxed: taking it out
+    /// and back moves a pointer, not the workspace.
+    pub fn local<R>(kin: &Kinematics, f: impl FnOnce(&mut Workspace) -> R) -> R {
         thread_local! {
-            static KEPT: std::cell::RefCell<Option<Workspace>> = const { std::cell::RefCell::new(None) };
+            static KEPT: std::cell::RefCell<Option<Box<Workspace>>> = const { std::cell::RefCell::new(None) };
         }
         let mut ws = KEPT.with(|k| k.borrow_mut().take()).unwrap_or_default();
         ws.fit(kin);

@@ -229,7 +229,7 @@ impl AnalyticIk {
         &self,
         target: &Se3,
         lock_value: f64,
-        kept: &mut Option<PreparedAt>,
+        kept: &mut Option<Box<PreparedAt>>,
         out: &mut Postures,
     ) {
         if let Some(a) = &self.arm {
@@ -250,22 +250,19 @@ impl AnalyticIk {
             Some(p) => p,
             None => {
                 let value = lock_value.to_bits();
+                let fresh = |s: &Self| {
+                    let (lines, home) = s.locked_lines(lock_value);
+                    PreparedAt {
+                        solver: s.id,
+                        value,
+                        prepared: Prepared::new(s.method, &lines, home, s.reversed, s.shift),
+                    }
+                };
+                // Boxed (a workspace stays small to move) and rewritten in place.
                 match kept {
                     Some(k) if k.solver == self.id && k.value == value => {}
-                    _ => {
-                        let (lines, home) = self.locked_lines(lock_value);
-                        *kept = Some(PreparedAt {
-                            solver: self.id,
-                            value,
-                            prepared: Prepared::new(
-                                self.method,
-                                &lines,
-                                home,
-                                self.reversed,
-                                self.shift,
-                            ),
-                        });
-                    }
+                    Some(k) => **k = fresh(self),
+                    None => *kept = Some(Box::new(fresh(self))),
                 }
                 match kept {
                     Some(k) => &k.prepared,

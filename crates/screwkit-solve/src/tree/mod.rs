@@ -489,13 +489,14 @@ impl TreeWorkspace {
     /// Runs `f` in this thread's kept workspace, fitted to `kin` (as
     /// [`crate::Workspace`]'s: a small batch on the calling thread then makes none; 0.48 µs
     /// for the bundled humanoid's).
-    pub(crate) fn local<R>(kin: &TreeKinematics, f: impl FnOnce(&mut TreeWorkspace) -> R) -> R {
+    /// Kept boxed: taking it out and back moves a pointer, not the workspace.
+    pub fn local<R>(kin: &TreeKinematics, f: impl FnOnce(&mut TreeWorkspace) -> R) -> R {
         thread_local! {
-            static KEPT: std::cell::RefCell<Option<TreeWorkspace>> = const { std::cell::RefCell::new(None) };
+            static KEPT: std::cell::RefCell<Option<Box<TreeWorkspace>>> = const { std::cell::RefCell::new(None) };
         }
         let mut ws = KEPT
             .with(|k| k.borrow_mut().take())
-            .unwrap_or_else(|| TreeWorkspace::new(kin));
+            .unwrap_or_else(|| Box::new(TreeWorkspace::new(kin)));
         ws.fit(kin);
         let out = f(&mut ws);
         KEPT.with(|k| *k.borrow_mut() = Some(ws));
