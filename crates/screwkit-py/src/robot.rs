@@ -294,6 +294,18 @@ impl Robot {
         }
     }
 
+    /// `f` of this robot's configuration space (the floor's `query::Space`: the chain's, or
+    /// the whole tree's with the frames added here).
+    fn with_space<R>(
+        &self,
+        f: impl FnOnce(screwkit_service::query::Space<'_>) -> R,
+    ) -> PyResult<R> {
+        let tree = self.tree_for(false)?;
+        let space = screwkit_service::query::Space::of(&self.robot, tree.as_deref())
+            .map_err(service_error)?;
+        Ok(f(space))
+    }
+
     /// Checks q's shape for what a query is about: (n,) or (N, n), n its `q_len`; the error
     /// names the entries (the chain's joints, or the tree's `q_names`).
     fn rows_about(about: &About<'_>, a: &Bound<'_, PyArrayDyn<f64>>, what: &str) -> PyResult<Rows> {
@@ -881,20 +893,14 @@ impl Robot {
     /// floating base) the length of v (`nv`).
     #[getter]
     fn dof(&self) -> PyResult<usize> {
-        if self.tree_mode() {
-            return Ok(self.tree_model()?.nv());
-        }
-        Ok(self.kin()?.dof())
+        self.with_space(|s| s.dof())
     }
 
     /// The joints of the chain's q, in order (mimic joints follow their leader and are not in
     /// q); for the whole tree, `variable_names`.
     #[getter]
     fn joint_names(&self) -> PyResult<Vec<String>> {
-        if self.tree_mode() {
-            return self.variable_names();
-        }
-        Ok(self.kin()?.names().to_vec())
+        self.with_space(|s| s.joint_names())
     }
 
     /// The moving joints base → tip, one per row of `screw_axes` (mimic joints included).
@@ -912,30 +918,20 @@ impl Robot {
     /// every link in the file's order.
     #[getter]
     fn link_names(&self) -> PyResult<Vec<String>> {
-        if self.tree_mode() {
-            let k = self.tree_model()?;
-            return Ok(k.model().links.iter().map(|l| l.name.clone()).collect());
-        }
-        Ok(self.kin()?.links().iter().map(|l| l.name.clone()).collect())
+        self.with_space(|s| s.link_names())
     }
 
     /// Lower limits of q, shape (dof,) (−inf for continuous joints; for the whole tree with a
     /// floating base, −inf for its position and −1 for its quaternion).
     #[getter]
     fn lower<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        if self.tree_mode() {
-            return Ok(self.tree_model()?.lower().to_pyarray(py));
-        }
-        Ok(self.kin()?.lower().to_pyarray(py))
+        Ok(self.with_space(|s| s.lower())?.to_pyarray(py))
     }
 
     /// Upper limits of q, shape (dof,) (+inf for continuous joints; see `lower`).
     #[getter]
     fn upper<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        if self.tree_mode() {
-            return Ok(self.tree_model()?.upper().to_pyarray(py));
-        }
-        Ok(self.kin()?.upper().to_pyarray(py))
+        Ok(self.with_space(|s| s.upper())?.to_pyarray(py))
     }
 
     /// The midpoint of the limits (0 for continuous joints): the default IK seed, shape (dof,).

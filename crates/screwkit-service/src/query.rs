@@ -166,3 +166,68 @@ impl<'k> About<'k> {
         }
     }
 }
+
+/// The configuration space of a robot's calls that name no frame: its chain's, or the whole
+/// tree's when the floor's rule says the tree answers ([`crate::whole::wants_tree`]).
+#[derive(Debug, Clone, Copy)]
+pub enum Space<'k> {
+    /// The chain `base → tip`: q its joint values.
+    Chain(&'k Kinematics),
+    /// The whole tree: q its configuration (`q_names`), v its velocity (`v_names`).
+    Tree(&'k TreeKinematics),
+}
+
+impl<'k> Space<'k> {
+    /// The space of `robot` (`tree`: the front end's whole tree, frames it added included).
+    pub fn of(robot: &'k Robot, tree: Option<&'k TreeKinematics>) -> Result<Space<'k>> {
+        if crate::whole::wants_tree(robot, false) {
+            Ok(Space::Tree(match tree {
+                Some(t) => t,
+                None => robot.whole()?,
+            }))
+        } else {
+            Ok(Space::Chain(robot.kin()?))
+        }
+    }
+
+    /// Degrees of freedom: the chain's q length, or the tree's v length (nv).
+    pub fn dof(&self) -> usize {
+        match self {
+            Space::Chain(k) => k.dof(),
+            Space::Tree(t) => t.nv(),
+        }
+    }
+
+    /// The joint variables: the chain's joints of q, or the tree's variables (file order).
+    pub fn joint_names(&self) -> Vec<String> {
+        match self {
+            Space::Chain(k) => k.names().to_vec(),
+            Space::Tree(t) => t.model().variables.iter().map(|v| v.name.clone()).collect(),
+        }
+    }
+
+    /// The links: the chain's base → tip, or every link of the file.
+    pub fn link_names(&self) -> Vec<String> {
+        match self {
+            Space::Chain(k) => k.links().iter().map(|l| l.name.clone()).collect(),
+            Space::Tree(t) => t.model().links.iter().map(|l| l.name.clone()).collect(),
+        }
+    }
+
+    /// The lower limits of q (the tree's with a floating base: −∞ for its position, −1 for
+    /// its quaternion).
+    pub fn lower(&self) -> Vec<f64> {
+        match self {
+            Space::Chain(k) => k.lower().to_vec(),
+            Space::Tree(t) => t.lower(),
+        }
+    }
+
+    /// The upper limits of q.
+    pub fn upper(&self) -> Vec<f64> {
+        match self {
+            Space::Chain(k) => k.upper().to_vec(),
+            Space::Tree(t) => t.upper(),
+        }
+    }
+}
