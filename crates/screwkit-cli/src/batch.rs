@@ -280,6 +280,14 @@ pub fn tree_q_rows(kin: &TreeKinematics, lines: &[Line]) -> (Vec<f64>, Vec<Optio
     q_rows_checked(lines, kin.nq(), |q| kin.check_q(q).map(|_| ()))
 }
 
+/// [`q_rows`] for what a query is about (the chain's q, or the tree's configuration).
+pub fn about_q_rows(
+    about: &screwkit_service::query::About<'_>,
+    lines: &[Line],
+) -> (Vec<f64>, Vec<Option<String>>) {
+    q_rows_checked(lines, about.q_len(), |q| about.check_q(q))
+}
+
 /// The `{"q": [...]}` lines checked by `check`, as rows of `width` values.
 fn q_rows_checked(
     lines: &[Line],

@@ -1078,7 +1078,7 @@ impl Robot {
                 Ok(array.into_any())
             }
             Rows::Many(rows) => run_batch(py, &[rows, 6, n], &q, FK_CHUNK / 16, |qs, o| {
-                about.jacobians(kind, qs, o)
+                about.jacobians(kind, qs, o, None)
             }),
         }
     }

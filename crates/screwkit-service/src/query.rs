@@ -145,24 +145,45 @@ impl<'k> About<'k> {
     }
 
     /// Its Jacobians of `kind` at N configurations into `out` (N × 6 × [`About::columns`]),
-    /// through the library's batch; each row as the single call.
+    /// and its poses into `poses` (N × 16) when given, from the same pass, through the
+    /// library's batch; each row as the single call.
     pub fn jacobians(
         &self,
         kind: JacobianKind,
         qs: &[f64],
         out: &mut [f64],
+        poses: Option<&mut [f64]>,
     ) -> Result<(), SolveError> {
         if self.columns() == 0 {
-            // No columns: N empty Jacobians, nothing to compute (nor can the flat batch tell
-            // N rows from no q values).
-            return Ok(());
+            // No columns: N empty Jacobians (nor can the flat batch tell N rows from no q
+            // values); the poses are the batch's.
+            return match poses {
+                Some(p) => self.poses(qs, p),
+                None => Ok(()),
+            };
         }
         match *self {
-            About::Tip(k) => jacobian_batch(k, qs, kind, out, None),
-            About::Frame(t, a) => tree_batch::frame_jacobian_batch(t, a, kind, qs, out, None),
+            About::Tip(k) => jacobian_batch(k, qs, kind, out, poses),
+            About::Frame(t, a) => tree_batch::frame_jacobian_batch(t, a, kind, qs, out, poses),
             About::Relative(t, a, b) => {
-                tree_batch::relative_jacobian_batch(t, (a, b), kind, qs, out, None)
+                tree_batch::relative_jacobian_batch(t, (a, b), kind, qs, out, poses)
             }
+        }
+    }
+
+    /// An error unless q is one configuration of it (length, finite values).
+    pub fn check_q(&self, q: &[f64]) -> Result<(), SolveError> {
+        match self {
+            About::Tip(k) => k.check_q(q),
+            About::Frame(t, _) | About::Relative(t, _, _) => t.check_q(q).map(|_| ()),
+        }
+    }
+
+    /// The names of the Jacobian's columns (the chain's joints, or the tree's `v_names`).
+    pub fn column_names(&self) -> &'k [String] {
+        match *self {
+            About::Tip(k) => k.names(),
+            About::Frame(t, _) | About::Relative(t, _, _) => t.v_names(),
         }
     }
 }
