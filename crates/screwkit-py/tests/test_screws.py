@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import json
 import pickle
-from typing import Any
+from typing import Any, Literal
 
 import modern_robotics as mr
 import numpy as np
@@ -145,15 +145,20 @@ def test_random_arms_equal_mr_and_numpy() -> None:
             )
         # One exact model: the tip as a frame of the whole tree answers with the screws as
         # given, the very numbers of the chain, single and batched, in every Jacobian kind.
+        jacobian_kinds: list[Literal["space", "body", "world-aligned"]] = [
+            "space",
+            "body",
+            "world-aligned",
+        ]
         for robot in (space, body):
             np.testing.assert_array_equal(robot.fk(qs, link="tip"), robot.fk(qs))
             for q in qs[:5]:
                 np.testing.assert_array_equal(robot.fk(q, link="tip"), robot.fk(q))
-                for kind in ("space", "body", "world-aligned"):
+                for kind in jacobian_kinds:
                     np.testing.assert_array_equal(
                         robot.jacobian(q, kind, link="tip"), robot.jacobian(q, kind)
                     )
-            for kind in ("space", "body", "world-aligned"):
+            for kind in jacobian_kinds:
                 np.testing.assert_array_equal(
                     robot.jacobian(qs, kind, link="tip"), robot.jacobian(qs, kind)
                 )

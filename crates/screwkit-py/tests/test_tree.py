@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 import pickle
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from pathlib import Path
 from typing import Literal
 
@@ -157,7 +158,8 @@ def test_many_leaf_robot_python_api() -> None:
     q = np.linspace(-0.3, 0.3, robot.nq)
     # fk and jacobian without link= on a many-leaf file say what to do (the floor's message,
     # naming the keyword).
-    for call in (lambda: robot.fk(q), lambda: robot.jacobian(q)):
+    calls: list[Callable[[], object]] = [lambda: robot.fk(q), lambda: robot.jacobian(q)]
+    for call in calls:
         with pytest.raises(ValueError, match="^link: this robot is a whole tree .* name the frame"):
             call()
     with pytest.raises(ValueError, match="unknown frame"):
