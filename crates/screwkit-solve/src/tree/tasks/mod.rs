@@ -30,11 +30,11 @@
 //! damping regularise (their errors are reported, and when a problem has no goal the posture's
 //! counts as one).
 //!
-//! **One file per task type** (mink's shape): each implements [`Objective`] — its check against
+//! **One file per task type** (mink's shape): each implements `Objective` — its check against
 //! the model, whether it is a goal, its description, the velocity entries it depends on, which
 //! errors it reports and its rows — and [`TaskKind`] lists them, the one place a new type is
-//! registered (its [`TaskKind::objective`] match has no catch-all arm, so the compiler names
-//! every place a new type must be handled).
+//! registered (with its arm in the `each_type` macro, the one match over the types: it has no
+//! catch-all arm, so the compiler names every place a new type must be handled).
 
 use nalgebra::Vector3;
 use screwkit_lie::Se3;
@@ -76,29 +76,30 @@ pub enum TaskKind {
     Damping(DampingTask),
 }
 
-impl TaskKind {
-    /// The task type's behaviour: the one match over the types (no catch-all arm).
-    pub(crate) fn objective(&self) -> &dyn Objective {
-        match self {
-            TaskKind::Frame(t) => t,
-            TaskKind::Relative(t) => t,
-            TaskKind::Axis(t) => t,
-            TaskKind::Com(t) => t,
-            TaskKind::Posture(t) => t,
-            TaskKind::Damping(t) => t,
+/// The one list of the task types: `$t` bound to the task inside `$kind` in every arm (the
+/// registration; no catch-all arm, so a new variant that is not listed here does not compile).
+macro_rules! each_type {
+    ($kind:expr, $t:ident => $e:expr) => {
+        match $kind {
+            TaskKind::Frame($t) => $e,
+            TaskKind::Relative($t) => $e,
+            TaskKind::Axis($t) => $e,
+            TaskKind::Com($t) => $e,
+            TaskKind::Posture($t) => $e,
+            TaskKind::Damping($t) => $e,
         }
+    };
+}
+
+impl TaskKind {
+    /// The task type's behaviour (`each_type`).
+    pub(crate) fn objective(&self) -> &dyn Objective {
+        each_type!(self, t => t)
     }
 
     /// The same, to change its target ([`TaskSet::set_target`]).
     pub(crate) fn objective_mut(&mut self) -> &mut dyn Objective {
-        match self {
-            TaskKind::Frame(t) => t,
-            TaskKind::Relative(t) => t,
-            TaskKind::Axis(t) => t,
-            TaskKind::Com(t) => t,
-            TaskKind::Posture(t) => t,
-            TaskKind::Damping(t) => t,
-        }
+        each_type!(self, t => t)
     }
 
     /// Which errors the task reports ([`TaskError`]'s meaningful fields).
