@@ -14,7 +14,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use screwkit_model::{urdf, KinematicTree};
-use screwkit_solve::box_qp::{self, BoxQpWorkspace};
+use screwkit_solve::linalg::box_qp::{self, BoxQpWorkspace};
 use screwkit_solve::sample::SplitMix64;
 use screwkit_solve::tree::differential_ik::{self, DiffIkWorkspace, Limits};
 use screwkit_solve::tree::tasks::Task;

@@ -1,9 +1,9 @@
-//! Singularity analysis of a Jacobian from its SVD ([`crate::svd`]).
+//! Singularity analysis of a Jacobian from its SVD ([`crate::linalg::svd`]).
 //!
 //! Caveat of the field: J mixes units (rad/s and m/s rows), so singular values and the condition
 //! number depend on the length unit; the rank and the lost directions do not.
 
-use nalgebra::{Matrix3, Matrix6xX, SymmetricEigen, Vector3, Vector6};
+use nalgebra::{Matrix6xX, Vector3, Vector6};
 
 use screwkit_lie::display::fixed_list;
 use screwkit_lie::Frame;
@@ -17,7 +17,8 @@ use crate::workspace::Workspace;
 pub const NEAR_SINGULAR_CONDITION: f64 = 1e3;
 
 /// A manipulability ellipsoid {J q̇ : ‖q̇‖ ≤ 1} projected on 3 rows (angular or linear):
-/// principal axes are the eigenvectors of A = J_p J_pᵀ, semi-axis lengths √λ_i.
+/// principal axes are the eigenvectors of A = J_p J_pᵀ (J_p's left singular vectors), semi-axis
+/// lengths √λ_i (J_p's singular values).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Ellipsoid {
     /// Unit principal axes, longest first.
@@ -68,18 +69,32 @@ pub fn canonical_sign<const D: usize>(x: nalgebra::SVector<f64, D>) -> nalgebra:
     }
 }
 
-fn ellipsoid(a: Matrix3<f64>) -> Ellipsoid {
-    // Bounded iterations (a is finite: the Jacobian is checked; never a hang regardless).
-    let eig = SymmetricEigen::try_new(a, f64::EPSILON, 1000).unwrap_or(SymmetricEigen {
-        eigenvalues: Vector3::repeat(f64::NAN),
-        eigenvectors: Matrix3::repeat(f64::NAN),
-    });
-    let mut idx = [0usize, 1, 2];
-    idx.sort_by(|&i, &j| eig.eigenvalues[j].total_cmp(&eig.eigenvalues[i]));
-    Ellipsoid {
-        axes: idx.map(|i| canonical_sign(eig.eigenvectors.column(i).into_owned())),
-        lengths: idx.map(|i| eig.eigenvalues[i].max(0.0).sqrt()),
+/// The ellipsoid of J's three rows from `first` (0: ω, 3: v): its axes are the left singular
+/// vectors of J_p, its lengths the singular values (the eigenvectors and √eigenvalues of
+/// J_p J_pᵀ), by the crate's one SVD on J_p stacked over three zero rows. The zero rows'
+/// columns of Jᵀ take part in no rotation, so U is block diagonal and J_p's three columns are
+/// the ones supported on the first three rows.
+fn ellipsoid(j: &Matrix6xX<f64>, first: usize) -> Ellipsoid {
+    let n = j.ncols();
+    let padded = Matrix6xX::from_fn(n, |r, c| if r < 3 { j[(first + r, c)] } else { 0.0 });
+    let Ok(svd) = crate::linalg::svd::jacobian_svd(&padded, None) else {
+        return Ellipsoid {
+            axes: [Vector3::repeat(f64::NAN); 3],
+            lengths: [f64::NAN; 3],
+        };
+    };
+    let mut axes = [Vector3::zeros(); 3];
+    let mut lengths = [0.0; 3];
+    let mut found = 0;
+    for c in 0..6 {
+        let axis = Vector3::new(svd.u[(0, c)], svd.u[(1, c)], svd.u[(2, c)]);
+        if found < 3 && axis.norm() > 0.5 {
+            axes[found] = canonical_sign(axis);
+            lengths[found] = svd.s.get(c).copied().unwrap_or(0.0);
+            found += 1;
+        }
     }
+    Ellipsoid { axes, lengths }
 }
 
 /// Analyses the Jacobian of `kin` at q in `frame` (the directions are in that frame). Checks q.
@@ -129,7 +144,8 @@ pub fn analyze_position_jacobian(jv: &nalgebra::DMatrix<f64>) -> PositionAnalysi
         Vec::new()
     } else {
         let padded = nalgebra::Matrix6xX::from_fn(n, |r, c| if r < 3 { jv[(r, c)] } else { 0.0 });
-        crate::svd::jacobian_svd(&padded, None).map_or_else(|_| vec![f64::NAN; n.min(3)], |d| d.s)
+        crate::linalg::svd::jacobian_svd(&padded, None)
+            .map_or_else(|_| vec![f64::NAN; n.min(3)], |d| d.s)
     };
     sv.truncate(n.min(3));
     let s1 = sv.first().copied().unwrap_or(0.0);
@@ -155,7 +171,7 @@ pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
             "the Jacobian has non-finite entries".into(),
         ));
     }
-    let svd = crate::svd::jacobian_svd(j, None)?;
+    let svd = crate::linalg::svd::jacobian_svd(j, None)?;
     let k = n.min(6);
     let singular_values = svd.s;
     let s1 = singular_values.first().copied().unwrap_or(0.0);
@@ -171,8 +187,6 @@ pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
         .map(col)
         .collect();
     let smin = singular_values.last().copied().unwrap_or(0.0);
-    let jw = j.fixed_rows::<3>(0);
-    let jv = j.fixed_rows::<3>(3);
     Ok(Analysis {
         columns: n,
         manipulability: if n >= 6 && rank == 6 {
@@ -186,8 +200,8 @@ pub fn analyze_jacobian(j: &Matrix6xX<f64>) -> Result<Analysis, SolveError> {
             f64::INFINITY
         },
         determinant: (n == 6).then(|| j.fixed_columns::<6>(0).into_owned().determinant()),
-        angular: ellipsoid(jw * jw.transpose()),
-        linear: ellipsoid(jv * jv.transpose()),
+        angular: ellipsoid(j, 0),
+        linear: ellipsoid(j, 3),
         lost_directions,
         weakest_direction: col(k.saturating_sub(1)),
         singular_values,
@@ -283,6 +297,54 @@ impl Analysis {
                 "well-conditioned (condition number {:.3})",
                 self.condition_number
             )
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ellipsoids from the one SVD against their definition, A = J_p J_pᵀ: lengths² equal
+    /// faer's eigenvalues of A (an independent symmetric eigensolver), A a = length² a for
+    /// each axis, axes orthonormal and sign-canonical; on wide, square and narrow Jacobians,
+    /// rank-deficient ones (a zero length whose axis is A's null direction) and the zero one.
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn ellipsoids_equal_the_eigen_decomposition_of_j_jt() {
+        let mut rng = crate::sample::SplitMix64(0xE111_0000_0000_0001);
+        for n in 0..=8 {
+            for case in 0..6 {
+                let mut j = Matrix6xX::from_fn(n, |_, _| rng.uniform() - 0.5);
+                if case >= 3 && n >= 2 {
+                    // The linear rows of rank 1 at most: each a multiple of the first.
+                    let (a, b) = (rng.uniform(), rng.uniform());
+                    for c in 0..n {
+                        j[(4, c)] = a * j[(3, c)];
+                        j[(5, c)] = b * j[(3, c)];
+                    }
+                }
+                for (first, e) in [(0, ellipsoid(&j, 0)), (3, ellipsoid(&j, 3))] {
+                    let jp = j.fixed_rows::<3>(first).into_owned();
+                    let a = jp.clone() * jp.transpose();
+                    let m = faer::Mat::<f64>::from_fn(3, 3, |r, c| a[(r, c)]);
+                    let mut theirs = m.self_adjoint_eigenvalues(faer::Side::Lower).unwrap();
+                    theirs.sort_by(|x, y| y.total_cmp(x));
+                    let scale = theirs[0].max(1e-300);
+                    for i in 0..3 {
+                        let l2 = e.lengths[i] * e.lengths[i];
+                        assert!((l2 - theirs[i]).abs() <= 1e-13 * scale, "{n} {case} {i}");
+                        let ax = e.axes[i];
+                        assert!((ax.norm() - 1.0).abs() < 1e-14);
+                        assert!((a * ax - ax * l2).norm() <= 1e-13 * scale.max(1.0));
+                        assert_eq!(canonical_sign(ax), ax);
+                        for k in i + 1..3 {
+                            assert!(ax.dot(&e.axes[k]).abs() < 1e-14);
+                        }
+                    }
+                    assert!(e.lengths[0] >= e.lengths[1] && e.lengths[1] >= e.lengths[2]);
+                }
+            }
         }
     }
 }

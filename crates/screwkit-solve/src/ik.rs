@@ -5,7 +5,7 @@
 //! and ‖v_b‖ ≤ ε_v (over the components whose weight is not 0; position-only uses
 //! (0, R_sbᵀ(p_d − p))). They differ in the step:
 //!
-//! - [`IkMethod::NewtonRaphson`]: Δq = J_b⁺ V_b, SVD pseudo-inverse ([`crate::svd`]).
+//! - [`IkMethod::NewtonRaphson`]: Δq = J_b⁺ V_b, SVD pseudo-inverse ([`crate::linalg::svd`]).
 //! - [`IkMethod::Dls`]: Δq = J_bᵀ (J_b J_bᵀ + λ² I)⁻¹ V_b with a fixed damping λ.
 //! - [`IkMethod::LevenbergMarquardt`] (default): Δq = J_bᵀ (J_b J_bᵀ + μ I)⁻¹ V_b with the
 //!   adaptive diagonal term μ = 0.05 ‖V_b‖² + μ̄ (after Sugihara, "Solvability-unconcerned
@@ -306,7 +306,7 @@ fn step(
         IkMethod::Dls { lambda } => lambda * lambda,
         IkMethod::LevenbergMarquardt { damping_floor } => lm_diagonal(e, damping_floor),
     };
-    crate::dls::dls_step(jac, e, mu, locked, dq)
+    crate::linalg::dls::dls_step(jac, e, mu, locked, dq)
 }
 
 /// The LM diagonal term μ = 0.05 ‖e‖² + μ̄ (see the module documentation).

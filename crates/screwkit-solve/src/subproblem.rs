@@ -304,13 +304,9 @@ pub fn sp2(
     }
 }
 
-/// Iterations of a companion matrix's Schur decomposition (and of subproblem 6's SVD) at
-/// most (a 4 × 4 one converges in a few tens).
-const SCHUR_ITERATIONS: usize = 1000;
-
 /// The real roots of the polynomial c\[0\] + c\[1\] x + … + c\[n\] xⁿ (n ≤ 4), each polished by
-/// Newton steps, in no particular order: the eigenvalues of the companion matrix (real Schur
-/// form) whose imaginary part is below 1e-5 of the root's size (a double root splits into a
+/// Newton steps, in no particular order: the eigenvalues of the companion matrix
+/// ([`crate::linalg`]'s Francis QR) whose imaginary part is below 1e-5 of the root's size (a double root splits into a
 /// complex pair of order √ε; the callers check every root against their own equations), then
 /// 3 Newton steps on the polynomial. Leading coefficients
 /// below 1e-13 of the largest are dropped (the degree falls).
@@ -351,37 +347,34 @@ pub fn real_roots(c: &[f64]) -> Few<f64, 4> {
         }
         x
     };
-    // The companion matrix's eigenvalues, on the stack for each degree.
-    let mut roots = [nalgebra::Complex::new(f64::NAN, f64::NAN); 4];
+    // The companion matrix's eigenvalues (the crate's one eigenvalue routine, bounded
+    // iterations: a companion matrix whose QR iteration does not converge gives no roots,
+    // never a hang), on the stack for each degree.
+    let mut roots = [(f64::NAN, f64::NAN); 4];
     macro_rules! companion {
-        ($m:ty) => {{
-            let mut m = <$m>::zeros();
-            for i in 1..n {
-                m[(i, i - 1)] = 1.0;
+        ($n:literal) => {{
+            let mut m = [[0.0; $n]; $n];
+            for i in 1..$n {
+                m[i][i - 1] = 1.0;
             }
-            for i in 0..n {
-                m[(i, n - 1)] = -c[i] / c[n];
+            for i in 0..$n {
+                m[i][$n - 1] = -c[i] / c[$n];
             }
-            // Bounded iterations: a companion matrix whose QR iteration does not converge
-            // gives no roots, never a hang.
-            let Some(schur) = nalgebra::linalg::Schur::try_new(m, f64::EPSILON, SCHUR_ITERATIONS)
-            else {
+            let Some(values) = crate::linalg::eigen::eigenvalues(&mut m) else {
                 return out;
             };
-            for (slot, z) in roots.iter_mut().zip(schur.complex_eigenvalues().iter()) {
-                *slot = *z;
-            }
+            roots[..$n].copy_from_slice(&values);
         }};
     }
     match n {
-        1 => roots[0] = nalgebra::Complex::new(-c[0] / c[1], 0.0),
-        2 => companion!(nalgebra::Matrix2<f64>),
-        3 => companion!(nalgebra::Matrix3<f64>),
-        _ => companion!(nalgebra::Matrix4<f64>),
+        1 => roots[0] = (-c[0] / c[1], 0.0),
+        2 => companion!(2),
+        3 => companion!(3),
+        _ => companion!(4),
     }
-    for &z in roots.iter().take(n) {
-        if z.im.abs() <= 1e-5 * (1.0 + z.re.abs()) {
-            let x = polish(z.re);
+    for &(re, im) in roots.iter().take(n) {
+        if im.abs() <= 1e-5 * (1.0 + re.abs()) {
+            let x = polish(re);
             if x.is_finite()
                 && !out
                     .iter()
@@ -668,7 +661,7 @@ pub fn sp6(
     d1: f64,
     d2: f64,
 ) -> Few<(f64, f64), 4> {
-    use nalgebra::{Matrix2, Matrix2x4, Vector2, Vector4};
+    use nalgebra::{Matrix2, Vector2, Vector4};
     let row = |i: usize| {
         let perp = p[i] - k[i] * k[i].dot(p[i]);
         (
@@ -678,32 +671,30 @@ pub fn sp6(
         )
     };
     let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
-    let a = Matrix2x4::new(r0.0, r0.1, r1.0, r1.1, r2.0, r2.1, r3.0, r3.1);
     let rhs = Vector2::new(d1 - r0.2 - r1.2, d2 - r2.2 - r3.2);
     let mut out: Few<(f64, f64), 4> = Few::default();
-    // Non-finite input has no solution (nalgebra's SVD would iterate without end on it, or
-    // panic sorting NaN singular values); the iterations are bounded besides.
-    if !a.iter().chain(rhs.iter()).all(|x| x.is_finite()) {
+    // A = U Σ Vᵀ by the crate's one SVD (None for non-finite input: no solution). The
+    // least-norm solution is V Σ⁻¹ Uᵀ b; the null space is the orthogonal complement of V's
+    // columns.
+    if !rhs.iter().all(|x| x.is_finite()) {
         return out;
     }
-    let Some(svd) =
-        nalgebra::SVD::try_new(a.transpose(), true, true, f64::EPSILON, SCHUR_ITERATIONS)
+    let Some(crate::linalg::svd::Svd2x4 {
+        s: sv,
+        u: u2,
+        v: v2,
+    }) = crate::linalg::svd::svd_2x4(&[[r0.0, r0.1, r1.0, r1.1], [r2.0, r2.1, r3.0, r3.1]])
     else {
         return out;
     };
-    let Some(u) = svd.u else {
-        return out;
-    };
-    let sv = svd.singular_values;
-    if sv.min() <= 1e-12 * sv.max().max(1e-300) {
+    if sv[1] <= 1e-12 * sv[0].max(1e-300) {
         return out;
     }
-    // Aᵀ = U Σ Vᵀ (U 4 × 2): the least-norm solution is U Σ⁻¹ Vᵀ b; the null space is the
-    // orthogonal complement of U's columns.
-    let Some(v_t) = svd.v_t else {
-        return out;
-    };
-    let y = v_t * rhs;
+    let u = nalgebra::Matrix4x2::from_columns(&[Vector4::from(v2[0]), Vector4::from(v2[1])]);
+    let y = Vector2::new(
+        u2[0][0] * rhs[0] + u2[0][1] * rhs[1],
+        u2[1][0] * rhs[0] + u2[1][1] * rhs[1],
+    );
     let x0: Vector4<f64> = u * Vector2::new(y[0] / sv[0], y[1] / sv[1]);
     let proj = nalgebra::Matrix4::identity() - u * u.transpose();
     // Two columns of the projector spanning the complement, orthonormalised.

@@ -15,7 +15,7 @@ pub enum VelocitySolver {
     /// q̇ = J⁻¹ V for a square (6-DoF), non-singular J (LU); an error otherwise (rank decided by
     /// the SVD with the analysis's tolerance, 6 ε σ₁).
     Exact,
-    /// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ ([`crate::svd`]): least squares and minimum
+    /// q̇ = J⁺ V with the SVD pseudo-inverse J⁺ = V Σ⁺ Uᵀ ([`crate::linalg::svd`]): least squares and minimum
     /// norm. σ_i ≤ `tolerance` count as 0 (`None`: max(6, n) · ε · σ₁).
     PseudoInverse {
         /// Singular values at or below this are dropped.
@@ -67,7 +67,7 @@ pub fn joint_velocities(
             }
             let mut out = DVector::zeros(j.ncols());
             let free = vec![false; j.ncols()];
-            crate::dls::dls_step(j, &v, lambda * lambda, &free, out.as_mut_slice())?;
+            crate::linalg::dls::dls_step(j, &v, lambda * lambda, &free, out.as_mut_slice())?;
             Ok(out)
         }
     }
@@ -85,7 +85,7 @@ fn exact(j: &Matrix6xX<f64>, v: &Vector6<f64>) -> Result<DVector<f64>, SolveErro
     // Rounding makes a singular J look invertible to LU (pivots of 1e-17, answers of 1e16), so
     // the rank is decided first, with the tolerance of the analysis (6 ε σ₁), by the crate's
     // one SVD.
-    let s = crate::svd::jacobian_svd(j, None)?.s;
+    let s = crate::linalg::svd::jacobian_svd(j, None)?.s;
     let (s_max, s_min) = (s[0], s[s.len() - 1]);
     let singular = || {
         SolveError::Numerical(format!(
@@ -99,7 +99,7 @@ fn exact(j: &Matrix6xX<f64>, v: &Vector6<f64>) -> Result<DVector<f64>, SolveErro
     Ok(DVector::from_column_slice(x.as_slice()))
 }
 
-/// x = J⁺ b = Σ_i (u_iᵀ b / σ_i) v_i over the σ_i > `tolerance(σ₁)` of the SVD ([`crate::svd`]), with the
+/// x = J⁺ b = Σ_i (u_iᵀ b / σ_i) v_i over the σ_i > `tolerance(σ₁)` of the SVD ([`crate::linalg::svd`]), with the
 /// columns whose `locked` flag is set treated as zero (their x is 0). The one pseudo-inverse of
 /// the crate: [`VelocitySolver::PseudoInverse`] and the Newton–Raphson IK step.
 pub(crate) fn pinv_into(
@@ -110,7 +110,7 @@ pub(crate) fn pinv_into(
     x: &mut [f64],
 ) -> Result<(), SolveError> {
     let n = j.ncols();
-    let svd = crate::svd::jacobian_svd(j, Some(locked))?;
+    let svd = crate::linalg::svd::jacobian_svd(j, Some(locked))?;
     let (u, s, v) = (&svd.u, &svd.s, &svd.v);
     let k = n.min(6);
     let tol = if k > 0 { tolerance(s[0]) } else { 0.0 };

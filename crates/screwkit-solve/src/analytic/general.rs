@@ -43,6 +43,8 @@
 
 use nalgebra::SMatrix;
 
+use crate::linalg::newton;
+
 use super::*;
 
 /// Newton steps at most per posture.
@@ -647,7 +649,7 @@ fn roots(m: &[M12; 3]) -> Option<Few<(f64, f64, bool, bool), 24>> {
             companion[12 + i][12 + j] = -y[(i, j)];
         }
     }
-    let values = crate::eigen::eigenvalues(&mut companion)?;
+    let values = crate::linalg::eigen::eigenvalues(&mut companion)?;
     let mut out = Few::default();
     for &(re, im) in values.iter() {
         let angle = 2.0 * im.abs() / (1.0 + re * re);
@@ -843,53 +845,28 @@ fn poe(p: &Prepared, q: &mut [f64; 6]) -> (Se3, nalgebra::Matrix6<f64>) {
 }
 
 /// Newton steps on g = e^\[S₁\]θ₁ ⋯ e^\[S₆\]θ₆ (space Jacobian, θ ← θ + J⁻¹ log(g T(θ)⁻¹))
-/// while the residual falls, a damped step when the full one does not; returns the residual
-/// (max |T(θ) − g|) of the best iterate, left in `q`, and whether its Jacobian was well
-/// conditioned.
+/// while the residual falls, a damped step when the full one does not ([`newton::polish`]);
+/// returns the residual (max |T(θ) − g|) of the best iterate, left in `q`, and whether its
+/// Jacobian was well conditioned.
 pub(super) fn newton(p: &Prepared, g: &Se3, q: &mut [f64; 6]) -> (f64, bool) {
-    let eval = |q: &[f64; 6]| {
-        let mut q = *q;
-        poe(p, &mut q)
-    };
-    let (mut pose, mut jac) = eval(q);
-    let mut residual = pose.max_abs_diff(g);
-    let floor = 1e-15 * p.scale.max(1.0);
-    for _ in 0..NEWTON_STEPS {
-        if residual <= floor {
-            break;
-        }
+    let linearise = |q: &[f64; 6]| {
+        let (pose, jacobian) = poe(p, &mut q.clone());
         let err = g.compose(&pose.inverse()).log();
-        let rhs = nalgebra::Vector6::new(err.w.x, err.w.y, err.w.z, err.v.x, err.v.y, err.v.z);
-        let mut improved = false;
-        for damping in [0.0, 1e-6, 1e-3, 1e-1] {
-            let step = if damping == 0.0 {
-                jac.lu().solve(&rhs)
-            } else {
-                let jt = jac.transpose();
-                let lambda = damping * (jt * jac).trace().max(1e-12);
-                (jt * jac + nalgebra::Matrix6::identity() * lambda)
-                    .lu()
-                    .solve(&(jt * rhs))
-            };
-            let Some(step) = step else {
-                continue;
-            };
-            let mut trial = *q;
-            for i in 0..6 {
-                trial[i] = wrap(trial[i] + step[i]);
-            }
-            let (tp, tj) = eval(&trial);
-            let r = tp.max_abs_diff(g);
-            if r < residual {
-                (*q, pose, jac, residual) = (trial, tp, tj, r);
-                improved = true;
-                break;
-            }
-        }
-        if !improved {
-            break;
-        }
-    }
+        Some(newton::Linear {
+            error: nalgebra::Vector6::new(err.w.x, err.w.y, err.w.z, err.v.x, err.v.y, err.v.z),
+            jacobian,
+            residual: pose.max_abs_diff(g),
+        })
+    };
+    let budget = newton::Newton {
+        steps: NEWTON_STEPS,
+        floor: 1e-15 * p.scale.max(1.0),
+        dampings: &[1e-6, 1e-3, 1e-1],
+    };
+    let Some(at) = newton::polish(q, budget, wrap, linearise) else {
+        return (f64::INFINITY, false);
+    };
+    let (residual, jac) = (at.residual, at.jacobian);
     // Conditioning by the LU pivots of the (column-scaled) Jacobian.
     let mut scaled = jac;
     for mut c in scaled.column_iter_mut() {

@@ -21,7 +21,7 @@
 //! | spherical wrist only (subproblem 5) | `spherical_wrist` | `wrist_only.rs` |
 //! | the wrist step of the wrist families | | `wrist.rs` |
 //! | a 7R arm with a spherical shoulder and wrist (iiwa) at a given arm angle ψ (not a row: [`AnalyticIk::arm_angle`]) | `redundant_7r` | `arm_angle.rs` |
-//! | any six revolute axes: Raghavan–Roth elimination, a 24 × 24 eigenproblem | every 6R family (`general_6r`, `two_intersecting`, `two_parallel`, the others' unsolved arrangements) | `general.rs` (its eigenvalues: `crate::eigen`) |
+//! | any six revolute axes: Raghavan–Roth elimination, a 24 × 24 eigenproblem | every 6R family (`general_6r`, `two_intersecting`, `two_parallel`, the others' unsolved arrangements) | `general.rs` (its eigenvalues: `crate::linalg::eigen`) |
 //!
 //! A closed form has up to 8 postures (solutions modulo 2π), the general 6R up to 16. A chain whose *reversed*
 //! order is of one of these (a spherical shoulder is a spherical wrist seen from the tip) is

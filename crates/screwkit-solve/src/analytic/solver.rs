@@ -2,6 +2,7 @@
 //! the postures kernel, solutions within the limits, sweeps, batches.
 
 use super::*;
+use crate::linalg::newton;
 
 /// An analytic solver prepared for one chain (or one 7R chain with a chosen joint locked):
 /// build once, solve many poses. `Send + Sync`, cheap to clone.
@@ -475,7 +476,9 @@ impl AnalyticIk {
             let mut q = p.q;
             let mut residual = fk_unchecked(kin, &q[..n]).max_abs_diff(target);
             if p.exact && residual > POLISH * kin.length_scale.max(1.0) {
-                residual = self.polish(kin, ws, &mut q[..n], target, residual);
+                residual = self
+                    .polish(kin, ws, &mut q[..n], target)
+                    .unwrap_or(residual);
                 // A posture its polish cannot bring to the target is not one (a snapped
                 // geometry near a singularity of the polished joints): left out.
                 if residual > EXACT * kin.length_scale.max(1.0) {
@@ -865,9 +868,11 @@ impl AnalyticIk {
     }
 
     /// Newton steps on the free joints, q ← q + J_b⁻¹ log(T(q)⁻¹ T_d) (body Jacobian, the
-    /// locked column left out), while the residual falls (at most 4): for the rare posture
-    /// whose subproblems were ill-conditioned (two intersecting axes nearly parallel at the
-    /// locked value, …). Returns the residual of `q`, which holds the best iterate.
+    /// locked column left out; by the arm angle every joint moves, the least-norm step J⁺ e on
+    /// 7 columns), while the residual falls (at most 4, [`newton::polish`]): for the rare
+    /// posture whose subproblems were ill-conditioned (two intersecting axes nearly parallel at
+    /// the locked value, …). Returns the residual of `q`, which holds the best iterate (None if
+    /// its Jacobian could not be computed).
     #[inline(never)]
     fn polish(
         &self,
@@ -875,49 +880,12 @@ impl AnalyticIk {
         ws: &mut Workspace,
         q: &mut [f64],
         target: &Se3,
-        mut residual: f64,
-    ) -> f64 {
-        let mut trial = [0.0; MAX_DOF];
-        for _ in 0..4 {
-            let Ok(pj) = crate::jacobian::fk_jacobian(kin, ws, q, screwkit_lie::Frame::Body) else {
-                break;
-            };
-            let err = pj.pose.inverse_compose(target).log();
-            let rhs = nalgebra::Vector6::new(err.w.x, err.w.y, err.w.z, err.v.x, err.v.y, err.v.z);
-            trial[..q.len()].copy_from_slice(q);
-            if self.arm.is_some() {
-                // By the arm angle every joint moves: the least-norm step J⁺ e (7 columns), no
-                // column whose loss would make the 6 × 6 system singular.
-                let j = pj.jacobian;
-                let jjt: nalgebra::Matrix6<f64> =
-                    (j * j.transpose()).fixed_view::<6, 6>(0, 0).into_owned();
-                let Some(y) = jjt.lu().solve(&rhs) else {
-                    break;
-                };
-                let step = j.transpose() * y;
-                for (t, d) in trial[..q.len()].iter_mut().zip(step.iter()) {
-                    *t = wrap(*t + d);
-                }
-            } else {
-                let mut j6 = nalgebra::Matrix6::zeros();
-                for (slot, &j) in self.free.iter().enumerate() {
-                    j6.set_column(slot, &pj.jacobian.column(j));
-                }
-                let Some(step) = j6.lu().solve(&rhs) else {
-                    break;
-                };
-                for (slot, &j) in self.free.iter().enumerate() {
-                    trial[j] = wrap(trial[j] + step[slot]);
-                }
-            }
-            let r = fk_unchecked(kin, &trial[..q.len()]).max_abs_diff(target);
-            if r.partial_cmp(&residual) != Some(std::cmp::Ordering::Less) {
-                break;
-            }
-            q.copy_from_slice(&trial[..q.len()]);
-            residual = r;
+    ) -> Option<f64> {
+        if self.arm.is_some() && q.len() == 7 {
+            polish_columns(kin, ws, q, target, [0, 1, 2, 3, 4, 5, 6])
+        } else {
+            polish_columns(kin, ws, q, target, self.free)
         }
-        residual
     }
 
     /// Appends the 2π shifts of posture `q` inside the limits that `reps` asks for
@@ -1071,4 +1039,40 @@ pub(crate) fn helical_or(kin: &Kinematics, otherwise: &str) -> String {
         ),
         None => otherwise.to_string(),
     }
+}
+
+/// [`AnalyticIk::polish`] on the joints `columns` (the others held).
+fn polish_columns<const M: usize>(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &mut [f64],
+    target: &Se3,
+    columns: [usize; M],
+) -> Option<f64> {
+    let n = q.len();
+    let mut full = [0.0; MAX_DOF];
+    full[..n].copy_from_slice(q);
+    let mut x = columns.map(|j| q[j]);
+    let budget = newton::Newton {
+        steps: 4,
+        floor: 0.0,
+        dampings: &[],
+    };
+    let at = newton::polish(&mut x, budget, wrap, |x: &[f64; M]| {
+        for (slot, &j) in columns.iter().enumerate() {
+            full[j] = x[slot];
+        }
+        let pj =
+            crate::jacobian::fk_jacobian(kin, ws, &full[..n], screwkit_lie::Frame::Body).ok()?;
+        let err = pj.pose.inverse_compose(target).log();
+        Some(newton::Linear {
+            error: nalgebra::Vector6::new(err.w.x, err.w.y, err.w.z, err.v.x, err.v.y, err.v.z),
+            jacobian: nalgebra::SMatrix::from_fn(|r, c| pj.jacobian[(r, columns[c])]),
+            residual: pj.pose.max_abs_diff(target),
+        })
+    })?;
+    for (slot, &j) in columns.iter().enumerate() {
+        q[j] = x[slot];
+    }
+    Some(at.residual)
 }

@@ -10,7 +10,7 @@
 //! minimise ½‖A Δ − b‖² + ½ Σ_i D_i (Δ_i − r_i)² + ½ ε ‖Δ‖²   subject to   l ≤ Δ ≤ u,
 //! ```
 //!
-//! a box-constrained least-squares problem, solved exactly by [`crate::box_qp`] (H = AᵀA + D +
+//! a box-constrained least-squares problem, solved exactly by [`crate::linalg::box_qp`] (H = AᵀA + D +
 //! εI, c = −(Aᵀb + D r)). ε = 1e-10 (1 + max_i (AᵀA + D)_ii) keeps H positive definite when
 //! the tasks leave directions free (no damping or posture task); it changes the answer by
 //! rounding-level amounts. The box, per joint variable j (the floating base is unbounded):
@@ -48,16 +48,16 @@
 //! **Limits are types** ([`super::limits`]: position, velocity, one file each, behind the
 //! [`super::limits::Limit`] trait). Self-collision is not one yet (it needs geometry): it would
 //! be a general inequality row G Δ ≤ h beside the box, handed to a general QP in place of
-//! [`crate::box_qp`].
+//! [`crate::linalg::box_qp`].
 
 use rayon::prelude::*;
 use screwkit_lie::Se3;
 
 use super::tasks::{check_tasks, evaluate, Rows, Task, TaskError, TaskSet};
 use super::{TreeKinematics, TreeWorkspace};
-use crate::box_qp::{self, BoxQpWorkspace};
 use crate::error::SolveError;
 use crate::ik::Interrupt;
+use crate::linalg::box_qp::{self, BoxQpWorkspace};
 
 pub use super::limits::{Limits, LIMIT_TOLERANCE};
 

@@ -1,6 +1,7 @@
-//! The singular value decomposition of a 6 × n Jacobian, J = U Σ Vᵀ: the SVD of every
-//! Jacobian in the crate (the singularity analyses, the pseudo-inverse, the check of exact
-//! joint velocities); subproblem 6's 4 × 2 least-squares system takes nalgebra's.
+//! The singular value decomposition J = U Σ Vᵀ: the crate's one SVD, for every Jacobian (the
+//! singularity analyses and their ellipsoids, the pseudo-inverse, the check of exact joint
+//! velocities), and in its two-column case on the stack ([`svd_2x4`]) for subproblem 6's
+//! least-squares system.
 //!
 //! One-sided Jacobi (Hestenes) on A = Jᵀ, whose six columns are few: plane rotations G_pq
 //! applied to pairs of columns until every pair is orthogonal, A G₁ G₂ ⋯ = W, so that
@@ -30,6 +31,71 @@ pub(crate) struct JacobianSvd {
     pub(crate) s: Vec<f64>,
     /// Right singular vectors, n × k, column i for σ_i (0 where σ_i = 0).
     pub(crate) v: DMatrix<f64>,
+}
+
+/// The Jacobi rotation (c, s) that makes columns a_p, a_q orthogonal, from α = ‖a_p‖²,
+/// β = ‖a_q‖², γ = a_p · a_q ≠ 0: (a_p, a_q) ← (c a_p − s a_q, s a_p + c a_q), the smaller
+/// of the two angles (Golub & Van Loan, §8.6.3): ζ = (β − α) / 2γ, t = sign ζ / (|ζ| + √(1 + ζ²)),
+/// c = 1 / √(1 + t²), s = c t.
+#[inline]
+fn rotation(alpha: f64, beta: f64, gamma: f64) -> (f64, f64) {
+    let zeta = (beta - alpha) / (2.0 * gamma);
+    let t = zeta.signum() / (zeta.abs() + zeta.hypot(1.0));
+    let c = 1.0 / t.hypot(1.0);
+    (c, c * t)
+}
+
+/// A = U diag(σ) Vᵀ of a 2 × 4 matrix ([`svd_2x4`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Svd2x4 {
+    /// σ₁ ≥ σ₂ ≥ 0.
+    pub(crate) s: [f64; 2],
+    /// U's columns (2 × 2, orthogonal).
+    pub(crate) u: [[f64; 2]; 2],
+    /// V's columns (4 × 2): unit where σ_i > 0, else 0.
+    pub(crate) v: [[f64; 4]; 2],
+}
+
+/// The SVD of a 2 × 4 matrix A (rows `a`), the same one-sided Jacobi on Aᵀ as
+/// [`jacobian_svd`], on the stack: two columns need one rotation. None for a non-finite
+/// entry. For subproblem 6's least squares.
+pub(crate) fn svd_2x4(a: &[[f64; 4]; 2]) -> Option<Svd2x4> {
+    if a.iter().flatten().any(|x| !x.is_finite()) {
+        return None;
+    }
+    let m = a.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+    let inv = if m > 0.0 { 1.0 / m } else { 1.0 };
+    // Aᵀ's two columns are A's rows, scaled as in `jacobian_svd`.
+    let mut w = [a[0].map(|x| x * inv), a[1].map(|x| x * inv)];
+    let dot = |x: &[f64; 4], y: &[f64; 4]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    let (alpha, beta, gamma) = (dot(&w[0], &w[0]), dot(&w[1], &w[1]), dot(&w[0], &w[1]));
+    let tol = 6.0 * f64::EPSILON;
+    let negligible = (tol * (alpha + beta).sqrt()).powi(2);
+    let mut g = [[1.0, 0.0], [0.0, 1.0]];
+    if alpha > negligible && beta > negligible && gamma.abs() > tol * (alpha * beta).sqrt() {
+        let (c, s) = rotation(alpha, beta, gamma);
+        let [w0, w1] = &mut w;
+        for (x, y) in w0.iter_mut().zip(w1.iter_mut()) {
+            (*x, *y) = (c * *x - s * *y, s * *x + c * *y);
+        }
+        g = [[c, s], [-s, c]];
+    }
+    let sigma = [dot(&w[0], &w[0]).sqrt(), dot(&w[1], &w[1]).sqrt()];
+    // g[i] is row i of G; U's column j is G's column j.
+    let order = if sigma[1] > sigma[0] { [1, 0] } else { [0, 1] };
+    let scale = if m > 0.0 { m } else { 1.0 };
+    let unit = |i: usize| {
+        if sigma[i] > 0.0 {
+            w[i].map(|x| x / sigma[i])
+        } else {
+            [0.0; 4]
+        }
+    };
+    Some(Svd2x4 {
+        s: order.map(|i| sigma[i] * scale),
+        u: order.map(|i| [g[0][i], g[1][i]]),
+        v: order.map(unit),
+    })
 }
 
 /// The SVD of `j` with the columns whose `locked` flag is set taken as zero. A non-finite
@@ -75,11 +141,7 @@ pub(crate) fn jacobian_svd(
                     continue;
                 }
                 rotated = true;
-                // The rotation that zeroes the pair's inner product (the smaller angle).
-                let zeta = (beta - alpha) / (2.0 * gamma);
-                let t = zeta.signum() / (zeta.abs() + zeta.hypot(1.0));
-                let c = 1.0 / t.hypot(1.0);
-                let s = c * t;
+                let (c, s) = rotation(alpha, beta, gamma);
                 for r in 0..n {
                     let (x, y) = (a[(r, p)], a[(r, q)]);
                     a[(r, p)] = c * x - s * y;
@@ -229,5 +291,63 @@ mod tests {
             jacobian_svd(&bad, None),
             Err(SolveError::Numerical(_))
         ));
+    }
+
+    /// The two-column case on the stack: A = U diag(σ) Vᵀ, U orthogonal, V orthonormal where
+    /// σ > 0; σ equal to faer's and to [`jacobian_svd`]'s of A padded to six rows (the
+    /// general kernel it specialises), on random, rank-one, zero-row and extreme-scale
+    /// matrices; None on NaN.
+    #[test]
+    fn two_by_four_equals_the_general_kernel_and_faer() {
+        let mut rng = crate::sample::SplitMix64(0x2040_0000_0000_0001);
+        for case in 0..64 {
+            let scale = [1.0, 1e-150, 1e150, 3.0][case % 4];
+            let mut a = [[0.0; 4]; 2];
+            for x in a.iter_mut().flatten() {
+                *x = (rng.uniform() - 0.5) * scale;
+            }
+            match case / 4 % 4 {
+                1 => a[1] = a[0].map(|x| -2.5 * x),
+                2 => a[case % 2] = [0.0; 4],
+                3 => a[1] = [a[0][0], a[0][1], 0.0, 0.0],
+                _ => {}
+            }
+            let Svd2x4 { s: sigma, u, v } = svd_2x4(&a).unwrap();
+            let s1 = sigma[0].max(f64::MIN_POSITIVE);
+            assert!(sigma[0] >= sigma[1] && sigma[1] >= 0.0, "{sigma:?}");
+            for r in 0..2 {
+                for c in 0..4 {
+                    let usv: f64 = (0..2).map(|i| u[i][r] * sigma[i] * v[i][c]).sum();
+                    assert!((usv - a[r][c]).abs() <= 1e-14 * s1, "case {case}: {a:?}");
+                }
+            }
+            let utu = u[0][0] * u[1][0] + u[0][1] * u[1][1];
+            assert!(utu.abs() < 1e-15 && (u[0][0].hypot(u[0][1]) - 1.0).abs() < 1e-15);
+            for i in 0..2 {
+                let norm = v[i].iter().map(|x| x * x).sum::<f64>().sqrt();
+                assert!(if sigma[i] > 0.0 {
+                    (norm - 1.0).abs() < 1e-14
+                } else {
+                    norm == 0.0
+                });
+            }
+            let padded = Matrix6xX::from_fn(4, |r, c| if r < 2 { a[r][c] } else { 0.0 });
+            let general = jacobian_svd(&padded, None).unwrap().s;
+            let m = faer::Mat::<f64>::from_fn(2, 4, |r, c| a[r][c]);
+            let mut faer_s: Vec<f64> = m.singular_values().unwrap();
+            faer_s.sort_by(|x, y| y.total_cmp(x));
+            for i in 0..2 {
+                assert!(
+                    (sigma[i] - general[i]).abs() <= 1e-14 * s1,
+                    "{sigma:?} {general:?}"
+                );
+                assert!(
+                    (sigma[i] - faer_s[i]).abs() <= 1e-14 * s1,
+                    "{sigma:?} {faer_s:?}"
+                );
+            }
+        }
+        assert!(svd_2x4(&[[0.0, f64::NAN, 0.0, 0.0], [0.0; 4]]).is_none());
+        assert_eq!(svd_2x4(&[[0.0; 4]; 2]).unwrap().s, [0.0, 0.0]);
     }
 }

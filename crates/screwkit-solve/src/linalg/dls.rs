@@ -2,7 +2,7 @@
 //! damping λ), on fixed-size 6×6 arrays: A = Σ_k c_k c_kᵀ + μ I over the free columns c_k,
 //! A = L Lᵀ (Cholesky), L z = e, Lᵀ y = z, Δq_k = c_k · y (0 for locked columns).
 //!
-//! It equals the SVD form Δq = Σ_i σ_i / (σ_i² + μ) v_i (u_iᵀ e) that an SVD gives ([`crate::svd`], tested
+//! It equals the SVD form Δq = Σ_i σ_i / (σ_i² + μ) v_i (u_iᵀ e) that an SVD gives ([`crate::linalg::svd`], tested
 //! below on every bundled chain), at a fraction of the cost: everything is unrolled and stays
 //! in registers. Used by the LM and DLS IK steps and by damped joint velocities.
 
@@ -194,7 +194,7 @@ mod tests {
                     let e = Vector6::from_fn(|_, _| rng.uniform() - 0.5);
                     let locked: Vec<bool> = (0..n).map(|k| c % 3 == 1 && k % 3 == 0).collect();
                     for mu in [1e-6, 1e-3, 0.5] {
-                        let svd = crate::svd::jacobian_svd(&j, Some(&locked)).unwrap();
+                        let svd = crate::linalg::svd::jacobian_svd(&j, Some(&locked)).unwrap();
                         let (u, s, v) = (&svd.u, &svd.s, &svd.v);
                         let mut oracle = vec![0.0; n];
                         for i in 0..n.min(6) {

@@ -1,0 +1,16 @@
+//! The crate's numerics, in one room: each method once, each tested against an independent
+//! oracle (faer's SVD and eigenvalues, a dev-dependency; closed forms; KKT conditions).
+//!
+//! | module | what | used by |
+//! |---|---|---|
+//! | `svd` | the SVD, one-sided Jacobi (Hestenes): a 6 × n Jacobian, and its two-column case on the stack | analysis (rank, lost directions, the ellipsoids), pseudo-inverses, subproblem 6's least squares |
+//! | `eigen` | eigenvalues of a small dense real matrix (balancing, `elmhes`, Francis double-shift QR) | the general 6R's 24 × 24 companion, the subproblems' quartic roots |
+//! | `dls` | the damped least-squares step Δq = Jᵀ(JJᵀ + μI)⁻¹e on 6 × 6 arrays | IK (LM, DLS), damped joint velocities |
+//! | `newton` | Newton polish of a 6-row residual: J Δ = e, damped when the full step fails | the analytic solvers' postures |
+//! | [`box_qp`] | strictly convex QPs under box constraints (primal active set) | whole-body differential IK |
+
+pub mod box_qp;
+pub(crate) mod dls;
+pub(crate) mod eigen;
+pub(crate) mod newton;
+pub(crate) mod svd;
