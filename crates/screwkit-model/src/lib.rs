@@ -8,6 +8,8 @@
 //! - [`urdf`]: reading URDF (urdf-rs, with a strict pre-pass for its pitfalls).
 //! - [`xacro`]: xacro expanded natively into URDF (ROS's xacro semantics, no ROS).
 //! - [`mjcf`]: reading MuJoCo's MJCF (bodies, joints, sites, classes, includes) into the same tree.
+//! - [`load`]: any description file, told apart by content ([`load_tree`], [`load_chain`]).
+//! - [`mujoco_qpos`]: MuJoCo's `qpos` and screwkit's configuration, both ways.
 //! - [`tree`]: links, joints, paths between links.
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
@@ -32,7 +34,9 @@ pub mod chain;
 pub mod error;
 pub mod input;
 pub mod kinematic_tree;
+pub mod load;
 pub mod mjcf;
+pub mod mujoco_qpos;
 pub mod screws;
 pub mod table;
 pub mod tree;
@@ -42,12 +46,14 @@ pub mod xacro;
 pub use chain::{Chain, ChainJoint, ChainLink, Drive, Variable};
 pub use error::{ErrorKind, ModelError};
 pub use kinematic_tree::{KinematicTree, TreeFrame, TreeLink, TreeScrew};
+pub use load::{load_tree, tree_from_str, Format};
 pub use screws::{ScrewJoint, ScrewLeader, ScrewRobot};
 pub use tree::{Inertial, JointKind, Limit, Mimic, QposLayout, Tree, TreeJoint};
 pub use xacro::XacroOptions;
 
-/// Loads a URDF (or xacro) file and builds the chain from `base` (default: the root link) to
-/// `tip` (default: the only leaf below the base).
+/// Loads a robot file (URDF, xacro, MJCF or a screw table, told apart by content:
+/// [`load::Format`]) and builds the chain from `base` (default: the root link) to `tip`
+/// (default: the only leaf below the base).
 ///
 /// ```
 /// let ur5 = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/ur5.urdf");
@@ -68,7 +74,7 @@ pub fn load_chain(
     base: Option<&str>,
     tip: Option<&str>,
 ) -> Result<Chain, ModelError> {
-    Chain::from_tree(&urdf::load_file(path)?, base, tip)
+    load::load_chain(path, base, tip, &XacroOptions::default())
 }
 
 /// [`load_chain`] with xacro options (package paths, `xacro:arg` values).
@@ -78,5 +84,5 @@ pub fn load_chain_with(
     tip: Option<&str>,
     opts: &XacroOptions,
 ) -> Result<Chain, ModelError> {
-    Chain::from_tree(&urdf::load_file_with(path, opts)?, base, tip)
+    load::load_chain(path, base, tip, opts)
 }

@@ -129,20 +129,15 @@ impl Source {
         self.tree_of(self.read()?, xacro)
     }
 
-    /// [`Source::tree`] of this source's text, already read.
+    /// [`Source::tree`] of this source's text, already read: the model's one rule
+    /// ([`screwkit_model::tree_from_str`]).
     fn tree_of(&self, text: String, xacro: &XacroOptions) -> Result<(Tree, String)> {
-        if screwkit_model::table::is_screw_table(&text) {
-            let screws = screwkit_model::table::read_screw_table(&text, &self.label())?;
-            return Ok((screws.tree()?, text));
-        }
-        if screwkit_model::mjcf::is_mjcf(&text) {
-            // The text kept is self-contained: includes spliced in (pickling, copies).
-            let (tree, text) = screwkit_model::mjcf::read_str(&text, &self.label(), &self.dir())?;
-            return Ok((tree, text));
-        }
-        let urdf = urdf::urdf_text(&text, &self.label(), &self.dir(), xacro)?;
-        let tree = urdf::load_str(&urdf, &self.label())?;
-        Ok((tree, urdf))
+        Ok(screwkit_model::tree_from_str(
+            &text,
+            &self.label(),
+            &self.dir(),
+            xacro,
+        )?)
     }
 }
 
