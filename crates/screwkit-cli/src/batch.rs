@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use screwkit_solve::{Kinematics, SolveError, TreeKinematics};
+use screwkit_solve::SolveError;
 use serde_json::{json, Value};
 
 use crate::output::{CliResult, Failure};
@@ -269,23 +269,20 @@ pub fn parse_rows<T: Send>(
         .collect()
 }
 
-/// The `{"q": [...]}` lines as a flat N × dof buffer (NaN rows where a line is bad) and the
-/// per-line parse errors.
-pub fn q_rows(kin: &Kinematics, lines: &[Line]) -> (Vec<f64>, Vec<Option<String>>) {
-    q_rows_checked(lines, kin.dof(), |q| kin.check_q(q).map(|_| ()))
-}
-
-/// [`q_rows`] for the whole tree: `{"q": [...]}` of nq values (the tree's configuration).
-pub fn tree_q_rows(kin: &TreeKinematics, lines: &[Line]) -> (Vec<f64>, Vec<Option<String>>) {
-    q_rows_checked(lines, kin.nq(), |q| kin.check_q(q).map(|_| ()))
-}
-
-/// [`q_rows`] for what a query is about (the chain's q, or the tree's configuration).
+/// The `{"q": [...]}` rows of what a query is about (the chain's q, or the tree's configuration).
 pub fn about_q_rows(
     about: &screwkit_service::query::About<'_>,
     lines: &[Line],
 ) -> (Vec<f64>, Vec<Option<String>>) {
     q_rows_checked(lines, about.q_len(), |q| about.check_q(q))
+}
+
+/// The `{"q": [...]}` rows of a pose query (the chain's q, or the tree's configuration).
+pub fn poses_q_rows(
+    poses: &screwkit_service::query::Poses<'_>,
+    lines: &[Line],
+) -> (Vec<f64>, Vec<Option<String>>) {
+    q_rows_checked(lines, poses.q_len(), |q| poses.check_q(q))
 }
 
 /// The `{"q": [...]}` lines checked by `check`, as rows of `width` values.

@@ -11,14 +11,14 @@ use pyo3::prelude::*;
 use pyo3::types::PyType;
 use screwkit_draw::{html, svg, Scene};
 use screwkit_model::{table, Chain};
-use screwkit_service::query::About;
+use screwkit_service::query::{About, Poses, Selection};
 use screwkit_service::words::{
     self, JacobianFrame, Method, ScrewFrame, TableFormat, TableFrames, Views, Word,
 };
 use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
 use screwkit_solve::ik::{IkOptions, IkStatus};
 use screwkit_solve::{
-    analysis, batch, fk, ik, jacobian, tree, Kinematics, SolveError, TreeKinematics, TreeWorkspace,
+    analysis, batch, ik, jacobian, tree, Kinematics, SolveError, TreeKinematics, TreeWorkspace,
     Workspace,
 };
 
@@ -306,43 +306,9 @@ impl Robot {
         Ok(f(space))
     }
 
-    /// Checks q's shape for what a query is about: (n,) or (N, n), n its `q_len`; the error
-    /// names the entries (the chain's joints, or the tree's `q_names`).
+    /// Checks q's shape for what a query is about ([`rows_shape`]).
     fn rows_about(about: &About<'_>, a: &Bound<'_, PyArrayDyn<f64>>, what: &str) -> PyResult<Rows> {
-        let n = about.q_len();
-        match a.shape() {
-            [m] if *m == n => Ok(Rows::One),
-            [rows, m] if *m == n => Ok(Rows::Many(*rows)),
-            shape => Err(PyValueError::new_err(if about.is_tree() {
-                format!(
-                    "{what}: expected shape ({n},) or (N, {n}) for the whole tree's configuration (q_names), got {}",
-                    shape_str(shape)
-                )
-            } else {
-                format!(
-                    "{what}: expected shape ({n},) or (N, {n}) for the joints {}, got {}",
-                    about.q_names().join(", "),
-                    shape_str(shape)
-                )
-            })),
-        }
-    }
-
-    /// Checks q's shape for the whole tree: (nq,) or (N, nq).
-    fn tree_rows_of(
-        kin: &TreeKinematics,
-        a: &Bound<'_, PyArrayDyn<f64>>,
-        what: &str,
-    ) -> PyResult<Rows> {
-        let n = kin.nq();
-        match a.shape() {
-            [m] if *m == n => Ok(Rows::One),
-            [rows, m] if *m == n => Ok(Rows::Many(*rows)),
-            shape => Err(PyValueError::new_err(format!(
-                "{what}: expected shape ({n},) or (N, {n}) for the whole tree's configuration (q_names), got {}",
-                shape_str(shape)
-            ))),
-        }
+        rows_shape(about.q_len(), about.is_tree(), about.q_names(), a, what)
     }
 
     /// One tree vector of `len` values (q or v) from Python.
@@ -357,54 +323,31 @@ impl Robot {
         Ok(arr.to_vec()?)
     }
 
-    /// Every link's (`links_only`) or every frame's pose of the whole tree in one sweep.
-    fn tree_frames<'py>(
+    /// The poses of `selection` (the floor's `query::Poses`): q (n,) → its shape ((4, 4) or
+    /// (K, 4, 4)); q (N, n) → N of them, through the library's batch.
+    fn poses_of<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
-        links_only: bool,
+        selection: Selection<'_>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let kin = self.tree_model()?;
+        let tree = self.tree_for(!matches!(selection, Selection::Tip | Selection::Links))?;
+        let poses =
+            Poses::resolve(&self.robot, tree.as_deref(), selection).map_err(service_error)?;
         let q = f64_array(q, "q")?;
-        let rows = Self::tree_rows_of(&kin, &q, "q")?;
-        let frames = kin.frame_count();
-        let keep = if links_only {
-            kin.model().links.len()
-        } else {
-            frames
-        };
-        match rows {
+        let shape = poses.shape();
+        match rows_shape(poses.q_len(), poses.is_tree(), poses.q_names(), &q, "q")? {
             Rows::One => {
-                let qs = q.to_vec()?;
-                let poses = self
-                    .with_tree_ws(&kin, |ws| {
-                        tree::fk::fk_frames(&kin, ws, &qs).map(|p| p[..keep].to_vec())
-                    })
-                    .map_err(solve_error)?;
-                Ok(new_array(py, &[keep, 4, 4], |o| {
-                    for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
-                        t.write_row_major(out);
-                    }
-                })?
-                .into_any())
-            }
-            Rows::Many(n) if keep == frames => {
-                run_batch(py, &[n, frames, 4, 4], &q, FK_CHUNK / 64, |qs, o| {
-                    tree::batch::fk_frames_batch(&kin, qs, o)
-                })
+                let q = q.to_vec()?;
+                let mut result = Ok(());
+                let out = new_array(py, &shape, |o| result = poses.poses(&q, o))?;
+                result.map_err(solve_error)?;
+                Ok(out.into_any())
             }
             Rows::Many(n) => {
-                // The links are the first frames: computed with the added ones, copied out.
-                run_batch(py, &[n, keep, 4, 4], &q, FK_CHUNK / 64, |qs, o| {
-                    // A tree has at least its root link: keep ≥ 1.
-                    let rows = o.len() / (16 * keep);
-                    let mut all = vec![0.0; rows * frames * 16];
-                    let r = tree::batch::fk_frames_batch(&kin, qs, &mut all);
-                    for (dst, src) in o.chunks_mut(16 * keep).zip(all.chunks(16 * frames)) {
-                        dst.copy_from_slice(&src[..16 * keep]);
-                    }
-                    r
-                })
+                let chunk = FK_CHUNK / (4 * poses.count()).clamp(4, 64);
+                let full: Vec<usize> = std::iter::once(n).chain(shape).collect();
+                run_batch(py, &full, &q, chunk, |qs, o| poses.poses_batch(qs, o))
             }
         }
     }
@@ -516,6 +459,33 @@ struct IkArgs<'a> {
     seed_rng: u64,
     position_only: bool,
     weights: Option<Vec<f64>>,
+}
+
+/// Checks q's shape for a query whose q has `n` entries named `names` (the chain's joints, or
+/// the whole tree's `q_names` when `tree`): (n,) or (N, n).
+fn rows_shape(
+    n: usize,
+    tree: bool,
+    names: &[String],
+    a: &Bound<'_, PyArrayDyn<f64>>,
+    what: &str,
+) -> PyResult<Rows> {
+    match a.shape() {
+        [m] if *m == n => Ok(Rows::One),
+        [rows, m] if *m == n => Ok(Rows::Many(*rows)),
+        shape => Err(PyValueError::new_err(if tree {
+            format!(
+                "{what}: expected shape ({n},) or (N, {n}) for the whole tree's configuration (q_names), got {}",
+                shape_str(shape)
+            )
+        } else {
+            format!(
+                "{what}: expected shape ({n},) or (N, {n}) for the joints {}, got {}",
+                names.join(", "),
+                shape_str(shape)
+            )
+        })),
+    }
 }
 
 /// Runs a batch function into a new zeroed float64 array of `shape` (N, …) with the GIL
@@ -1010,28 +980,7 @@ impl Robot {
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        if self.tree_mode() {
-            return self.tree_frames(py, q, true);
-        }
-        let kin = self.kin()?;
-        let q = f64_array(q, "q")?;
-        let rows = self.rows_of(&q, "q")?;
-        let links = kin.links().len();
-        match rows {
-            Rows::One => {
-                let mut ws = self.workspace()?;
-                let poses = fk::fk_all_links(kin, &mut ws, &q.to_vec()?).map_err(solve_error)?;
-                Ok(new_array(py, &[links, 4, 4], |o| {
-                    for (t, out) in poses.iter().zip(o.chunks_mut(16)) {
-                        t.write_row_major(out);
-                    }
-                })?
-                .into_any())
-            }
-            Rows::Many(n) => run_batch(py, &[n, links, 4, 4], &q, FK_CHUNK / 16, |qs, o| {
-                batch::fk_all_links_batch(kin, qs, o)
-            }),
-        }
+        self.poses_of(py, q, Selection::Links)
     }
 
     /// Every frame's pose of the whole tree (`frame_names` order: the links, then the added
@@ -1041,7 +990,7 @@ impl Robot {
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        self.tree_frames(py, q, false)
+        self.poses_of(py, q, Selection::All)
     }
 
     /// The Jacobian in `frame` — "space" (J_s), "body" (J_b) or "world-aligned" (J_wa: the

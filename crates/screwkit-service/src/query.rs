@@ -6,7 +6,7 @@
 //! front end keeps no scratch for them.
 
 use screwkit_lie::Se3;
-use screwkit_solve::batch::{fk_batch, jacobian_batch, write_jacobian};
+use screwkit_solve::batch::{fk_all_links_batch, fk_batch, jacobian_batch, write_jacobian};
 use screwkit_solve::tree::{batch as tree_batch, fk as tree_fk, jacobian as tree_jacobian};
 use screwkit_solve::{
     JacobianKind, Kinematics, SolveError, TreeKinematics, TreeWorkspace, Workspace,
@@ -14,6 +14,7 @@ use screwkit_solve::{
 
 use crate::error::{Error, Result};
 use crate::load::Robot;
+use crate::report::{FkReport, FramesReport, NamedPose};
 
 /// What a query is about (module documentation).
 #[derive(Debug, Clone, Copy)]
@@ -186,6 +187,219 @@ impl<'k> About<'k> {
             About::Frame(t, _) | About::Relative(t, _, _) => t.v_names(),
         }
     }
+}
+
+/// Which frames a pose query gives: the frame selector every front end speaks (the CLI's
+/// `fk` options, Python's `fk_all_links` and `fk_all_frames`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Selection<'a> {
+    /// The chain's tip; on the whole tree (the floor's rule), its leaves.
+    Tip,
+    /// Every link: the chain's, base → tip; on the whole tree, every link of the file.
+    Links,
+    /// Every frame of the whole tree: its links in the file's order, then the added frames.
+    All,
+    /// The leaf links of the whole tree (links with no joint below them, file order).
+    Leaves,
+    /// These frames of the whole tree, in the order given (a request naming frames is about
+    /// the tree).
+    Named(&'a [String]),
+}
+
+/// The frames a pose query answers, resolved once ([`Poses::resolve`]), and its poses, one
+/// configuration or N, routed here.
+#[derive(Debug, Clone)]
+pub enum Poses<'k> {
+    /// The chain's tip.
+    Tip(&'k Kinematics),
+    /// The chain's links, base → tip (the tip, with its tool frame, last).
+    ChainLinks(&'k Kinematics),
+    /// Chosen frames of the whole tree (indices in its frame order), from its all-frame sweep.
+    Frames(&'k TreeKinematics, Vec<usize>),
+}
+
+impl<'k> Poses<'k> {
+    /// The frames `selection` names on `robot` (`tree`: the front end's whole tree, frames it
+    /// added included). `All`, `Leaves` and `Named` are about the whole tree; `Tip` and
+    /// `Links` about the chain unless the floor's rule says the tree answers
+    /// ([`crate::whole::wants_tree`]).
+    pub fn resolve(
+        robot: &'k Robot,
+        tree: Option<&'k TreeKinematics>,
+        selection: Selection<'_>,
+    ) -> Result<Poses<'k>> {
+        let chain_side = matches!(selection, Selection::Tip | Selection::Links);
+        if chain_side && !crate::whole::wants_tree(robot, false) {
+            let kin = robot.kin()?;
+            return Ok(match selection {
+                Selection::Tip => Poses::Tip(kin),
+                _ => Poses::ChainLinks(kin),
+            });
+        }
+        let tree = match tree {
+            Some(t) => t,
+            None => robot.whole()?,
+        };
+        let frames = match selection {
+            Selection::Named(names) => names
+                .iter()
+                .map(|n| tree.frame(n).map_err(Into::into))
+                .collect::<Result<Vec<_>>>()?,
+            Selection::All => (0..tree.frame_count()).collect(),
+            Selection::Links => (0..tree.model().links.len()).collect(),
+            Selection::Tip | Selection::Leaves => crate::whole::leaf_frames(tree),
+        };
+        Ok(Poses::Frames(tree, frames))
+    }
+
+    /// True for frames of the whole tree.
+    pub fn is_tree(&self) -> bool {
+        matches!(self, Poses::Frames(..))
+    }
+
+    /// The number of poses per configuration.
+    pub fn count(&self) -> usize {
+        match self {
+            Poses::Tip(_) => 1,
+            Poses::ChainLinks(k) => k.links().len(),
+            Poses::Frames(_, f) => f.len(),
+        }
+    }
+
+    /// The poses' frames, by name.
+    pub fn names(&self) -> Vec<&'k str> {
+        match *self {
+            Poses::Tip(k) => vec![k.links().last().map_or("", |l| l.name.as_str())],
+            Poses::ChainLinks(k) => k.links().iter().map(|l| l.name.as_str()).collect(),
+            Poses::Frames(t, ref f) => f.iter().map(|&i| t.frame_name(i)).collect(),
+        }
+    }
+
+    /// The length of the q its queries take (the chain's dof, or the tree's nq).
+    pub fn q_len(&self) -> usize {
+        match self {
+            Poses::Tip(k) | Poses::ChainLinks(k) => k.dof(),
+            Poses::Frames(t, _) => t.nq(),
+        }
+    }
+
+    /// The names of q's entries (the chain's joints, or the tree's `q_names`).
+    pub fn q_names(&self) -> &'k [String] {
+        match *self {
+            Poses::Tip(k) | Poses::ChainLinks(k) => k.names(),
+            Poses::Frames(t, _) => t.q_names(),
+        }
+    }
+
+    /// What q's length is called in messages: `dof` (the chain's) or `nq` (the tree's).
+    pub fn q_len_word(&self) -> &'static str {
+        if self.is_tree() {
+            "nq"
+        } else {
+            "dof"
+        }
+    }
+
+    /// An error unless q is one configuration (length, finite values).
+    pub fn check_q(&self, q: &[f64]) -> Result<(), SolveError> {
+        match self {
+            Poses::Tip(k) | Poses::ChainLinks(k) => k.check_q(q),
+            Poses::Frames(t, _) => t.check_q(q).map(|_| ()),
+        }
+    }
+
+    /// The shape of one configuration's poses as an array: (4, 4) for the tip, else
+    /// ([`Poses::count`], 4, 4).
+    pub fn shape(&self) -> Vec<usize> {
+        match self {
+            Poses::Tip(_) => vec![4, 4],
+            _ => vec![self.count(), 4, 4],
+        }
+    }
+
+    /// The poses at q, row-major into `out` ([`Poses::count`] × 16). Checks q.
+    pub fn poses(&self, q: &[f64], out: &mut [f64]) -> Result<(), SolveError> {
+        let write = |ts: &mut dyn Iterator<Item = &Se3>, out: &mut [f64]| {
+            for (t, o) in ts.zip(out.chunks_mut(16)) {
+                t.write_row_major(o);
+            }
+        };
+        match *self {
+            Poses::Tip(k) => {
+                let t = Workspace::local(k, |ws| screwkit_solve::fk::fk(k, ws, q))?;
+                t.write_row_major(&mut out[..16]);
+            }
+            Poses::ChainLinks(k) => Workspace::local(k, |ws| {
+                let all = screwkit_solve::fk::fk_all_links(k, ws, q)?;
+                write(&mut all.iter(), out);
+                Ok::<_, SolveError>(())
+            })?,
+            Poses::Frames(t, ref f) => TreeWorkspace::local(t, |ws| {
+                let all = tree_fk::fk_frames(t, ws, q)?;
+                write(&mut f.iter().map(|&i| &all[i]), out);
+                Ok::<_, SolveError>(())
+            })?,
+        }
+        Ok(())
+    }
+
+    /// The poses at N configurations (`qs`: N × [`Poses::q_len`]) into `out`
+    /// (N × [`Poses::count`] × 16), through the library's batch; each row as the single call.
+    pub fn poses_batch(&self, qs: &[f64], out: &mut [f64]) -> Result<(), SolveError> {
+        match *self {
+            Poses::Tip(k) => fk_batch(k, qs, out),
+            Poses::ChainLinks(k) => fk_all_links_batch(k, qs, out),
+            Poses::Frames(t, ref f) => {
+                let (all_count, k) = (t.frame_count(), f.len());
+                if f.iter().copied().eq(0..all_count) {
+                    return tree_batch::fk_frames_batch(t, qs, out);
+                }
+                let rows = out.len() / (16 * k).max(1);
+                let mut all = vec![0.0; rows * all_count * 16];
+                let result = tree_batch::fk_frames_batch(t, qs, &mut all);
+                for (dst, src) in out.chunks_mut(16 * k).zip(all.chunks(16 * all_count)) {
+                    for (o, &i) in dst.chunks_mut(16).zip(f) {
+                        o.copy_from_slice(&src[16 * i..16 * (i + 1)]);
+                    }
+                }
+                result
+            }
+        }
+    }
+
+    /// The JSON report of one configuration's poses (`poses`: this selection's, row-major):
+    /// on the chain `{"q", "pose"}` (with `"links"` for every link; the tip is the last
+    /// link), on the whole tree `{"q", "frames"}`.
+    pub fn report(&self, q: &[f64], poses: &[f64]) -> PosesReport {
+        let named = |names: Vec<&str>| {
+            names
+                .into_iter()
+                .zip(poses.chunks(16))
+                .map(|(n, p)| NamedPose::from_row_major(n, p))
+                .collect::<Vec<_>>()
+        };
+        match self {
+            Poses::Tip(_) => PosesReport::Chain(FkReport::new(q, poses, None)),
+            Poses::ChainLinks(_) => {
+                let tip = &poses[poses.len().saturating_sub(16)..];
+                PosesReport::Chain(FkReport::new(q, tip, Some(named(self.names()))))
+            }
+            Poses::Frames(..) => PosesReport::Frames(FramesReport {
+                q: q.to_vec(),
+                frames: named(self.names()),
+            }),
+        }
+    }
+}
+
+/// One configuration's poses as JSON: the chain's shape or the tree's ([`Poses::report`]).
+#[derive(Debug, Clone, serde::Serialize)]
+#[serde(untagged)]
+pub enum PosesReport {
+    /// `{"q", "pose"}` (+ `"links"`).
+    Chain(FkReport),
+    /// `{"q", "frames"}`.
+    Frames(FramesReport),
 }
 
 /// The configuration space of a robot's calls that name no frame: its chain's, or the whole

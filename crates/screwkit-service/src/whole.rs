@@ -9,7 +9,6 @@
 
 use screwkit_solve::TreeKinematics;
 
-use crate::error::Result;
 use crate::load::Robot;
 
 /// True when a request goes to the whole tree (module documentation); `names_frames`: the
@@ -19,22 +18,6 @@ pub fn wants_tree(robot: &Robot, names_frames: bool) -> bool {
         || robot.options().floating_base
         || robot.tree().floating_root
         || !robot.has_chain()
-}
-
-/// The frames a pose request answers: the named ones (in the order given), or every frame
-/// (links in the file's order, then the added frames) with `all`, or else the leaf links
-/// (the tips of every branch).
-pub fn select_frames(kin: &TreeKinematics, names: &[String], all: bool) -> Result<Vec<usize>> {
-    if !names.is_empty() {
-        return names
-            .iter()
-            .map(|n| kin.frame(n).map_err(Into::into))
-            .collect();
-    }
-    if all {
-        return Ok((0..kin.frame_count()).collect());
-    }
-    Ok(leaf_frames(kin))
 }
 
 /// The leaf links: links with no joint below them, in the file's link order.
