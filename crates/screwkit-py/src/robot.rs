@@ -1130,6 +1130,21 @@ impl Robot {
         })
     }
 
+    /// What is in the robot's file, as `screwkit info --format json` gives it (the floor's
+    /// report): robot, root, links, joints (type, parent, child, limits, mimic), leaves, the
+    /// whole tree's variables and frames (home poses), and the chain (`default_chain`: base,
+    /// tip, dof, ik_family).
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let o = self.robot.options();
+        let report = screwkit_service::info::InfoReport::new(
+            self.robot.tree(),
+            o.base.as_deref(),
+            o.tip.as_deref(),
+        )
+        .map_err(service_error)?;
+        crate::reach::report_dict(py, &screwkit_service::report::to_value(&report))
+    }
+
     /// The total mass (kg) of the links with an `<inertial>` mass (0 when the file has none).
     #[getter]
     fn total_mass(&self) -> PyResult<f64> {

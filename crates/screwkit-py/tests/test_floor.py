@@ -211,3 +211,29 @@ def test_reprs_are_one_short_line(tmp_path: Path) -> None:
     for r in results:
         text = repr(r)
         assert "\n" not in text and len(text) < 200, text
+
+
+@pytest.mark.parametrize(
+    ("name", "tip"),
+    [
+        ("ur5.urdf", None),
+        ("panda.urdf", None),
+        ("humanoid.urdf", None),
+        ("panda.urdf", "panda_link5"),
+    ],
+)
+def test_info_is_the_clis_report(name: str, tip: str | None) -> None:
+    """`Robot.info()` is the floor's report, the CLI's `info --format json` to the last key and
+    number: one chain's (default or asked), or a tree's without one."""
+    path = ASSETS / name
+    robot = screwkit.Robot.from_urdf(path, tip=tip)
+    args = ["info", str(path)] + (["--tip", tip] if tip else [])
+    want = cli(*args)
+    got = robot.info()
+    assert got == want
+    if name == "humanoid.urdf":
+        assert got["default_chain"] is None and len(got["leaves"]) > 2
+    else:
+        chain = got["default_chain"]
+        assert chain["tip"] == robot.tip and chain["dof"] == robot.dof
+        assert [v["name"] for v in got["variables"]] == robot.variable_names

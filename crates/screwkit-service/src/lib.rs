@@ -19,6 +19,7 @@
 //! The floor holds no kinematics: every answer comes from `screwkit_solve`.
 
 pub mod error;
+pub mod info;
 pub mod io;
 pub mod joint;
 pub mod load;

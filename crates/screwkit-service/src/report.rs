@@ -56,7 +56,7 @@ impl IkReport {
 }
 
 /// serde's form of a 4 × 4 pose (16 values, row-major) as four rows of numbers.
-fn pose_rows<S: serde::Serializer>(m: &[f64; 16], s: S) -> Result<S::Ok, S::Error> {
+pub(crate) fn pose_rows<S: serde::Serializer>(m: &[f64; 16], s: S) -> Result<S::Ok, S::Error> {
     rows(m, 4).serialize(s)
 }
 
