@@ -6,7 +6,6 @@ use screwkit_lie::display::fixed;
 use screwkit_service::query::About;
 use screwkit_service::report::{self, JacobianReport};
 use screwkit_service::whole;
-use screwkit_solve::analysis::{analyze_jacobian, analyze_position_jacobian};
 use screwkit_solve::SolveError;
 use serde_json::{json, Value};
 
@@ -46,8 +45,7 @@ fn analysis_text(
     frame: JacobianFrame,
     p: &nalgebra::Vector3<f64>,
 ) -> Result<String, SolveError> {
-    let a = analyze_jacobian(j)?;
-    let pos = analyze_position_jacobian(&report::tip_point_rows(j, frame.kind(), p));
+    let (a, pos) = screwkit_service::query::analysis_of(j, frame.kind(), p)?;
     let mut s = format!(
         "\nsingular values       {}\nrank                  {} of {} (σ ≤ {:.2e} counts as 0)\nmanipulability        {} (√det(J Jᵀ))\ncondition number      {}\n",
         tuple(&a.singular_values),

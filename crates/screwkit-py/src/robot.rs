@@ -18,8 +18,7 @@ use screwkit_service::words::{
 use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
 use screwkit_solve::ik::{IkOptions, IkStatus};
 use screwkit_solve::{
-    analysis, batch, ik, jacobian, tree, Kinematics, SolveError, TreeKinematics, TreeWorkspace,
-    Workspace,
+    batch, ik, tree, Kinematics, SolveError, TreeKinematics, TreeWorkspace, Workspace,
 };
 
 use crate::array::{f64_array, new_array, poses, shape_str, zeros};
@@ -1447,29 +1446,38 @@ impl Robot {
     }
 
     /// Singular values, rank, manipulability, condition number, ellipsoids and the verdict in
-    /// words of the Jacobian in `frame` at one configuration q (dof,).
-    #[pyo3(signature = (q, frame = "space"))]
-    fn analyze(&self, py: Python<'_>, q: &Bound<'_, PyAny>, frame: &str) -> PyResult<Analysis> {
+    /// words of the Jacobian in `frame` ("space", "body" or "world-aligned") at one
+    /// configuration q (dof,). With `link` (and `relative_to`), of that frame of the whole tree
+    /// (q (nq,)), as `jacobian` gives it; the position-only figures are of the frame point's
+    /// velocity.
+    #[pyo3(signature = (q, frame = "space", link = None, *, relative_to = None))]
+    fn analyze(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        frame: &str,
+        link: Option<&str>,
+        relative_to: Option<&str>,
+    ) -> PyResult<Analysis> {
         let frame_name = frame.to_string();
-        let frame: screwkit_lie::Frame = word::<ScrewFrame>("frame", frame)?.into();
+        let kind = word::<JacobianFrame>("frame", frame)?.kind();
+        let tree = self.tree_for(link.is_some() || relative_to.is_some())?;
+        let about = About::resolve(&self.robot, tree.as_deref(), link, relative_to)
+            .map_err(service_error)?;
         let q = f64_array(q, "q")?;
-        if let Rows::Many(_) = self.rows_of(&q, "q")? {
+        if let Rows::Many(_) = Self::rows_about(&about, &q, "q")? {
             return Err(PyValueError::new_err(format!(
                 "q: analyze takes one configuration of shape ({},), got {}",
-                self.kin()?.dof(),
+                about.q_len(),
                 shape_str(q.shape())
             )));
         }
-        let q = q.readonly();
-        let qs = q.as_slice()?;
-        let mut ws = self.workspace()?;
-        let j = jacobian::jacobian(self.kin()?, &mut ws, qs, frame).map_err(solve_error)?;
-        let a = analysis::analyze_jacobian(j).map_err(solve_error)?;
-        let n = self.kin()?.dof();
-        let jac = new_array(py, &[6, n], |o| batch::write_jacobian(j, o))?
-            .cast_into::<PyArray2<f64>>()?;
-        // After the last use of `j` (it lives in the workspace).
-        let pos = analysis::analyze_position(self.kin()?, &mut ws, qs).map_err(solve_error)?;
+        let found = about.analyze(kind, &q.to_vec()?).map_err(solve_error)?;
+        let (a, pos) = (&found.analysis, &found.position);
+        let jac = new_array(py, &[6, about.columns()], |o| {
+            batch::write_jacobian(&found.jacobian, o)
+        })?
+        .cast_into::<PyArray2<f64>>()?;
         let rows3 = |axes: &[nalgebra::Vector3<f64>; 3]| {
             PyArray2::from_vec2(
                 py,

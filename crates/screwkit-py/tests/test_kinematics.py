@@ -9,7 +9,7 @@ import pytest
 
 import screwkit
 
-from conftest import ChainSpec, all_chains, configurations, ur5_space_screws
+from conftest import REPO, ChainSpec, all_chains, configurations, ur5_space_screws
 from urdf_oracle import UrdfChain, adjoint
 
 Array = npt.NDArray[np.float64]
@@ -168,6 +168,32 @@ def test_analyze_equals_numpy_svd(spec: ChainSpec) -> None:
             assert a.rank == int((sv > a.rank_tolerance).sum())
             assert a.frame == frame
             assert isinstance(a.verdict, str) and a.verdict
+
+
+def test_analyze_a_frame_of_the_whole_tree() -> None:
+    """`analyze(q, frame, link=…, relative_to=…)`: the floor's analysis of the Jacobian
+    `jacobian` gives for that frame, its singular values numpy's; the position-only figures of
+    the frame point's velocity (the world-aligned Jacobian's linear rows, whatever the frame)."""
+    path = REPO / "assets" / "urdf" / "torso_two_arms.urdf"
+    robot = screwkit.Robot.from_urdf(path)
+    q = np.linspace(-0.4, 0.5, robot.nq)
+    for frame in ("space", "body", "world-aligned"):
+        for reference in (None, "right_hand"):
+            a = robot.analyze(q, frame, link="left_hand", relative_to=reference)
+            j = robot.jacobian(q, frame, link="left_hand", relative_to=reference)
+            np.testing.assert_array_equal(a.jacobian, j)
+            sv = np.linalg.svd(j, compute_uv=False)
+            np.testing.assert_allclose(a.singular_values, sv, rtol=1e-10, atol=1e-14)
+            assert a.rank == int((sv > a.rank_tolerance).sum()) == np.linalg.matrix_rank(j)
+            jv = robot.jacobian(q, "world-aligned", link="left_hand", relative_to=reference)[3:]
+            np.testing.assert_allclose(
+                a.position_singular_values, np.linalg.svd(jv, compute_uv=False), rtol=1e-10
+            )
+            assert a.frame == frame
+    with pytest.raises(ValueError, match="^link: this robot is a whole tree"):
+        robot.analyze(q)
+    with pytest.raises(ValueError, match="analyze takes one configuration"):
+        robot.analyze(np.stack([q, q]), link="left_hand")
 
 
 def test_chain_without_joints() -> None:

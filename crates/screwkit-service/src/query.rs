@@ -5,7 +5,11 @@
 //! the calling thread's kept workspace (`Workspace::local`, `TreeWorkspace::local`), so a
 //! front end keeps no scratch for them.
 
+use nalgebra::Matrix6xX;
 use screwkit_lie::Se3;
+use screwkit_solve::analysis::{
+    analyze_jacobian, analyze_position_jacobian, Analysis, PositionAnalysis,
+};
 use screwkit_solve::batch::{fk_all_links_batch, fk_batch, jacobian_batch, write_jacobian};
 use screwkit_solve::tree::{batch as tree_batch, fk as tree_fk, jacobian as tree_jacobian};
 use screwkit_solve::{
@@ -172,6 +176,21 @@ impl<'k> About<'k> {
         }
     }
 
+    /// Its pose, Jacobian of `kind` and the Jacobian's singularity analysis at q
+    /// ([`analysis_of`]). Checks q.
+    pub fn analyze(&self, kind: JacobianKind, q: &[f64]) -> Result<Analyzed, SolveError> {
+        let mut flat = vec![0.0; 6 * self.columns()];
+        let pose = self.pose_jacobian(kind, q, &mut flat)?;
+        let jacobian = Matrix6xX::from_row_slice(&flat);
+        let (analysis, position) = analysis_of(&jacobian, kind, pose.translation())?;
+        Ok(Analyzed {
+            pose,
+            jacobian,
+            analysis,
+            position,
+        })
+    }
+
     /// An error unless q is one configuration of it (length, finite values).
     pub fn check_q(&self, q: &[f64]) -> Result<(), SolveError> {
         match self {
@@ -187,6 +206,32 @@ impl<'k> About<'k> {
             About::Frame(t, _) | About::Relative(t, _, _) => t.v_names(),
         }
     }
+}
+
+/// A Jacobian and its singularity analysis at one configuration ([`About::analyze`]).
+#[derive(Debug, Clone)]
+pub struct Analyzed {
+    /// The frame's pose.
+    pub pose: Se3,
+    /// The Jacobian (6 × [`About::columns`]).
+    pub jacobian: Matrix6xX<f64>,
+    /// Its analysis (SVD, rank, manipulability, ellipsoids, lost directions).
+    pub analysis: Analysis,
+    /// The analysis of the frame point's 3 × n velocity rows.
+    pub position: PositionAnalysis,
+}
+
+/// The singularity analysis of a Jacobian `j` of `kind` ([`analyze_jacobian`]) and of the
+/// velocity of the point `p` where its frame's origin is ([`analyze_position_jacobian`] of
+/// [`crate::report::tip_point_rows`]): the one analysis every front end reports.
+pub fn analysis_of(
+    j: &Matrix6xX<f64>,
+    kind: JacobianKind,
+    p: &nalgebra::Vector3<f64>,
+) -> Result<(Analysis, PositionAnalysis), SolveError> {
+    let analysis = analyze_jacobian(j)?;
+    let position = analyze_position_jacobian(&crate::report::tip_point_rows(j, kind, p));
+    Ok((analysis, position))
 }
 
 /// Which frames a pose query gives: the frame selector every front end speaks (the CLI's

@@ -243,12 +243,7 @@ impl JacobianReport {
     ) -> Result<JacobianReport, screwkit_solve::SolveError> {
         use crate::words::Word;
         let analysis = if analyze {
-            let a = screwkit_solve::analysis::analyze_jacobian(j)?;
-            let pos = screwkit_solve::analysis::analyze_position_jacobian(&tip_point_rows(
-                j,
-                frame.kind(),
-                p,
-            ));
+            let (a, pos) = crate::query::analysis_of(j, frame.kind(), p)?;
             Some(AnalysisReport {
                 singular_values: a.singular_values.clone(),
                 rank: a.rank,

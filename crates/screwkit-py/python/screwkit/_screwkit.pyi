@@ -455,7 +455,14 @@ class Robot:
         seed_rng: int = 0,
         position_limits: bool = True,
     ) -> list[TasksResult]: ...
-    def analyze(self, q: _ArrayLike, frame: _Frame = "space") -> Analysis: ...
+    def analyze(
+        self,
+        q: _ArrayLike,
+        frame: _JacobianFrame = "space",
+        link: str | None = None,
+        *,
+        relative_to: str | None = None,
+    ) -> Analysis: ...
     def draw(
         self,
         q: _ArrayLike | None = None,
