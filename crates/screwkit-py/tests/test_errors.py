@@ -125,7 +125,7 @@ def test_bad_options(ur5: screwkit.Robot) -> None:
     ):
         ur5.jacobian(np.zeros(6), frame="sky")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match=r'method: unknown IK method "bfgs"'):
-        ur5.ik(t, method="bfgs")  # type: ignore[arg-type]
+        ur5.ik(t, method="bfgs")  # type: ignore[call-overload]
     with pytest.raises(ValueError, match=r"timeout_ms"):
         ur5.ik(t, timeout_ms=-1.0)
     with pytest.raises(ValueError, match=r"weights: needs 6 numbers"):

@@ -179,7 +179,7 @@ def test_stub_words_are_the_floors() -> None:
 def test_an_unknown_word_lists_the_floors_words() -> None:
     robot = screwkit.Robot.from_urdf(UR5)
     with pytest.raises(ValueError, match='method: unknown IK method "newton": expected "lm"'):
-        robot.ik(robot.home, method="newton")  # type: ignore[arg-type]
+        robot.ik(robot.home, method="newton")  # type: ignore[call-overload]
     with pytest.raises(ValueError, match='view: unknown view "back"'):
         robot.draw(view="back")  # type: ignore[arg-type]
 

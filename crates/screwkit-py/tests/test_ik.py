@@ -200,7 +200,7 @@ def test_ik_all_lists_postures_not_copies(ur5: screwkit.Robot) -> None:
         # The configuration the pose came from is a posture nearest to itself.
         assert np.abs(ur5.ik_all(t, seed=q) - q).max(axis=1).min() < 1e-8
     with pytest.raises(ValueError, match="representatives"):
-        ur5.ik_all(ur5.fk(qs[0]), representatives="some")  # type: ignore[arg-type]
+        ur5.ik_all(ur5.fk(qs[0]), representatives="some")  # type: ignore[call-overload]
 
 
 GENERAL_6R = """<robot name="gen6"><link name="l0"/>{joints}</robot>"""

@@ -2,7 +2,7 @@
 
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any, Literal, TypeAlias, final
+from typing import Any, Literal, TypeAlias, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -63,6 +63,11 @@ _Representatives: TypeAlias = Literal["nearest", "all", "none"]
 _F64: TypeAlias = npt.NDArray[np.float64]
 _ArrayLike: TypeAlias = npt.ArrayLike
 _Weights: TypeAlias = float | Sequence[float]
+# Single versus batch in the types: one matrix (a pose, a rotation) as nested lists, or a stack of
+# them, picks its overload; a numpy array takes the last one, whose answer is either. (numpy's
+# shape types cannot tell them apart: mypy matches an (N, 4, 4) array to a (4, 4) overload.)
+_Mat: TypeAlias = Sequence[Sequence[float]]
+_Mats: TypeAlias = Sequence[Sequence[Sequence[float]]]
 
 @final
 class FrameTask:
@@ -475,6 +480,31 @@ class Robot:
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
     ) -> str: ...
+    @overload
+    def ik_all(
+        self,
+        target: _Mat,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+        representatives: _Representatives = "nearest",
+        arm_angle: float | None = None,
+    ) -> _F64: ...
+    @overload
+    def ik_all(
+        self,
+        target: _Mats,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+        representatives: _Representatives = "nearest",
+        arm_angle: float | None = None,
+    ) -> list[_F64]: ...
+    @overload
     def ik_all(
         self,
         target: _ArrayLike,
@@ -489,6 +519,41 @@ class Robot:
         """One target (4, 4) -> its solutions (K, dof); N targets (N, 4, 4) -> a list of N."""
     def arm_angle(self, q: _ArrayLike) -> float:
         """The arm angle (rad) of q for a 7R arm with a spherical shoulder and wrist."""
+    @overload
+    def ik(
+        self,
+        target: _Mat,
+        seed: _ArrayLike | None = None,
+        *,
+        method: _Method = "lm",
+        tol_rot: float = 1e-9,
+        tol_pos: float = 1e-9,
+        position_only: bool = False,
+        timeout_ms: float | None = None,
+        seed_rng: int = 0,
+        max_iterations: int = 2000,
+        max_restarts: int = 200,
+        damping: float | None = None,
+        weights: Sequence[float] | None = None,
+    ) -> IkResult: ...
+    @overload
+    def ik(
+        self,
+        target: _Mats,
+        seed: _ArrayLike | None = None,
+        *,
+        method: _Method = "lm",
+        tol_rot: float = 1e-9,
+        tol_pos: float = 1e-9,
+        position_only: bool = False,
+        timeout_ms: float | None = None,
+        seed_rng: int = 0,
+        max_iterations: int = 2000,
+        max_restarts: int = 200,
+        damping: float | None = None,
+        weights: Sequence[float] | None = None,
+    ) -> IkBatchResult: ...
+    @overload
     def ik(
         self,
         target: _ArrayLike,
@@ -527,9 +592,29 @@ def trans_inv(t: _ArrayLike) -> _F64: ...
 def rot_inv(r: _ArrayLike) -> _F64: ...
 def project_to_so3(m: _ArrayLike) -> _F64: ...
 def project_to_se3(m: _ArrayLike) -> _F64: ...
+@overload
+def distance_to_so3(m: _Mat) -> float: ...
+@overload
+def distance_to_so3(m: _Mats) -> _F64: ...
+@overload
 def distance_to_so3(m: _ArrayLike) -> Any: ...
+@overload
+def distance_to_se3(m: _Mat) -> float: ...
+@overload
+def distance_to_se3(m: _Mats) -> _F64: ...
+@overload
 def distance_to_se3(m: _ArrayLike) -> Any: ...
+@overload
+def is_so3(m: _Mat, tol: float = 1e-06) -> bool: ...
+@overload
+def is_so3(m: _Mats, tol: float = 1e-06) -> npt.NDArray[np.bool_]: ...
+@overload
 def is_so3(m: _ArrayLike, tol: float = 1e-06) -> Any: ...
+@overload
+def is_se3(m: _Mat, tol: float = 1e-06) -> bool: ...
+@overload
+def is_se3(m: _Mats, tol: float = 1e-06) -> npt.NDArray[np.bool_]: ...
+@overload
 def is_se3(m: _ArrayLike, tol: float = 1e-06) -> Any: ...
 
 exp = exp6
