@@ -33,5 +33,37 @@ pub mod html;
 pub mod scene;
 pub mod svg;
 
+use screwkit_service::query::Space;
+use screwkit_service::Robot;
+use screwkit_solve::TreeKinematics;
+
 pub use scene::{FrameMark, FrameRole, LinkMark, Scene};
 pub use svg::View;
+
+/// Which picture [`picture`] makes.
+#[derive(Debug, Clone, Copy)]
+pub enum Picture<'a> {
+    /// The SVG drawing in these views ([`svg::render`]).
+    Svg(&'a [View]),
+    /// The interactive HTML page ([`html::page`], [`html::tree_page`]).
+    Page,
+}
+
+/// The picture of `robot` at q (default: home), routed once for every front end: of the whole
+/// tree when the floor's rule says the tree answers (`tree`: the front end's, with the frames
+/// it added), q its configuration; else of the chain, q its joint values.
+pub fn picture(
+    robot: &Robot,
+    tree: Option<&TreeKinematics>,
+    q: Option<&[f64]>,
+    picture: Picture<'_>,
+) -> Result<String, screwkit_service::Error> {
+    Ok(match (Space::of(robot, tree)?, picture) {
+        (Space::Tree(kin), Picture::Svg(views)) => svg::render(&Scene::tree(kin, q)?, views),
+        (Space::Tree(kin), Picture::Page) => html::tree_page(kin, q)?,
+        (Space::Chain(kin), Picture::Svg(views)) => {
+            svg::render(&Scene::new(robot.chain()?, kin, q)?, views)
+        }
+        (Space::Chain(kin), Picture::Page) => html::page(robot.chain()?, kin, q)?,
+    })
+}

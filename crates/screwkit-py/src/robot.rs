@@ -9,7 +9,6 @@ use numpy::{PyArray1, PyArray2, PyArrayDyn, PyArrayMethods, PyUntypedArrayMethod
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyType;
-use screwkit_draw::{html, svg, Scene};
 use screwkit_model::{table, Chain};
 use screwkit_service::query::{About, Poses, Selection};
 use screwkit_service::words::{
@@ -252,7 +251,7 @@ impl Robot {
         differential_ik::Limits,
     )> {
         let kin = self.tree_model()?;
-        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
         let tasks = match tasks.cast::<crate::tasks::TaskSet>() {
             Ok(set) => {
                 let set = set.get();
@@ -268,7 +267,7 @@ impl Robot {
         };
         let n = kin.model().variables.len();
         let velocity_caps = caps
-            .map(|c| Self::tree_vector(&c, n, "velocity_caps"))
+            .map(|c| Self::one_vector(&c, n, "velocity_caps"))
             .transpose()?;
         Ok((
             kin,
@@ -310,8 +309,8 @@ impl Robot {
         rows_shape(about.q_len(), about.is_tree(), about.q_names(), a, what)
     }
 
-    /// One tree vector of `len` values (q or v) from Python.
-    fn tree_vector(a: &Bound<'_, PyAny>, len: usize, what: &str) -> PyResult<Vec<f64>> {
+    /// One vector of `len` values (a configuration q, a velocity v) from Python.
+    fn one_vector(a: &Bound<'_, PyAny>, len: usize, what: &str) -> PyResult<Vec<f64>> {
         let arr = f64_array(a, what)?;
         if arr.shape() != [len] {
             return Err(PyValueError::new_err(format!(
@@ -382,24 +381,20 @@ impl Robot {
         }
     }
 
-    /// Runs `f` on one configuration q of shape (dof,), or on `None`.
-    fn with_one_q<T>(
+    /// The picture at q (one configuration of this robot's space, default home): the floor's
+    /// routing, chain or tree ([`screwkit_draw::picture`]).
+    fn picture(
         &self,
         q: Option<&Bound<'_, PyAny>>,
-        f: impl FnOnce(Option<&[f64]>) -> Result<T, SolveError>,
-    ) -> PyResult<T> {
-        let Some(q) = q else {
-            return f(None).map_err(solve_error);
-        };
-        let q = f64_array(q, "q")?;
-        if let Rows::Many(_) = self.rows_of(&q, "q")? {
-            return Err(PyValueError::new_err(format!(
-                "q: expected one configuration of shape ({},), got {}",
-                self.kin()?.dof(),
-                shape_str(q.shape())
-            )));
-        }
-        f(Some(&q.to_vec()?)).map_err(solve_error)
+        picture: screwkit_draw::Picture<'_>,
+    ) -> PyResult<String> {
+        let tree = self.tree_for(false)?;
+        let len = screwkit_service::query::Space::of(&self.robot, tree.as_deref())
+            .map_err(service_error)?
+            .q_len();
+        let q = q.map(|q| Self::one_vector(q, len, "q")).transpose()?;
+        screwkit_draw::picture(&self.robot, tree.as_deref(), q.as_deref(), picture)
+            .map_err(service_error)
     }
 
     fn ik_options(&self, o: IkArgs) -> PyResult<IkOptions> {
@@ -1100,7 +1095,7 @@ impl Robot {
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kin = self.tree_model()?;
-        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
         let c = self
             .with_tree_ws(&kin, |ws| tree::com::com(&kin, ws, &q))
             .map_err(solve_error)?;
@@ -1114,7 +1109,7 @@ impl Robot {
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let kin = self.tree_model()?;
-        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
         let nv = kin.nv();
         self.with_tree_ws(&kin, |ws| {
             let (_, j) = tree::com::com_jacobian(&kin, ws, &q).map_err(solve_error)?;
@@ -1263,7 +1258,7 @@ impl Robot {
         let kin = self.tree_model()?;
         let tasks = self.resolve_tasks(&kin, tasks)?;
         let seed = match seed {
-            Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
+            Some(s) => Self::one_vector(&s, kin.nq(), "seed")?,
             None => screwkit_service::tasks::default_seed(&kin),
         };
         let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
@@ -1308,7 +1303,7 @@ impl Robot {
             );
         }
         let seed = match seed {
-            Some(s) => Self::tree_vector(&s, kin.nq(), "seed")?,
+            Some(s) => Self::one_vector(&s, kin.nq(), "seed")?,
             None => screwkit_service::tasks::default_seed(&kin),
         };
         // The sets run on the pool's threads: Ctrl-C reaches them through `pool::cancelled`.
@@ -1344,8 +1339,8 @@ impl Robot {
         dt: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kin = self.tree_model()?;
-        let q = Self::tree_vector(q, kin.nq(), "q")?;
-        let v = Self::tree_vector(v, kin.nv(), "v")?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
         let out = tree::configuration::integrate(&kin, &q, &v, dt).map_err(solve_error)?;
         Ok(out.to_pyarray(py))
     }
@@ -1396,9 +1391,9 @@ impl Robot {
         qpos: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kin = self.tree_model()?;
-        let q = Self::tree_vector(q, kin.nq(), "q")?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
         let model = match qpos {
-            Some(m) => Some(Self::tree_vector(
+            Some(m) => Some(Self::one_vector(
                 m,
                 screwkit_service::mujoco::model_qpos_len(&kin),
                 "qpos",
@@ -1419,8 +1414,8 @@ impl Robot {
         q1: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let kin = self.tree_model()?;
-        let a = Self::tree_vector(q0, kin.nq(), "q0")?;
-        let b = Self::tree_vector(q1, kin.nq(), "q1")?;
+        let a = Self::one_vector(q0, kin.nq(), "q0")?;
+        let b = Self::one_vector(q1, kin.nq(), "q1")?;
         let out = tree::configuration::difference(&kin, &a, &b).map_err(solve_error)?;
         Ok(out.to_pyarray(py))
     }
@@ -1533,18 +1528,7 @@ impl Robot {
         view: &str,
     ) -> PyResult<String> {
         let views = word::<Views>("view", view)?.views();
-        let text = if self.tree_mode() {
-            let kin = self.tree_model()?;
-            let q = q.map(|q| Self::tree_vector(q, kin.nq(), "q")).transpose()?;
-            Scene::tree(&kin, q.as_deref())
-                .map(|scene| svg::render(&scene, &views))
-                .map_err(solve_error)?
-        } else {
-            let (chain, kin) = self.parts()?;
-            self.with_one_q(q, |q| {
-                Scene::new(chain, kin, q).map(|scene| svg::render(&scene, &views))
-            })?
-        };
+        let text = self.picture(q, screwkit_draw::Picture::Svg(&views))?;
         write_text(path, &text)?;
         Ok(text)
     }
@@ -1555,14 +1539,7 @@ impl Robot {
     /// the pose of the leaf chosen. Returns the HTML and writes it to `path` when given.
     #[pyo3(signature = (q = None, path = None))]
     fn viewer(&self, q: Option<&Bound<'_, PyAny>>, path: Option<PathBuf>) -> PyResult<String> {
-        let text = if self.tree_mode() {
-            let kin = self.tree_model()?;
-            let q = q.map(|q| Self::tree_vector(q, kin.nq(), "q")).transpose()?;
-            html::tree_page(&kin, q.as_deref()).map_err(solve_error)?
-        } else {
-            let (chain, kin) = self.parts()?;
-            self.with_one_q(q, |q| html::page(chain, kin, q))?
-        };
+        let text = self.picture(q, screwkit_draw::Picture::Page)?;
         write_text(path, &text)?;
         Ok(text)
     }

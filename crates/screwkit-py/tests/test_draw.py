@@ -48,7 +48,7 @@ def test_viewer_embeds_the_chain(ur5: screwkit.Robot, tmp_path: Path) -> None:
 def test_draw_errors(ur5: screwkit.Robot, tmp_path: Path) -> None:
     with pytest.raises(ValueError, match=r"view: unknown view \"back\""):
         ur5.draw(view="back")  # type: ignore[arg-type]
-    with pytest.raises(ValueError, match=r"q: expected one configuration of shape \(6,\)"):
+    with pytest.raises(ValueError, match=r"q: expected shape \(6,\), got \(2, 6\)"):
         ur5.draw(np.zeros((2, 6)))
     with pytest.raises(ValueError, match=r"wrist_3_joint"):
         ur5.draw([0, 0, 0, 0, 0, np.nan])

@@ -470,6 +470,14 @@ impl<'k> Space<'k> {
         }
     }
 
+    /// The length of a configuration: the chain's dof, or the tree's nq.
+    pub fn q_len(&self) -> usize {
+        match self {
+            Space::Chain(k) => k.dof(),
+            Space::Tree(t) => t.nq(),
+        }
+    }
+
     /// Degrees of freedom: the chain's q length, or the tree's v length (nv).
     pub fn dof(&self) -> usize {
         match self {
