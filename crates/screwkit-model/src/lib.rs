@@ -11,6 +11,7 @@
 //! - [`load`]: any description file, told apart by content ([`load_tree`], [`load_chain`]).
 //! - [`mujoco_qpos`]: MuJoCo's `qpos` and screwkit's configuration, both ways.
 //! - [`tree`]: links, joints, paths between links.
+//! - [`geometry`]: each link's collision and visual shapes as the file describes them.
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
@@ -32,6 +33,7 @@
 
 pub mod chain;
 pub mod error;
+pub mod geometry;
 pub mod input;
 pub mod kinematic_tree;
 pub mod load;

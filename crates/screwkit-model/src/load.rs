@@ -48,7 +48,8 @@ pub fn tree_from_str(
         Format::Mjcf => mjcf::read_str(text, label, dir),
         Format::Urdf => {
             let expanded = urdf::urdf_text(text, label, dir, xacro)?;
-            let tree = urdf::load_str(&expanded, label)?;
+            // (The expansion is plain URDF: parsed as it is, meshes found from `dir`.)
+            let tree = urdf::load_str_with(&expanded, label, dir, xacro)?;
             Ok((tree, expanded))
         }
     }

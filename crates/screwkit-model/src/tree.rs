@@ -2,6 +2,8 @@
 
 use std::collections::HashMap;
 
+use crate::geometry::{Geometry, Shape};
+
 use nalgebra::Vector3;
 use screwkit_lie::{ScrewAxis, Se3};
 
@@ -225,6 +227,11 @@ pub struct Tree {
     /// Where the tree's variables sit in the file's own configuration vector, when the file
     /// has one of another layout (an MJCF model's `qpos`, props read past included).
     pub qpos_layout: Option<QposLayout>,
+    /// Every link's collision and visual shapes, in the file's order ([`crate::geometry`]).
+    pub geometries: Vec<Geometry>,
+    /// The geometry elements that could not be read, one sentence each naming the link; a
+    /// query of the body reports them (kinematics does not need them).
+    pub geometry_problems: Vec<String>,
     link_index: HashMap<String, usize>,
     joint_index: HashMap<String, usize>,
 }
@@ -414,9 +421,35 @@ impl Tree {
             floating_root: false,
             warnings,
             qpos_layout: None,
+            geometries: Vec::new(),
+            geometry_problems: Vec::new(),
             link_index,
             joint_index,
         })
+    }
+
+    /// Resolves every mesh's file name ([`crate::geometry::resolve_mesh`]) from `dir` (the
+    /// robot file's folder) and `package_paths`; a name that cannot be resolved becomes a
+    /// problem naming its link, and its shape is dropped.
+    pub fn resolve_meshes(&mut self, dir: &std::path::Path, package_paths: &[std::path::PathBuf]) {
+        let mut problems = Vec::new();
+        let links = &self.links;
+        self.geometries.retain_mut(|g| {
+            let Shape::Mesh { uri, path, .. } = &mut g.shape else {
+                return true;
+            };
+            match crate::geometry::resolve_mesh(uri, dir, package_paths) {
+                Ok(p) => {
+                    *path = p;
+                    true
+                }
+                Err(e) => {
+                    problems.push(format!("link \"{}\" <{}>: {e}", links[g.link], g.role.word()));
+                    false
+                }
+            }
+        });
+        self.geometry_problems.extend(problems);
     }
 
     fn error(&self, kind: ErrorKind) -> ModelError {

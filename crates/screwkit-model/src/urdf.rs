@@ -31,6 +31,7 @@ use std::collections::HashMap;
 use std::path::Path;
 
 use crate::error::{ErrorKind, ModelError};
+use crate::geometry::{Geometry, Role, Shape};
 use crate::input;
 use crate::tree::{Inertial, JointKind, Limit, Mimic, Tree, TreeJointSpec};
 use crate::xacro::{self, XacroOptions};
@@ -67,7 +68,9 @@ pub fn load_str_with(
     dir: &Path,
     opts: &XacroOptions,
 ) -> Result<Tree, ModelError> {
-    parse_urdf(&urdf_text(text, source, dir, opts)?, source)
+    let mut tree = parse_urdf(&urdf_text(text, source, dir, opts)?, source)?;
+    tree.resolve_meshes(dir, &opts.package_paths);
+    Ok(tree)
 }
 
 /// The URDF a robot file's text stands for: the text itself (what urdfdom tolerates
@@ -97,7 +100,7 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
     if robot.tag_name().name() != "robot" || input::is_prefixed(text, &robot) {
         return Err(err(ErrorKind::NotARobot(robot.tag_name().name().into())));
     }
-    let (clean, facts, inertials) = pre_pass(text, &robot).map_err(err)?;
+    let (clean, facts, inertials, body) = pre_pass(text, &robot).map_err(err)?;
     let parsed =
         urdf_rs::read_from_string(&clean).map_err(|e| err(ErrorKind::Urdf(e.to_string())))?;
     let links = parsed.links.iter().map(|l| l.name.clone()).collect();
@@ -145,6 +148,13 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
             tree.inertials[i] = Some(inertial);
         }
     }
+    for (name, mut g) in body.shapes {
+        if let Ok(i) = tree.link(&name) {
+            g.link = i;
+            tree.geometries.push(g);
+        }
+    }
+    tree.geometry_problems = body.problems;
     Ok(tree)
 }
 
@@ -158,7 +168,20 @@ struct LimitFacts {
 
 /// What the pre-pass hands on: the reduced document, each joint's limit facts, each link's
 /// inertial.
-type PrePass = (String, HashMap<String, LimitFacts>, Vec<(String, Inertial)>);
+type PrePass = (
+    String,
+    HashMap<String, LimitFacts>,
+    Vec<(String, Inertial)>,
+    Body,
+);
+
+/// The links' geometry the pre-pass read: (link name, geometry with `link` unset) and the
+/// problems of the elements it could not read.
+#[derive(Debug, Default)]
+struct Body {
+    shapes: Vec<(String, Geometry)>,
+    problems: Vec<String>,
+}
 
 /// Checks the numeric attributes of every top-level joint and link inertial and writes the
 /// reduced document that urdf-rs parses.
@@ -173,6 +196,8 @@ fn pre_pass(text: &str, robot: &roxmltree::Node) -> Result<PrePass, ErrorKind> {
     out.push_str(">\n");
     let mut facts = HashMap::new();
     let mut inertials = Vec::new();
+    let mut body = Body::default();
+    let materials = materials(text, robot);
     // Elements written with a prefix (`<u:joint>`) are another format's: urdfdom never reads them.
     for node in robot
         .children()
@@ -187,6 +212,7 @@ fn pre_pass(text: &str, robot: &roxmltree::Node) -> Result<PrePass, ErrorKind> {
                         if let Some(inertial) = inertial_of(text, &node, n)? {
                             inertials.push((n.to_string(), inertial));
                         }
+                        shapes_of(text, &node, n, &materials, &mut body);
                     }
                     None => out.push_str("<link/>\n"),
                 }
@@ -202,7 +228,7 @@ fn pre_pass(text: &str, robot: &roxmltree::Node) -> Result<PrePass, ErrorKind> {
         }
     }
     out.push_str("</robot>\n");
-    Ok((out, facts, inertials))
+    Ok((out, facts, inertials, body))
 }
 
 /// A link's first `<inertial>`: mass and centre of mass, checked (see the module docs).
@@ -325,6 +351,175 @@ fn check_numbers(
     count: usize,
 ) -> Result<(), ErrorKind> {
     check_numbers_of(&format!("joint \"{joint}\" <{tag}>"), attr, value, count)
+}
+
+/// The element children of `n` named `tag`, unprefixed.
+fn children_named<'a, 'i>(
+    text: &'a str,
+    n: &roxmltree::Node<'a, 'i>,
+    tag: &'a str,
+) -> impl Iterator<Item = roxmltree::Node<'a, 'i>> + 'a
+where
+    'i: 'a,
+{
+    n.children()
+        .filter(move |c| c.is_element() && !input::is_prefixed(text, c))
+        .filter(move |c| c.tag_name().name() == tag)
+}
+
+/// The named top-level `<material name><color rgba/></material>` colours.
+fn materials(text: &str, robot: &roxmltree::Node) -> HashMap<String, [f64; 4]> {
+    children_named(text, robot, "material")
+        .filter_map(|m| Some((m.attribute("name")?.to_string(), color_of(text, &m)?)))
+        .collect()
+}
+
+/// A `<material>`'s `<color rgba>`, when it is four numbers in [0, 1].
+fn color_of(text: &str, material: &roxmltree::Node) -> Option<[f64; 4]> {
+    let rgba = children_named(text, material, "color")
+        .next()?
+        .attribute("rgba")?;
+    let v = numbers(rgba, 4).ok()?;
+    v.iter()
+        .all(|x| (0.0..=1.0).contains(x))
+        .then(|| [v[0], v[1], v[2], v[3]])
+}
+
+/// `count` finite numbers of an attribute's value, or what is wrong with it.
+fn numbers(value: &str, count: usize) -> Result<Vec<f64>, String> {
+    let v: Vec<f64> = value
+        .split_whitespace()
+        .map(|t| t.parse::<f64>().map_err(|_| format!("\"{t}\" is not a number")))
+        .collect::<Result<_, _>>()?;
+    if v.len() != count {
+        return Err(format!("expected {count} number(s), found {}", v.len()));
+    }
+    if v.iter().any(|x| !x.is_finite()) {
+        return Err(format!("\"{value}\" is not finite"));
+    }
+    Ok(v)
+}
+
+/// A link's `<collision>` and `<visual>` elements into `body` (each a shape or a problem).
+fn shapes_of(
+    text: &str,
+    link: &roxmltree::Node,
+    name: &str,
+    materials: &HashMap<String, [f64; 4]>,
+    body: &mut Body,
+) {
+    for role in [Role::Collision, Role::Visual] {
+        for (k, element) in children_named(text, link, role.word()).enumerate() {
+            match shape_of(text, &element, role, materials) {
+                Ok(g) => body.shapes.push((name.to_string(), g)),
+                Err(problem) => body.problems.push(format!(
+                    "link \"{name}\" <{}> {}: {problem}",
+                    role.word(),
+                    k + 1
+                )),
+            }
+        }
+    }
+}
+
+/// One `<collision>` or `<visual>` element (link left unset).
+fn shape_of(
+    text: &str,
+    element: &roxmltree::Node,
+    role: Role,
+    materials: &HashMap<String, [f64; 4]>,
+) -> Result<Geometry, String> {
+    let mut xyz = [0.0; 3];
+    let mut rpy = [0.0; 3];
+    if let Some(origin) = children_named(text, element, "origin").next() {
+        for (attr, out) in [("xyz", &mut xyz), ("rpy", &mut rpy)] {
+            if let Some(v) = origin.attribute(attr) {
+                let v = numbers(v, 3).map_err(|e| format!("<origin {attr}>: {e}"))?;
+                out.copy_from_slice(&v);
+            }
+        }
+    }
+    let origin = screwkit_lie::Se3::from_xyz_rpy(xyz, rpy).map_err(|e| format!("<origin>: {e}"))?;
+    let geometry = children_named(text, element, "geometry")
+        .next()
+        .ok_or("no <geometry>")?;
+    let mut shapes = geometry
+        .children()
+        .filter(|c| c.is_element() && !input::is_prefixed(text, c));
+    let shape = shapes.next().ok_or("an empty <geometry>")?;
+    if shapes.next().is_some() {
+        return Err("<geometry> holds more than one shape".into());
+    }
+    let tag = shape.tag_name().name();
+    let attr = |a: &str, count: usize| -> Result<Vec<f64>, String> {
+        let v = shape
+            .attribute(a)
+            .ok_or_else(|| format!("<{tag}> has no {a}"))?;
+        numbers(v, count).map_err(|e| format!("<{tag} {a}>: {e}"))
+    };
+    let positive = |a: &str| -> Result<f64, String> {
+        let v = attr(a, 1)?[0];
+        if v > 0.0 {
+            Ok(v)
+        } else {
+            Err(format!("<{tag} {a}> is {v}: it must be > 0"))
+        }
+    };
+    let shape = match tag {
+        "box" => {
+            let v = attr("size", 3)?;
+            if v.iter().any(|x| *x <= 0.0) {
+                return Err(format!("<box size> {v:?}: every side must be > 0"));
+            }
+            Shape::Box {
+                size: [v[0], v[1], v[2]],
+            }
+        }
+        "cylinder" => Shape::Cylinder {
+            radius: positive("radius")?,
+            length: positive("length")?,
+        },
+        "sphere" => Shape::Sphere {
+            radius: positive("radius")?,
+        },
+        "capsule" => Shape::Capsule {
+            radius: positive("radius")?,
+            length: attr("length", 1)?[0].max(0.0),
+        },
+        "mesh" => {
+            let uri = shape
+                .attribute("filename")
+                .ok_or("<mesh> has no filename")?
+                .to_string();
+            let scale = match shape.attribute("scale") {
+                None => [1.0; 3],
+                Some(_) => {
+                    let v = attr("scale", 3)?;
+                    [v[0], v[1], v[2]]
+                }
+            };
+            Shape::Mesh {
+                path: std::path::PathBuf::from(&uri),
+                uri,
+                scale,
+            }
+        }
+        other => return Err(format!("unknown shape <{other}>")),
+    };
+    let rgba = (role == Role::Visual)
+        .then(|| children_named(text, element, "material").next())
+        .flatten()
+        .and_then(|m| {
+            color_of(text, &m).or_else(|| materials.get(m.attribute("name")?).copied())
+        });
+    Ok(Geometry {
+        link: usize::MAX,
+        role,
+        name: element.attribute("name").map(str::to_string),
+        origin,
+        shape,
+        rgba,
+    })
 }
 
 /// [`check_numbers`] for any element, named as `element` in the message.

@@ -228,38 +228,16 @@ impl Expander<'_> {
         }
     }
 
-    /// The folder of package `pkg`.
+    /// The folder of package `pkg` ([`find_package`]).
     pub(super) fn find(&self, pkg: &str, at: &At) -> Result<String, ModelError> {
-        let mut roots: Vec<PathBuf> = self.opts.package_paths.clone();
-        // Absolute, so that `$(find pkg)/x.xacro` is not joined to the including file's folder
-        // a second time when the package path is relative.
-        let split = |v: std::ffi::OsString| {
-            std::env::split_paths(&v)
-                .filter(|p| !p.as_os_str().is_empty())
-                .collect::<Vec<_>>()
-        };
-        if let Some(v) = std::env::var_os("ROS_PACKAGE_PATH") {
-            roots.extend(split(v));
-        }
-        for root in &roots {
-            let root = std::path::absolute(root).unwrap_or_else(|_| root.clone());
-            if let Some(found) = find_below(&root, pkg, 3) {
-                return Ok(found.display().to_string());
-            }
-        }
-        if let Some(v) = std::env::var_os("AMENT_PREFIX_PATH") {
-            for prefix in split(v) {
-                let d = prefix.join("share").join(pkg);
-                let d = std::path::absolute(&d).unwrap_or(d);
-                if d.is_dir() {
-                    return Ok(d.display().to_string());
-                }
-            }
-        }
-        Err(fail(
-            at,
-            format!("$(find {pkg}): package not found (add its parent folder to the package paths, or set ROS_PACKAGE_PATH)"),
-        ))
+        find_package(pkg, &self.opts.package_paths)
+            .map(|d| d.display().to_string())
+            .ok_or_else(|| {
+                fail(
+                    at,
+                    format!("$(find {pkg}): package not found (add its parent folder to the package paths, or set ROS_PACKAGE_PATH)"),
+                )
+            })
     }
 
     /// The value of a property (evaluating it on first use).
@@ -725,6 +703,39 @@ pub(super) fn unquote(d: &str) -> &str {
         }
     }
     d
+}
+
+/// The folder of ROS package `pkg`, absolute: a folder of that name up to three levels below
+/// one of `package_paths`, then below `ROS_PACKAGE_PATH`'s entries, then `share/pkg` of an
+/// `AMENT_PREFIX_PATH` entry — xacro's `$(find pkg)` and a mesh's `package://pkg/…` alike.
+pub(crate) fn find_package(pkg: &str, package_paths: &[PathBuf]) -> Option<PathBuf> {
+    let mut roots: Vec<PathBuf> = package_paths.to_vec();
+    // Absolute, so that `$(find pkg)/x.xacro` is not joined to the including file's folder
+    // a second time when the package path is relative.
+    let split = |v: std::ffi::OsString| {
+        std::env::split_paths(&v)
+            .filter(|p| !p.as_os_str().is_empty())
+            .collect::<Vec<_>>()
+    };
+    if let Some(v) = std::env::var_os("ROS_PACKAGE_PATH") {
+        roots.extend(split(v));
+    }
+    for root in &roots {
+        let root = std::path::absolute(root).unwrap_or_else(|_| root.clone());
+        if let Some(found) = find_below(&root, pkg, 3) {
+            return Some(found);
+        }
+    }
+    if let Some(v) = std::env::var_os("AMENT_PREFIX_PATH") {
+        for prefix in split(v) {
+            let d = prefix.join("share").join(pkg);
+            let d = std::path::absolute(&d).unwrap_or(d);
+            if d.is_dir() {
+                return Some(d);
+            }
+        }
+    }
+    None
 }
 
 /// A folder named `name` at most `depth` levels below `root` (breadth first, sorted, so the

@@ -32,6 +32,7 @@ use crate::input::{self, Lines};
 
 mod document;
 mod expander;
+pub(crate) use expander::find_package;
 mod expr;
 mod output;
 mod scope;
