@@ -12,6 +12,7 @@
 //! - [`mujoco_qpos`]: MuJoCo's `qpos` and screwkit's configuration, both ways.
 //! - [`tree`]: links, joints, paths between links.
 //! - [`geometry`]: each link's collision and visual shapes as the file describes them.
+//! - [`mesh`]: triangle meshes from STL, OBJ and COLLADA files.
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
@@ -37,6 +38,7 @@ pub mod geometry;
 pub mod input;
 pub mod kinematic_tree;
 pub mod load;
+pub mod mesh;
 pub mod mjcf;
 pub mod mujoco_qpos;
 pub mod screws;

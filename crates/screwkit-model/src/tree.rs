@@ -444,7 +444,11 @@ impl Tree {
                     true
                 }
                 Err(e) => {
-                    problems.push(format!("link \"{}\" <{}>: {e}", links[g.link], g.role.word()));
+                    problems.push(format!(
+                        "link \"{}\" <{}>: {e}",
+                        links[g.link],
+                        g.role.word()
+                    ));
                     false
                 }
             }

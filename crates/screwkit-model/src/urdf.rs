@@ -389,7 +389,10 @@ fn color_of(text: &str, material: &roxmltree::Node) -> Option<[f64; 4]> {
 fn numbers(value: &str, count: usize) -> Result<Vec<f64>, String> {
     let v: Vec<f64> = value
         .split_whitespace()
-        .map(|t| t.parse::<f64>().map_err(|_| format!("\"{t}\" is not a number")))
+        .map(|t| {
+            t.parse::<f64>()
+                .map_err(|_| format!("\"{t}\" is not a number"))
+        })
         .collect::<Result<_, _>>()?;
     if v.len() != count {
         return Err(format!("expected {count} number(s), found {}", v.len()));
@@ -509,9 +512,7 @@ fn shape_of(
     let rgba = (role == Role::Visual)
         .then(|| children_named(text, element, "material").next())
         .flatten()
-        .and_then(|m| {
-            color_of(text, &m).or_else(|| materials.get(m.attribute("name")?).copied())
-        });
+        .and_then(|m| color_of(text, &m).or_else(|| materials.get(m.attribute("name")?).copied()));
     Ok(Geometry {
         link: usize::MAX,
         role,

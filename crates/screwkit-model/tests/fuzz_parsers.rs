@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use screwkit_model::{mjcf, urdf, xacro, Chain, KinematicTree, XacroOptions};
+use screwkit_model::{mesh, mjcf, urdf, xacro, Chain, KinematicTree, XacroOptions};
 use screwkit_testkit::fuzz;
 
 fn files(dir: &Path, ext: &str, out: &mut Vec<Vec<u8>>) {
@@ -57,6 +57,11 @@ const URDF_TOKENS: &[&[u8]] = &[
     b"<parent link=\"l\"/>",
     b"<child link=\"l\"/>",
     b"rpy=\"1e300 0 0\"",
+    b"<collision><geometry><box size=\"1 1 1\"/></geometry></collision>",
+    b"<visual><origin xyz=\"0 0 1e308\"/><geometry><sphere radius=\"0\"/></geometry><material name=\"m\"/></visual>",
+    b"<geometry><mesh filename=\"package://p/m.stl\" scale=\"1 1\"/></geometry>",
+    b"<capsule radius=\"1\" length=\"-1\"/>",
+    b"<cylinder radius=\"nan\" length=\"1\"/>",
 ];
 
 const XACRO_TOKENS: &[&[u8]] = &[
@@ -378,4 +383,53 @@ fn fuzz_screw_tables() {
         }
     });
     assert!(n > 0);
+}
+
+/// The mesh parsers (STL ASCII and binary, OBJ, COLLADA) from a triangle in each format: every
+/// answer is a clean mesh (finite vertices, indices in range) or an error.
+#[test]
+fn fuzz_meshes() {
+    let mut binary = vec![0u8; 80];
+    binary.extend_from_slice(&1u32.to_le_bytes());
+    binary.extend_from_slice(&[0u8; 12]);
+    for x in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0] {
+        binary.extend_from_slice(&x.to_le_bytes());
+    }
+    binary.extend_from_slice(&[0u8; 2]);
+    let seeds: Vec<(&str, Vec<u8>)> = vec![
+        ("m.stl", b"solid t\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n  endloop\n endfacet\nendsolid t\n".to_vec()),
+        ("m.stl", binary),
+        ("m.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\nf 1/1/1 2/1/1 3/1/1\nf -1 -2 -3\n".to_vec()),
+        ("m.dae", br##"<COLLADA version="1.4.1"><asset><unit meter="0.001"/></asset><library_geometries><geometry id="g"><mesh><source id="p"><float_array id="a" count="9">0 0 0 1 0 0 0 1 0</float_array><technique_common><accessor source="#a" count="3" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source><vertices id="v"><input semantic="POSITION" source="#p"/></vertices><triangles count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1 2</p></triangles></mesh></geometry></library_geometries><library_visual_scenes><visual_scene id="s"><node><matrix>1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1</matrix><instance_geometry url="#g"/></node></visual_scene></library_visual_scenes><scene><instance_visual_scene url="#s"/></scene></COLLADA>"##.to_vec()),
+    ];
+    let tokens: &[&[u8]] = &[
+        b"vertex ",
+        b"facet",
+        b"endloop",
+        b"1e39",
+        b"nan",
+        b"-0",
+        b"\xff\xff\xff\x7f",
+        b"f 1 2 99",
+        b"f 0 0 0",
+        b"count=\"99999999\"",
+        b"<p>0 1 7</p>",
+        b"stride=\"0\"",
+        b"offset=\"5\"",
+        b"meter=\"1e300\"",
+    ];
+    for (k, (name, seed)) in seeds.into_iter().enumerate() {
+        let path = Path::new(name);
+        let n = fuzz::run(name, 10 + k as u64, 1.5, &[seed], tokens, |input| {
+            if let Ok(m) = mesh::parse_mesh(input, path, [1.0, 2.0, 3.0]) {
+                assert!(m.vertices.iter().flatten().all(|x| x.is_finite()));
+                assert!(m
+                    .triangles
+                    .iter()
+                    .flatten()
+                    .all(|&i| (i as usize) < m.vertices.len()));
+            }
+        });
+        assert!(n > 0);
+    }
 }

@@ -19,7 +19,11 @@ fn the_humanoid_has_its_primitives() {
     let path = asset("urdf/humanoid.urdf");
     let text = std::fs::read_to_string(&path).unwrap();
     let tree = load_tree(&path, &XacroOptions::default()).unwrap();
-    assert!(tree.geometry_problems.is_empty(), "{:?}", tree.geometry_problems);
+    assert!(
+        tree.geometry_problems.is_empty(),
+        "{:?}",
+        tree.geometry_problems
+    );
     let count = |role: Role| tree.geometries.iter().filter(|g| g.role == role).count();
     assert_eq!(count(Role::Collision), text.matches("<collision>").count());
     assert_eq!(count(Role::Visual), text.matches("<visual>").count());
@@ -29,13 +33,24 @@ fn the_humanoid_has_its_primitives() {
         .iter()
         .find(|g| g.link == pelvis && g.role == Role::Collision)
         .unwrap();
-    assert_eq!(box_.shape, Shape::Box { size: [0.14, 0.24, 0.08] });
+    assert_eq!(
+        box_.shape,
+        Shape::Box {
+            size: [0.14, 0.24, 0.08]
+        }
+    );
     let hip = tree
         .geometries
         .iter()
         .find(|g| matches!(g.shape, Shape::Cylinder { .. }))
         .unwrap();
-    assert_eq!(hip.shape, Shape::Cylinder { radius: 0.04, length: 0.05 });
+    assert_eq!(
+        hip.shape,
+        Shape::Cylinder {
+            radius: 0.04,
+            length: 0.05
+        }
+    );
     assert_eq!(hip.origin.translation().z, -0.025);
 }
 
@@ -88,7 +103,11 @@ fn every_shape_and_every_problem() {
     };
     let tree = load_tree(&path, &options).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
-    assert_eq!(tree.joints.len(), 1, "kinematics loads whatever the geometry");
+    assert_eq!(
+        tree.joints.len(),
+        1,
+        "kinematics loads whatever the geometry"
+    );
     let (a, b) = (tree.link("a").unwrap(), tree.link("b").unwrap());
     let of = |link: usize, role: Role| -> Vec<&screwkit_model::geometry::Geometry> {
         tree.geometries
@@ -102,9 +121,20 @@ fn every_shape_and_every_problem() {
     assert_eq!(ac[0].origin.translation().as_slice(), &[1.0, 2.0, 3.0]);
     assert!((ac[0].origin.rpy()[2] - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
     assert_eq!(ac[1].shape, Shape::Sphere { radius: 0.5 });
-    assert_eq!(ac[2].shape, Shape::Capsule { radius: 0.05, length: 0.4 });
+    assert_eq!(
+        ac[2].shape,
+        Shape::Capsule {
+            radius: 0.05,
+            length: 0.4
+        }
+    );
     let av = of(a, Role::Visual);
-    let Shape::Mesh { uri, path: mesh, scale } = &av[0].shape else {
+    let Shape::Mesh {
+        uri,
+        path: mesh,
+        scale,
+    } = &av[0].shape
+    else {
         panic!("{:?}", av[0].shape)
     };
     assert_eq!(uri, "meshes/a.stl");
