@@ -1,0 +1,414 @@
+//! The collision model of a robot, built once ([`CollisionModel::new`]): every collision shape of
+//! its file as a parry shape on its link's frame, obstacles fixed in the world, and the pairs a
+//! query checks.
+//!
+//! **Which pairs.** Every pair of shapes on two different links, less:
+//! - pairs within one rigid body (links joined by fixed joints can never move apart);
+//! - pairs of adjacent bodies (joined by one movable joint: their shapes touch at the joint by
+//!   design) — MuJoCo's parent–child rule, and the first rule of MoveIt's generated
+//!   allowed-collision matrix;
+//! - pairs of links the caller disables ([`CollisionModel::disable`]: an SRDF's
+//!   `disable_collisions`);
+//!
+//! and every robot shape against every obstacle (never two obstacles).
+//!
+//! **Meshes** are read once per file and scale ([`screwkit_model::mesh`]), as exact triangle
+//! meshes (a bounding-volume tree over the triangles: distances to the surface, as coal
+//! computes them) or as their convex hulls (MuJoCo's rule for mesh geoms: faster, and what a
+//! mesh's inside means to a convex solver). [`MeshMode`] chooses.
+
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+use screwkit_lie::Se3;
+use screwkit_model::geometry::{Geometry, Role, Shape};
+use screwkit_solve::TreeKinematics;
+
+use crate::convert;
+
+/// How a mesh is read into the engine.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MeshMode {
+    /// The triangles themselves, in a bounding-volume tree (distances to the surface).
+    #[default]
+    Exact,
+    /// The mesh's convex hull (MuJoCo's rule for mesh geoms).
+    ConvexHull,
+}
+
+/// How a model is built.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Options {
+    /// How meshes are read.
+    pub mesh_mode: MeshMode,
+    /// Keep the pairs of adjacent bodies (joined by one movable joint) instead of excluding
+    /// them.
+    pub keep_adjacent: bool,
+}
+
+/// What a shape is fixed to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Attach {
+    /// A link of the tree (its frame index, equal to its link index).
+    Link(usize),
+    /// The world (an obstacle).
+    World,
+}
+
+/// One shape of the model.
+#[derive(Clone)]
+pub struct Object {
+    /// The shape's name: `LINK/collision/K` (K counting from 0 on its link, or the element's
+    /// `name`), or an obstacle's name.
+    pub name: String,
+    /// What it is fixed to.
+    pub attach: Attach,
+    /// Its pose in that frame (for a cylinder or a capsule, with URDF's z axis turned onto
+    /// parry's y).
+    pub origin: Se3,
+    /// The shape.
+    pub shape: SharedShape,
+    /// `box`, `cylinder`, `sphere`, `capsule`, `mesh` or `convex`.
+    pub kind: &'static str,
+}
+
+impl std::fmt::Debug for Object {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Object")
+            .field("name", &self.name)
+            .field("attach", &self.attach)
+            .field("kind", &self.kind)
+            .finish()
+    }
+}
+
+/// What stops a collision model from being built or a query from running.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CollisionError {
+    /// A geometry element that cannot be read, or a mesh file: one sentence naming the link
+    /// (and the file).
+    Geometry(String),
+    /// A name the model does not know (a link, an obstacle).
+    Unknown(String),
+    /// The kinematics refused the configuration (or a batch's rows).
+    Solve(screwkit_solve::SolveError),
+}
+
+impl std::fmt::Display for CollisionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CollisionError::Geometry(m) | CollisionError::Unknown(m) => f.write_str(m),
+            CollisionError::Solve(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for CollisionError {}
+
+impl From<screwkit_solve::SolveError> for CollisionError {
+    fn from(e: screwkit_solve::SolveError) -> Self {
+        CollisionError::Solve(e)
+    }
+}
+
+/// The collision model: shapes, and the pairs a query checks (module documentation).
+#[derive(Debug, Clone)]
+pub struct CollisionModel {
+    pub(crate) objects: Vec<Object>,
+    /// Each object's local bounding box centre offset and half extents are computed per query;
+    /// the pairs, as object indices (a < b).
+    pub(crate) pairs: Vec<(u32, u32)>,
+    /// Each link's rigid body (links joined by fixed joints share one).
+    body: Vec<usize>,
+    /// Pairs of bodies joined by one movable joint.
+    adjacent: HashSet<(usize, usize)>,
+    /// Link pairs the caller disabled (by link index, low first).
+    disabled: HashSet<(usize, usize)>,
+    links: Vec<String>,
+    options: Options,
+}
+
+/// Turns z onto y: parry's cylinders and capsules stand along y, URDF's along z.
+fn z_axis() -> Se3 {
+    Se3::from_parts_unchecked(
+        screwkit_lie::so3::rot_x(std::f64::consts::FRAC_PI_2),
+        nalgebra::Vector3::zeros(),
+    )
+}
+
+/// A shape of the file as the engine's, with the extra rotation its axis needs; meshes read
+/// through `meshes` (one read per file and scale).
+fn engine_shape(
+    shape: &Shape,
+    mode: MeshMode,
+    meshes: &mut HashMap<(std::path::PathBuf, [u64; 3]), SharedShape>,
+) -> Result<(SharedShape, Option<Se3>, &'static str), String> {
+    Ok(match shape {
+        Shape::Box { size } => (
+            SharedShape(Arc::new(Cuboid::new(convert::vector(
+                size.map(|s| s / 2.0),
+            )))),
+            None,
+            "box",
+        ),
+        Shape::Sphere { radius } => (SharedShape(Arc::new(Ball::new(*radius))), None, "sphere"),
+        Shape::Cylinder { radius, length } => (
+            SharedShape(Arc::new(Cylinder::new(length / 2.0, *radius))),
+            Some(z_axis()),
+            "cylinder",
+        ),
+        Shape::Capsule { radius, length } => (
+            SharedShape(Arc::new(Capsule::new_z(length / 2.0, *radius))),
+            None,
+            "capsule",
+        ),
+        Shape::Mesh { path, scale, .. } => {
+            let key = (path.clone(), scale.map(f64::to_bits));
+            let kind = match mode {
+                MeshMode::Exact => "mesh",
+                MeshMode::ConvexHull => "convex",
+            };
+            if let Some(s) = meshes.get(&key) {
+                return Ok((s.clone(), None, kind));
+            }
+            let mesh = screwkit_model::mesh::read_mesh(path, *scale)?;
+            let vertices: Vec<_> = mesh.vertices.iter().map(|v| convert::vector(*v)).collect();
+            let built = match mode {
+                MeshMode::Exact => SharedShape::trimesh(vertices, mesh.triangles)
+                    .map_err(|e| format!("{}: {e}", path.display()))?,
+                MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {
+                    format!(
+                        "{}: the mesh has no convex hull (its points are flat or too few)",
+                        path.display()
+                    )
+                })?,
+            };
+            meshes.insert(key, built.clone());
+            (built, None, kind)
+        }
+    })
+}
+
+impl CollisionModel {
+    /// The model of `kin`'s collision shapes (its tree's `<collision>` elements). A geometry
+    /// problem of the file, or a mesh that cannot be read, is an error naming the link (and
+    /// the file). A tree without collision shapes gives an empty model.
+    pub fn new(kin: &TreeKinematics, options: Options) -> Result<CollisionModel, CollisionError> {
+        let tree = &kin.model().tree;
+        if let Some(p) = tree.geometry_problems.first() {
+            return Err(CollisionError::Geometry(format!("{}: {p}", tree.source)));
+        }
+        let mut meshes = HashMap::new();
+        let mut objects = Vec::new();
+        let mut count = vec![0usize; tree.links.len()];
+        for g in tree.geometries.iter().filter(|g| g.role == Role::Collision) {
+            objects.push(object(
+                g,
+                &tree.links,
+                &mut count,
+                options.mesh_mode,
+                &mut meshes,
+            )?);
+        }
+        // Rigid bodies: a link joined to its parent by a fixed joint is in its parent's body.
+        let mut body: Vec<usize> = (0..tree.links.len()).collect();
+        let mut order = vec![tree.root];
+        let mut k = 0;
+        while k < order.len() {
+            let l = order[k];
+            k += 1;
+            for &j in &tree.child_joints[l] {
+                let joint = &tree.joints[j];
+                if !joint.kind.is_movable() {
+                    body[joint.child] = body[l];
+                }
+                order.push(joint.child);
+            }
+        }
+        let adjacent = tree
+            .joints
+            .iter()
+            .filter(|j| j.kind.is_movable())
+            .map(|j| low_first(body[j.parent], body[j.child]))
+            .collect();
+        let mut model = CollisionModel {
+            objects,
+            pairs: Vec::new(),
+            body,
+            adjacent,
+            disabled: HashSet::new(),
+            links: tree.links.clone(),
+            options,
+        };
+        model.update_pairs();
+        Ok(model)
+    }
+
+    /// The shapes, robot first (file order), then the obstacles.
+    pub fn objects(&self) -> &[Object] {
+        &self.objects
+    }
+
+    /// The pairs a query checks, as indices into [`CollisionModel::objects`] (a < b).
+    pub fn pairs(&self) -> impl ExactSizeIterator<Item = (usize, usize)> + '_ {
+        self.pairs.iter().map(|&(a, b)| (a as usize, b as usize))
+    }
+
+    /// The number of pairs a query checks.
+    pub fn pair_count(&self) -> usize {
+        self.pairs.len()
+    }
+
+    /// A pair's two shapes' link (or obstacle) names.
+    pub fn pair_names(&self, pair: usize) -> (&str, &str) {
+        let (a, b) = self.pairs[pair];
+        (self.owner(a as usize), self.owner(b as usize))
+    }
+
+    /// The link an object is fixed to, or the obstacle's name.
+    pub fn owner(&self, object: usize) -> &str {
+        match self.objects[object].attach {
+            Attach::Link(l) => &self.links[l],
+            Attach::World => &self.objects[object].name,
+        }
+    }
+
+    /// The options it was built with.
+    pub fn options(&self) -> Options {
+        self.options
+    }
+
+    /// Stops checking the shapes of links `a` and `b` against each other (an SRDF's
+    /// `disable_collisions`; order does not matter). An unknown link is an error.
+    pub fn disable(&mut self, a: &str, b: &str) -> Result<(), CollisionError> {
+        let (la, lb) = (self.link(a)?, self.link(b)?);
+        self.disabled.insert(low_first(la, lb));
+        self.update_pairs();
+        Ok(())
+    }
+
+    /// The link pairs disabled so far, by name.
+    pub fn disabled(&self) -> Vec<(String, String)> {
+        let mut v: Vec<_> = self
+            .disabled
+            .iter()
+            .map(|&(a, b)| (self.links[a].clone(), self.links[b].clone()))
+            .collect();
+        v.sort();
+        v
+    }
+
+    /// Adds (or replaces) an obstacle named `name`: `shape` at `pose` in the world (the root
+    /// link's frame; the world with a floating base). A mesh is read as the model's meshes are.
+    pub fn add_obstacle(
+        &mut self,
+        name: &str,
+        shape: &Shape,
+        pose: Se3,
+    ) -> Result<(), CollisionError> {
+        let (engine, turn, kind) = engine_shape(shape, self.options.mesh_mode, &mut HashMap::new())
+            .map_err(|e| CollisionError::Geometry(format!("obstacle \"{name}\": {e}")))?;
+        let origin = match turn {
+            Some(t) => pose.compose(&t),
+            None => pose,
+        };
+        self.remove_obstacle(name);
+        self.objects.push(Object {
+            name: name.to_string(),
+            attach: Attach::World,
+            origin,
+            shape: engine,
+            kind,
+        });
+        self.update_pairs();
+        Ok(())
+    }
+
+    /// Removes the obstacle named `name`; true if there was one.
+    pub fn remove_obstacle(&mut self, name: &str) -> bool {
+        let before = self.objects.len();
+        self.objects
+            .retain(|o| !(o.attach == Attach::World && o.name == name));
+        let removed = self.objects.len() != before;
+        if removed {
+            self.update_pairs();
+        }
+        removed
+    }
+
+    /// The obstacles' names, in the order added.
+    pub fn obstacles(&self) -> Vec<&str> {
+        self.objects
+            .iter()
+            .filter(|o| o.attach == Attach::World)
+            .map(|o| o.name.as_str())
+            .collect()
+    }
+
+    fn link(&self, name: &str) -> Result<usize, CollisionError> {
+        self.links
+            .iter()
+            .position(|l| l == name)
+            .ok_or_else(|| CollisionError::Unknown(format!("unknown link \"{name}\"")))
+    }
+
+    /// Whether objects `a` and `b` are checked against each other (module documentation).
+    fn checked(&self, a: &Object, b: &Object) -> bool {
+        match (a.attach, b.attach) {
+            (Attach::World, Attach::World) => false,
+            (Attach::World, Attach::Link(_)) | (Attach::Link(_), Attach::World) => true,
+            (Attach::Link(la), Attach::Link(lb)) => {
+                let (ba, bb) = (self.body[la], self.body[lb]);
+                ba != bb
+                    && (self.options.keep_adjacent || !self.adjacent.contains(&low_first(ba, bb)))
+                    && !self.disabled.contains(&low_first(la, lb))
+            }
+        }
+    }
+
+    fn update_pairs(&mut self) {
+        let n = self.objects.len();
+        let mut pairs = Vec::new();
+        for a in 0..n {
+            for b in a + 1..n {
+                if self.checked(&self.objects[a], &self.objects[b]) {
+                    pairs.push((a as u32, b as u32));
+                }
+            }
+        }
+        self.pairs = pairs;
+    }
+}
+
+fn low_first(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
+/// One `<collision>` element as a model object.
+fn object(
+    g: &Geometry,
+    links: &[String],
+    count: &mut [usize],
+    mode: MeshMode,
+    meshes: &mut HashMap<(std::path::PathBuf, [u64; 3]), SharedShape>,
+) -> Result<Object, CollisionError> {
+    let link = &links[g.link];
+    let (shape, turn, kind) = engine_shape(&g.shape, mode, meshes)
+        .map_err(|e| CollisionError::Geometry(format!("link \"{link}\" <collision>: {e}")))?;
+    let k = count[g.link];
+    count[g.link] += 1;
+    Ok(Object {
+        name: match &g.name {
+            Some(n) => format!("{link}/{n}"),
+            None => format!("{link}/collision/{k}"),
+        },
+        attach: Attach::Link(g.link),
+        origin: match turn {
+            Some(t) => g.origin.compose(&t),
+            None => g.origin,
+        },
+        shape,
+        kind,
+    })
+}

@@ -1,0 +1,297 @@
+//! The body's queries at a configuration q of the whole tree (`kin.nq()` values), Pinocchio
+//! style: `query(&model, &mut ws, &kin, q)`, the workspace reused from call to call.
+//!
+//! Each query first places every shape (the tree's all-frame FK, then each shape's world pose
+//! and bounding box: the broad phase), then asks the engine only about the pairs it must:
+//! - [`in_collision`] and [`collisions`]: pairs whose boxes overlap get an intersection test;
+//! - [`distances`]: every pair gets its signed distance, witness points and normal;
+//! - [`min_distance`]: pairs in order of their boxes' distance, stopping when the next box
+//!   pair is farther than the closest pair found (branch and bound).
+//!
+//! Batches ([`in_collision_batch`], [`min_distance_batch`]) run rows on all cores, a
+//! workspace per thread; a bad row is reported by index and the others are answered.
+
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
+use parry3d_f64::math::Pose;
+use parry3d_f64::query::{self, ClosestPoints};
+use rayon::prelude::*;
+use screwkit_solve::{RowError, SolveError, TreeKinematics, TreeWorkspace};
+
+use crate::convert;
+use crate::model::{Attach, CollisionError, CollisionModel};
+
+/// Scratch for the queries: the tree's FK workspace, each shape's world pose and bounding box.
+#[derive(Debug, Clone)]
+pub struct CollisionWorkspace {
+    tree: TreeWorkspace,
+    poses: Vec<Pose>,
+    boxes: Vec<Aabb>,
+    order: Vec<(f64, u32)>,
+}
+
+impl CollisionWorkspace {
+    /// Scratch for `kin` and `model`.
+    pub fn new(kin: &TreeKinematics, model: &CollisionModel) -> CollisionWorkspace {
+        CollisionWorkspace {
+            tree: TreeWorkspace::new(kin),
+            poses: Vec::with_capacity(model.objects.len()),
+            boxes: Vec::with_capacity(model.objects.len()),
+            order: Vec::with_capacity(model.pairs.len()),
+        }
+    }
+}
+
+/// One pair's signed distance: the separation (≥ 0), or minus the penetration depth when the
+/// shapes overlap; the witness points on each shape (world frame) and the unit normal from a
+/// to b (for separated shapes, (p_b − p_a)/d).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PairDistance {
+    /// The pair's index in the model's pairs.
+    pub pair: usize,
+    /// The signed distance (m).
+    pub distance: f64,
+    /// The witness point on shape a.
+    pub point_a: [f64; 3],
+    /// The witness point on shape b.
+    pub point_b: [f64; 3],
+    /// The unit normal, from a to b.
+    pub normal: [f64; 3],
+}
+
+/// Places every shape at q: world poses and bounding boxes. Checks q.
+fn place(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+) -> Result<(), CollisionError> {
+    let frames = screwkit_solve::tree::fk::fk_frames(kin, &mut ws.tree, q)?;
+    ws.poses.clear();
+    ws.boxes.clear();
+    for o in &model.objects {
+        let world = match o.attach {
+            Attach::Link(l) => frames[l].compose(&o.origin),
+            Attach::World => o.origin,
+        };
+        let pose = convert::pose(&world);
+        ws.boxes.push(o.shape.compute_aabb(&pose));
+        ws.poses.push(pose);
+    }
+    Ok(())
+}
+
+/// True when the shapes of pair (a, b) intersect (touching counts).
+fn intersects(model: &CollisionModel, ws: &CollisionWorkspace, a: usize, b: usize) -> bool {
+    let (oa, ob) = (&model.objects[a], &model.objects[b]);
+    query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
+        .map(|r| r.intersecting)
+        // A pair the engine cannot test is reported as colliding: never a silent "free".
+        .unwrap_or(true)
+}
+
+/// True when some checked pair collides at q (the first found ends the search).
+pub fn in_collision(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+) -> Result<bool, CollisionError> {
+    place(model, ws, kin, q)?;
+    Ok(model.pairs.iter().any(|&(a, b)| {
+        let (a, b) = (a as usize, b as usize);
+        ws.boxes[a].intersects(&ws.boxes[b]) && intersects(model, ws, a, b)
+    }))
+}
+
+/// The colliding pairs at q (indices into the model's pairs, in order) into `out`.
+pub fn collisions(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    out: &mut Vec<usize>,
+) -> Result<(), CollisionError> {
+    place(model, ws, kin, q)?;
+    out.clear();
+    for (k, &(a, b)) in model.pairs.iter().enumerate() {
+        let (a, b) = (a as usize, b as usize);
+        if ws.boxes[a].intersects(&ws.boxes[b]) && intersects(model, ws, a, b) {
+            out.push(k);
+        }
+    }
+    Ok(())
+}
+
+/// The signed distance of pair `k` (shapes a, b) at the placed poses.
+fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDistance {
+    let (a, b) = model.pairs[k];
+    let (a, b) = (a as usize, b as usize);
+    let (sa, sb) = (&*model.objects[a].shape.0, &*model.objects[b].shape.0);
+    let (pa, pb) = (&ws.poses[a], &ws.poses[b]);
+    let unknown = PairDistance {
+        pair: k,
+        distance: f64::NAN,
+        point_a: [f64::NAN; 3],
+        point_b: [f64::NAN; 3],
+        normal: [f64::NAN; 3],
+    };
+    match query::closest_points(pa, sa, pb, sb, f64::MAX) {
+        Ok(ClosestPoints::WithinMargin(p1, p2)) => {
+            let d = p2 - p1;
+            let len = d.length();
+            PairDistance {
+                pair: k,
+                distance: len,
+                point_a: convert::array(p1),
+                point_b: convert::array(p2),
+                normal: if len > 0.0 {
+                    convert::array(d / len)
+                } else {
+                    [f64::NAN; 3]
+                },
+            }
+        }
+        Ok(ClosestPoints::Intersecting) => match query::contact(pa, sa, pb, sb, 0.0) {
+            Ok(Some(c)) => PairDistance {
+                pair: k,
+                distance: c.dist.min(0.0),
+                point_a: convert::array(c.point1),
+                point_b: convert::array(c.point2),
+                normal: convert::array(c.normal1),
+            },
+            _ => PairDistance {
+                distance: 0.0,
+                ..unknown
+            },
+        },
+        _ => unknown,
+    }
+}
+
+/// Every checked pair's signed distance at q, in the model's pair order, into `out`.
+pub fn distances(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    out: &mut Vec<PairDistance>,
+) -> Result<(), CollisionError> {
+    place(model, ws, kin, q)?;
+    out.clear();
+    out.extend((0..model.pairs.len()).map(|k| pair_distance(model, ws, k)));
+    Ok(())
+}
+
+/// The distance between two boxes (0 when they overlap): a lower bound of their shapes'.
+fn box_distance(a: &Aabb, b: &Aabb) -> f64 {
+    let gap = (a.mins - b.maxs)
+        .max(b.mins - a.maxs)
+        .max(parry3d_f64::math::Vector::ZERO);
+    gap.length()
+}
+
+/// The closest checked pair at q (its signed distance, points and normal), None for a model
+/// without pairs. Pairs are visited in order of their boxes' distance and the search stops
+/// when the next boxes are farther apart than the closest pair found: the same answer as the
+/// minimum over [`distances`].
+pub fn min_distance(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+) -> Result<Option<PairDistance>, CollisionError> {
+    place(model, ws, kin, q)?;
+    ws.order.clear();
+    for (k, &(a, b)) in model.pairs.iter().enumerate() {
+        let d = box_distance(&ws.boxes[a as usize], &ws.boxes[b as usize]);
+        ws.order.push((d, k as u32));
+    }
+    ws.order
+        .sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    let mut best: Option<PairDistance> = None;
+    for &(bound, k) in &ws.order {
+        if best.is_some_and(|b| bound > b.distance) {
+            break;
+        }
+        let d = pair_distance(model, ws, k as usize);
+        let better = match best {
+            None => true,
+            Some(b) => d.distance < b.distance || (d.distance == b.distance && d.pair < b.pair),
+        };
+        if better || d.distance.is_nan() {
+            best = Some(d);
+            if d.distance.is_nan() {
+                break;
+            }
+        }
+    }
+    Ok(best)
+}
+
+/// Runs `f` on each row of `qs` (N × nq) on all cores, one workspace per thread; a row the
+/// kinematics refuses is reported by index ([`SolveError::Rows`]), the others are answered.
+fn batch<T: Send>(
+    model: &CollisionModel,
+    kin: &TreeKinematics,
+    qs: &[f64],
+    out: &mut [T],
+    f: impl Fn(&mut CollisionWorkspace, &[f64]) -> Result<T, CollisionError> + Sync,
+) -> Result<(), CollisionError> {
+    let nq = kin.nq();
+    if nq == 0 || qs.len() != out.len() * nq {
+        return Err(CollisionError::Solve(SolveError::InvalidInput(format!(
+            "expected {} rows of {nq} configuration values, got {} values",
+            out.len(),
+            qs.len()
+        ))));
+    }
+    let bad: Vec<RowError> = out
+        .par_iter_mut()
+        .zip(qs.par_chunks(nq))
+        .enumerate()
+        .map_init(
+            || CollisionWorkspace::new(kin, model),
+            |ws, (row, (o, q))| match f(ws, q) {
+                Ok(v) => {
+                    *o = v;
+                    None
+                }
+                Err(CollisionError::Solve(error)) => Some(RowError { row, error }),
+                Err(e) => Some(RowError {
+                    row,
+                    error: SolveError::InvalidInput(e.to_string()),
+                }),
+            },
+        )
+        .flatten()
+        .collect();
+    if bad.is_empty() {
+        Ok(())
+    } else {
+        Err(CollisionError::Solve(SolveError::Rows(bad)))
+    }
+}
+
+/// [`in_collision`] of each row of `qs` (N × nq) into `out` (N), on all cores; the same answers
+/// whatever the thread count.
+pub fn in_collision_batch(
+    model: &CollisionModel,
+    kin: &TreeKinematics,
+    qs: &[f64],
+    out: &mut [bool],
+) -> Result<(), CollisionError> {
+    batch(model, kin, qs, out, |ws, q| in_collision(model, ws, kin, q))
+}
+
+/// [`min_distance`]'s signed distance of each row of `qs` into `out` (N; +∞ for a model
+/// without pairs), on all cores.
+pub fn min_distance_batch(
+    model: &CollisionModel,
+    kin: &TreeKinematics,
+    qs: &[f64],
+    out: &mut [f64],
+) -> Result<(), CollisionError> {
+    batch(model, kin, qs, out, |ws, q| {
+        Ok(min_distance(model, ws, kin, q)?.map_or(f64::INFINITY, |d| d.distance))
+    })
+}
