@@ -13,6 +13,7 @@
 //!
 //! - [`model`]: the [`CollisionModel`] built once from a tree (shapes, meshes read as exact
 //!   triangle meshes or as convex hulls, the pairs a query checks, obstacles).
+//! - [`acm`]: the allowed-collision matrix generated as MoveIt's setup assistant does.
 //! - [`query`]: the algorithms, Pinocchio style: `algorithm(&model, &mut ws, &kin, q)` with a
 //!   reusable [`CollisionWorkspace`]; a broad phase (each shape's bounding box at q) prunes
 //!   pairs before any narrow-phase call.
@@ -21,6 +22,7 @@
 //! points from a to b, and its signed distance is the separation (≥ 0) or minus the
 //! penetration depth.
 
+pub mod acm;
 pub mod convert;
 pub mod model;
 pub mod query;

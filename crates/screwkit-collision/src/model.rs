@@ -45,6 +45,9 @@ pub struct Options {
     /// Keep the pairs of adjacent bodies (joined by one movable joint) instead of excluding
     /// them.
     pub keep_adjacent: bool,
+    /// Check every pair of shapes on two different links, within a rigid body too (what
+    /// generating an allowed-collision matrix must look at).
+    pub all_pairs: bool,
 }
 
 /// What a shape is fixed to.
@@ -288,6 +291,32 @@ impl CollisionModel {
         Ok(())
     }
 
+    /// Disables every pair an SRDF lists ([`screwkit_model::srdf`]); a link the robot does not
+    /// have is an error naming the pair.
+    pub fn apply_srdf(&mut self, srdf: &screwkit_model::srdf::Srdf) -> Result<(), CollisionError> {
+        for p in &srdf.disabled {
+            let (a, b) = match (self.link(&p.link1), self.link(&p.link2)) {
+                (Ok(a), Ok(b)) => (a, b),
+                _ => {
+                    return Err(CollisionError::Unknown(format!(
+                        "SRDF <disable_collisions link1=\"{}\" link2=\"{}\">: the robot has no link \"{}\"",
+                        p.link1,
+                        p.link2,
+                        if self.link(&p.link1).is_err() { &p.link1 } else { &p.link2 }
+                    )))
+                }
+            };
+            self.disabled.insert(low_first(a, b));
+        }
+        self.update_pairs();
+        Ok(())
+    }
+
+    /// The link names, in the tree's order.
+    pub fn links(&self) -> &[String] {
+        &self.links
+    }
+
     /// The link pairs disabled so far, by name.
     pub fn disabled(&self) -> Vec<(String, String)> {
         let mut v: Vec<_> = self
@@ -358,6 +387,7 @@ impl CollisionModel {
         match (a.attach, b.attach) {
             (Attach::World, Attach::World) => false,
             (Attach::World, Attach::Link(_)) | (Attach::Link(_), Attach::World) => true,
+            (Attach::Link(la), Attach::Link(lb)) if self.options.all_pairs => la != lb,
             (Attach::Link(la), Attach::Link(lb)) => {
                 let (ba, bb) = (self.body[la], self.body[lb]);
                 ba != bb

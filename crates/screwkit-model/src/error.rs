@@ -45,6 +45,9 @@ pub enum ErrorKind {
     /// the message names the element).
     #[error("{0}")]
     Mjcf(String),
+    /// An SRDF element that cannot be read (the message names it and its line).
+    #[error("{0}")]
+    Srdf(String),
     /// Two links that are not rigidly attached (a frame given for a target, …).
     #[error(
         "link \"{to}\" is not rigidly attached to \"{from}\": joint \"{joint}\" between them moves"

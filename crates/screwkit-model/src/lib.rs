@@ -13,6 +13,7 @@
 //! - [`tree`]: links, joints, paths between links.
 //! - [`geometry`]: each link's collision and visual shapes as the file describes them.
 //! - [`mesh`]: triangle meshes from STL, OBJ and COLLADA files.
+//! - [`srdf`]: MoveIt's SRDF: disabled collision pairs, groups, end effectors.
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
@@ -42,6 +43,7 @@ pub mod mesh;
 pub mod mjcf;
 pub mod mujoco_qpos;
 pub mod screws;
+pub mod srdf;
 pub mod table;
 pub mod tree;
 pub mod urdf;
