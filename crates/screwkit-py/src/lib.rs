@@ -6,6 +6,7 @@
 //! would cost), except IK; batch calls and IK release it and run on the pool of [`pool`].
 
 mod array;
+mod body;
 mod errors;
 mod lie;
 mod pool;
@@ -132,6 +133,12 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
 #[pymodule]
 fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
+    m.add_class::<body::Distances>()?;
+    m.add_class::<body::Box_>()?;
+    m.add_class::<body::Sphere>()?;
+    m.add_class::<body::Capsule>()?;
+    m.add_class::<body::Cylinder>()?;
+    m.add_class::<body::Mesh>()?;
     m.add_class::<results::IkResult>()?;
     m.add_class::<results::IkBatchResult>()?;
     m.add_class::<results::Analysis>()?;

@@ -24,6 +24,7 @@ use crate::array::{f64_array, new_array, poses, shape_str, zeros};
 use crate::errors::{batch_error, model_error, service_error, solve_error};
 use crate::pool;
 use crate::results::{Analysis, IkBatchResult, IkResult};
+use screwkit_collision::{CollisionModel, CollisionWorkspace};
 use screwkit_solve::tree::differential_ik::{self, DiffIkWorkspace};
 
 /// A whole robot (URDF, xacro, MJCF or a screw table), ready for kinematics: its chain base →
@@ -47,6 +48,9 @@ pub struct Robot {
     diff_ws: Mutex<Option<DiffIkWorkspace>>,
     /// The analytic solvers (the default one, each lock, the arm angle), built on first use.
     analytic: screwkit_service::solutions::Solvers,
+    /// The body's collision model, built on the first body query; replaced (copied, changed)
+    /// by `srdf`, `add_obstacle` and `remove_obstacle`.
+    body: RwLock<Option<Arc<CollisionModel>>>,
 }
 
 /// A refused target as `ValueError` naming the argument and the reason (a typed
@@ -172,6 +176,7 @@ impl Robot {
             tree_ws: Mutex::new(None),
             diff_ws: Mutex::new(None),
             analytic: screwkit_service::solutions::Solvers::default(),
+            body: RwLock::new(None),
         })
     }
 
@@ -347,6 +352,60 @@ impl Robot {
                 let full: Vec<usize> = std::iter::once(n).chain(shape).collect();
                 run_batch(py, &full, &q, chunk, |qs, o| poses.poses_batch(qs, o))
             }
+        }
+    }
+
+    /// The whole tree and the body's collision model (built on first use).
+    fn body_model(&self) -> PyResult<(Arc<TreeKinematics>, Arc<CollisionModel>)> {
+        let kin = self.tree_model()?;
+        if let Some(m) = self.body.read().expect("the body lock").clone() {
+            return Ok((kin, m));
+        }
+        let m = Arc::new(
+            screwkit_service::body::model(&kin, screwkit_service::words::Meshes::Exact, None)
+                .map_err(service_error)?,
+        );
+        *self.body.write().expect("the body lock") = Some(m.clone());
+        Ok((kin, m))
+    }
+
+    /// Changes the body's model (a copy, then stored).
+    fn change_body<T>(
+        &self,
+        f: impl FnOnce(&mut CollisionModel) -> Result<T, screwkit_service::Error>,
+    ) -> PyResult<T> {
+        let (_, model) = self.body_model()?;
+        let mut copy = (*model).clone();
+        let out = f(&mut copy).map_err(service_error)?;
+        *self.body.write().expect("the body lock") = Some(Arc::new(copy));
+        Ok(out)
+    }
+
+    /// A body query's configurations: q (n,) → one row, (N, n) → N rows, each the whole
+    /// tree's configuration (a chain robot's joint values placed in its tree: the floor's
+    /// `body::tree_q`).
+    fn body_rows(&self, kin: &TreeKinematics, q: &Bound<'_, PyAny>) -> PyResult<(Rows, Vec<f64>)> {
+        let a = f64_array(q, "q")?;
+        let values = a.to_vec()?;
+        let tree_q = |row: &[f64]| {
+            screwkit_service::body::tree_q(&self.robot, kin, row)
+                .map(|c| c.into_owned())
+                .map_err(service_error)
+        };
+        match *a.shape() {
+            [_] => Ok((Rows::One, tree_q(&values)?)),
+            [n, w] => {
+                let mut out = Vec::with_capacity(n * kin.nq());
+                for row in values.chunks(w.max(1)).take(n) {
+                    out.extend(tree_q(row)?);
+                }
+                Ok((Rows::Many(n), out))
+            }
+            ref shape => Err(PyValueError::new_err(format!(
+                "q: expected shape ({n},) or (N, {n}), got {}",
+                shape_str(shape),
+                n = kin.nq()
+            ))),
         }
     }
 
@@ -1137,6 +1196,207 @@ impl Robot {
         )
         .map_err(service_error)?;
         crate::reach::report_dict(py, &screwkit_service::report::to_value(&report))
+    }
+
+    /// True when the robot collides with itself or an obstacle at q (its `<collision>` shapes;
+    /// pairs of adjacent or welded links, and pairs an SRDF disables, are not checked). q:
+    /// the whole tree's configuration, or a chain robot's joint values (its other joints at 0
+    /// clamped into their limits); (N, n) → (N,) bools, on all cores.
+    fn in_collision<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (kin, model) = self.body_model()?;
+        match self.body_rows(&kin, q)? {
+            (Rows::One, q) => {
+                let mut ws = CollisionWorkspace::new(&kin, &model);
+                let hit = screwkit_collision::in_collision(&model, &mut ws, &kin, &q)
+                    .map_err(|e| service_error(e.into()))?;
+                Ok(pyo3::types::PyBool::new(py, hit).to_owned().into_any())
+            }
+            (Rows::Many(n), qs) => {
+                let mut hits = vec![false; n];
+                let r = pool::cancellable(py, || {
+                    screwkit_collision::in_collision_batch(&model, &kin, &qs, &mut hits)
+                })?;
+                r.map_err(|e| service_error(e.into()))?;
+                Ok(hits.to_pyarray(py).into_any())
+            }
+        }
+    }
+
+    /// The colliding pairs at q, by link (or obstacle) name: [(a, b), …]; (N, n) → a list of
+    /// N such lists.
+    fn collisions<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (kin, model) = self.body_model()?;
+        let mut ws = CollisionWorkspace::new(&kin, &model);
+        let mut hits = Vec::new();
+        let mut one = |q: &[f64]| -> PyResult<Vec<(String, String)>> {
+            screwkit_collision::collisions(&model, &mut ws, &kin, q, &mut hits)
+                .map_err(|e| service_error(e.into()))?;
+            Ok(hits
+                .iter()
+                .map(|&k| {
+                    let (a, b) = model.pair_names(k);
+                    (a.to_string(), b.to_string())
+                })
+                .collect())
+        };
+        match self.body_rows(&kin, q)? {
+            (Rows::One, q) => Ok(one(&q)?.into_pyobject(py)?.into_any()),
+            (Rows::Many(_), qs) => {
+                let all = qs
+                    .chunks(kin.nq().max(1))
+                    .map(&mut one)
+                    .collect::<PyResult<Vec<_>>>()?;
+                Ok(all.into_pyobject(py)?.into_any())
+            }
+        }
+    }
+
+    /// Every checked pair's signed distance at q (`Distances`: `pairs`, `distance` (P,),
+    /// `points` (P, 2, 3), `normal` (P, 3)); (N, n) → a list of N.
+    fn distances<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (kin, model) = self.body_model()?;
+        let mut ws = CollisionWorkspace::new(&kin, &model);
+        let mut out = Vec::new();
+        let mut one = |q: &[f64]| -> PyResult<crate::body::Distances> {
+            screwkit_collision::distances(&model, &mut ws, &kin, q, &mut out)
+                .map_err(|e| service_error(e.into()))?;
+            crate::body::Distances::new(py, &model, &out)
+        };
+        match self.body_rows(&kin, q)? {
+            (Rows::One, q) => Ok(Bound::new(py, one(&q)?)?.into_any()),
+            (Rows::Many(_), qs) => {
+                let list = pyo3::types::PyList::empty(py);
+                for row in qs.chunks(kin.nq().max(1)) {
+                    list.append(Bound::new(py, one(row)?)?)?;
+                }
+                Ok(list.into_any())
+            }
+        }
+    }
+
+    /// The smallest signed distance over the checked pairs at q (m; negative when some pair
+    /// overlaps; inf without pairs); (N, n) → (N,), on all cores.
+    fn min_distance<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (kin, model) = self.body_model()?;
+        match self.body_rows(&kin, q)? {
+            (Rows::One, q) => {
+                let mut ws = CollisionWorkspace::new(&kin, &model);
+                let d = screwkit_collision::min_distance(&model, &mut ws, &kin, &q)
+                    .map_err(|e| service_error(e.into()))?;
+                Ok(
+                    pyo3::types::PyFloat::new(py, d.map_or(f64::INFINITY, |d| d.distance))
+                        .into_any(),
+                )
+            }
+            (Rows::Many(n), qs) => {
+                let mut out = vec![0.0; n];
+                let r = pool::cancellable(py, || {
+                    screwkit_collision::min_distance_batch(&model, &kin, &qs, &mut out)
+                })?;
+                r.map_err(|e| service_error(e.into()))?;
+                Ok(out.to_pyarray(py).into_any())
+            }
+        }
+    }
+
+    /// The pairs a body query checks, by link (or obstacle) name.
+    #[getter]
+    fn collision_pairs(&self) -> PyResult<Vec<(String, String)>> {
+        let (_, model) = self.body_model()?;
+        Ok((0..model.pair_count())
+            .map(|k| {
+                let (a, b) = model.pair_names(k);
+                (a.to_string(), b.to_string())
+            })
+            .collect())
+    }
+
+    /// Reads an SRDF file and stops checking the link pairs its `disable_collisions` list (a
+    /// link the robot lacks is a `ValueError` naming it).
+    fn srdf(&self, path: PathBuf) -> PyResult<()> {
+        self.change_body(|m| {
+            m.apply_srdf(&screwkit_model::srdf::read_file(&path)?)?;
+            Ok(())
+        })
+    }
+
+    /// Generates the allowed-collision matrix as MoveIt's setup assistant does (adjacent links,
+    /// pairs colliding at the default configuration, pairs colliding in ≥ 95 % of `samples`
+    /// random configurations, and with `never` the pairs that never collided) and returns it
+    /// as SRDF text, written to `path` when given. The same seed gives the same bytes.
+    #[pyo3(signature = (path = None, *, samples = 10000, seed = 0, never = false))]
+    fn write_srdf(
+        &self,
+        py: Python<'_>,
+        path: Option<PathBuf>,
+        samples: usize,
+        seed: u64,
+        never: bool,
+    ) -> PyResult<String> {
+        let kin = self.tree_model()?;
+        let g = screwkit_collision::acm::Generate {
+            samples,
+            seed,
+            never,
+            ..Default::default()
+        };
+        let pairs = pool::cancellable(py, || {
+            screwkit_collision::acm::generate(&kin, screwkit_collision::MeshMode::Exact, &g)
+        })?
+        .map_err(|e| service_error(e.into()))?;
+        let text = screwkit_model::srdf::write(&self.robot.tree().name, &pairs);
+        write_text(path, &text)?;
+        Ok(text)
+    }
+
+    /// Adds (or replaces) the obstacle `name`: `shape` (`screwkit.Box`, `Sphere`, `Capsule`,
+    /// `Cylinder`, `Mesh`) at `pose` (4, 4) in the world (the root link's frame). Every body
+    /// query then checks it against every link.
+    fn add_obstacle(
+        &self,
+        name: &str,
+        shape: &Bound<'_, PyAny>,
+        pose: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let shape = crate::body::shape_of(shape)?;
+        let p = f64_array(pose, "pose")?;
+        if p.shape() != [4, 4] {
+            return Err(PyValueError::new_err(format!(
+                "pose: expected shape (4, 4), got {}",
+                shape_str(p.shape())
+            )));
+        }
+        let pose = target::from_row_major(&p.to_vec()?)
+            .map_err(|e| PyValueError::new_err(format!("pose: {e}")))?;
+        self.change_body(|m| Ok(m.add_obstacle(name, &shape, pose)?))
+    }
+
+    /// Removes the obstacle `name`; True if there was one.
+    fn remove_obstacle(&self, name: &str) -> PyResult<bool> {
+        self.change_body(|m| Ok(m.remove_obstacle(name)))
+    }
+
+    /// The obstacles' names, in the order added.
+    #[getter]
+    fn obstacles(&self) -> PyResult<Vec<String>> {
+        let (_, model) = self.body_model()?;
+        Ok(model.obstacles().into_iter().map(str::to_string).collect())
     }
 
     /// The total mass (kg) of the links with an `<inertial>` mass (0 when the file has none).

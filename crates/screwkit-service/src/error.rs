@@ -32,6 +32,9 @@ pub enum Error {
     /// or is not what it should be.
     #[error(transparent)]
     File(#[from] FileError),
+    /// A body query that cannot run (a geometry problem, a mesh, an unknown link).
+    #[error(transparent)]
+    Collision(screwkit_collision::CollisionError),
     /// An option word that is not one of its family's.
     #[error(transparent)]
     Word(#[from] WordError),
@@ -44,6 +47,15 @@ pub enum Error {
         /// What is wrong with its value.
         message: String,
     },
+}
+
+impl From<screwkit_collision::CollisionError> for Error {
+    fn from(e: screwkit_collision::CollisionError) -> Error {
+        match e {
+            screwkit_collision::CollisionError::Solve(s) => Error::Solve(s),
+            e => Error::Collision(e),
+        }
+    }
 }
 
 impl Error {

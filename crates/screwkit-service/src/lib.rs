@@ -12,12 +12,14 @@
 //!   0-based index ([`JointRef`], [`Lock`]).
 //! - [`report`]: the serde structs of the JSON contract; [`solutions`]: every analytic
 //!   solution, single and batched.
+//! - [`body`]: the robot's body (collision model, SRDF, the `collide` report).
 //! - [`mujoco`]: MuJoCo's `qpos` and screwkit's q, both ways.
 //! - [`io`]: `.npy`/`.npz`, outputs written whole or not at all, the JSON number rule.
 //! - [`Error`]: typed errors (`Io { path, source }`, model, solver, file, word, option).
 //!
 //! The floor holds no kinematics: every answer comes from `screwkit_solve`.
 
+pub mod body;
 pub mod error;
 pub mod info;
 pub mod io;

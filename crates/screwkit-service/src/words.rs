@@ -152,6 +152,17 @@ impl Method {
 }
 
 words! {
+    /// How the body's meshes are read (`--meshes`, `meshes=`): exactly, as triangle meshes,
+    /// or as their convex hulls (MuJoCo's rule).
+    Meshes, "mesh mode" {
+        /// The triangles, in a bounding-volume tree (the default).
+        Exact = "exact",
+        /// Each mesh's convex hull.
+        Convex = "convex",
+    }
+}
+
+words! {
     /// The frame of a screw axis or a twist: the library's [`Frame`] as a word.
     ScrewFrame, "frame" {
         /// The space frame (the base).

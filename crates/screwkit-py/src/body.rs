@@ -1,0 +1,275 @@
+//! The robot's body from Python: the shapes of obstacles (`Box`, `Sphere`, `Capsule`,
+//! `Cylinder`, `Mesh`) and the `Distances` result; the queries themselves are `Robot`'s
+//! methods (`robot.rs`), each a conversion around `screwkit_collision` through the floor's
+//! `body` module.
+
+use std::path::PathBuf;
+
+use numpy::{PyArray1, PyArray2, PyArray3, PyArrayMethods, ToPyArray};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use screwkit_model::geometry::Shape;
+
+fn positive(what: &str, x: f64) -> PyResult<f64> {
+    if x.is_finite() && x > 0.0 {
+        Ok(x)
+    } else {
+        Err(PyValueError::new_err(format!(
+            "{what}: expected a finite number > 0, got {x}"
+        )))
+    }
+}
+
+/// A box of full side lengths `size` (x, y, z; m), centred on its pose.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit", name = "Box")]
+#[derive(Clone)]
+pub struct Box_ {
+    pub(crate) size: [f64; 3],
+}
+
+#[pymethods]
+impl Box_ {
+    #[new]
+    fn new(size: [f64; 3]) -> PyResult<Self> {
+        for s in size {
+            positive("size", s)?;
+        }
+        Ok(Self { size })
+    }
+    /// Side lengths (m).
+    #[getter]
+    fn size(&self) -> [f64; 3] {
+        self.size
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Box(({}, {}, {}))",
+            self.size[0], self.size[1], self.size[2]
+        )
+    }
+}
+
+/// A sphere of `radius` (m) centred on its pose.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+#[derive(Clone)]
+pub struct Sphere {
+    pub(crate) radius: f64,
+}
+
+#[pymethods]
+impl Sphere {
+    #[new]
+    fn new(radius: f64) -> PyResult<Self> {
+        Ok(Self {
+            radius: positive("radius", radius)?,
+        })
+    }
+    /// Radius (m).
+    #[getter]
+    fn radius(&self) -> f64 {
+        self.radius
+    }
+    fn __repr__(&self) -> String {
+        format!("Sphere({})", self.radius)
+    }
+}
+
+/// A capsule along its pose's z axis: a cylinder of `length` with half-spheres of `radius`.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+#[derive(Clone)]
+pub struct Capsule {
+    pub(crate) radius: f64,
+    pub(crate) length: f64,
+}
+
+#[pymethods]
+impl Capsule {
+    #[new]
+    fn new(radius: f64, length: f64) -> PyResult<Self> {
+        Ok(Self {
+            radius: positive("radius", radius)?,
+            length: positive("length", length)?,
+        })
+    }
+    /// Radius (m).
+    #[getter]
+    fn radius(&self) -> f64 {
+        self.radius
+    }
+    /// The cylinder's length (m).
+    #[getter]
+    fn length(&self) -> f64 {
+        self.length
+    }
+    fn __repr__(&self) -> String {
+        format!("Capsule({}, {})", self.radius, self.length)
+    }
+}
+
+/// A cylinder along its pose's z axis, centred.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+#[derive(Clone)]
+pub struct Cylinder {
+    pub(crate) radius: f64,
+    pub(crate) length: f64,
+}
+
+#[pymethods]
+impl Cylinder {
+    #[new]
+    fn new(radius: f64, length: f64) -> PyResult<Self> {
+        Ok(Self {
+            radius: positive("radius", radius)?,
+            length: positive("length", length)?,
+        })
+    }
+    /// Radius (m).
+    #[getter]
+    fn radius(&self) -> f64 {
+        self.radius
+    }
+    /// Length (m).
+    #[getter]
+    fn length(&self) -> f64 {
+        self.length
+    }
+    fn __repr__(&self) -> String {
+        format!("Cylinder({}, {})", self.radius, self.length)
+    }
+}
+
+/// A triangle mesh file (STL, OBJ, COLLADA), its vertices multiplied by `scale`.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+#[derive(Clone)]
+pub struct Mesh {
+    pub(crate) path: PathBuf,
+    pub(crate) scale: [f64; 3],
+}
+
+#[pymethods]
+impl Mesh {
+    #[new]
+    #[pyo3(signature = (path, scale = (1.0, 1.0, 1.0)), text_signature = "(path, scale=(1.0, 1.0, 1.0))")]
+    fn new(path: PathBuf, scale: (f64, f64, f64)) -> PyResult<Self> {
+        let scale = [scale.0, scale.1, scale.2];
+        for s in scale {
+            positive("scale", s)?;
+        }
+        Ok(Self { path, scale })
+    }
+    /// The file.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.path.clone()
+    }
+    /// Per-axis scale.
+    #[getter]
+    fn scale(&self) -> [f64; 3] {
+        self.scale
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Mesh({:?}, scale={:?})",
+            self.path.display().to_string(),
+            self.scale
+        )
+    }
+}
+
+/// The model's shape of a Python shape object.
+pub(crate) fn shape_of(obj: &Bound<'_, PyAny>) -> PyResult<Shape> {
+    if let Ok(b) = obj.cast::<Box_>() {
+        return Ok(Shape::Box { size: b.get().size });
+    }
+    if let Ok(s) = obj.cast::<Sphere>() {
+        return Ok(Shape::Sphere {
+            radius: s.get().radius,
+        });
+    }
+    if let Ok(c) = obj.cast::<Capsule>() {
+        let c = c.get();
+        return Ok(Shape::Capsule {
+            radius: c.radius,
+            length: c.length,
+        });
+    }
+    if let Ok(c) = obj.cast::<Cylinder>() {
+        let c = c.get();
+        return Ok(Shape::Cylinder {
+            radius: c.radius,
+            length: c.length,
+        });
+    }
+    if let Ok(m) = obj.cast::<Mesh>() {
+        let m = m.get();
+        return Ok(Shape::Mesh {
+            uri: m.path.display().to_string(),
+            path: m.path.clone(),
+            scale: m.scale,
+        });
+    }
+    Err(PyValueError::new_err(
+        "shape: expected screwkit.Box, Sphere, Capsule, Cylinder or Mesh",
+    ))
+}
+
+/// Every checked pair's signed distance at one configuration (`Robot.distances`): `pairs`
+/// (P pairs of link or obstacle names), `distance` (P,) (negative when the shapes overlap),
+/// `points` (P, 2, 3) (the witness points on each shape, world frame), `normal` (P, 3) (unit,
+/// from the first shape to the second).
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+pub struct Distances {
+    #[pyo3(get)]
+    pairs: Vec<(String, String)>,
+    #[pyo3(get)]
+    distance: Py<PyArray1<f64>>,
+    #[pyo3(get)]
+    points: Py<PyArray3<f64>>,
+    #[pyo3(get)]
+    normal: Py<PyArray2<f64>>,
+}
+
+impl Distances {
+    /// The result of a distance query.
+    pub(crate) fn new(
+        py: Python<'_>,
+        model: &screwkit_collision::CollisionModel,
+        d: &[screwkit_collision::PairDistance],
+    ) -> PyResult<Self> {
+        let p = d.len();
+        let points: Vec<f64> = d
+            .iter()
+            .flat_map(|x| x.point_a.into_iter().chain(x.point_b))
+            .collect();
+        let normal: Vec<f64> = d.iter().flat_map(|x| x.normal).collect();
+        Ok(Self {
+            pairs: d
+                .iter()
+                .map(|x| {
+                    let (a, b) = model.pair_names(x.pair);
+                    (a.to_string(), b.to_string())
+                })
+                .collect(),
+            distance: d
+                .iter()
+                .map(|x| x.distance)
+                .collect::<Vec<_>>()
+                .to_pyarray(py)
+                .unbind(),
+            points: points.to_pyarray(py).reshape([p, 2, 3])?.unbind(),
+            normal: normal.to_pyarray(py).reshape([p, 3])?.unbind(),
+        })
+    }
+}
+
+#[pymethods]
+impl Distances {
+    fn __len__(&self) -> usize {
+        self.pairs.len()
+    }
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let d = self.distance.bind(py).to_vec().unwrap_or_default();
+        let min = d.iter().copied().fold(f64::INFINITY, f64::min);
+        format!("Distances({} pairs, min {min:.6} m)", self.pairs.len())
+    }
+}
