@@ -26,6 +26,7 @@ pub mod acm;
 pub mod convert;
 pub mod model;
 pub mod query;
+mod spheres;
 mod triangles;
 
 pub use model::{Attach, CollisionError, CollisionModel, MeshMode, Object, Options};

@@ -27,6 +27,21 @@ use screwkit_solve::TreeKinematics;
 
 use crate::convert;
 
+/// The meshes read so far, by file and scale: the engine's shape and, read exactly, the tree
+/// of bounding spheres.
+type Meshes =
+    HashMap<(std::path::PathBuf, [u64; 3]), (SharedShape, Option<Arc<crate::spheres::SphereTree>>)>;
+
+/// The tree of a mesh read before (by file and scale).
+fn tree_of(shape: &Shape, meshes: &Meshes) -> Option<Arc<crate::spheres::SphereTree>> {
+    match shape {
+        Shape::Mesh { path, scale, .. } => meshes
+            .get(&(path.clone(), scale.map(f64::to_bits)))
+            .and_then(|(_, t)| t.clone()),
+        _ => None,
+    }
+}
+
 /// How a mesh is read into the engine.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MeshMode {
@@ -74,6 +89,8 @@ pub struct Object {
     pub shape: SharedShape,
     /// `box`, `cylinder`, `sphere`, `capsule`, `mesh` or `convex`.
     pub kind: &'static str,
+    /// An exact mesh's tree of bounding spheres (its distances: [`crate::spheres`]).
+    pub(crate) tree: Option<Arc<crate::spheres::SphereTree>>,
 }
 
 impl std::fmt::Debug for Object {
@@ -145,7 +162,7 @@ fn z_axis() -> Se3 {
 fn engine_shape(
     shape: &Shape,
     mode: MeshMode,
-    meshes: &mut HashMap<(std::path::PathBuf, [u64; 3]), SharedShape>,
+    meshes: &mut Meshes,
 ) -> Result<(SharedShape, Option<Se3>, &'static str), String> {
     Ok(match shape {
         Shape::Box { size } => (
@@ -172,13 +189,22 @@ fn engine_shape(
                 MeshMode::Exact => "mesh",
                 MeshMode::ConvexHull => "convex",
             };
-            if let Some(s) = meshes.get(&key) {
+            if let Some((s, _)) = meshes.get(&key) {
                 return Ok((s.clone(), None, kind));
             }
             let mesh = screwkit_model::mesh::read_mesh(path, *scale)?;
             let vertices: Vec<_> = mesh.vertices.iter().map(|v| convert::vector(*v)).collect();
+            let tree = (mode == MeshMode::Exact).then(|| {
+                let v = |i: u32| {
+                    let p = mesh.vertices[i as usize];
+                    nalgebra::Vector3::new(p[0], p[1], p[2])
+                };
+                Arc::new(crate::spheres::SphereTree::new(
+                    mesh.triangles.iter().map(|t| t.map(v)).collect(),
+                ))
+            });
             let built = match mode {
-                MeshMode::Exact => SharedShape::trimesh(vertices, mesh.triangles)
+                MeshMode::Exact => SharedShape::trimesh(vertices, mesh.triangles.clone())
                     .map_err(|e| format!("{}: {e}", path.display()))?,
                 MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {
                     format!(
@@ -187,7 +213,7 @@ fn engine_shape(
                     )
                 })?,
             };
-            meshes.insert(key, built.clone());
+            meshes.insert(key, (built.clone(), tree));
             (built, None, kind)
         }
     })
@@ -336,7 +362,8 @@ impl CollisionModel {
         shape: &Shape,
         pose: Se3,
     ) -> Result<(), CollisionError> {
-        let (engine, turn, kind) = engine_shape(shape, self.options.mesh_mode, &mut HashMap::new())
+        let mut meshes = HashMap::new();
+        let (engine, turn, kind) = engine_shape(shape, self.options.mesh_mode, &mut meshes)
             .map_err(|e| CollisionError::Geometry(format!("obstacle \"{name}\": {e}")))?;
         let origin = match turn {
             Some(t) => pose.compose(&t),
@@ -349,6 +376,7 @@ impl CollisionModel {
             origin,
             shape: engine,
             kind,
+            tree: tree_of(shape, &meshes),
         });
         self.update_pairs();
         Ok(())
@@ -421,7 +449,7 @@ fn object(
     links: &[String],
     count: &mut [usize],
     mode: MeshMode,
-    meshes: &mut HashMap<(std::path::PathBuf, [u64; 3]), SharedShape>,
+    meshes: &mut Meshes,
 ) -> Result<Object, CollisionError> {
     let link = &links[g.link];
     let (shape, turn, kind) = engine_shape(&g.shape, mode, meshes)
@@ -440,5 +468,6 @@ fn object(
         },
         shape,
         kind,
+        tree: tree_of(&g.shape, meshes),
     })
 }

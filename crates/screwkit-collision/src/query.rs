@@ -25,6 +25,7 @@ use crate::model::{Attach, CollisionError, CollisionModel};
 #[derive(Debug, Clone)]
 pub struct CollisionWorkspace {
     tree: TreeWorkspace,
+    world: Vec<screwkit_lie::Se3>,
     poses: Vec<Pose>,
     boxes: Vec<Aabb>,
     order: Vec<(f64, u32)>,
@@ -35,6 +36,7 @@ impl CollisionWorkspace {
     pub fn new(kin: &TreeKinematics, model: &CollisionModel) -> CollisionWorkspace {
         CollisionWorkspace {
             tree: TreeWorkspace::new(kin),
+            world: Vec::with_capacity(model.objects.len()),
             poses: Vec::with_capacity(model.objects.len()),
             boxes: Vec::with_capacity(model.objects.len()),
             order: Vec::with_capacity(model.pairs.len()),
@@ -69,6 +71,7 @@ fn place(
     let frames = screwkit_solve::tree::fk::fk_frames(kin, &mut ws.tree, q)?;
     ws.poses.clear();
     ws.boxes.clear();
+    ws.world.clear();
     for o in &model.objects {
         let world = match o.attach {
             Attach::Link(l) => frames[l].compose(&o.origin),
@@ -77,6 +80,7 @@ fn place(
         let pose = convert::pose(&world);
         ws.boxes.push(o.shape.compute_aabb(&pose));
         ws.poses.push(pose);
+        ws.world.push(world);
     }
     Ok(())
 }
@@ -136,6 +140,11 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
         point_b: [f64::NAN; 3],
         normal: [f64::NAN; 3],
     };
+    // A mesh read exactly, apart from the other shape: its tree of spheres against the other
+    // (a mesh, a box, a sphere or a capsule), exact and fast.
+    if let Some(found) = mesh_distance(model, ws, k, a, b) {
+        return found;
+    }
     // The distance first (exact, the triangle trees pruned by it), with the triangles it was
     // measured between; then the witness points of those two convex pieces. (parry's
     // `closest_points` on a whole triangle mesh can stop at a triangle that is not the closest:
@@ -234,6 +243,71 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
             ..unknown
         },
     }
+}
+
+/// Pair `k` (shapes a, b) by a mesh's tree of spheres ([`crate::spheres`]) when one of them is
+/// an exact mesh, the other a mesh, box, sphere or capsule, and they do not intersect; None
+/// otherwise (the engine answers).
+fn mesh_distance(
+    model: &CollisionModel,
+    ws: &CollisionWorkspace,
+    k: usize,
+    a: usize,
+    b: usize,
+) -> Option<PairDistance> {
+    use crate::spheres::{closest, Other};
+    let (oa, ob) = (&model.objects[a], &model.objects[b]);
+    // The mesh side first.
+    let (m, o, swapped) = match (&oa.tree, &ob.tree) {
+        (Some(_), _) => (a, b, false),
+        (None, Some(_)) => (b, a, true),
+        _ => return None,
+    };
+    let (om, oo) = (&model.objects[m], &model.objects[o]);
+    let tree = om.tree.as_deref()?;
+    // The other shape's pose in the mesh's frame.
+    let rel = ws.world[m].inverse_compose(&ws.world[o]);
+    let (rot, p) = (*rel.rotation(), *rel.translation());
+    let na = |v: parry3d_f64::math::Vector| nalgebra::Vector3::new(v.x, v.y, v.z);
+    let other = if let Some(t) = oo.tree.as_deref() {
+        Other::Mesh(t, rot, p)
+    } else if let Some(c) = oo.shape.as_cuboid() {
+        Other::Box(na(c.half_extents), rot, p)
+    } else if let Some(ball) = oo.shape.as_ball() {
+        Other::Swept(p, p, ball.radius)
+    } else if let Some(c) = oo.shape.as_capsule() {
+        Other::Swept(
+            rot * na(c.segment.a) + p,
+            rot * na(c.segment.b) + p,
+            c.radius,
+        )
+    } else {
+        return None;
+    };
+    let hit = query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
+        .map(|r| r.intersecting)
+        .unwrap_or(true);
+    if hit {
+        return None;
+    }
+    let (on_mesh, on_other, d) = closest(tree, &other);
+    let world = &ws.world[m];
+    let to_world = |v: nalgebra::Vector3<f64>| world.rotation() * v + world.translation();
+    let (pm, po) = (to_world(on_mesh), to_world(on_other));
+    let (p1, p2) = if swapped { (po, pm) } else { (pm, po) };
+    let gap = p2 - p1;
+    let len = gap.norm();
+    Some(PairDistance {
+        pair: k,
+        distance: d,
+        point_a: [p1.x, p1.y, p1.z],
+        point_b: [p2.x, p2.y, p2.z],
+        normal: if len > 0.0 {
+            [gap.x / len, gap.y / len, gap.z / len]
+        } else {
+            [f64::NAN; 3]
+        },
+    })
 }
 
 /// The closest points (on the primitive, on the triangle), world frame, of a box, sphere or
