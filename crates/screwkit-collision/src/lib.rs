@@ -24,9 +24,9 @@
 
 pub mod acm;
 pub mod convert;
+mod mesh_distance;
 pub mod model;
 pub mod query;
-mod spheres;
 mod triangles;
 
 pub use model::{Attach, CollisionError, CollisionModel, MeshMode, Object, Options};

@@ -29,11 +29,13 @@ use crate::convert;
 
 /// The meshes read so far, by file and scale: the engine's shape and, read exactly, the tree
 /// of bounding spheres.
-type Meshes =
-    HashMap<(std::path::PathBuf, [u64; 3]), (SharedShape, Option<Arc<crate::spheres::SphereTree>>)>;
+type Meshes = HashMap<
+    (std::path::PathBuf, [u64; 3]),
+    (SharedShape, Option<Arc<crate::mesh_distance::BoxTree>>),
+>;
 
 /// The tree of a mesh read before (by file and scale).
-fn tree_of(shape: &Shape, meshes: &Meshes) -> Option<Arc<crate::spheres::SphereTree>> {
+fn tree_of(shape: &Shape, meshes: &Meshes) -> Option<Arc<crate::mesh_distance::BoxTree>> {
     match shape {
         Shape::Mesh { path, scale, .. } => meshes
             .get(&(path.clone(), scale.map(f64::to_bits)))
@@ -89,8 +91,8 @@ pub struct Object {
     pub shape: SharedShape,
     /// `box`, `cylinder`, `sphere`, `capsule`, `mesh` or `convex`.
     pub kind: &'static str,
-    /// An exact mesh's tree of bounding spheres (its distances: [`crate::spheres`]).
-    pub(crate) tree: Option<Arc<crate::spheres::SphereTree>>,
+    /// An exact mesh's tree of bounding boxes (its distances: [`crate::mesh_distance`]).
+    pub(crate) tree: Option<Arc<crate::mesh_distance::BoxTree>>,
 }
 
 impl std::fmt::Debug for Object {
@@ -199,7 +201,7 @@ fn engine_shape(
                     let p = mesh.vertices[i as usize];
                     nalgebra::Vector3::new(p[0], p[1], p[2])
                 };
-                Arc::new(crate::spheres::SphereTree::new(
+                Arc::new(crate::mesh_distance::BoxTree::new(
                     mesh.triangles.iter().map(|t| t.map(v)).collect(),
                 ))
             });

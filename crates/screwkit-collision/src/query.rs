@@ -140,7 +140,7 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
         point_b: [f64::NAN; 3],
         normal: [f64::NAN; 3],
     };
-    // A mesh read exactly, apart from the other shape: its tree of spheres against the other
+    // A mesh read exactly, apart from the other shape: its tree of boxes against the other
     // (a mesh, a box, a sphere or a capsule), exact and fast.
     if let Some(found) = mesh_distance(model, ws, k, a, b) {
         return found;
@@ -245,7 +245,7 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
     }
 }
 
-/// Pair `k` (shapes a, b) by a mesh's tree of spheres ([`crate::spheres`]) when one of them is
+/// Pair `k` (shapes a, b) by a mesh's tree of boxes ([`crate::mesh_distance`]) when one of them is
 /// an exact mesh, the other a mesh, box, sphere or capsule, and they do not intersect; None
 /// otherwise (the engine answers).
 fn mesh_distance(
@@ -255,7 +255,7 @@ fn mesh_distance(
     a: usize,
     b: usize,
 ) -> Option<PairDistance> {
-    use crate::spheres::{closest, Other};
+    use crate::mesh_distance::{closest, Other};
     let (oa, ob) = (&model.objects[a], &model.objects[b]);
     // The mesh side first.
     let (m, o, swapped) = match (&oa.tree, &ob.tree) {

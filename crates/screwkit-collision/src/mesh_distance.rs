@@ -33,7 +33,7 @@ struct Node {
 
 /// A mesh's tree of bounding boxes (in the mesh's frame).
 #[derive(Debug, Clone)]
-pub struct SphereTree {
+pub struct BoxTree {
     nodes: Vec<Node>,
     triangles: Vec<[V; 3]>,
 }
@@ -50,12 +50,12 @@ fn bound(tris: &[[V; 3]]) -> (V, V) {
     ((lo + hi) / 2.0, (hi - lo) / 2.0)
 }
 
-impl SphereTree {
+impl BoxTree {
     /// The tree of a mesh's triangles (vertices in the mesh's frame).
-    pub fn new(mut triangles: Vec<[V; 3]>) -> SphereTree {
+    pub fn new(mut triangles: Vec<[V; 3]>) -> BoxTree {
         let mut nodes = Vec::with_capacity(2 * triangles.len() / LEAF + 1);
         build(&mut nodes, &mut triangles, 0);
-        SphereTree { nodes, triangles }
+        BoxTree { nodes, triangles }
     }
 }
 
@@ -96,7 +96,7 @@ fn build(nodes: &mut Vec<Node>, tris: &mut [[V; 3]], offset: usize) -> u32 {
 pub enum Other<'a> {
     /// Another mesh's tree, at the relative pose (rotation, translation) of its frame in the
     /// first mesh's.
-    Mesh(&'a SphereTree, Matrix3<f64>, V),
+    Mesh(&'a BoxTree, Matrix3<f64>, V),
     /// A box of half extents `h` at the relative pose (rotation, translation) of its frame in
     /// the mesh's.
     Box(V, Matrix3<f64>, V),
@@ -126,7 +126,7 @@ fn push_nearer_last(stack: &mut Vec<Pending>, x: Pending, y: Pending, best: f64)
 
 /// The closest points (on the mesh, on the other shape), in the mesh's frame, of a mesh and a
 /// shape that do not intersect, and their distance.
-pub fn closest(tree: &SphereTree, other: &Other<'_>) -> (V, V, f64) {
+pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
     let mut best = (V::zeros(), V::zeros(), f64::INFINITY);
     let mut stack: Vec<Pending> = Vec::with_capacity(64);
     // A box of the other side in the mesh's frame: centre R c + p, half extents |R| h (the box
@@ -275,8 +275,8 @@ mod tests {
             let rot =
                 nalgebra::Rotation3::from_euler_angles(0.3 * case as f64, -0.2, 0.7).into_inner();
             let p = V::new(0.1, -0.2, 0.05 * case as f64);
-            let ta = SphereTree::new(a.clone());
-            let tb = SphereTree::new(b.clone());
+            let ta = BoxTree::new(a.clone());
+            let tb = BoxTree::new(b.clone());
             let (x, y, d) = closest(&ta, &Other::Mesh(&tb, rot, p));
             let mut brute = f64::INFINITY;
             for s in &a {
