@@ -57,74 +57,79 @@ def main() -> None:
     args = ap.parse_args()
     print(screwkit.host())
     for name, (urdf, srdf) in CASES.items():
-        robot = screwkit.Robot.from_urdf(ROBOTS / urdf, package_paths=[SHARE])
-        robot.srdf(ROBOTS / srdf)
-        model, cmodel, _ = pin.buildModelsFromUrdf(str(ROBOTS / urdf), package_dirs=[str(SHARE)])
-        cmodel.addAllCollisionPairs()
-        pin.removeCollisionPairs(model, cmodel, str(ROBOTS / srdf))
-        data, cdata = model.createData(), pin.GeometryData(cmodel)
-        mimic = {j["name"]: j["mimic"] for j in robot.info()["joints"] if j["mimic"]}
-        names = robot.q_names
+        run(name, urdf, srdf, args.rounds, args.configs)
 
-        def pin_q(ours: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
-            q = np.zeros(model.nq)
-            for j in range(1, model.njoints):
-                n = model.names[j]
-                if n in names:
-                    q[model.joints[j].idx_q] = ours[names.index(n)]
-                else:
-                    m = mimic[n]
-                    q[model.joints[j].idx_q] = (
-                        m["multiplier"] * ours[names.index(m["leader"])] + m["offset"]
-                    )
-            return q
 
-        rng = np.random.default_rng(0)
-        lo, hi = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
-        ours_q = [rng.uniform(lo, hi) for _ in range(args.configs)]
-        theirs_q = [pin_q(q) for q in ours_q]
-        best = dict.fromkeys(["ours_col", "coal_col", "ours_dist", "coal_dist"], np.inf)
-        for _ in range(args.rounds):
-            best["ours_col"] = min(best["ours_col"], per_call(robot.in_collision, ours_q))
-            best["coal_col"] = min(
-                best["coal_col"],
-                per_call(lambda q: pin.computeCollisions(model, data, cmodel, cdata, q, True), theirs_q),
-            )
-            best["ours_dist"] = min(best["ours_dist"], per_call(robot.distances, ours_q))
-            best["coal_dist"] = min(
-                best["coal_dist"],
-                per_call(lambda q: pin.computeDistances(model, data, cmodel, cdata, q), theirs_q),
-            )
-        colliding = sum(bool(robot.in_collision(q)) for q in ours_q)
-        print(
-            f"{name}: {len(robot.collision_pairs)} pairs (coal {len(cmodel.collisionPairs)}), "
-            f"{colliding}/{len(ours_q)} configurations in collision"
+def run(name: str, urdf: str, srdf: str, rounds: int, configs: int) -> None:
+    """One robot's figures."""
+    robot = screwkit.Robot.from_urdf(ROBOTS / urdf, package_paths=[SHARE])
+    robot.srdf(ROBOTS / srdf)
+    model, cmodel, _ = pin.buildModelsFromUrdf(str(ROBOTS / urdf), package_dirs=[str(SHARE)])
+    cmodel.addAllCollisionPairs()
+    pin.removeCollisionPairs(model, cmodel, str(ROBOTS / srdf))
+    data, cdata = model.createData(), pin.GeometryData(cmodel)
+    mimic = {j["name"]: j["mimic"] for j in robot.info()["joints"] if j["mimic"]}
+    names = robot.q_names
+
+    def pin_q(ours: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        q = np.zeros(model.nq)
+        for j in range(1, model.njoints):
+            n = model.names[j]
+            if n in names:
+                q[model.joints[j].idx_q] = ours[names.index(n)]
+            else:
+                m = mimic[n]
+                q[model.joints[j].idx_q] = (
+                    m["multiplier"] * ours[names.index(m["leader"])] + m["offset"]
+                )
+        return q
+
+    rng = np.random.default_rng(0)
+    lo, hi = np.maximum(robot.lower, -np.pi), np.minimum(robot.upper, np.pi)
+    ours_q = [rng.uniform(lo, hi) for _ in range(configs)]
+    theirs_q = [pin_q(q) for q in ours_q]
+    best = dict.fromkeys(["ours_col", "coal_col", "ours_dist", "coal_dist"], np.inf)
+    for _ in range(rounds):
+        best["ours_col"] = min(best["ours_col"], per_call(robot.in_collision, ours_q))
+        best["coal_col"] = min(
+            best["coal_col"],
+            per_call(
+                lambda q: pin.computeCollisions(model, data, cmodel, cdata, q, True), theirs_q
+            ),
         )
-        print(
-            f"  collision check  ours {best['ours_col'] * 1e6:8.1f} µs   coal {best['coal_col'] * 1e6:8.1f} µs"
-            f"   coal/ours {best['coal_col'] / best['ours_col']:.2f}x"
+        best["ours_dist"] = min(best["ours_dist"], per_call(robot.distances, ours_q))
+        best["coal_dist"] = min(
+            best["coal_dist"],
+            per_call(lambda q: pin.computeDistances(model, data, cmodel, cdata, q), theirs_q),
         )
+    colliding = sum(bool(robot.in_collision(q)) for q in ours_q)
+    print(
+        f"{name}: {len(robot.collision_pairs)} pairs (coal {len(cmodel.collisionPairs)}), "
+        f"{colliding}/{len(ours_q)} configurations in collision"
+    )
+    for label, key in (("collision check", "col"), ("distances      ", "dist")):
+        ours, coal = best[f"ours_{key}"], best[f"coal_{key}"]
         print(
-            f"  distances        ours {best['ours_dist'] * 1e6:8.1f} µs   coal {best['coal_dist'] * 1e6:8.1f} µs"
-            f"   coal/ours {best['coal_dist'] / best['ours_dist']:.2f}x"
+            f"  {label}  ours {ours * 1e6:8.1f} µs   coal {coal * 1e6:8.1f} µs"
+            f"   coal/ours {coal / ours:.2f}x"
         )
-        qs = np.stack(ours_q * 10)
-        threads = screwkit.num_threads()
-        t_many = t_one = np.inf
-        for _ in range(args.rounds):
-            screwkit.set_num_threads(threads)
-            t0 = time.perf_counter()
-            robot.min_distance(qs)
-            t_many = min(t_many, (time.perf_counter() - t0) / len(qs))
-            screwkit.set_num_threads(1)
-            t0 = time.perf_counter()
-            robot.min_distance(qs)
-            t_one = min(t_one, (time.perf_counter() - t0) / len(qs))
+    qs = np.stack(ours_q * 10)
+    threads = screwkit.num_threads()
+    t_many = t_one = np.inf
+    for _ in range(rounds):
         screwkit.set_num_threads(threads)
-        print(
-            f"  batch min_distance, per row: {threads} threads {t_many * 1e6:.1f} µs, 1 thread "
-            f"{t_one * 1e6:.1f} µs ({t_one / t_many:.2f}x)"
-        )
+        t0 = time.perf_counter()
+        robot.min_distance(qs)
+        t_many = min(t_many, (time.perf_counter() - t0) / len(qs))
+        screwkit.set_num_threads(1)
+        t0 = time.perf_counter()
+        robot.min_distance(qs)
+        t_one = min(t_one, (time.perf_counter() - t0) / len(qs))
+    screwkit.set_num_threads(threads)
+    print(
+        f"  batch min_distance, per row: {threads} threads {t_many * 1e6:.1f} µs, 1 thread "
+        f"{t_one * 1e6:.1f} µs ({t_one / t_many:.2f}x)"
+    )
 
 
 if __name__ == "__main__":

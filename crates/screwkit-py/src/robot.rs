@@ -1226,8 +1226,8 @@ impl Robot {
         }
     }
 
-    /// The colliding pairs at q, by link (or obstacle) name: [(a, b), …]; (N, n) → a list of
-    /// N such lists.
+    /// The colliding pairs at q, by link (or obstacle) name, each once: [(a, b), …]; (N, n) →
+    /// a list of N such lists.
     fn collisions<'py>(
         &self,
         py: Python<'py>,
@@ -1239,13 +1239,7 @@ impl Robot {
         let mut one = |q: &[f64]| -> PyResult<Vec<(String, String)>> {
             screwkit_collision::collisions(&model, &mut ws, &kin, q, &mut hits)
                 .map_err(|e| service_error(e.into()))?;
-            Ok(hits
-                .iter()
-                .map(|&k| {
-                    let (a, b) = model.pair_names(k);
-                    (a.to_string(), b.to_string())
-                })
-                .collect())
+            Ok(screwkit_service::body::colliding_links(&model, &hits))
         };
         match self.body_rows(&kin, q)? {
             (Rows::One, q) => Ok(one(&q)?.into_pyobject(py)?.into_any()),

@@ -85,6 +85,20 @@ pub fn tree_q<'a>(robot: &Robot, kin: &TreeKinematics, q: &'a [f64]) -> Result<C
     ))
 }
 
+/// The link (or obstacle) pairs of colliding shape pairs `hits` (indices into the model's
+/// pairs), each once, in the model's pair order: what "which pairs collide" answers (a link
+/// with several shapes can touch another with more than one).
+pub fn colliding_links(model: &CollisionModel, hits: &[usize]) -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = Vec::with_capacity(hits.len());
+    for &k in hits {
+        let (a, b) = model.pair_names(k);
+        if !out.iter().any(|(x, y)| x == a && y == b) {
+            out.push((a.to_string(), b.to_string()));
+        }
+    }
+    out
+}
+
 /// One pair's signed distance in a report.
 #[derive(Debug, Clone, Serialize)]
 pub struct PairReport {
@@ -120,7 +134,7 @@ pub struct CollideReport {
     pub q: Vec<f64>,
     /// True when some checked pair collides.
     pub in_collision: bool,
-    /// The colliding pairs, by link (or obstacle) name.
+    /// The colliding pairs, by link (or obstacle) name, each once ([`colliding_links`]).
     pub collisions: Vec<[String; 2]>,
     /// The closest pair (null for a robot without pairs).
     pub min_distance: Option<PairReport>,
