@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, JacobianFrame, Method, OrientationMode, RepresentativesChoice, SolverChoice, TableFrames,
-    View, Views, Word,
+    self, JacobianFrame, Meshes, Method, OrientationMode, RepresentativesChoice, SolverChoice,
+    TableFrames, View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
 
@@ -89,6 +89,50 @@ pub enum Command {
     /// A reachability map: voxels x orientations solved by IK, written as .npz (`reach merge`
     /// joins shards).
     Reach(Box<ReachArgs>),
+    /// The robot's body at q: in collision or not, the colliding link pairs, the closest pair
+    /// (its signed distance, witness points and normal), from the file's <collision> shapes.
+    Collide(CollideArgs),
+    /// Generate the allowed-collision matrix as MoveIt's setup assistant does and write it as
+    /// SRDF (adjacent links, pairs colliding at the default pose or almost always).
+    Srdf(SrdfArgs),
+}
+
+/// `collide`.
+#[derive(Debug, Args)]
+pub struct CollideArgs {
+    /// The robot.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// The configurations (the whole tree's q, or the chain's joint values; with --input
+    /// FILE.npy and --output FILE.npy: each row's smallest signed distance, (N,)).
+    #[command(flatten)]
+    pub at: Configurations,
+    /// An SRDF whose disable_collisions pairs are not checked.
+    #[arg(long)]
+    pub srdf: Option<PathBuf>,
+    /// How meshes are read: exact (their triangles) or convex (their hulls).
+    #[arg(long, value_parser = word::<Meshes>(), default_value_t = Meshes::Exact)]
+    pub meshes: Meshes,
+}
+
+/// `srdf`.
+#[derive(Debug, Args)]
+pub struct SrdfArgs {
+    /// The robot.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// Where to write the SRDF (- or nothing: standard output).
+    #[arg(short, long, default_value = "-")]
+    pub output: String,
+    /// Random configurations sampled.
+    #[arg(long, default_value_t = 10_000)]
+    pub samples: usize,
+    /// The sampling seed (the same seed, the same file).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Also disable the pairs that never collided in the samples (flagged "Never").
+    #[arg(long)]
+    pub never: bool,
 }
 
 /// `reach`: build a map (or a shard of one), or `reach merge` shards.

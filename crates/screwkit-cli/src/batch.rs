@@ -286,7 +286,7 @@ pub fn poses_q_rows(
 }
 
 /// The `{"q": [...]}` lines checked by `check`, as rows of `width` values.
-fn q_rows_checked(
+pub fn q_rows_checked(
     lines: &[Line],
     width: usize,
     check: impl Fn(&[f64]) -> Result<(), SolveError> + Sync,

@@ -10,6 +10,7 @@ mod args;
 mod batch;
 mod bench;
 mod calc;
+mod collide;
 mod draw;
 mod fk;
 mod ik;
@@ -57,11 +58,15 @@ fn run(cli: &Cli) -> CliResult {
     if cli.format != Format::Text
         && matches!(
             cli.command,
-            Command::Draw(_) | Command::View(_) | Command::Xacro(_) | Command::Urdf(_)
+            Command::Draw(_)
+                | Command::View(_)
+                | Command::Xacro(_)
+                | Command::Urdf(_)
+                | Command::Srdf(_)
         )
     {
         return Err(Failure(
-            "--format does not apply to `draw`, `view`, `xacro` and `urdf` (they write SVG, HTML or URDF)"
+            "--format does not apply to `draw`, `view`, `xacro`, `urdf` and `srdf` (they write SVG, HTML, URDF or SRDF)"
                 .into(),
         ));
     }
@@ -69,6 +74,7 @@ fn run(cli: &Cli) -> CliResult {
         Command::Fk(a) => Some((&a.chain, &a.at.input)),
         Command::Jacobian(a) => Some((&a.chain, &a.at.input)),
         Command::Ik(a) => Some((&a.chain, &a.input)),
+        Command::Collide(a) => Some((&a.chain, &a.at.input)),
         _ => None,
     };
     if let Some((c, Some(input))) = batch_from_stdin {
@@ -91,6 +97,8 @@ fn run(cli: &Cli) -> CliResult {
         Command::Log(a) => calc::log(a, cli.format),
         Command::Bench(a) => bench::run(a, cli.format),
         Command::Reach(a) => reach::run(a, cli.format),
+        Command::Collide(a) => collide::run(a, cli.format),
+        Command::Srdf(a) => collide::srdf(a),
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {

@@ -390,7 +390,9 @@ pub fn min_distance(
         .sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
     let mut best: Option<PairDistance> = None;
     for &(bound, k) in &ws.order {
-        if best.is_some_and(|b| bound > b.distance) {
+        // Overlapping boxes (bound 0) can hide any penetration depth: a negative best stops
+        // nothing until the boxes part.
+        if best.is_some_and(|b| bound > b.distance.max(0.0)) {
             break;
         }
         let d = pair_distance(model, ws, k as usize);

@@ -390,3 +390,34 @@ fn problems_are_named() {
         .is_none());
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// `min_distance` is the minimum over `distances` (the same pair, the same bits), on the bundled
+/// humanoid's primitives at random configurations, most of them with several overlapping pairs
+/// (the branch and bound must not stop at the first penetration it meets).
+#[test]
+fn min_distance_is_the_minimum_of_distances() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/urdf/humanoid.urdf");
+    let tree = screwkit_model::load_tree(&path, &XacroOptions::default()).unwrap();
+    let kin = TreeKinematics::new(&KinematicTree::from_tree(&tree).unwrap()).unwrap();
+    let model = CollisionModel::new(&kin, Options::default()).unwrap();
+    let mut ws = CollisionWorkspace::new(&kin, &model);
+    let mut rng = screwkit_solve::sample::SplitMix64(0xB0D1_0001);
+    let mut out = Vec::new();
+    let mut overlapping = 0;
+    for _ in 0..200 {
+        let q = screwkit_solve::tree::configuration::random(&kin, &mut rng);
+        distances(&model, &mut ws, &kin, &q, &mut out).unwrap();
+        let best = out
+            .iter()
+            .min_by(|a, b| a.distance.total_cmp(&b.distance).then(a.pair.cmp(&b.pair)))
+            .unwrap();
+        let m = min_distance(&model, &mut ws, &kin, &q).unwrap().unwrap();
+        assert_eq!(
+            (m.pair, m.distance.to_bits()),
+            (best.pair, best.distance.to_bits())
+        );
+        overlapping += usize::from(out.iter().filter(|d| d.distance < 0.0).count() > 1);
+    }
+    assert!(overlapping > 50, "{overlapping}");
+}

@@ -237,3 +237,40 @@ def test_info_is_the_clis_report(name: str, tip: str | None) -> None:
         chain = got["default_chain"]
         assert chain["tip"] == robot.tip and chain["dof"] == robot.dof
         assert [v["name"] for v in got["variables"]] == robot.variable_names
+
+
+def test_collide_and_srdf_are_the_same_from_the_cli_and_python(tmp_path: Path) -> None:
+    """`screwkit srdf` writes what `Robot.write_srdf` returns, and `screwkit collide` with that
+    SRDF answers as `Robot.collisions`, `min_distance` and `distances` do with it, on the
+    bundled humanoid's primitives (its hip shapes overlap in every pose: the SRDF disables
+    them)."""
+    path = ASSETS / "humanoid.urdf"
+    robot = screwkit.Robot.from_urdf(path)
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    srdf = tmp_path / "humanoid.srdf"
+    subprocess.run(
+        [exe, "srdf", str(path), "--samples", "300", "--seed", "3", "-o", str(srdf)], check=True
+    )
+    assert srdf.read_text() == robot.write_srdf(samples=300, seed=3)
+    assert 'reason="Always"' in srdf.read_text()
+    robot.srdf(srdf)
+    rng = np.random.default_rng(11)
+    lo, hi = np.maximum(robot.lower, -2.0), np.minimum(robot.upper, 2.0)
+    seen = set()
+    for _ in range(16):
+        q = rng.uniform(lo, hi)
+        got = cli(
+            "collide", str(path), "--srdf", str(srdf), "--q", ",".join(repr(float(x)) for x in q)
+        )
+        seen.add(got["in_collision"])
+        assert got["in_collision"] == robot.in_collision(q)
+        assert [tuple(p) for p in got["collisions"]] == robot.collisions(q)
+        assert got["pairs"] == len(robot.collision_pairs)
+        assert got["min_distance"]["distance"] == robot.min_distance(q)
+        d = robot.distances(q)
+        k = int(np.argmin(d.distance))
+        assert tuple(got["min_distance"]["pair"]) == d.pairs[k]
+        np.testing.assert_array_equal(got["min_distance"]["points"], d.points[k])
+    assert seen == {True, False}, "the configurations collide and do not"

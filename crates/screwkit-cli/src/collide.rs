@@ -1,0 +1,148 @@
+//! `screwkit collide` (the robot's body at q: the floor's `body` module around
+//! `screwkit_collision`) and `screwkit srdf` (the allowed-collision matrix, generated).
+
+use screwkit_collision::{CollisionModel, CollisionWorkspace};
+use screwkit_service::body::{self, CollideReport, PairReport};
+use screwkit_service::query::Space;
+use screwkit_service::{report, Robot};
+use screwkit_solve::{SolveError, TreeKinematics};
+
+use crate::args::{CollideArgs, Format, SrdfArgs};
+use crate::batch;
+use crate::output::{print_json, tuple, CliResult};
+
+/// One configuration's report (q: the whole tree's, or the chain's joint values).
+fn report_of(
+    robot: &Robot,
+    kin: &TreeKinematics,
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    q: &[f64],
+) -> Result<CollideReport, screwkit_service::Error> {
+    let full = body::tree_q(robot, kin, q)?;
+    let mut hits = Vec::new();
+    screwkit_collision::collisions(model, ws, kin, &full, &mut hits)?;
+    let closest = screwkit_collision::min_distance(model, ws, kin, &full)?;
+    Ok(CollideReport {
+        q: full.to_vec(),
+        in_collision: !hits.is_empty(),
+        collisions: body::colliding_links(model, &hits)
+            .into_iter()
+            .map(|(a, b)| [a, b])
+            .collect(),
+        min_distance: closest.map(|d| PairReport::new(model, &d)),
+        pairs: model.pair_count(),
+    })
+}
+
+/// Runs `collide`.
+pub fn run(args: &CollideArgs, format: Format) -> CliResult {
+    let robot = crate::load(&args.chain)?;
+    let kin = robot.whole()?;
+    let model = body::model(kin, args.meshes, args.srdf.as_deref())?;
+    let width = Space::of(&robot, Some(kin))?.q_len();
+    if let Some(input) = &args.at.input {
+        if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {
+            // Each row's smallest signed distance.
+            return crate::npy::run(input, output, width, "q", &[], |qs, _, out| {
+                let mut rows = Vec::with_capacity(qs.len() / width.max(1) * kin.nq());
+                for q in qs.chunks(width.max(1)) {
+                    let full = body::tree_q(&robot, kin, q)
+                        .map_err(|e| SolveError::InvalidInput(e.to_string()))?;
+                    rows.extend_from_slice(&full);
+                }
+                screwkit_collision::min_distance_batch(&model, kin, &rows, out).map_err(|e| match e
+                {
+                    screwkit_collision::CollisionError::Solve(s) => s,
+                    e => SolveError::InvalidInput(e.to_string()),
+                })
+            });
+        }
+        return batch::stream(input, |lines, _| {
+            let (qs, errors) = batch::q_rows_checked(lines, width, |q| {
+                if q.len() != width {
+                    Err(SolveError::InvalidInput(format!(
+                        "q: expected {width} values, got {}",
+                        q.len()
+                    )))
+                } else if q.iter().all(|x| x.is_finite()) {
+                    Ok(())
+                } else {
+                    Err(SolveError::InvalidInput("q has non-finite values".into()))
+                }
+            });
+            Ok(batch::outputs(lines, &errors, |k| {
+                let mut ws = CollisionWorkspace::new(kin, &model);
+                match report_of(
+                    &robot,
+                    kin,
+                    &model,
+                    &mut ws,
+                    &qs[k * width..(k + 1) * width],
+                ) {
+                    Ok(r) => (report::to_value(&r), true),
+                    Err(e) => (
+                        serde_json::json!({"error": e.to_string(), "line": lines[k].number}),
+                        false,
+                    ),
+                }
+            }))
+        });
+    }
+    let q = &args
+        .at
+        .q
+        .as_ref()
+        .expect("clap requires --q without --input")
+        .0;
+    let mut ws = CollisionWorkspace::new(kin, &model);
+    let r = report_of(&robot, kin, &model, &mut ws, q)?;
+    if format == Format::Json {
+        print_json(&report::to_value(&r))?;
+        return Ok(());
+    }
+    let mut s = format!(
+        "The body of `{}` at q = {}: {} pairs checked\n",
+        robot.tree().name,
+        tuple(&r.q),
+        r.pairs
+    );
+    if r.in_collision {
+        s.push_str("in collision:");
+        for [a, b] in &r.collisions {
+            s.push_str(&format!(" {a}–{b}"));
+        }
+        s.push('\n');
+    } else {
+        s.push_str("not in collision\n");
+    }
+    match &r.min_distance {
+        Some(p) => s.push_str(&format!(
+            "closest pair: {}–{}, signed distance {:.6} m, points {} and {}\n",
+            p.pair[0],
+            p.pair[1],
+            p.distance,
+            tuple(&p.points[0]),
+            tuple(&p.points[1])
+        )),
+        None => s.push_str("no pair to check (no collision shapes, or all disabled)\n"),
+    }
+    crate::output::emit(&s)?;
+    Ok(())
+}
+
+/// Runs `srdf`.
+pub fn srdf(args: &SrdfArgs) -> CliResult {
+    let robot = crate::load(&args.chain)?;
+    let kin = robot.whole()?;
+    let g = screwkit_collision::acm::Generate {
+        samples: args.samples,
+        seed: args.seed,
+        never: args.never,
+        ..Default::default()
+    };
+    let pairs = screwkit_collision::acm::generate(kin, screwkit_collision::MeshMode::Exact, &g)
+        .map_err(screwkit_service::Error::from)?;
+    let text = screwkit_model::srdf::write(&robot.tree().name, &pairs);
+    crate::draw::write_out(&args.output, &text)
+}
