@@ -112,6 +112,20 @@ pub fn run(args: &InfoArgs, format: Format) -> CliResult {
         ));
     }
     s.push_str(&format!("\nLeaves: {}\n", info.leaves.join(", ")));
+    if !info.geometry.is_empty() || !info.geometry_problems.is_empty() {
+        let count = |role: &str| info.geometry.iter().filter(|g| g.role == role).count();
+        let meshes = info.geometry.iter().filter(|g| g.mesh.is_some()).count();
+        s.push_str(&format!(
+            "Geometry: {} collision and {} visual shapes ({meshes} meshes){}\n",
+            count("collision"),
+            count("visual"),
+            if info.geometry_problems.is_empty() {
+                String::new()
+            } else {
+                format!("; not read: {}", info.geometry_problems.join("; "))
+            }
+        ));
+    }
     match (&info.default_chain, &info.chain_error) {
         (Some(c), _) => s.push_str(&format!(
             "{}: {} → {} ({} DoF: {})\nIK family: {}\n",

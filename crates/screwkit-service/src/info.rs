@@ -159,6 +159,20 @@ pub struct FrameInfo {
     pub home: [f64; 16],
 }
 
+/// A shape of a link (`<collision>` or `<visual>`).
+#[derive(Debug, Clone, Serialize)]
+pub struct ShapeInfo {
+    /// The link it is fixed to.
+    pub link: String,
+    /// `collision` or `visual`.
+    pub role: &'static str,
+    /// `box`, `cylinder`, `sphere`, `capsule` or `mesh`.
+    pub shape: &'static str,
+    /// A mesh's file name as written.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mesh: Option<String>,
+}
+
 /// The default (or chosen) chain.
 #[derive(Debug, Clone, Serialize)]
 pub struct ChainInfo {
@@ -199,6 +213,10 @@ pub struct InfoReport {
     pub whole_tree_error: Option<String>,
     /// The chain asked for, or the default one (null when there is none).
     pub default_chain: Option<ChainInfo>,
+    /// Every link's shapes, in the file's order.
+    pub geometry: Vec<ShapeInfo>,
+    /// The geometry elements that could not be read, one sentence each naming the link.
+    pub geometry_problems: Vec<String>,
     /// Why there is no default chain (for text).
     #[serde(skip)]
     pub chain_error: Option<String>,
@@ -301,6 +319,20 @@ impl InfoReport {
             frames,
             whole_tree_error: whole.as_ref().err().map(|e| e.kind.to_string()),
             default_chain,
+            geometry: tree
+                .geometries
+                .iter()
+                .map(|g| ShapeInfo {
+                    link: tree.links[g.link].clone(),
+                    role: g.role.word(),
+                    shape: g.shape.word(),
+                    mesh: match &g.shape {
+                        screwkit_model::geometry::Shape::Mesh { uri, .. } => Some(uri.clone()),
+                        _ => None,
+                    },
+                })
+                .collect(),
+            geometry_problems: tree.geometry_problems.clone(),
             chain_error: chain.err().map(|e| e.kind.to_string()),
             chosen,
         })
