@@ -61,6 +61,31 @@ pub struct PairDistance {
     pub normal: [f64; 3],
 }
 
+impl PairDistance {
+    /// Pair `pair` separated by `distance`, its witness points `a` and `b` (world frame), the
+    /// normal their difference made unit (NaN when they coincide).
+    fn witnessed(
+        pair: usize,
+        distance: f64,
+        a: nalgebra::Vector3<f64>,
+        b: nalgebra::Vector3<f64>,
+    ) -> PairDistance {
+        let gap = b - a;
+        let len = gap.norm();
+        PairDistance {
+            pair,
+            distance,
+            point_a: [a.x, a.y, a.z],
+            point_b: [b.x, b.y, b.z],
+            normal: if len > 0.0 {
+                [gap.x / len, gap.y / len, gap.z / len]
+            } else {
+                [f64::NAN; 3]
+            },
+        }
+    }
+}
+
 /// Places every shape at q: world poses and bounding boxes. Checks q.
 fn place(
     model: &CollisionModel,
@@ -165,21 +190,9 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
                 &corners(pa, ma.triangle(found.subshape1)),
                 &corners(pb, mb.triangle(found.subshape2)),
             );
-            let d = p2 - p1;
-            let len = d.norm();
-            return PairDistance {
-                pair: k,
-                // The exact separation of the two triangles (the engine's is within GJK's
-                // tolerance of it).
-                distance: len,
-                point_a: [p1.x, p1.y, p1.z],
-                point_b: [p2.x, p2.y, p2.z],
-                normal: if len > 0.0 {
-                    [d.x / len, d.y / len, d.z / len]
-                } else {
-                    [f64::NAN; 3]
-                },
-            };
+            // The exact separation of the two triangles (the engine's is within GJK's tolerance
+            // of it).
+            return PairDistance::witnessed(k, (p2 - p1).norm(), p1, p2);
         }
         // A primitive (box, sphere, capsule) and a triangle: exactly too.
         let exact = match (sa.as_trimesh(), sb.as_trimesh()) {
@@ -189,19 +202,7 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
             _ => None,
         };
         if let Some((p1, p2)) = exact {
-            let d = p2 - p1;
-            let len = d.norm();
-            return PairDistance {
-                pair: k,
-                distance: len,
-                point_a: [p1.x, p1.y, p1.z],
-                point_b: [p2.x, p2.y, p2.z],
-                normal: if len > 0.0 {
-                    [d.x / len, d.y / len, d.z / len]
-                } else {
-                    [f64::NAN; 3]
-                },
-            };
+            return PairDistance::witnessed(k, (p2 - p1).norm(), p1, p2);
         }
         let ta = sa.as_trimesh().map(|m| m.triangle(found.subshape1));
         let tb = sb.as_trimesh().map(|m| m.triangle(found.subshape2));
@@ -210,19 +211,8 @@ fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> P
         if let Ok(query::ClosestPoints::WithinMargin(p1, p2)) =
             query::closest_points(pa, ga, pb, gb, f64::MAX)
         {
-            let d = p2 - p1;
-            let len = d.length();
-            return PairDistance {
-                pair: k,
-                distance: found.distance,
-                point_a: convert::array(p1),
-                point_b: convert::array(p2),
-                normal: if len > 0.0 {
-                    convert::array(d / len)
-                } else {
-                    [f64::NAN; 3]
-                },
-            };
+            let na = |v: parry3d_f64::math::Vector| nalgebra::Vector3::new(v.x, v.y, v.z);
+            return PairDistance::witnessed(k, found.distance, na(p1), na(p2));
         }
         return PairDistance {
             distance: found.distance,
@@ -295,19 +285,7 @@ fn mesh_distance(
     let to_world = |v: nalgebra::Vector3<f64>| world.rotation() * v + world.translation();
     let (pm, po) = (to_world(on_mesh), to_world(on_other));
     let (p1, p2) = if swapped { (po, pm) } else { (pm, po) };
-    let gap = p2 - p1;
-    let len = gap.norm();
-    Some(PairDistance {
-        pair: k,
-        distance: d,
-        point_a: [p1.x, p1.y, p1.z],
-        point_b: [p2.x, p2.y, p2.z],
-        normal: if len > 0.0 {
-            [gap.x / len, gap.y / len, gap.z / len]
-        } else {
-            [f64::NAN; 3]
-        },
-    })
+    Some(PairDistance::witnessed(k, d, p1, p2))
 }
 
 /// The closest points (on the primitive, on the triangle), world frame, of a box, sphere or

@@ -80,30 +80,46 @@ fn point_triangle(p: &V, a: &V, b: &V, c: &V) -> V {
     a + ab * (vb / denom) + ac * (vc / denom)
 }
 
+/// The closest pair of points among the candidates offered.
+struct Best {
+    pair: (V, V),
+    squared: f64,
+}
+
+impl Best {
+    fn new() -> Best {
+        Best {
+            pair: (V::zeros(), V::zeros()),
+            squared: f64::INFINITY,
+        }
+    }
+
+    /// Keeps (p, q) if it is closer than the best so far.
+    fn consider(&mut self, p: V, q: V) {
+        let d = (q - p).norm_squared();
+        if d < self.squared {
+            self.squared = d;
+            self.pair = (p, q);
+        }
+    }
+}
+
 /// The closest points (on the first, on the second) of two triangles that do not intersect.
 pub fn closest(t1: &[V; 3], t2: &[V; 3]) -> (V, V) {
-    let mut best = (t1[0], t2[0]);
-    let mut best_d = f64::INFINITY;
-    let mut consider = |p: V, q: V| {
-        let d = (q - p).norm_squared();
-        if d < best_d {
-            best_d = d;
-            best = (p, q);
-        }
-    };
+    let mut best = Best::new();
     for v in t1 {
-        consider(*v, point_triangle(v, &t2[0], &t2[1], &t2[2]));
+        best.consider(*v, point_triangle(v, &t2[0], &t2[1], &t2[2]));
     }
     for v in t2 {
-        consider(point_triangle(v, &t1[0], &t1[1], &t1[2]), *v);
+        best.consider(point_triangle(v, &t1[0], &t1[1], &t1[2]), *v);
     }
     for i in 0..3 {
         for j in 0..3 {
             let (p, q) = segments(&t1[i], &t1[(i + 1) % 3], &t2[j], &t2[(j + 1) % 3]);
-            consider(p, q);
+            best.consider(p, q);
         }
     }
-    best
+    best.pair
 }
 
 /// The closest points (on the box, on the triangle) of a box of half extents `h` centred at
@@ -112,22 +128,14 @@ pub fn closest(t1: &[V; 3], t2: &[V; 3]) -> (V, V) {
 /// and the closest points of each pair of edges (the features a closest pair of two convex
 /// polytopes can be reduced to).
 pub fn closest_box(h: &V, t: &[V; 3]) -> (V, V) {
-    let mut best = (V::zeros(), t[0]);
-    let mut best_d = f64::INFINITY;
-    let mut consider = |p: V, q: V| {
-        let d = (q - p).norm_squared();
-        if d < best_d {
-            best_d = d;
-            best = (p, q);
-        }
-    };
+    let mut best = Best::new();
     for v in t {
         let p = V::new(
             v.x.clamp(-h.x, h.x),
             v.y.clamp(-h.y, h.y),
             v.z.clamp(-h.z, h.z),
         );
-        consider(p, *v);
+        best.consider(p, *v);
     }
     let corner = |i: usize| {
         V::new(
@@ -138,7 +146,7 @@ pub fn closest_box(h: &V, t: &[V; 3]) -> (V, V) {
     };
     for i in 0..8 {
         let c = corner(i);
-        consider(c, point_triangle(&c, &t[0], &t[1], &t[2]));
+        best.consider(c, point_triangle(&c, &t[0], &t[1], &t[2]));
     }
     for i in 0..8usize {
         for bit in [1, 2, 4] {
@@ -149,34 +157,26 @@ pub fn closest_box(h: &V, t: &[V; 3]) -> (V, V) {
             let (c0, c1) = (corner(i), corner(j));
             for k in 0..3 {
                 let (p, q) = segments(&c0, &c1, &t[k], &t[(k + 1) % 3]);
-                consider(p, q);
+                best.consider(p, q);
             }
         }
     }
-    best
+    best.pair
 }
 
 /// The point of the segment [a, b] and the point of triangle `t` closest to each other, when
 /// they do not intersect: the segment's ends projected on the triangle, and the closest
 /// points of the segment and each edge.
 pub fn closest_segment(a: &V, b: &V, t: &[V; 3]) -> (V, V) {
-    let mut best = (*a, t[0]);
-    let mut best_d = f64::INFINITY;
-    let mut consider = |p: V, q: V| {
-        let d = (q - p).norm_squared();
-        if d < best_d {
-            best_d = d;
-            best = (p, q);
-        }
-    };
+    let mut best = Best::new();
     for e in [a, b] {
-        consider(*e, point_triangle(e, &t[0], &t[1], &t[2]));
+        best.consider(*e, point_triangle(e, &t[0], &t[1], &t[2]));
     }
     for k in 0..3 {
         let (p, q) = segments(a, b, &t[k], &t[(k + 1) % 3]);
-        consider(p, q);
+        best.consider(p, q);
     }
-    best
+    best.pair
 }
 
 #[cfg(test)]
