@@ -51,6 +51,17 @@ pub struct Robot {
     /// The body's collision model, built on the first body query; replaced (copied, changed)
     /// by `srdf`, `add_obstacle` and `remove_obstacle`.
     body: RwLock<Option<Arc<CollisionModel>>>,
+    /// Scratch of single body queries, with the model and tree it was made for.
+    body_ws: Mutex<Option<BodyScratch>>,
+}
+
+/// A collision workspace kept between calls, and the model and tree it was made for (held, so
+/// that a new model or tree, after `srdf`, `add_obstacle` or `add_frame`, is told apart and
+/// makes a new one).
+struct BodyScratch {
+    model: Arc<CollisionModel>,
+    kin: Arc<TreeKinematics>,
+    ws: CollisionWorkspace,
 }
 
 /// A refused target as `ValueError` naming the argument and the reason (a typed
@@ -177,6 +188,7 @@ impl Robot {
             diff_ws: Mutex::new(None),
             analytic: screwkit_service::solutions::Solvers::default(),
             body: RwLock::new(None),
+            body_ws: Mutex::new(None),
         })
     }
 
@@ -367,6 +379,32 @@ impl Robot {
         );
         *self.body.write().expect("the body lock") = Some(m.clone());
         Ok((kin, m))
+    }
+
+    /// Runs `f` with the kept body workspace (a fresh one when another thread holds it, or the
+    /// model or tree changed).
+    fn with_body_ws<T>(
+        &self,
+        kin: &Arc<TreeKinematics>,
+        model: &Arc<CollisionModel>,
+        f: impl FnOnce(&mut CollisionWorkspace) -> T,
+    ) -> T {
+        match self.body_ws.try_lock() {
+            Ok(mut kept) => {
+                let fits = kept
+                    .as_ref()
+                    .is_some_and(|b| Arc::ptr_eq(&b.model, model) && Arc::ptr_eq(&b.kin, kin));
+                if !fits {
+                    *kept = Some(BodyScratch {
+                        model: model.clone(),
+                        kin: kin.clone(),
+                        ws: CollisionWorkspace::new(kin, model),
+                    });
+                }
+                f(&mut kept.as_mut().expect("just made").ws)
+            }
+            Err(_) => f(&mut CollisionWorkspace::new(kin, model)),
+        }
     }
 
     /// Changes the body's model (a copy, then stored).
@@ -1210,8 +1248,10 @@ impl Robot {
         let (kin, model) = self.body_model()?;
         match self.body_rows(&kin, q)? {
             (Rows::One, q) => {
-                let mut ws = CollisionWorkspace::new(&kin, &model);
-                let hit = screwkit_collision::in_collision(&model, &mut ws, &kin, &q)
+                let hit = self
+                    .with_body_ws(&kin, &model, |ws| {
+                        screwkit_collision::in_collision(&model, ws, &kin, &q)
+                    })
                     .map_err(|e| service_error(e.into()))?;
                 Ok(pyo3::types::PyBool::new(py, hit).to_owned().into_any())
             }
@@ -1290,8 +1330,10 @@ impl Robot {
         let (kin, model) = self.body_model()?;
         match self.body_rows(&kin, q)? {
             (Rows::One, q) => {
-                let mut ws = CollisionWorkspace::new(&kin, &model);
-                let d = screwkit_collision::min_distance(&model, &mut ws, &kin, &q)
+                let d = self
+                    .with_body_ws(&kin, &model, |ws| {
+                        screwkit_collision::min_distance(&model, ws, &kin, &q)
+                    })
                     .map_err(|e| service_error(e.into()))?;
                 Ok(
                     pyo3::types::PyFloat::new(py, d.map_or(f64::INFINITY, |d| d.distance))

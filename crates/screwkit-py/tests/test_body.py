@@ -201,6 +201,10 @@ def test_obstacles_srdf_and_errors(tmp_path: Path) -> None:
         robot.srdf(bad)
     with pytest.raises(ValueError, match="q: expected"):
         robot.in_collision(np.zeros(3))
+    # A frame added (a new tree) and the SRDF applied (a new model): the kept scratch follows.
+    before = (robot.in_collision(q), robot.min_distance(q))
+    robot.add_frame("tcp", "panda_hand", np.eye(4))
+    assert (robot.in_collision(q), robot.min_distance(q)) == before
     # A robot without collision shapes: nothing to hit.
     ur5 = screwkit.Robot.from_urdf(ASSETS / "ur5.urdf")
     assert ur5.collision_pairs == [] and ur5.in_collision(np.zeros(6)) is False
