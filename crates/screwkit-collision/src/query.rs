@@ -133,6 +133,23 @@ pub fn in_collision(
     }))
 }
 
+/// The broad phase alone at q: every shape placed and bounded, and the number of checked pairs
+/// whose boxes overlap (the pairs `in_collision` hands to the narrow phase when none collides).
+/// For measuring the broad phase's share and what it prunes.
+pub fn broad_phase(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+) -> Result<usize, CollisionError> {
+    place(model, ws, kin, q)?;
+    Ok(model
+        .pairs
+        .iter()
+        .filter(|&&(a, b)| ws.boxes[a as usize].intersects(&ws.boxes[b as usize]))
+        .count())
+}
+
 /// The colliding pairs at q (indices into the model's pairs, in order) into `out`.
 pub fn collisions(
     model: &CollisionModel,
