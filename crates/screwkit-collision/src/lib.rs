@@ -31,6 +31,6 @@ mod triangles;
 
 pub use model::{Attach, CollisionError, CollisionModel, MeshMode, Object, Options};
 pub use query::{
-    broad_phase, collisions, distances, in_collision, in_collision_batch, min_distance,
-    min_distance_batch, CollisionWorkspace, PairDistance,
+    broad_phase, collisions, collisions_batch, distances, distances_batch, in_collision,
+    in_collision_batch, min_distance, min_distance_batch, CollisionWorkspace, PairDistance,
 };

@@ -472,3 +472,32 @@ pub fn min_distance_batch(
         Ok(min_distance(model, ws, kin, q)?.map_or(f64::INFINITY, |d| d.distance))
     })
 }
+
+/// [`distances`] of each row of `qs` (N × nq) into `out` (N lists), on all cores.
+pub fn distances_batch(
+    model: &CollisionModel,
+    kin: &TreeKinematics,
+    qs: &[f64],
+    out: &mut [Vec<PairDistance>],
+) -> Result<(), CollisionError> {
+    batch(model, kin, qs, out, |ws, q| {
+        let mut d = Vec::with_capacity(model.pairs.len());
+        distances(model, ws, kin, q, &mut d)?;
+        Ok(d)
+    })
+}
+
+/// [`collisions`] of each row of `qs` (N × nq) into `out` (N lists of pair indices), on all
+/// cores.
+pub fn collisions_batch(
+    model: &CollisionModel,
+    kin: &TreeKinematics,
+    qs: &[f64],
+    out: &mut [Vec<usize>],
+) -> Result<(), CollisionError> {
+    batch(model, kin, qs, out, |ws, q| {
+        let mut hits = Vec::new();
+        collisions(model, ws, kin, q, &mut hits)?;
+        Ok(hits)
+    })
+}

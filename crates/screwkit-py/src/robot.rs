@@ -1267,7 +1267,7 @@ impl Robot {
     }
 
     /// The colliding pairs at q, by link (or obstacle) name, each once: [(a, b), …]; (N, n) →
-    /// a list of N such lists.
+    /// a list of N such lists, on all cores.
     fn collisions<'py>(
         &self,
         py: Python<'py>,
@@ -1283,18 +1283,23 @@ impl Robot {
         };
         match self.body_rows(&kin, q)? {
             (Rows::One, q) => Ok(one(&q)?.into_pyobject(py)?.into_any()),
-            (Rows::Many(_), qs) => {
-                let all = qs
-                    .chunks(kin.nq().max(1))
-                    .map(&mut one)
-                    .collect::<PyResult<Vec<_>>>()?;
+            (Rows::Many(n), qs) => {
+                let mut hits = vec![Vec::new(); n];
+                pool::cancellable(py, || {
+                    screwkit_collision::collisions_batch(&model, &kin, &qs, &mut hits)
+                })?
+                .map_err(|e| service_error(e.into()))?;
+                let all: Vec<_> = hits
+                    .iter()
+                    .map(|h| screwkit_service::body::colliding_links(&model, h))
+                    .collect();
                 Ok(all.into_pyobject(py)?.into_any())
             }
         }
     }
 
     /// Every checked pair's signed distance at q (`Distances`: `pairs`, `distance` (P,),
-    /// `points` (P, 2, 3), `normal` (P, 3)); (N, n) → a list of N.
+    /// `points` (P, 2, 3), `normal` (P, 3)); (N, n) → a list of N, on all cores.
     fn distances<'py>(
         &self,
         py: Python<'py>,
@@ -1310,10 +1315,15 @@ impl Robot {
         };
         match self.body_rows(&kin, q)? {
             (Rows::One, q) => Ok(Bound::new(py, one(&q)?)?.into_any()),
-            (Rows::Many(_), qs) => {
+            (Rows::Many(n), qs) => {
+                let mut all = vec![Vec::new(); n];
+                pool::cancellable(py, || {
+                    screwkit_collision::distances_batch(&model, &kin, &qs, &mut all)
+                })?
+                .map_err(|e| service_error(e.into()))?;
                 let list = pyo3::types::PyList::empty(py);
-                for row in qs.chunks(kin.nq().max(1)) {
-                    list.append(Bound::new(py, one(row)?)?)?;
+                for d in &all {
+                    list.append(Bound::new(py, crate::body::Distances::new(py, &model, d)?)?)?;
                 }
                 Ok(list.into_any())
             }

@@ -148,12 +148,18 @@ def test_batches_and_minimum() -> None:
     )
     hits = robot.in_collision(qs)
     mins = robot.min_distance(qs)
+    pairs = robot.collisions(qs)
+    all_d = robot.distances(qs)
+    assert len(pairs) == len(all_d) == 64
     assert hits.dtype == np.bool_ and hits.shape == (64,) and mins.shape == (64,)
     for k in range(0, 64, 7):
         assert hits[k] == robot.in_collision(qs[k])
         d = robot.distances(qs[k])
         assert mins[k] == pytest.approx(d.distance.min(), abs=1e-12)
         assert mins[k] == robot.min_distance(qs[k])
+        assert pairs[k] == robot.collisions(qs[k])
+        np.testing.assert_array_equal(all_d[k].distance, d.distance)
+        np.testing.assert_array_equal(all_d[k].points, d.points)
         assert d.points.shape == (len(d), 2, 3) and d.normal.shape == (len(d), 3)
         # The witness points are as far apart as the distance says (mesh against mesh, and a
         # mesh against the fingers' boxes: both by exact closest-feature formulas), along the
