@@ -111,7 +111,7 @@ pub struct CollideArgs {
     #[arg(long)]
     pub srdf: Option<PathBuf>,
     /// How meshes are read: exact (their triangles) or convex (their hulls).
-    #[arg(long, value_parser = word::<Meshes>(), default_value_t = Meshes::Exact)]
+    #[arg(long, value_parser = word::<Meshes>(), default_value_t = screwkit_service::body::MESHES)]
     pub meshes: Meshes,
 }
 
@@ -125,10 +125,10 @@ pub struct SrdfArgs {
     #[arg(short, long, default_value = "-")]
     pub output: String,
     /// Random configurations sampled.
-    #[arg(long, default_value_t = 10_000)]
+    #[arg(long, default_value_t = screwkit_collision::acm::Generate::default().samples)]
     pub samples: usize,
     /// The sampling seed (the same seed, the same file).
-    #[arg(long, default_value_t = 0)]
+    #[arg(long, default_value_t = screwkit_collision::acm::Generate::default().seed)]
     pub seed: u64,
     /// Also disable the pairs that never collided in the samples (flagged "Never").
     #[arg(long)]

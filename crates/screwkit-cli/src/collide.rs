@@ -141,8 +141,6 @@ pub fn srdf(args: &SrdfArgs) -> CliResult {
         never: args.never,
         ..Default::default()
     };
-    let pairs = screwkit_collision::acm::generate(kin, screwkit_collision::MeshMode::Exact, &g)
-        .map_err(screwkit_service::Error::from)?;
-    let text = screwkit_model::srdf::write(&robot.tree().name, &pairs);
+    let text = body::generated_srdf(&robot.tree().name, kin, &g)?;
     crate::draw::write_out(&args.output, &text)
 }

@@ -97,6 +97,12 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
             .iter()
             .map(|t| (t.name(), t.defaults()))
             .collect::<std::collections::BTreeMap<_, _>>(),
+        // The body's SRDF generation (Robot.write_srdf, screwkit srdf).
+        "write_srdf": {
+            "samples": screwkit_collision::acm::Generate::default().samples,
+            "seed": screwkit_collision::acm::Generate::default().seed,
+            "never": screwkit_collision::acm::Generate::default().never,
+        },
         "reach": {
             "resolution": m.resolution, "orientations": m.orientations,
             "mode": m.mode.as_str(), "solver": m.solver.as_str(), "seed": m.seed,

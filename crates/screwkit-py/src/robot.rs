@@ -374,7 +374,7 @@ impl Robot {
             return Ok((kin, m));
         }
         let m = Arc::new(
-            screwkit_service::body::model(&kin, screwkit_service::words::Meshes::Exact, None)
+            screwkit_service::body::model(&kin, screwkit_service::body::MESHES, None)
                 .map_err(service_error)?,
         );
         *self.body.write().expect("the body lock") = Some(m.clone());
@@ -1402,11 +1402,11 @@ impl Robot {
             never,
             ..Default::default()
         };
-        let pairs = pool::cancellable(py, || {
-            screwkit_collision::acm::generate(&kin, screwkit_collision::MeshMode::Exact, &g)
+        let name = &self.robot.tree().name;
+        let text = pool::cancellable(py, || {
+            screwkit_service::body::generated_srdf(name, &kin, &g)
         })?
-        .map_err(|e| service_error(e.into()))?;
-        let text = screwkit_model::srdf::write(&self.robot.tree().name, &pairs);
+        .map_err(service_error)?;
         write_text(path, &text)?;
         Ok(text)
     }

@@ -90,6 +90,9 @@ def test_signature_defaults_are_the_floors() -> None:
         reach = inspect.signature(fn).parameters
         for name, value in d["reach"].items():
             assert reach[name].default == value, (fn, name)
+    srdf = inspect.signature(screwkit.Robot.write_srdf).parameters
+    for name, value in d["write_srdf"].items():
+        assert srdf[name].default == value, name
     # Whole-body IK: the library's TasksOptions, Limits and Task defaults.
     tasks_methods: list[Callable[..., object]] = [
         screwkit.Robot.ik_tasks,

@@ -23,6 +23,21 @@ impl From<Meshes> for MeshMode {
     }
 }
 
+/// How meshes are read when a front end is not told (exact triangles).
+pub const MESHES: Meshes = Meshes::Exact;
+
+/// The SRDF text of `kin`'s generated allowed-collision matrix (named `robot`), meshes read as
+/// [`MESHES`] says: what `screwkit srdf` writes and `Robot.write_srdf` returns. Its defaults
+/// are [`screwkit_collision::acm::Generate::default`]'s.
+pub fn generated_srdf(
+    robot: &str,
+    kin: &TreeKinematics,
+    generate: &screwkit_collision::acm::Generate,
+) -> Result<String> {
+    let pairs = screwkit_collision::acm::generate(kin, MESHES.into(), generate)?;
+    Ok(screwkit_model::srdf::write(robot, &pairs))
+}
+
 /// The collision model of `robot`'s whole tree `kin` (its `<collision>` shapes; meshes read as
 /// `meshes` says), with the pairs an SRDF file disables when one is given.
 pub fn model(
