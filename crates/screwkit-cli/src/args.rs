@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, JacobianFrame, Meshes, Method, OrientationMode, RepresentativesChoice, SolverChoice,
-    TableFrames, View, Views, Word,
+    self, GeometryRoles, JacobianFrame, Meshes, Method, OrientationMode, RepresentativesChoice,
+    SolverChoice, TableFrames, View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
 
@@ -110,9 +110,6 @@ pub struct CollideArgs {
     /// An SRDF whose disable_collisions pairs are not checked.
     #[arg(long)]
     pub srdf: Option<PathBuf>,
-    /// How meshes are read: exact (their triangles) or convex (their hulls).
-    #[arg(long, value_parser = word::<Meshes>(), default_value_t = screwkit_service::body::MESHES)]
-    pub meshes: Meshes,
 }
 
 /// `srdf`.
@@ -263,6 +260,13 @@ pub struct ChainArgs {
     /// whole tree).
     #[arg(long)]
     pub floating_base: bool,
+    /// Which of the file's shapes are read: collision, visual, both or none.
+    #[arg(long, value_parser = word::<GeometryRoles>(), default_value_t = GeometryRoles::default())]
+    pub geometry: GeometryRoles,
+    /// How the body's meshes are read: exact (their triangles) or convex (their hulls);
+    /// default exact for URDF, convex for MJCF (MuJoCo's rule).
+    #[arg(long, value_parser = word::<Meshes>())]
+    pub meshes: Option<Meshes>,
 }
 
 impl ChainArgs {
@@ -274,6 +278,8 @@ impl ChainArgs {
             tip: self.tip.clone(),
             tool: self.tool.as_ref().map(|t| t.0.clone()),
             floating_base: self.floating_base,
+            geometry: self.geometry,
+            meshes: self.meshes,
         }
     }
 }

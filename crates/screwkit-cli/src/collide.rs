@@ -39,7 +39,7 @@ fn report_of(
 pub fn run(args: &CollideArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
     let kin = robot.whole()?;
-    let model = body::model(kin, args.meshes, args.srdf.as_deref())?;
+    let model = body::model(kin, robot.options().meshes, args.srdf.as_deref())?;
     let width = Space::of(&robot, Some(kin))?.q_len();
     if let Some(input) = &args.at.input {
         if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {
@@ -141,6 +141,6 @@ pub fn srdf(args: &SrdfArgs) -> CliResult {
         never: args.never,
         ..Default::default()
     };
-    let text = body::generated_srdf(&robot.tree().name, kin, &g)?;
+    let text = body::generated_srdf(&robot.tree().name, kin, robot.options().meshes, &g)?;
     crate::draw::write_out(&args.output, &text)
 }

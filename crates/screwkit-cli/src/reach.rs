@@ -63,6 +63,9 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         tip: a.tip.clone(),
         tool: a.tool.clone(),
         floating_base: false,
+        // Reach maps do not look at the body yet.
+        geometry: screwkit_service::words::GeometryRoles::None,
+        meshes: None,
     };
     let robot = crate::load(&chain_args)?;
     // The map and its picture: neither an input of this run (the robot's file, an include),

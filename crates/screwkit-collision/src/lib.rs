@@ -23,7 +23,9 @@
 //! penetration depth.
 
 pub mod acm;
+mod closed_forms;
 pub mod convert;
+pub mod ellipsoid;
 mod mesh_distance;
 pub mod model;
 pub mod query;

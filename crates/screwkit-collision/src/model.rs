@@ -12,6 +12,14 @@
 //!
 //! and every robot shape against every obstacle (never two obstacles).
 //!
+//! An MJCF model brings MuJoCo's own rules instead ([`screwkit_model::geometry::ContactRules`]):
+//! not within one weld body; not a body and its parent (by weld bodies, unless one is welded
+//! to the world; MuJoCo's `filterparent`, which [`Options::keep_adjacent`] turns off); not two
+//! bodies a `<contact><exclude>` names; only geoms whose `contype`/`conaffinity` bits match;
+//! and every `<contact><pair>`, whatever the rules. Its world body's geoms are obstacles (a
+//! floating base) or shapes on the root link (a fixed base, where the root is the world body);
+//! obstacles added later count as world geoms with MuJoCo's default bits (1, 1).
+//!
 //! **Meshes** are read once per file and scale ([`screwkit_model::mesh`]), as exact triangle
 //! meshes (a bounding-volume tree over the triangles: distances to the surface, as coal
 //! computes them) or as their convex hulls (MuJoCo's rule for mesh geoms: faster, and what a
@@ -20,9 +28,9 @@
 use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
-use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, HalfSpace, SharedShape};
 use screwkit_lie::Se3;
-use screwkit_model::geometry::{Geometry, Role, Shape};
+use screwkit_model::geometry::{ContactBits, ContactRules, Geometry, Role, Shape};
 use screwkit_solve::TreeKinematics;
 
 use crate::convert;
@@ -89,8 +97,12 @@ pub struct Object {
     pub origin: Se3,
     /// The shape.
     pub shape: SharedShape,
-    /// `box`, `cylinder`, `sphere`, `capsule`, `mesh` or `convex`.
+    /// `box`, `cylinder`, `sphere`, `capsule`, `ellipsoid`, `plane`, `mesh` or `convex`.
     pub kind: &'static str,
+    /// The element's own name (an MJCF geom's, which `<contact><pair>` names).
+    pub element: Option<String>,
+    /// MuJoCo's collision bits (an MJCF geom's; (1, 1) otherwise).
+    pub bits: ContactBits,
     /// An exact mesh's tree of bounding boxes (its distances: [`crate::mesh_distance`]).
     pub(crate) tree: Option<Arc<crate::mesh_distance::BoxTree>>,
 }
@@ -149,6 +161,25 @@ pub struct CollisionModel {
     disabled: HashSet<(usize, usize)>,
     links: Vec<String>,
     options: Options,
+    /// MuJoCo's rules, for an MJCF model.
+    mujoco: Option<Mujoco>,
+}
+
+/// MuJoCo's contact rules by the model's links and rigid bodies.
+#[derive(Debug, Clone)]
+struct Mujoco {
+    /// The link that is the world body (a fixed base's root), if any.
+    world_link: Option<usize>,
+    /// The rigid body welded to the world (a fixed base's root's), if any.
+    world_body: Option<usize>,
+    /// Each link's weld parent: the rigid body of the parent of its weld body's top body
+    /// (None: the world).
+    weld_parent: Vec<Option<usize>>,
+    filterparent: bool,
+    /// `<exclude>` body pairs (links; None: the world), low first.
+    exclude: HashSet<(Option<usize>, Option<usize>)>,
+    /// `<pair>` geom names.
+    pairs: Vec<(String, String)>,
 }
 
 /// Turns z onto y: parry's cylinders and capsules stand along y, URDF's along z.
@@ -184,6 +215,16 @@ fn engine_shape(
             SharedShape(Arc::new(Capsule::new_z(length / 2.0, *radius))),
             None,
             "capsule",
+        ),
+        Shape::Ellipsoid { radii } => (
+            SharedShape(Arc::new(crate::ellipsoid::Ellipsoid::new(*radii))),
+            None,
+            "ellipsoid",
+        ),
+        Shape::Plane { .. } => (
+            SharedShape(Arc::new(HalfSpace::new(parry3d_f64::math::Vector::Z))),
+            None,
+            "plane",
         ),
         Shape::Mesh { path, scale, .. } => {
             let key = (path.clone(), scale.map(f64::to_bits));
@@ -263,6 +304,29 @@ impl CollisionModel {
             .filter(|j| j.kind.is_movable())
             .map(|j| low_first(body[j.parent], body[j.child]))
             .collect();
+        let mujoco = tree.contact_rules.as_ref().map(|r| mujoco_rules(r, &body));
+        if let Some(rules) = &tree.contact_rules {
+            for (k, g) in rules.world.iter().enumerate() {
+                if g.role != Role::Collision {
+                    continue;
+                }
+                let (shape, turn, kind) = engine_shape(&g.shape, options.mesh_mode, &mut meshes)
+                    .map_err(|e| CollisionError::Geometry(format!("world geom: {e}")))?;
+                objects.push(Object {
+                    name: g.name.clone().unwrap_or_else(|| format!("world/geom/{k}")),
+                    attach: Attach::World,
+                    origin: match turn {
+                        Some(t) => g.origin.compose(&t),
+                        None => g.origin,
+                    },
+                    shape,
+                    kind,
+                    element: g.name.clone(),
+                    bits: g.bits.unwrap_or(ContactBits::DEFAULT),
+                    tree: tree_of(&g.shape, &meshes),
+                });
+            }
+        }
         let mut model = CollisionModel {
             objects,
             pairs: Vec::new(),
@@ -271,6 +335,7 @@ impl CollisionModel {
             disabled: HashSet::new(),
             links: tree.links.clone(),
             options,
+            mujoco,
         };
         model.update_pairs();
         Ok(model)
@@ -378,6 +443,8 @@ impl CollisionModel {
             origin,
             shape: engine,
             kind,
+            element: None,
+            bits: ContactBits::DEFAULT,
             tree: tree_of(shape, &meshes),
         });
         self.update_pairs();
@@ -414,6 +481,9 @@ impl CollisionModel {
 
     /// Whether objects `a` and `b` are checked against each other (module documentation).
     fn checked(&self, a: &Object, b: &Object) -> bool {
+        if let (Some(m), false) = (&self.mujoco, self.options.all_pairs) {
+            return self.checked_mujoco(m, a, b);
+        }
         match (a.attach, b.attach) {
             (Attach::World, Attach::World) => false,
             (Attach::World, Attach::Link(_)) | (Attach::Link(_), Attach::World) => true,
@@ -425,6 +495,48 @@ impl CollisionModel {
                     && !self.disabled.contains(&low_first(la, lb))
             }
         }
+    }
+
+    /// MuJoCo's rules (module documentation).
+    fn checked_mujoco(&self, m: &Mujoco, a: &Object, b: &Object) -> bool {
+        let named = |o: &Object, n: &str| o.element.as_deref() == Some(n);
+        if m.pairs
+            .iter()
+            .any(|(x, y)| (named(a, x) && named(b, y)) || (named(a, y) && named(b, x)))
+        {
+            return true;
+        }
+        // Weld bodies (None: the world) and MuJoCo bodies (links; None: the world).
+        let weld = |o: &Object| match o.attach {
+            Attach::Link(l) => Some(self.body[l]).filter(|b| Some(*b) != m.world_body),
+            Attach::World => None,
+        };
+        let (wa, wb) = (weld(a), weld(b));
+        if wa == wb {
+            return false;
+        }
+        if let (Attach::Link(la), Attach::Link(lb)) = (a.attach, b.attach) {
+            if m.filterparent
+                && !self.options.keep_adjacent
+                && wa.is_some()
+                && wb.is_some()
+                && (wa == m.weld_parent[lb] || wb == m.weld_parent[la])
+            {
+                return false;
+            }
+            if self.disabled.contains(&low_first(la, lb)) {
+                return false;
+            }
+        }
+        let body_of = |o: &Object| match o.attach {
+            Attach::Link(l) => Some(l).filter(|l| Some(*l) != m.world_link),
+            Attach::World => None,
+        };
+        let (ba, bb) = (body_of(a), body_of(b));
+        if m.exclude.contains(&(ba.min(bb), ba.max(bb))) {
+            return false;
+        }
+        a.bits.compatible(b.bits)
     }
 
     fn update_pairs(&mut self) {
@@ -470,6 +582,44 @@ fn object(
         },
         shape,
         kind,
+        element: g.name.clone(),
+        bits: g.bits.unwrap_or(ContactBits::DEFAULT),
         tree: tree_of(&g.shape, meshes),
     })
+}
+
+/// MuJoCo's rules by the collision model's rigid bodies (`body`: each link's).
+fn mujoco_rules(rules: &ContactRules, body: &[usize]) -> Mujoco {
+    let world_body = rules.world_link.map(|w| body[w]);
+    let weld = |l: usize| Some(body[l]).filter(|b| Some(*b) != world_body);
+    let weld_parent = (0..body.len())
+        .map(|l| {
+            // Up the MuJoCo bodies while they stay in l's rigid body.
+            let mut m = l;
+            for _ in 0..body.len() {
+                match rules.body_parent.get(&m) {
+                    Some(Some(p)) if body[*p] == body[l] => m = *p,
+                    Some(Some(p)) => return weld(*p),
+                    _ => return None,
+                }
+            }
+            None
+        })
+        .collect();
+    let world = |b: Option<usize>| b.filter(|l| Some(*l) != rules.world_link);
+    Mujoco {
+        world_link: rules.world_link,
+        world_body,
+        weld_parent,
+        filterparent: rules.filterparent,
+        exclude: rules
+            .exclude
+            .iter()
+            .map(|&(a, b)| {
+                let (a, b) = (world(a), world(b));
+                (a.min(b), a.max(b))
+            })
+            .collect(),
+        pairs: rules.pairs.clone(),
+    }
 }

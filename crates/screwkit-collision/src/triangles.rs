@@ -10,7 +10,7 @@ type V = Vector3<f64>;
 
 /// The point of segment [p, q] nearest to segment [r, s], and that of [r, s] (clamped
 /// parameters; degenerate segments handled).
-fn segments(p: &V, q: &V, r: &V, s: &V) -> (V, V) {
+pub fn segments(p: &V, q: &V, r: &V, s: &V) -> (V, V) {
     let (d1, d2, w) = (q - p, s - r, p - r);
     let (a, e, f) = (d1.dot(&d1), d2.dot(&d2), d2.dot(&w));
     let eps = f64::EPSILON;

@@ -5,7 +5,9 @@
 //! Conventions (URDF's, kept by every reader): a box is centred on its origin with its full
 //! `size` along x, y, z; a cylinder and a capsule have their axis along z, centred, `length`
 //! the cylinder's (a capsule adds a half-sphere of `radius` at each end); a mesh's vertices are
-//! multiplied by `scale` per axis, in the link's frame after the origin.
+//! multiplied by `scale` per axis, in the link's frame after the origin. MJCF adds MuJoCo's
+//! ellipsoid (semi-axes along x, y, z) and plane (the half-space z ≤ 0 of its frame, infinite
+//! for collisions as in MuJoCo; its `size` only says how much of it to draw).
 //!
 //! Geometry never stops a robot from loading for its kinematics: an element that cannot be read
 //! (a malformed number, an unknown shape, a mesh whose package is not found) is kept as a
@@ -43,6 +45,17 @@ pub enum Shape {
         /// The cylinder's length (m), the caps not included.
         length: f64,
     },
+    /// An ellipsoid (MJCF): semi-axes along x, y, z.
+    Ellipsoid {
+        /// Semi-axes (m).
+        radii: [f64; 3],
+    },
+    /// A plane (MJCF, on the world): the half-space z ≤ 0 of its frame, infinite for
+    /// collisions.
+    Plane {
+        /// Half sizes along x and y to draw (0: drawn to the scene's size).
+        size: [f64; 2],
+    },
     /// A triangle mesh read from a file (STL, OBJ, COLLADA).
     Mesh {
         /// The file name as written (`package://…`, `file://…`, or a path).
@@ -55,13 +68,15 @@ pub enum Shape {
 }
 
 impl Shape {
-    /// The shape's word: `box`, `cylinder`, `sphere`, `capsule`, `mesh`.
+    /// The shape's word: `box`, `cylinder`, `sphere`, `capsule`, `ellipsoid`, `plane`, `mesh`.
     pub fn word(&self) -> &'static str {
         match self {
             Shape::Box { .. } => "box",
             Shape::Cylinder { .. } => "cylinder",
             Shape::Sphere { .. } => "sphere",
             Shape::Capsule { .. } => "capsule",
+            Shape::Ellipsoid { .. } => "ellipsoid",
+            Shape::Plane { .. } => "plane",
             Shape::Mesh { .. } => "mesh",
         }
     }
@@ -101,6 +116,54 @@ pub struct Geometry {
     pub shape: Shape,
     /// Its colour (r, g, b, a in [0, 1]) where a visual's `<material>` gives one.
     pub rgba: Option<[f64; 4]>,
+    /// MuJoCo's collision bits of an MJCF geom; None for URDF's shapes.
+    pub bits: Option<ContactBits>,
+}
+
+/// MuJoCo's collision filter of a geom: geoms a and b may collide when
+/// `contype_a & conaffinity_b` or `contype_b & conaffinity_a` is non-zero.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ContactBits {
+    /// `contype` (MuJoCo's default 1).
+    pub contype: u32,
+    /// `conaffinity` (MuJoCo's default 1).
+    pub conaffinity: u32,
+}
+
+impl ContactBits {
+    /// MuJoCo's default bits (1, 1): what a URDF shape or an obstacle counts as.
+    pub const DEFAULT: ContactBits = ContactBits {
+        contype: 1,
+        conaffinity: 1,
+    };
+
+    /// Whether two geoms' bits let them collide.
+    pub fn compatible(self, other: ContactBits) -> bool {
+        self.contype & other.conaffinity != 0 || other.contype & self.conaffinity != 0
+    }
+}
+
+/// MuJoCo's contact rules of an MJCF model, beside its geoms' [`ContactBits`] (MuJoCo's
+/// `mj_collision`): a pair of geoms is checked when their bodies are not welded together, the
+/// parent filter lets them (`filterparent`: a body and its parent, by their weld bodies,
+/// unless one is welded to the world), no `<contact><exclude>` names their two bodies, and
+/// their bits are compatible; a `<contact><pair>` adds its two geoms whatever the rules.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactRules {
+    /// Each MuJoCo body's link, with its parent body's link (None: the world body).
+    pub body_parent: std::collections::HashMap<usize, Option<usize>>,
+    /// The link that is MuJoCo's world body (the root of a fixed-base model); None with a
+    /// floating base (the world is no link).
+    pub world_link: Option<usize>,
+    /// MuJoCo's `filterparent` flag (on unless `<option><flag filterparent="disable">`).
+    pub filterparent: bool,
+    /// `<contact><exclude>`: pairs of bodies (their links; None: the world) never checked.
+    pub exclude: Vec<(Option<usize>, Option<usize>)>,
+    /// `<contact><pair>`: pairs of geoms (by name) always checked.
+    pub pairs: Vec<(String, String)>,
+    /// The world body's geoms of a floating-base model, fixed in the world (their `link` is
+    /// the root's and is not used).
+    pub world: Vec<Geometry>,
 }
 
 /// Where a mesh file named `uri` is: `package://pkg/rest` in package `pkg`'s folder (found

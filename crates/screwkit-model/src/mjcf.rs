@@ -9,9 +9,19 @@
 //! name; `fromto` sites at their middle, z along the segment); `<inertial pos mass>` (the centre
 //! of mass); `<default>` classes with `class` / `childclass` inheritance; `<include file>`
 //! (paths relative to the main file's folder, as MuJoCo resolves them); `<compiler angle
-//! eulerseq autolimits>` (degrees by default); `<equality><joint polycoef>` (a linear coupling
-//! becomes a mimic joint). Geometry, meshes, actuators, sensors, contacts and assets are read
-//! past — a missing mesh file is never an error.
+//! eulerseq autolimits meshdir assetdir>` (degrees by default); `<equality><joint polycoef>` (a
+//! linear coupling becomes a mimic joint).
+//!
+//! **Geoms** ([`crate::geometry`]): sphere, capsule, cylinder, box, ellipsoid, plane and mesh
+//! (`<asset><mesh file scale>`, named from `meshdir`), with `size`, `fromto`, classes, `rgba`
+//! or a material's; each is a collision shape when its `contype`/`conaffinity` let it collide
+//! (or a `<contact><pair>` names it) and a visual one in MuJoCo's shown groups 0–2. MuJoCo's
+//! contact rules come along ([`crate::geometry::ContactRules`]: bodies, `<contact><exclude>`
+//! and `<pair>`, `<option><flag filterparent>`). A geom that cannot be used (an `hfield`, an
+//! `sdf`, a primitive fitted to a mesh, an unknown mesh asset, a bad size) is a geometry
+//! problem naming its line, reported by a body query; the kinematics loads regardless, and a
+//! missing mesh file is found only when a query reads it. Actuators, sensors and textures are
+//! read past.
 //!
 //! **Bodies as links.** Each body is a link of its name; MuJoCo's world body is the root link
 //! `world`, unless a top-level body floats freely (a free joint) and no fixed-base mechanism
@@ -45,8 +55,10 @@ use std::path::{Path, PathBuf};
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 
 use crate::error::{ErrorKind, ModelError};
+use crate::geometry::{ContactBits, Geometry, Role, Shape};
 use crate::input;
 use crate::tree::{Inertial, JointKind, Limit, Mimic, QposLayout, Tree, TreeJointSpec};
+use screwkit_lie::Se3;
 
 /// Includes nested at most this deep.
 pub const MAX_INCLUDE_DEPTH: usize = 32;
@@ -111,7 +123,9 @@ pub fn read_str(text: &str, source: &str, dir: &Path) -> Result<(Tree, String), 
         bytes: text.len() as u64,
     };
     let root = reader.document(text, source, 0)?;
-    let tree = Builder::new(source).build(&root)?;
+    let mut tree = Builder::new(source).build(&root)?;
+    // Mesh files are named from the main file's folder (through `meshdir`).
+    tree.resolve_meshes(dir, &[]);
     // Each include counts INCLUDE_WEIGHT elements more than it splices in.
     let text = if reader.count > root.size() {
         let mut out = String::from("<?xml version=\"1.0\"?>\n");
@@ -358,6 +372,19 @@ struct Compiler {
     /// `inertiafromgeom`: Some(true) "true", Some(false) "false", None "auto" (MuJoCo's
     /// default: geoms give the inertia of a body without `<inertial>`).
     inertiafromgeom: Option<bool>,
+    /// `meshdir` (else `assetdir`): the folder mesh files are named from, relative to the
+    /// main file's.
+    meshdir: Option<String>,
+    assetdir: Option<String>,
+}
+
+/// A `<mesh>` asset: its file (relative to the model's folder), scale, and why it cannot be
+/// used, if it cannot.
+#[derive(Debug, Clone)]
+struct MeshAsset {
+    file: Option<String>,
+    scale: [f64; 3],
+    problem: Option<String>,
 }
 
 /// One class of `<default>`: per element tag, the attributes it sets itself, and the class it
@@ -410,6 +437,22 @@ struct Builder {
     addresses: HashMap<*const El, usize>,
     /// The tree's joints and base in that `qpos`.
     layout: QposLayout,
+    /// `<asset><mesh>` by name.
+    meshes: HashMap<String, MeshAsset>,
+    /// `<asset><material>` colours by name.
+    materials: HashMap<String, [f64; 4]>,
+    /// Geoms read so far, with their link's name.
+    geoms: Vec<(String, Geometry)>,
+    /// The world body's geoms of a free-floating model (fixed in the world).
+    world_geoms: Vec<Geometry>,
+    /// Geoms that cannot be used, one sentence each.
+    geometry_problems: Vec<String>,
+    /// Each body's link with its parent body's (None: the world).
+    body_parent: Vec<(String, Option<String>)>,
+    /// The geoms a `<contact><pair>` names (they collide whatever their bits).
+    pair_geoms: std::collections::HashSet<String>,
+    /// `<option><flag filterparent>`.
+    filterparent: bool,
 }
 
 /// A pose as MuJoCo composes them.
@@ -424,7 +467,17 @@ impl Builder {
                 eulerseq: *b"xyz",
                 autolimits: true,
                 inertiafromgeom: None,
+                meshdir: None,
+                assetdir: None,
             },
+            meshes: HashMap::new(),
+            materials: HashMap::new(),
+            geoms: Vec::new(),
+            world_geoms: Vec::new(),
+            geometry_problems: Vec::new(),
+            body_parent: Vec::new(),
+            pair_geoms: std::collections::HashSet::new(),
+            filterparent: true,
             geom_mass: Vec::new(),
             classes: HashMap::new(),
             links: Vec::new(),
@@ -491,6 +544,23 @@ impl Builder {
             self.read_defaults(d, None, true)?;
         }
         self.classes.entry("main".into()).or_default();
+        self.read_assets(root);
+        for o in root.children.iter().filter(|c| c.tag == "option") {
+            for f in o.children.iter().filter(|c| c.tag == "flag") {
+                if let Some(v) = f.attr("filterparent") {
+                    self.filterparent = v != "disable";
+                }
+            }
+        }
+        for c in root.children.iter().filter(|c| c.tag == "contact") {
+            for p in c.children.iter().filter(|p| p.tag == "pair") {
+                for k in ["geom1", "geom2"] {
+                    if let Some(g) = p.attr(k) {
+                        self.pair_geoms.insert(g.to_string());
+                    }
+                }
+            }
+        }
         let name = root.attr("model").unwrap_or("mujoco").to_string();
         let mut stack: Vec<&El> = vec![root];
         while let Some(e) = stack.pop() {
@@ -573,6 +643,9 @@ impl Builder {
             self.floating_root = true;
             self.body(body, None, &Pose::identity(), &ctx)?;
             for w in &world {
+                self.world_geoms_of(w, &Pose::identity(), "main")?;
+            }
+            for w in &world {
                 for s in w.children.iter().filter(|c| c.tag == "site") {
                     self.warnings.push(format!(
                         "line {}: site {} on the world body is not part of the free-floating robot's tree",
@@ -583,6 +656,7 @@ impl Builder {
             }
         } else {
             self.push_link("world".into());
+            self.body_parent.push(("world".into(), None));
             for w in &world {
                 self.contents(w, "world", &Pose::identity(), &ctx)?;
             }
@@ -607,18 +681,31 @@ impl Builder {
                 ));
             }
         }
-        let mut tree = Tree::new(name, self.source.clone(), self.links, self.joints)?;
-        for (link, inertial) in self.inertials {
+        let mut tree = Tree::new(
+            name,
+            self.source.clone(),
+            std::mem::take(&mut self.links),
+            std::mem::take(&mut self.joints),
+        )?;
+        for (link, inertial) in std::mem::take(&mut self.inertials) {
             if let Ok(i) = tree.link(&link) {
                 tree.inertials[i] = Some(inertial);
             }
         }
         tree.floating_root = self.floating_root;
+        self.geometry_into(&mut tree, root);
         // The file's warnings first, then the tree's own (mimic followers' limits).
         let own = std::mem::take(&mut tree.warnings);
-        tree.warnings = self.warnings;
+        tree.warnings = std::mem::take(&mut self.warnings);
         tree.warnings.extend(own);
-        tree.qpos_layout = Some(self.layout);
+        tree.qpos_layout = Some(std::mem::replace(
+            &mut self.layout,
+            QposLayout {
+                len: 0,
+                base: None,
+                joints: Vec::new(),
+            },
+        ));
         Ok(tree)
     }
 
@@ -665,6 +752,12 @@ impl Builder {
                 "auto" => None,
                 other => Some(parse_bool(c, "inertiafromgeom", other)?),
             };
+        }
+        if let Some(d) = c.attr("meshdir") {
+            self.compiler.meshdir = Some(d.to_string());
+        }
+        if let Some(d) = c.attr("assetdir") {
+            self.compiler.assetdir = Some(d.to_string());
         }
         match c.attr("coordinate") {
             None | Some("local") => {}
@@ -935,6 +1028,8 @@ impl Builder {
             None => self.fresh(format!("body_{}", self.bodies)),
         };
         let local = offset * self.pose(body, "main")?;
+        self.body_parent
+            .push((name.clone(), parent.map(str::to_string)));
         let joints: Vec<&El> = body
             .children
             .iter()
@@ -1052,6 +1147,12 @@ impl Builder {
                     "line {}: <{}> read past (the soft body's generated bodies and joints are not in the tree)",
                     c.line, c.tag
                 )),
+                "geom" => {
+                    self.check_class(c)?;
+                    if let Some(g) = self.geom(c, offset, ctx.class) {
+                        self.push_geom(Some(link), g);
+                    }
+                }
                 "body" if self.skip.contains(&(c as *const El)) => {}
                 "body" => self.body(c, Some(link), offset, ctx)?,
                 "joint" | "freejoint" if holder.tag != "body" => {
@@ -1244,6 +1345,364 @@ impl Builder {
     }
 
     /// `<equality>`: joint couplings become mimic joints; the rest are warnings.
+    /// `<asset>`'s meshes (file, scale; the name defaults to the file's stem) and materials'
+    /// colours.
+    fn read_assets(&mut self, root: &El) {
+        let dir = self
+            .compiler
+            .meshdir
+            .clone()
+            .or_else(|| self.compiler.assetdir.clone());
+        for a in root.children.iter().filter(|c| c.tag == "asset") {
+            for m in &a.children {
+                match m.tag.as_str() {
+                    "mesh" => {
+                        let file = m.attr("file").map(|f| match &dir {
+                            Some(d) if !Path::new(f).is_absolute() => {
+                                Path::new(d).join(f).to_string_lossy().into_owned()
+                            }
+                            _ => f.to_string(),
+                        });
+                        let name = own_name(m).map(str::to_string).or_else(|| {
+                            let f = m.attr("file")?;
+                            let stem = Path::new(f).file_stem()?;
+                            Some(stem.to_string_lossy().into_owned())
+                        });
+                        let Some(name) = name else { continue };
+                        let mut problem = None;
+                        let scale = match self.numbers(m, "main", "scale", 3) {
+                            Ok(v) => v.map_or([1.0; 3], |v| [v[0], v[1], v[2]]),
+                            Err(e) => {
+                                problem = Some(e.kind.to_string());
+                                [1.0; 3]
+                            }
+                        };
+                        if file.is_none() {
+                            problem = Some(format!(
+                                "mesh asset {} has no file (meshes given by their vertices are not read)",
+                                shown(&name)
+                            ));
+                        }
+                        for r in ["refpos", "refquat"] {
+                            if m.attr(r).is_some() {
+                                problem =
+                                    Some(format!("mesh asset {}: {r} is not read", shown(&name)));
+                            }
+                        }
+                        self.meshes.insert(
+                            name,
+                            MeshAsset {
+                                file,
+                                scale,
+                                problem,
+                            },
+                        );
+                    }
+                    "material" => {
+                        if let (Some(n), Ok(Some(c))) =
+                            (own_name(m), self.numbers(m, "main", "rgba", 4))
+                        {
+                            self.materials
+                                .insert(n.to_string(), [c[0], c[1], c[2], c[3]]);
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+
+    /// A `<geom>` at `offset` in its body's frame, with its `group`; None (and a problem said)
+    /// when it cannot be read. MuJoCo's sizes: a sphere's radius; a capsule's or a cylinder's
+    /// radius and half length; a box's half sides; an ellipsoid's semi-axes; a plane's half
+    /// sides to draw; with `fromto`, the length (a box's or an ellipsoid's z) is the segment's,
+    /// and a box's or an ellipsoid's x and y are both size[0] (checked against MuJoCo).
+    fn geom(&mut self, g: &El, offset: &Pose, class: &str) -> Option<(Geometry, i64)> {
+        match self.read_geom(g, offset, class) {
+            Ok(found) => Some(found),
+            Err(why) => {
+                self.geometry_problems.push(format!(
+                    "{}:{}: {}: {why}",
+                    g.file,
+                    g.line,
+                    g.describe()
+                ));
+                None
+            }
+        }
+    }
+
+    fn read_geom(&self, g: &El, offset: &Pose, class: &str) -> Result<(Geometry, i64), String> {
+        let text = |e: ModelError| match e.kind {
+            ErrorKind::Mjcf(m) => m,
+            other => other.to_string(),
+        };
+        let int = |name: &str, default: i64| -> Result<i64, String> {
+            match self.attr(g, class, name) {
+                None => Ok(default),
+                Some(v) => v
+                    .trim()
+                    .parse::<i64>()
+                    .map_err(|_| format!("{name}={}: not an integer", shown(v))),
+            }
+        };
+        let bits = ContactBits {
+            contype: int("contype", 1)? as u32,
+            conaffinity: int("conaffinity", 1)? as u32,
+        };
+        let group = int("group", 0)?;
+        let gtype = self.attr(g, class, "type").unwrap_or("sphere");
+        let size: Vec<f64> = match self.attr(g, class, "size") {
+            None => Vec::new(),
+            Some(t) => t
+                .split_whitespace()
+                .map(|x| x.parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect::<Option<_>>()
+                .filter(|v: &Vec<f64>| v.len() <= 3)
+                .ok_or_else(|| format!("size={}: not one to three numbers", shown(t)))?,
+        };
+        let fromto = self.numbers(g, class, "fromto", 6).map_err(text)?;
+        let length = fromto
+            .as_ref()
+            .map(|f| (Vector3::new(f[0], f[1], f[2]) - Vector3::new(f[3], f[4], f[5])).norm());
+        let pose = if fromto.is_some() {
+            self.site_pose(g, class).map_err(text)?
+        } else {
+            self.pose(g, class).map_err(text)?
+        };
+        let need = |n: usize| -> Result<&[f64], String> {
+            if size.len() < n {
+                return Err(format!(
+                    "a {gtype} needs {n} size number(s), has {}",
+                    size.len()
+                ));
+            }
+            if size[..n].iter().any(|v| *v <= 0.0) {
+                return Err(format!("size {:?}: must be > 0", &size[..n]));
+            }
+            Ok(&size[..n])
+        };
+        if g.attr("mesh").is_some() && gtype != "mesh" {
+            return Err(format!(
+                "a {gtype} fitted to a mesh (type=\"{gtype}\" with mesh=) is not read"
+            ));
+        }
+        let shape = match gtype {
+            "sphere" => Shape::Sphere {
+                radius: need(1)?[0],
+            },
+            "capsule" | "cylinder" => {
+                let (radius, length) = match length {
+                    Some(l) => (need(1)?[0], l),
+                    None => {
+                        let s = need(2)?;
+                        (s[0], 2.0 * s[1])
+                    }
+                };
+                if gtype == "capsule" {
+                    Shape::Capsule { radius, length }
+                } else {
+                    Shape::Cylinder { radius, length }
+                }
+            }
+            "box" => Shape::Box {
+                size: match length {
+                    // MuJoCo's fromto box is square: size[0] for x and y.
+                    Some(l) => {
+                        let s = need(1)?;
+                        [2.0 * s[0], 2.0 * s[0], l]
+                    }
+                    None => need(3)?.iter().map(|v| 2.0 * v).collect::<Vec<_>>()[..]
+                        .try_into()
+                        .map_err(|_| "size".to_string())?,
+                },
+            },
+            "ellipsoid" => Shape::Ellipsoid {
+                radii: match length {
+                    // Round about the segment, as MuJoCo's: size[0] for x and y.
+                    Some(l) => {
+                        let s = need(1)?;
+                        [s[0], s[0], l / 2.0]
+                    }
+                    None => {
+                        let s = need(3)?;
+                        [s[0], s[1], s[2]]
+                    }
+                },
+            },
+            "plane" => Shape::Plane {
+                size: [
+                    size.first().copied().unwrap_or(0.0).max(0.0),
+                    size.get(1).copied().unwrap_or(0.0).max(0.0),
+                ],
+            },
+            "mesh" => {
+                let name = self
+                    .attr(g, class, "mesh")
+                    .ok_or("a mesh geom without mesh=")?;
+                let asset = self
+                    .meshes
+                    .get(name)
+                    .ok_or_else(|| format!("mesh {} is not an <asset><mesh>", shown(name)))?;
+                if let Some(p) = &asset.problem {
+                    return Err(p.clone());
+                }
+                let file = asset.file.clone().unwrap_or_default();
+                Shape::Mesh {
+                    path: PathBuf::from(&file),
+                    uri: file,
+                    scale: asset.scale,
+                }
+            }
+            other => {
+                return Err(format!(
+                    "type=\"{other}\" is not read (sphere, capsule, cylinder, box, ellipsoid, plane and mesh are)"
+                ))
+            }
+        };
+        let rgba = match self.numbers(g, class, "rgba", 4).map_err(text)? {
+            Some(c) => Some([c[0], c[1], c[2], c[3]]),
+            None => self
+                .attr(g, class, "material")
+                .and_then(|m| self.materials.get(m).copied()),
+        };
+        let pose = offset * pose;
+        let origin = Se3::from_parts_unchecked(
+            *pose.rotation.to_rotation_matrix().matrix(),
+            pose.translation.vector,
+        );
+        Ok((
+            Geometry {
+                link: usize::MAX,
+                role: Role::Collision,
+                name: own_name(g).map(str::to_string),
+                origin,
+                shape,
+                rgba,
+                bits: Some(bits),
+            },
+            group,
+        ))
+    }
+
+    /// A geom as the tree's geometry: a collision shape when its bits let it collide with
+    /// something (or a `<pair>` names it), a visual one when MuJoCo's viewer shows its group
+    /// (0, 1 and 2). `link` None: fixed in the world.
+    fn push_geom(&mut self, link: Option<&str>, (g, group): (Geometry, i64)) {
+        let bits = g.bits.unwrap_or(ContactBits::DEFAULT);
+        let paired = g.name.as_ref().is_some_and(|n| self.pair_geoms.contains(n));
+        let mut roles = Vec::new();
+        if bits.contype != 0 || bits.conaffinity != 0 || paired {
+            roles.push(Role::Collision);
+        }
+        if (0..3).contains(&group) {
+            roles.push(Role::Visual);
+        }
+        for role in roles {
+            let g = Geometry { role, ..g.clone() };
+            match link {
+                Some(l) => self.geoms.push((l.to_string(), g)),
+                None => self.world_geoms.push(g),
+            }
+        }
+    }
+
+    /// The world body's geoms of a free-floating model (through frames).
+    fn world_geoms_of(
+        &mut self,
+        holder: &El,
+        offset: &Pose,
+        class: &str,
+    ) -> Result<(), ModelError> {
+        for c in &holder.children {
+            match c.tag.as_str() {
+                "geom" => {
+                    self.check_class(c)?;
+                    if let Some(g) = self.geom(c, offset, class) {
+                        self.push_geom(None, g);
+                    }
+                }
+                "frame" => {
+                    let pose = offset * self.pose(c, "main")?;
+                    let class = c.attr("childclass").unwrap_or(class).to_string();
+                    self.world_geoms_of(c, &pose, &class)?;
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The geoms and MuJoCo's contact rules into the built tree (links by index).
+    fn geometry_into(&mut self, tree: &mut Tree, root: &El) {
+        for (link, mut g) in std::mem::take(&mut self.geoms) {
+            if let Ok(l) = tree.link(&link) {
+                g.link = l;
+                tree.geometries.push(g);
+            }
+        }
+        let world_link = (!self.floating_root).then_some(tree.root);
+        let body = |name: &str| -> Option<Option<usize>> {
+            if name == "world" {
+                return Some(world_link);
+            }
+            tree.link(name).ok().map(Some)
+        };
+        let mut rules = crate::geometry::ContactRules {
+            world_link,
+            filterparent: self.filterparent,
+            ..Default::default()
+        };
+        for (b, p) in &self.body_parent {
+            if let Ok(l) = tree.link(b) {
+                let parent = p.as_deref().and_then(|p| tree.link(p).ok());
+                rules.body_parent.insert(l, parent);
+            }
+        }
+        let names: std::collections::HashSet<&str> = tree
+            .geometries
+            .iter()
+            .chain(&self.world_geoms)
+            .filter_map(|g| g.name.as_deref())
+            .collect();
+        for c in root.children.iter().filter(|c| c.tag == "contact") {
+            for e in &c.children {
+                let at = format!("{}:{}: {}", e.file, e.line, e.describe());
+                match e.tag.as_str() {
+                    "exclude" => {
+                        let (b1, b2) =
+                            (e.attr("body1").unwrap_or(""), e.attr("body2").unwrap_or(""));
+                        match (body(b1), body(b2)) {
+                            (Some(a), Some(b)) => rules.exclude.push((a, b)),
+                            _ => self.geometry_problems.push(format!(
+                                "{at}: body {} is not in the tree",
+                                shown(if body(b1).is_none() { b1 } else { b2 })
+                            )),
+                        }
+                    }
+                    "pair" => {
+                        let (g1, g2) =
+                            (e.attr("geom1").unwrap_or(""), e.attr("geom2").unwrap_or(""));
+                        match [g1, g2].iter().find(|g| !names.contains(**g)) {
+                            Some(missing) => self
+                                .geometry_problems
+                                .push(format!("{at}: geom {} is not in the tree", shown(missing))),
+                            None => rules.pairs.push((g1.to_string(), g2.to_string())),
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+        for mut g in std::mem::take(&mut self.world_geoms) {
+            g.link = tree.root;
+            rules.world.push(g);
+        }
+        tree.geometry_problems
+            .extend(std::mem::take(&mut self.geometry_problems));
+        tree.contact_rules = Some(rules);
+    }
+
     fn read_equalities(&mut self, root: &El) -> Result<(), ModelError> {
         for eq in root.children.iter().filter(|c| c.tag == "equality") {
             for e in &eq.children {

@@ -232,6 +232,9 @@ pub struct Tree {
     /// The geometry elements that could not be read, one sentence each naming the link; a
     /// query of the body reports them (kinematics does not need them).
     pub geometry_problems: Vec<String>,
+    /// MuJoCo's contact rules, for an MJCF model ([`crate::geometry::ContactRules`]); None
+    /// for URDF (the collision model's link rules).
+    pub contact_rules: Option<crate::geometry::ContactRules>,
     link_index: HashMap<String, usize>,
     joint_index: HashMap<String, usize>,
 }
@@ -423,6 +426,7 @@ impl Tree {
             qpos_layout: None,
             geometries: Vec::new(),
             geometry_problems: Vec::new(),
+            contact_rules: None,
             link_index,
             joint_index,
         })

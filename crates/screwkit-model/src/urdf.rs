@@ -520,6 +520,7 @@ fn shape_of(
         origin,
         shape,
         rgba,
+        bits: None,
     })
 }
 

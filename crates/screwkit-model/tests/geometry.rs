@@ -168,3 +168,92 @@ fn every_shape_and_every_problem() {
     }
     assert_eq!(tree.geometry_problems.len(), 5, "{problems}");
 }
+
+/// MJCF geoms: MuJoCo's sizes (half sizes, `fromto`), roles by `contype`/`conaffinity` and
+/// group, mesh assets through `meshdir`, the contact rules; a geom that cannot be used is a
+/// problem naming its line, and the kinematics still loads.
+#[test]
+fn mjcf_geoms_and_contact_rules() {
+    let text = r#"<mujoco>
+  <compiler meshdir="m"/>
+  <option><flag filterparent="disable"/></option>
+  <asset><mesh file="part.stl" scale="2 2 2"/></asset>
+  <worldbody>
+    <geom name="floor" type="plane" size="3 3 0.1"/>
+    <body name="a">
+      <joint name="ja"/>
+      <geom name="cap" type="capsule" fromto="0 0 0 0 0 0.4" size="0.05"/>
+      <geom name="box" type="box" size="0.1 0.2 0.3" contype="2" conaffinity="0"/>
+      <geom name="look" type="sphere" size="0.1" contype="0" conaffinity="0" group="1"/>
+      <geom name="hidden" type="ellipsoid" size="0.1 0.2 0.3" group="3"/>
+      <geom name="part" type="mesh" mesh="part"/>
+      <geom type="hfield"/>
+      <geom type="box" mesh="part"/>
+      <geom type="cylinder" size="0.1"/>
+    </body>
+  </worldbody>
+  <contact><exclude body1="world" body2="a"/><pair geom1="look" geom2="floor"/></contact>
+</mujoco>"#;
+    let tree = screwkit_model::mjcf::load_str(text, "t.xml", std::path::Path::new("/r")).unwrap();
+    let a = tree.link("a").unwrap();
+    let find = |name: &str, role: Role| {
+        tree.geometries
+            .iter()
+            .find(|g| g.name.as_deref() == Some(name) && g.role == role)
+    };
+    let cap = find("cap", Role::Collision).unwrap();
+    assert_eq!(
+        cap.shape,
+        Shape::Capsule {
+            radius: 0.05,
+            length: 0.4
+        }
+    );
+    assert!((cap.origin.translation().z - 0.2).abs() < 1e-15);
+    let b = find("box", Role::Collision).unwrap();
+    assert_eq!(
+        b.shape,
+        Shape::Box {
+            size: [0.2, 0.4, 0.6]
+        }
+    );
+    assert_eq!(b.bits.unwrap().contype, 2);
+    assert_eq!(b.link, a);
+    // Visual only, but a <pair> names it: a collision shape too.
+    assert!(find("look", Role::Collision).is_some());
+    assert!(find("look", Role::Visual).is_some());
+    // Group 3: MuJoCo's viewer hides it; it still collides.
+    assert!(find("hidden", Role::Visual).is_none());
+    assert!(find("hidden", Role::Collision).is_some());
+    let Shape::Mesh { path, scale, .. } = &find("part", Role::Collision).unwrap().shape else {
+        panic!("not a mesh")
+    };
+    assert_eq!(path, std::path::Path::new("/r/m/part.stl"));
+    assert_eq!(*scale, [2.0; 3]);
+    let problems = tree.geometry_problems.join("\n");
+    assert!(
+        problems.contains("t.xml:14: <geom>: type=\"hfield\" is not read"),
+        "{problems}"
+    );
+    assert!(
+        problems.contains("t.xml:15: <geom>: a box fitted to a mesh"),
+        "{problems}"
+    );
+    assert!(
+        problems.contains("t.xml:16: <geom>: a cylinder needs 2 size number(s)"),
+        "{problems}"
+    );
+    let rules = tree.contact_rules.as_ref().unwrap();
+    assert!(!rules.filterparent);
+    assert_eq!(rules.world_link, Some(tree.root));
+    assert_eq!(rules.exclude, vec![(Some(tree.root), Some(a))]);
+    assert_eq!(rules.pairs, vec![("look".to_string(), "floor".to_string())]);
+    assert_eq!(rules.body_parent[&a], Some(tree.root));
+    assert_eq!(
+        tree.geometries
+            .iter()
+            .filter(|g| g.shape.word() == "plane")
+            .count(),
+        2
+    );
+}

@@ -132,6 +132,8 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     d.set_item("views", all::<w::Views>())?;
     d.set_item("orientation_mode", all::<w::OrientationMode>())?;
     d.set_item("solver_choice", all::<w::SolverChoice>())?;
+    d.set_item("geometry", all::<w::GeometryRoles>())?;
+    d.set_item("meshes", all::<w::Meshes>())?;
     Ok(d)
 }
 

@@ -12,7 +12,8 @@ use pyo3::types::PyType;
 use screwkit_model::{table, Chain};
 use screwkit_service::query::{About, Poses, Selection};
 use screwkit_service::words::{
-    self, JacobianFrame, Method, ScrewFrame, TableFormat, TableFrames, Views, Word,
+    self, GeometryRoles, JacobianFrame, Meshes, Method, ScrewFrame, TableFormat, TableFrames,
+    Views, Word,
 };
 use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
 use screwkit_solve::ik::{IkOptions, IkStatus};
@@ -374,7 +375,7 @@ impl Robot {
             return Ok((kin, m));
         }
         let m = Arc::new(
-            screwkit_service::body::model(&kin, screwkit_service::body::MESHES, None)
+            screwkit_service::body::model(&kin, self.robot.options().meshes, None)
                 .map_err(service_error)?,
         );
         *self.body.write().expect("the body lock") = Some(m.clone());
@@ -667,10 +668,13 @@ impl Robot {
     /// The file is read as every front end reads it (at most 64 MiB; UTF-8 with or without a
     /// byte-order mark, or Latin-1 when its XML declaration says so). `tool`: a tool frame
     /// (TCP) fixed to the tip link, (x, y, z, roll, pitch, yaw) in m and rad (URDF rpy); FK,
-    /// Jacobians, IK and tables are then of the tool frame. An unreadable file raises the
-    /// matching `OSError`; a bad one `ValueError`.
+    /// Jacobians, IK and tables are then of the tool frame. `geometry`: which of the file's
+    /// shapes are read (`"collision"`, `"visual"`, `"both"`, `"none"`); `meshes`: how the body's
+    /// meshes are read (`"exact"` triangles, `"convex"` hulls; default exact for URDF, convex
+    /// for MJCF as MuJoCo). An unreadable file raises the matching `OSError`; a bad one
+    /// `ValueError`.
     #[classmethod]
-    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None, floating_base = false))]
+    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None, floating_base = false, geometry = "both", meshes = None))]
     #[allow(clippy::too_many_arguments)]
     fn from_urdf(
         _cls: &Bound<'_, PyType>,
@@ -681,6 +685,8 @@ impl Robot {
         xacro_args: Option<std::collections::BTreeMap<String, String>>,
         tool: Option<Vec<f64>>,
         floating_base: bool,
+        geometry: &str,
+        meshes: Option<&str>,
     ) -> PyResult<Self> {
         let options = LoadOptions {
             xacro: xacro_options(package_paths, xacro_args),
@@ -688,6 +694,8 @@ impl Robot {
             tip,
             tool,
             floating_base,
+            geometry: word::<GeometryRoles>("geometry", geometry)?,
+            meshes: meshes.map(|m| word::<Meshes>("meshes", m)).transpose()?,
         };
         Self::build(&Source::Path(path), &options)
     }
@@ -696,7 +704,7 @@ impl Robot {
     /// apart by content — with the options of `from_urdf` (which reads them all too). An MJCF
     /// model with a free root joint has a floating base.
     #[classmethod]
-    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None, floating_base = false))]
+    #[pyo3(signature = (path, base = None, tip = None, *, package_paths = None, xacro_args = None, tool = None, floating_base = false, geometry = "both", meshes = None))]
     #[allow(clippy::too_many_arguments)]
     fn from_file(
         cls: &Bound<'_, PyType>,
@@ -707,6 +715,8 @@ impl Robot {
         xacro_args: Option<std::collections::BTreeMap<String, String>>,
         tool: Option<Vec<f64>>,
         floating_base: bool,
+        geometry: &str,
+        meshes: Option<&str>,
     ) -> PyResult<Self> {
         Self::from_urdf(
             cls,
@@ -717,6 +727,8 @@ impl Robot {
             xacro_args,
             tool,
             floating_base,
+            geometry,
+            meshes,
         )
     }
 
@@ -865,6 +877,14 @@ impl Robot {
             o.tool.clone(),
             o.floating_base,
             frames,
+            // What the body needs to be read again: the folder and packages its meshes are
+            // named from, which shapes, how meshes are read.
+            (
+                r.robot.dir().to_path_buf(),
+                o.xacro.package_paths.clone(),
+                o.geometry.as_str(),
+                o.meshes.map(|m| m.as_str()),
+            ),
         );
         Ok((ctor, args).into_pyobject(py)?.into_any())
     }
@@ -881,15 +901,24 @@ impl Robot {
         tool: Option<Vec<f64>>,
         floating_base: bool,
         frames: Vec<(String, String, Vec<f64>)>,
+        body: (PathBuf, Vec<PathBuf>, String, Option<String>),
     ) -> PyResult<Self> {
+        let (dir, package_paths, geometry, meshes) = body;
         let options = LoadOptions {
             base,
             tip,
             tool,
             floating_base,
-            ..LoadOptions::default()
+            xacro: xacro_options(Some(package_paths), None),
+            geometry: word::<GeometryRoles>("geometry", &geometry)?,
+            meshes: meshes.map(|m| word::<Meshes>("meshes", &m)).transpose()?,
         };
-        let r = Self::build(&Source::text(xml, source), &options)?;
+        let source = Source::Text {
+            text: xml,
+            label: source.to_string(),
+            dir,
+        };
+        let r = Self::build(&source, &options)?;
         for (name, link, pose) in frames {
             let t = screwkit_lie::Se3::from_row_major(&pose, 1e-9)
                 .map_err(|e| PyValueError::new_err(format!("frame {name}: {e}")))?;
@@ -1403,8 +1432,9 @@ impl Robot {
             ..Default::default()
         };
         let name = &self.robot.tree().name;
+        let meshes = self.robot.options().meshes;
         let text = pool::cancellable(py, || {
-            screwkit_service::body::generated_srdf(name, &kin, &g)
+            screwkit_service::body::generated_srdf(name, &kin, meshes, &g)
         })?
         .map_err(service_error)?;
         write_text(path, &text)?;

@@ -172,6 +172,8 @@ def test_stub_words_are_the_floors() -> None:
         ("_TableFrames", "table_frames"),
         ("_Views", "views"),
         ("_Method", "method"),
+        ("_Geometry", "geometry"),
+        ("_Meshes", "meshes"),
     ]:
         assert sorted(lit[alias]) == sorted(words[family]), alias
     for family in ["orientation_mode", "solver_choice"]:

@@ -23,28 +23,39 @@ impl From<Meshes> for MeshMode {
     }
 }
 
-/// How meshes are read when a front end is not told (exact triangles).
-pub const MESHES: Meshes = Meshes::Exact;
+/// How a robot's meshes are read when a front end is not told: exactly (their triangles) for
+/// URDF, as convex hulls for MJCF (MuJoCo's rule: its collisions see a mesh's hull).
+pub fn default_meshes(tree: &screwkit_model::Tree) -> Meshes {
+    if tree.contact_rules.is_some() {
+        Meshes::Convex
+    } else {
+        Meshes::Exact
+    }
+}
 
 /// The SRDF text of `kin`'s generated allowed-collision matrix (named `robot`), meshes read as
-/// [`MESHES`] says: what `screwkit srdf` writes and `Robot.write_srdf` returns. Its defaults
-/// are [`screwkit_collision::acm::Generate::default`]'s.
+/// `meshes` says (else [`default_meshes`]): what `screwkit srdf` writes and `Robot.write_srdf`
+/// returns. Its defaults are [`screwkit_collision::acm::Generate::default`]'s.
 pub fn generated_srdf(
     robot: &str,
     kin: &TreeKinematics,
+    meshes: Option<Meshes>,
     generate: &screwkit_collision::acm::Generate,
 ) -> Result<String> {
-    let pairs = screwkit_collision::acm::generate(kin, MESHES.into(), generate)?;
+    let meshes = meshes.unwrap_or_else(|| default_meshes(&kin.model().tree));
+    let pairs = screwkit_collision::acm::generate(kin, meshes.into(), generate)?;
     Ok(screwkit_model::srdf::write(robot, &pairs))
 }
 
 /// The collision model of `robot`'s whole tree `kin` (its `<collision>` shapes; meshes read as
-/// `meshes` says), with the pairs an SRDF file disables when one is given.
+/// `meshes` says, else as [`default_meshes`]), with the pairs an SRDF file disables when one
+/// is given.
 pub fn model(
     kin: &TreeKinematics,
-    meshes: Meshes,
+    meshes: Option<Meshes>,
     srdf: Option<&std::path::Path>,
 ) -> Result<CollisionModel> {
+    let meshes = meshes.unwrap_or_else(|| default_meshes(&kin.model().tree));
     let mut model = CollisionModel::new(
         kin,
         Options {

@@ -319,11 +319,18 @@ impl InfoReport {
             frames,
             whole_tree_error: whole.as_ref().err().map(|e| e.kind.to_string()),
             default_chain,
+            // An MJCF model's world geoms (a floating base: fixed in the world) as `world`'s.
             geometry: tree
                 .geometries
                 .iter()
-                .map(|g| ShapeInfo {
-                    link: tree.links[g.link].clone(),
+                .map(|g| (tree.links[g.link].as_str(), g))
+                .chain(
+                    tree.contact_rules
+                        .iter()
+                        .flat_map(|r| r.world.iter().map(|g| ("world", g))),
+                )
+                .map(|(link, g)| ShapeInfo {
+                    link: link.to_string(),
                     role: g.role.word(),
                     shape: g.shape.word(),
                     mesh: match &g.shape {

@@ -156,6 +156,10 @@ pub struct LoadOptions {
     /// A free joint (6 DoF) between the world and the root link in the whole tree
     /// ([`screwkit_model::kinematic_tree`] states its configuration and velocity).
     pub floating_base: bool,
+    /// Which shapes of the file are read (collision, visual, both, none).
+    pub geometry: crate::words::GeometryRoles,
+    /// How the body's meshes are read (None: [`crate::body::default_meshes`]).
+    pub meshes: Option<crate::words::Meshes>,
 }
 
 impl LoadOptions {
@@ -193,6 +197,8 @@ pub struct Robot {
     /// The files it was read from (its file, includes), protected from every output while it
     /// lives ([`input::InputFile`]).
     inputs: Vec<input::InputFile>,
+    /// The folder its relative names (includes, meshes) were read from.
+    dir: PathBuf,
 }
 
 impl Robot {
@@ -224,6 +230,7 @@ impl Robot {
         let (robot, inputs) = input::collect_reads(|| Robot::read(source, options));
         let mut robot = robot?;
         robot.inputs = inputs;
+        robot.dir = source.dir();
         Ok(robot)
     }
 
@@ -286,12 +293,23 @@ impl Robot {
             urdf: text,
             options: options.clone(),
             inputs: Vec::new(),
+            dir: PathBuf::from("."),
         })
     }
 
-    /// The robot of an already parsed tree (`urdf`: its text, kept for [`Robot::urdf`]).
-    pub fn from_tree(tree: Tree, urdf: String, options: &LoadOptions) -> Result<Robot> {
+    /// The robot of an already parsed tree (`urdf`: its text, kept for [`Robot::urdf`]), with
+    /// the shapes `options.geometry` asks for.
+    pub fn from_tree(mut tree: Tree, urdf: String, options: &LoadOptions) -> Result<Robot> {
         let tool = options.tool_pose()?;
+        let roles = options.geometry;
+        tree.geometries.retain(|g| roles.keeps(g.role));
+        if let Some(rules) = &mut tree.contact_rules {
+            rules.world.retain(|g| roles.keeps(g.role));
+        }
+        if !roles.keeps(screwkit_model::geometry::Role::Collision) {
+            // Nothing of the body is queried: what could not be read does not matter.
+            tree.geometry_problems.clear();
+        }
         let chain =
             Chain::from_tree(&tree, options.base.as_deref(), options.tip.as_deref()).map(|chain| {
                 let chain = match &tool {
@@ -318,7 +336,13 @@ impl Robot {
             urdf,
             options: options.clone(),
             inputs: Vec::new(),
+            dir: PathBuf::from("."),
         })
+    }
+
+    /// The folder the robot's relative names (includes, meshes) were read from.
+    pub fn dir(&self) -> &Path {
+        &self.dir
     }
 
     /// The parsed tree.

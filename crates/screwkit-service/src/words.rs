@@ -163,6 +163,36 @@ words! {
 }
 
 words! {
+    /// Which of a robot file's shapes are read (`--geometry`, `geometry=`): its collision
+    /// shapes, its visual ones, both (the default), or none.
+    #[derive(Default)]
+    GeometryRoles, "geometry" {
+        /// Collision shapes only.
+        Collision = "collision",
+        /// Visual shapes only.
+        Visual = "visual",
+        /// Both (the default).
+        #[default]
+        Both = "both",
+        /// No geometry: kinematics only.
+        None = "none",
+    }
+}
+
+impl GeometryRoles {
+    /// Whether shapes of `role` are read.
+    pub fn keeps(self, role: screwkit_model::geometry::Role) -> bool {
+        use screwkit_model::geometry::Role;
+        matches!(
+            (self, role),
+            (GeometryRoles::Both, _)
+                | (GeometryRoles::Collision, Role::Collision)
+                | (GeometryRoles::Visual, Role::Visual)
+        )
+    }
+}
+
+words! {
     /// The frame of a screw axis or a twist: the library's [`Frame`] as a word.
     ScrewFrame, "frame" {
         /// The space frame (the base).

@@ -65,6 +65,8 @@ _TableFormat: TypeAlias = Literal["markdown", "md", "text", "csv", "json"]
 _TableFrames: TypeAlias = Literal["space", "body", "both"]
 _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
+_Geometry: TypeAlias = Literal["collision", "visual", "both", "none"]
+_Meshes: TypeAlias = Literal["exact", "convex"]
 _Representatives: TypeAlias = Literal["nearest", "all", "none"]
 _F64: TypeAlias = npt.NDArray[np.float64]
 _ArrayLike: TypeAlias = npt.ArrayLike
@@ -359,6 +361,8 @@ class Robot:
         xacro_args: Mapping[str, str] | None = None,
         tool: Sequence[float] | None = None,
         floating_base: bool = False,
+        geometry: _Geometry = "both",
+        meshes: _Meshes | None = None,
     ) -> Robot: ...
     @classmethod
     def from_file(
@@ -371,6 +375,8 @@ class Robot:
         xacro_args: Mapping[str, str] | None = None,
         tool: Sequence[float] | None = None,
         floating_base: bool = False,
+        geometry: _Geometry = "both",
+        meshes: _Meshes | None = None,
     ) -> Robot: ...
     @classmethod
     def from_screws(
@@ -409,6 +415,7 @@ class Robot:
         tool: Sequence[float] | None,
         floating_base: bool,
         frames: Sequence[tuple[str, str, Sequence[float]]],
+        body: tuple[str | os.PathLike[str], Sequence[str | os.PathLike[str]], str, str | None],
     ) -> Robot: ...
     def __reduce__(self) -> Any: ...
     @property
