@@ -110,6 +110,11 @@ pub struct CollideArgs {
     /// An SRDF whose disable_collisions pairs are not checked.
     #[arg(long)]
     pub srdf: Option<PathBuf>,
+    /// A scene file (JSON) of obstacles checked against every link: {"obstacles": [{"name",
+    /// "shape": box|sphere|cylinder|capsule|mesh, "size"|"radius"|"length"|"path"|"scale",
+    /// "xyz", "rpy" | "pose"}]} (docs/guide/collision.md).
+    #[arg(long)]
+    pub obstacles: Option<PathBuf>,
 }
 
 /// `srdf`.

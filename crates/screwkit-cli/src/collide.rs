@@ -39,7 +39,12 @@ fn report_of(
 pub fn run(args: &CollideArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
     let kin = robot.whole()?;
-    let model = body::model(kin, robot.options().meshes, args.srdf.as_deref())?;
+    let mut model = body::model(kin, robot.options().meshes, args.srdf.as_deref())?;
+    if let Some(scene) = &args.obstacles {
+        let obstacles = body::read_scene(scene, &robot.options().xacro.package_paths)?;
+        body::add_obstacles(&mut model, &obstacles)?;
+    }
+    let model = model;
     let width = Space::of(&robot, Some(kin))?.q_len();
     if let Some(input) = &args.at.input {
         if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {

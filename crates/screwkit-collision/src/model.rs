@@ -197,6 +197,7 @@ fn engine_shape(
     mode: MeshMode,
     meshes: &mut Meshes,
 ) -> Result<(SharedShape, Option<Se3>, &'static str), String> {
+    shape.check()?;
     Ok(match shape {
         Shape::Box { size } => (
             SharedShape(Arc::new(Cuboid::new(convert::vector(

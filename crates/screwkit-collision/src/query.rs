@@ -113,10 +113,13 @@ fn place(
 /// True when the shapes of pair (a, b) intersect (touching counts).
 fn intersects(model: &CollisionModel, ws: &CollisionWorkspace, a: usize, b: usize) -> bool {
     let (oa, ob) = (&model.objects[a], &model.objects[b]);
-    query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
-        .map(|r| r.intersecting)
-        // A pair the engine cannot test is reported as colliding: never a silent "free".
-        .unwrap_or(true)
+    screwkit_model::mesh::contained(|| {
+        query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
+            .map(|r| r.intersecting)
+    })
+    // A pair the engine cannot test (or fails on: parry's EPA can panic on degenerate
+    // shapes) is reported as colliding: never a silent "free".
+    .map_or(true, |r| r.unwrap_or(true))
 }
 
 /// True when some checked pair collides at q (the first found ends the search).
@@ -169,8 +172,20 @@ pub fn collisions(
     Ok(())
 }
 
-/// The signed distance of pair `k` (shapes a, b) at the placed poses.
+/// The signed distance of pair `k` (shapes a, b) at the placed poses; NaN (points, normal and
+/// distance) when the engine cannot measure it or fails on it (a panic contained).
 fn pair_distance(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDistance {
+    screwkit_model::mesh::contained(|| measure(model, ws, k)).unwrap_or(PairDistance {
+        pair: k,
+        distance: f64::NAN,
+        point_a: [f64::NAN; 3],
+        point_b: [f64::NAN; 3],
+        normal: [f64::NAN; 3],
+    })
+}
+
+/// [`pair_distance`] itself.
+fn measure(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDistance {
     let (a, b) = model.pairs[k];
     let (a, b) = (a as usize, b as usize);
     let (sa, sb) = (&*model.objects[a].shape.0, &*model.objects[b].shape.0);

@@ -67,7 +67,45 @@ pub enum Shape {
     },
 }
 
+/// The largest dimension a shape may have (m): beyond it a shape is garbage (a box of 1e308
+/// m has no finite bounding box), refused with the size it gives.
+pub const MAX_SIZE: f64 = 1e6;
+
 impl Shape {
+    /// Checks the shape's numbers: every dimension finite, positive (a capsule's length and a
+    /// plane's drawn size may be 0) and at most [`MAX_SIZE`]; a mesh's scale finite, non-zero,
+    /// and at most [`MAX_SIZE`] in size. The sentence says which number is wrong.
+    pub fn check(&self) -> Result<(), String> {
+        let check = |what: &str, v: f64, zero_ok: bool| {
+            if !v.is_finite() || v < 0.0 || (v == 0.0 && !zero_ok) || v.abs() > MAX_SIZE {
+                Err(format!(
+                    "{} {what} {v}: expected {} and at most {MAX_SIZE} m",
+                    self.word(),
+                    if zero_ok { "≥ 0" } else { "> 0" }
+                ))
+            } else {
+                Ok(())
+            }
+        };
+        match self {
+            Shape::Box { size } => size.iter().try_for_each(|v| check("size", *v, false)),
+            Shape::Cylinder { radius, length } => {
+                check("radius", *radius, false)?;
+                check("length", *length, false)
+            }
+            Shape::Sphere { radius } => check("radius", *radius, false),
+            Shape::Capsule { radius, length } => {
+                check("radius", *radius, false)?;
+                check("length", *length, true)
+            }
+            Shape::Ellipsoid { radii } => radii.iter().try_for_each(|v| check("radius", *v, false)),
+            Shape::Plane { size } => size.iter().try_for_each(|v| check("size", *v, true)),
+            Shape::Mesh { scale, .. } => scale
+                .iter()
+                .try_for_each(|v| check("scale", v.abs(), false)),
+        }
+    }
+
     /// The shape's word: `box`, `cylinder`, `sphere`, `capsule`, `ellipsoid`, `plane`, `mesh`.
     pub fn word(&self) -> &'static str {
         match self {

@@ -90,10 +90,11 @@ thread_local! {
     static CONTAINED: Cell<bool> = const { Cell::new(false) };
 }
 
-/// Runs `f`, a third-party parser, turning a panic into an error: the panic's message is
-/// returned, not printed (the process's panic hook is wrapped once, and stays silent only for
-/// the thread inside a contained parse; every other panic is reported as before).
-fn contained<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+/// Runs `f`, third-party code (a parser, a geometry engine), turning a panic into an error:
+/// the panic's message is returned, not printed (the process's panic hook is wrapped once,
+/// and stays silent only for the thread inside a contained call; every other panic is reported
+/// as before). Cheap on the way through: a thread-local flag and an unwind landing pad.
+pub fn contained<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     static HOOK: Once = Once::new();
     HOOK.call_once(|| {
         let previous = std::panic::take_hook();

@@ -224,6 +224,15 @@ const MJCF_TOKENS: &[&[u8]] = &[
     b"zaxis=\"0 0 -1\"",
     b"axisangle=\"0 0 0 90\"",
     b"limited=\"auto\"",
+    b"<geom type=\"capsule\" fromto=\"0 0 0 0 0 1\" size=\"0.1\"/>",
+    b"<geom type=\"box\" size=\"1e308 1 1\" contype=\"-1\"/>",
+    b"<geom type=\"ellipsoid\" size=\"0 1\"/>",
+    b"<geom type=\"plane\" size=\"nan\"/>",
+    b"<geom type=\"mesh\" mesh=\"m\"/>",
+    b"<geom type=\"hfield\"/>",
+    b"<asset><mesh name=\"m\" file=\"../m.stl\" scale=\"1 1\"/></asset>",
+    b"<contact><exclude body1=\"world\" body2=\"x\"/><pair geom1=\"a\" geom2=\"\"/></contact>",
+    b"<option><flag filterparent=\"disable\"/></option>",
 ];
 
 #[test]

@@ -1463,6 +1463,18 @@ impl Robot {
         self.change_body(|m| Ok(m.add_obstacle(name, &shape, pose)?))
     }
 
+    /// Adds the obstacles of a scene file (JSON, as `screwkit collide --obstacles` reads it:
+    /// `{"obstacles": [{"name", "shape", "size" | "radius" | "length" | "path" | "scale",
+    /// "xyz", "rpy" | "pose"}]}`; mesh paths relative to the file); returns their names. A bad
+    /// file raises `ValueError` naming it and the obstacle.
+    fn add_obstacles(&self, path: PathBuf) -> PyResult<Vec<String>> {
+        let obstacles =
+            screwkit_service::body::read_scene(&path, &self.robot.options().xacro.package_paths)
+                .map_err(service_error)?;
+        self.change_body(|m| screwkit_service::body::add_obstacles(m, &obstacles))?;
+        Ok(obstacles.into_iter().map(|o| o.name).collect())
+    }
+
     /// Removes the obstacle `name`; True if there was one.
     fn remove_obstacle(&self, name: &str) -> PyResult<bool> {
         self.change_body(|m| Ok(m.remove_obstacle(name)))

@@ -215,3 +215,40 @@ def test_obstacles_srdf_and_errors(tmp_path: Path) -> None:
     ur5 = screwkit.Robot.from_urdf(ASSETS / "ur5.urdf")
     assert ur5.collision_pairs == [] and ur5.in_collision(np.zeros(6)) is False
     assert ur5.min_distance(np.zeros(6)) == np.inf
+
+
+@pytest.mark.parametrize(
+    ("scene", "message"),
+    [
+        ('{"obstacles": [{"name": "a", "shape": "cone", "radius": 1}]}', 'shape "cone"'),
+        ('{"obstacles": [{"name": "a", "shape": "box", "radius": 1}]}', 'a box takes no "radius"'),
+        ('{"obstacles": [{"name": "a", "shape": "sphere"}]}', 'a sphere needs "radius"'),
+        ('{"obstacles": [{"name": "a", "shape": "sphere", "radius": -1}]}', "radius -1"),
+        ('{"obstacles": [{"name": "a", "shape": "sphere", "radius": 1, "colour": 1}]}', "colour"),
+        (
+            '{"obstacles": [{"name": "a", "shape": "sphere", "radius": 1},'
+            ' {"name": "a", "shape": "sphere", "radius": 2}]}',
+            'obstacle 1 \\("a"\\): the name is given twice',
+        ),
+        (
+            '{"obstacles": [{"name": "a", "shape": "sphere", "radius": 1, "xyz": [0, 0, 0],'
+            ' "pose": [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}]}',
+            "not both",
+        ),
+        (
+            '{"obstacles": [{"name": "a", "shape": "sphere", "radius": 1,'
+            ' "pose": [[2, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}]}',
+            "pose",
+        ),
+        ('{"obstacles": [{"name": "m", "shape": "mesh", "path": "none.stl"}]}', "none.stl"),
+        ('{"obstacles": [}', "line 1 column"),
+    ],
+)
+def test_a_bad_scene_names_the_file_and_obstacle(tmp_path: Path, scene: str, message: str) -> None:
+    robot = screwkit.Robot.from_urdf(ASSETS / "humanoid.urdf")
+    path = tmp_path / "scene.json"
+    path.write_text(scene)
+    with pytest.raises((ValueError, OSError), match=message):
+        robot.add_obstacles(path)
+    # Nothing half-added.
+    assert robot.obstacles == []

@@ -279,3 +279,54 @@ def test_collide_and_srdf_are_the_same_from_the_cli_and_python(tmp_path: Path) -
         assert tuple(got["min_distance"]["pair"]) == d.pairs[k]
         np.testing.assert_array_equal(got["min_distance"]["points"], d.points[k])
     assert seen == {True, False}, "the configurations collide and do not"
+
+
+def test_scene_obstacles_are_the_same_from_the_cli_and_python(tmp_path: Path) -> None:
+    """`screwkit collide --obstacles scene.json` and `Robot.add_obstacles(scene.json)` read one
+    scene (the floor's reader) and answer alike; the obstacles take part in the pairs."""
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    path = ASSETS / "humanoid.urdf"
+    scene = tmp_path / "scene.json"
+    scene.write_text(
+        json.dumps(
+            {
+                "obstacles": [
+                    {"name": "floor", "shape": "box", "size": [4, 4, 0.1], "xyz": [0, 0, -1.0]},
+                    {"name": "ball", "shape": "sphere", "radius": 0.15, "xyz": [0.35, 0, 0.1]},
+                    {
+                        "name": "bar",
+                        "shape": "capsule",
+                        "radius": 0.03,
+                        "length": 1.0,
+                        "rpy": [1.5707963267948966, 0, 0],
+                        "xyz": [0.3, 0, 0.4],
+                    },
+                ]
+            }
+        )
+    )
+    robot = screwkit.Robot.from_urdf(path)
+    before = len(robot.collision_pairs)
+    assert robot.add_obstacles(scene) == ["floor", "ball", "bar"]
+    assert robot.obstacles == ["floor", "ball", "bar"]
+    assert len(robot.collision_pairs) > before
+    rng = np.random.default_rng(5)
+    lo, hi = np.maximum(robot.lower, -2.0), np.minimum(robot.upper, 2.0)
+    hits = set()
+    for _ in range(12):
+        q = rng.uniform(lo, hi)
+        got = cli(
+            "collide",
+            str(path),
+            "--obstacles",
+            str(scene),
+            "--q",
+            ",".join(repr(float(x)) for x in q),
+        )
+        assert got["pairs"] == len(robot.collision_pairs)
+        assert [tuple(p) for p in got["collisions"]] == robot.collisions(q)
+        assert got["min_distance"]["distance"] == robot.min_distance(q)
+        hits |= {name for p in got["collisions"] for name in p if name in robot.obstacles}
+    assert hits, "some configuration touches an obstacle"

@@ -167,3 +167,166 @@ pub struct CollideReport {
     /// The number of pairs checked.
     pub pairs: usize,
 }
+
+/// One obstacle of a scene: a shape at a pose in the world.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Obstacle {
+    /// Its name (unique in the scene).
+    pub name: String,
+    /// The shape (a mesh's path resolved).
+    pub shape: screwkit_model::geometry::Shape,
+    /// Its pose in the world (the root link's frame; the world with a floating base).
+    pub pose: screwkit_lie::Se3,
+}
+
+/// A scene file's obstacle as written.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObstacleSpec {
+    name: String,
+    shape: String,
+    size: Option<[f64; 3]>,
+    radius: Option<f64>,
+    length: Option<f64>,
+    path: Option<String>,
+    scale: Option<[f64; 3]>,
+    xyz: Option<[f64; 3]>,
+    rpy: Option<[f64; 3]>,
+    pose: Option<[[f64; 4]; 4]>,
+}
+
+/// A scene file as written.
+#[derive(Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneSpec {
+    obstacles: Vec<ObstacleSpec>,
+}
+
+/// The obstacles of a scene file (`screwkit collide --obstacles`, Python's
+/// `Robot.add_obstacles`), JSON:
+///
+/// ```json
+/// {"obstacles": [
+///   {"name": "table", "shape": "box", "size": [1.0, 0.8, 0.05], "xyz": [0.6, 0, 0.4]},
+///   {"name": "ball", "shape": "sphere", "radius": 0.1, "xyz": [0.4, 0.3, 0.9]},
+///   {"name": "post", "shape": "cylinder", "radius": 0.05, "length": 1.0, "rpy": [0, 1.57, 0]},
+///   {"name": "bin", "shape": "mesh", "path": "bin.stl", "scale": [0.001, 0.001, 0.001],
+///    "pose": [[1, 0, 0, 0.5], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]]}
+/// ]}
+/// ```
+///
+/// Shapes as URDF's: `box` (`size`, full sides), `sphere` (`radius`), `cylinder` and `capsule`
+/// (`radius`, `length`, along z), `mesh` (`path` relative to the scene file, or `package://`
+/// through `package_paths`, or `file://`; `scale` optional). The pose is `xyz` and `rpy` (URDF's
+/// origin; both optional) or `pose` (4 × 4, row-major, a rotation checked to 1e-9), not both.
+/// Every field is checked: an unknown one, one the shape does not take, a name given twice, a
+/// bad number, are errors naming the file (with serde's line and column) and the obstacle.
+pub fn read_scene(
+    path: &std::path::Path,
+    package_paths: &[std::path::PathBuf],
+) -> Result<Vec<Obstacle>> {
+    let text = crate::load::Source::Path(path.to_path_buf()).read()?;
+    let dir = path.parent().unwrap_or(std::path::Path::new("."));
+    scene_from_str(&text, &path.display().to_string(), dir, package_paths)
+}
+
+/// [`read_scene`] of text named `label`, meshes named from `dir`.
+pub fn scene_from_str(
+    text: &str,
+    label: &str,
+    dir: &std::path::Path,
+    package_paths: &[std::path::PathBuf],
+) -> Result<Vec<Obstacle>> {
+    use screwkit_model::geometry::Shape;
+    let bad = |message: String| Error::option("obstacles", format!("{label}: {message}"));
+    let spec: SceneSpec = serde_json::from_str(text).map_err(|e| bad(e.to_string()))?;
+    let mut out: Vec<Obstacle> = Vec::with_capacity(spec.obstacles.len());
+    for (k, o) in spec.obstacles.into_iter().enumerate() {
+        let at = |message: String| bad(format!("obstacle {k} (\"{}\"): {message}", o.name));
+        if out.iter().any(|x| x.name == o.name) {
+            return Err(at("the name is given twice".into()));
+        }
+        let fields = [
+            ("size", o.size.is_some()),
+            ("radius", o.radius.is_some()),
+            ("length", o.length.is_some()),
+            ("path", o.path.is_some()),
+            ("scale", o.scale.is_some()),
+        ];
+        let takes: &[&str] = match o.shape.as_str() {
+            "box" => &["size"],
+            "sphere" => &["radius"],
+            "cylinder" | "capsule" => &["radius", "length"],
+            "mesh" => &["path", "scale"],
+            other => {
+                return Err(at(format!(
+                    "shape \"{other}\": expected box, sphere, cylinder, capsule or mesh"
+                )))
+            }
+        };
+        if let Some((f, _)) = fields
+            .iter()
+            .find(|(f, given)| *given && !takes.contains(f))
+        {
+            return Err(at(format!("a {} takes no \"{f}\"", o.shape)));
+        }
+        let need =
+            |v: Option<f64>, f: &str| v.ok_or_else(|| at(format!("a {} needs \"{f}\"", o.shape)));
+        let shape = match o.shape.as_str() {
+            "box" => Shape::Box {
+                size: o.size.ok_or_else(|| at("a box needs \"size\"".into()))?,
+            },
+            "sphere" => Shape::Sphere {
+                radius: need(o.radius, "radius")?,
+            },
+            "cylinder" => Shape::Cylinder {
+                radius: need(o.radius, "radius")?,
+                length: need(o.length, "length")?,
+            },
+            "capsule" => Shape::Capsule {
+                radius: need(o.radius, "radius")?,
+                length: need(o.length, "length")?,
+            },
+            _ => {
+                let uri = o
+                    .path
+                    .clone()
+                    .ok_or_else(|| at("a mesh needs \"path\"".into()))?;
+                let path =
+                    screwkit_model::geometry::resolve_mesh(&uri, dir, package_paths).map_err(at)?;
+                Shape::Mesh {
+                    uri,
+                    path,
+                    scale: o.scale.unwrap_or([1.0; 3]),
+                }
+            }
+        };
+        shape.check().map_err(at)?;
+        let pose = match (o.pose, o.xyz.is_some() || o.rpy.is_some()) {
+            (Some(_), true) => return Err(at("give \"pose\" or \"xyz\"/\"rpy\", not both".into())),
+            (Some(p), false) => {
+                let flat: Vec<f64> = p.iter().flatten().copied().collect();
+                crate::target::from_row_major(&flat).map_err(|e| at(format!("pose: {e}")))?
+            }
+            (None, _) => screwkit_lie::Se3::from_xyz_rpy(
+                o.xyz.unwrap_or([0.0; 3]),
+                o.rpy.unwrap_or([0.0; 3]),
+            )
+            .map_err(|e| at(format!("xyz/rpy: {e}")))?,
+        };
+        out.push(Obstacle {
+            name: o.name,
+            shape,
+            pose,
+        });
+    }
+    Ok(out)
+}
+
+/// Adds a scene's obstacles to `model` (each replaces one of its name).
+pub fn add_obstacles(model: &mut CollisionModel, obstacles: &[Obstacle]) -> Result<()> {
+    for o in obstacles {
+        model.add_obstacle(&o.name, &o.shape, o.pose)?;
+    }
+    Ok(())
+}
