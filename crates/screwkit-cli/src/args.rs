@@ -115,6 +115,10 @@ pub struct CollideArgs {
     /// "xyz", "rpy" | "pose"}]} (docs/guide/collision.md).
     #[arg(long)]
     pub obstacles: Option<PathBuf>,
+    /// Also every checked pair's signed distance with its Jacobian row (nv: the distance's
+    /// rate along the tree's velocity), JSON `distances`.
+    #[arg(long)]
+    pub distances: bool,
 }
 
 /// `srdf`.

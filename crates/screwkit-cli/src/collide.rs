@@ -1,39 +1,15 @@
 //! `screwkit collide` (the robot's body at q: the floor's `body` module around
 //! `screwkit_collision`) and `screwkit srdf` (the allowed-collision matrix, generated).
 
-use screwkit_collision::{CollisionModel, CollisionWorkspace};
-use screwkit_service::body::{self, CollideReport, PairReport};
+use screwkit_collision::CollisionWorkspace;
+use screwkit_service::body;
 use screwkit_service::query::Space;
-use screwkit_service::{report, Robot};
-use screwkit_solve::{SolveError, TreeKinematics};
+use screwkit_service::report;
+use screwkit_solve::SolveError;
 
 use crate::args::{CollideArgs, Format, SrdfArgs};
 use crate::batch;
 use crate::output::{print_json, tuple, CliResult};
-
-/// One configuration's report (q: the whole tree's, or the chain's joint values).
-fn report_of(
-    robot: &Robot,
-    kin: &TreeKinematics,
-    model: &CollisionModel,
-    ws: &mut CollisionWorkspace,
-    q: &[f64],
-) -> Result<CollideReport, screwkit_service::Error> {
-    let full = body::tree_q(robot, kin, q)?;
-    let mut hits = Vec::new();
-    screwkit_collision::collisions(model, ws, kin, &full, &mut hits)?;
-    let closest = screwkit_collision::min_distance(model, ws, kin, &full)?;
-    Ok(CollideReport {
-        q: full.to_vec(),
-        in_collision: !hits.is_empty(),
-        collisions: body::colliding_links(model, &hits)
-            .into_iter()
-            .map(|(a, b)| [a, b])
-            .collect(),
-        min_distance: closest.map(|d| PairReport::new(model, &d)),
-        pairs: model.pair_count(),
-    })
-}
 
 /// Runs `collide`.
 pub fn run(args: &CollideArgs, format: Format) -> CliResult {
@@ -78,12 +54,13 @@ pub fn run(args: &CollideArgs, format: Format) -> CliResult {
             });
             Ok(batch::outputs(lines, &errors, |k| {
                 let mut ws = CollisionWorkspace::new(kin, &model);
-                match report_of(
+                match body::collide_report(
                     &robot,
                     kin,
                     &model,
                     &mut ws,
                     &qs[k * width..(k + 1) * width],
+                    args.distances,
                 ) {
                     Ok(r) => (report::to_value(&r), true),
                     Err(e) => (
@@ -101,7 +78,7 @@ pub fn run(args: &CollideArgs, format: Format) -> CliResult {
         .expect("clap requires --q without --input")
         .0;
     let mut ws = CollisionWorkspace::new(kin, &model);
-    let r = report_of(&robot, kin, &model, &mut ws, q)?;
+    let r = body::collide_report(&robot, kin, &model, &mut ws, q, args.distances)?;
     if format == Format::Json {
         print_json(&report::to_value(&r))?;
         return Ok(());
@@ -131,6 +108,15 @@ pub fn run(args: &CollideArgs, format: Format) -> CliResult {
             tuple(&p.points[1])
         )),
         None => s.push_str("no pair to check (no collision shapes, or all disabled)\n"),
+    }
+    for p in r.distances.iter().flatten() {
+        s.push_str(&format!(
+            "  {}–{}: {:.6} m, J_d = {}\n",
+            p.pair[0],
+            p.pair[1],
+            p.distance,
+            tuple(p.jacobian.as_deref().unwrap_or_default())
+        ));
     }
     crate::output::emit(&s)?;
     Ok(())

@@ -33,6 +33,7 @@ mod triangles;
 
 pub use model::{Attach, CollisionError, CollisionModel, MeshMode, Object, Options};
 pub use query::{
-    broad_phase, collisions, collisions_batch, distances, distances_batch, in_collision,
-    in_collision_batch, min_distance, min_distance_batch, CollisionWorkspace, PairDistance,
+    broad_phase, collisions, collisions_batch, distance_jacobians, distance_jacobians_batch,
+    distances, distances_batch, in_collision, in_collision_batch, min_distance, min_distance_batch,
+    CollisionWorkspace, PairDistance,
 };

@@ -29,6 +29,9 @@ pub struct CollisionWorkspace {
     poses: Vec<Pose>,
     boxes: Vec<Aabb>,
     order: Vec<(f64, u32)>,
+    /// Each link's space Jacobian (6 × nv, column-major) at the last q, and whether it is.
+    jacobians: Vec<f64>,
+    jacobian_done: Vec<bool>,
 }
 
 impl CollisionWorkspace {
@@ -40,6 +43,8 @@ impl CollisionWorkspace {
             poses: Vec::with_capacity(model.objects.len()),
             boxes: Vec::with_capacity(model.objects.len()),
             order: Vec::with_capacity(model.pairs.len()),
+            jacobians: Vec::new(),
+            jacobian_done: Vec::new(),
         }
     }
 }
@@ -254,10 +259,13 @@ fn measure(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDis
             query::closest_points(pa, ga, pb, gb, f64::MAX)
         {
             let na = |v: parry3d_f64::math::Vector| nalgebra::Vector3::new(v.x, v.y, v.z);
-            // An ellipsoid's or a cylinder's curved surface: GJK stops short of it (2e-7 m on
-            // MuJoCo's, against its own GJK at 1e-13); polished by exact projections.
+            // An ellipsoid's, a cylinder's or a capsule's curved surface: GJK stops short of it
+            // (2e-7 m on MuJoCo's cylinders, 1e-6 m on a capsule against a box, against MuJoCo's
+            // and coal's GJK at 1e-13); polished by exact projections.
             let smooth = |s: &dyn Shape| {
-                s.as_shape::<crate::ellipsoid::Ellipsoid>().is_some() || s.as_cylinder().is_some()
+                s.as_shape::<crate::ellipsoid::Ellipsoid>().is_some()
+                    || s.as_cylinder().is_some()
+                    || s.as_capsule().is_some()
             };
             if smooth(ga) || smooth(gb) {
                 let (p1, p2) = crate::ellipsoid::polish((ga, pa), (gb, pb), p1, p2);
@@ -437,6 +445,84 @@ pub fn min_distance(
         }
     }
     Ok(best)
+}
+
+/// Every checked pair's signed distance at q (as [`distances`]) into `out`, and its
+/// Jacobian row into `rows` (P × nv, row-major): the rate of the distance along the tree's
+/// velocity v, ḋ = J_d v (a floating base's six velocities first, as the tree's Jacobians).
+///
+/// With witness points p_a, p_b (fixed to links a and b at q) and the unit normal n from a to
+/// b, ḋ = n · (ṗ_b − ṗ_a), and a point p fixed to a link of space twist (ω, v_s) moves at
+/// ṗ = v_s + ω × p; so each row is the unit force n at p_b as a wrench (p_b × n, n) applied to
+/// b's space Jacobian, less the same at p_a on a's (mink's collision rows). An obstacle does
+/// not move (no term). Each link's Jacobian is computed once per call. A pair without witness
+/// points (the engine could not measure it) has a row of NaN.
+pub fn distance_jacobians(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    out: &mut Vec<PairDistance>,
+    rows: &mut Vec<f64>,
+) -> Result<(), CollisionError> {
+    distances(model, ws, kin, q, out)?;
+    let nv = kin.nv();
+    let links = kin.model().links.len();
+    ws.jacobians.resize(links * 6 * nv, 0.0);
+    ws.jacobian_done.clear();
+    ws.jacobian_done.resize(links, false);
+    rows.clear();
+    rows.resize(out.len() * nv, 0.0);
+    for (d, row) in out.iter().zip(rows.chunks_mut(nv.max(1))) {
+        let (a, b) = model.pairs[d.pair];
+        let n = nalgebra::Vector3::from(d.normal);
+        let ends = [
+            (a as usize, nalgebra::Vector3::from(d.point_a), -1.0),
+            (b as usize, nalgebra::Vector3::from(d.point_b), 1.0),
+        ];
+        for (object, p, sign) in ends {
+            let Attach::Link(l) = model.objects[object].attach else {
+                continue;
+            };
+            if !ws.jacobian_done[l] {
+                let j = screwkit_solve::tree::jacobian::frame_jacobian(
+                    kin,
+                    &mut ws.tree,
+                    q,
+                    l,
+                    screwkit_solve::JacobianKind::Space,
+                )?;
+                ws.jacobians[l * 6 * nv..(l + 1) * 6 * nv].copy_from_slice(j.as_slice());
+                ws.jacobian_done[l] = true;
+            }
+            let j = &ws.jacobians[l * 6 * nv..(l + 1) * 6 * nv];
+            // The wrench of a unit force n at p: moment p × n, force n.
+            let m = p.cross(&n);
+            let wrench = [m.x, m.y, m.z, n.x, n.y, n.z];
+            for (c, r) in row.iter_mut().enumerate() {
+                let col = &j[c * 6..c * 6 + 6];
+                let dot: f64 = col.iter().zip(&wrench).map(|(x, w)| x * w).sum();
+                *r += sign * dot;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// [`distance_jacobians`] of each row of `qs` (N × nq) into `out` (N lists of distances, N
+/// row-major P × nv matrices), on all cores.
+pub fn distance_jacobians_batch(
+    model: &CollisionModel,
+    kin: &TreeKinematics,
+    qs: &[f64],
+    out: &mut [(Vec<PairDistance>, Vec<f64>)],
+) -> Result<(), CollisionError> {
+    batch(model, kin, qs, out, |ws, q| {
+        let mut d = Vec::with_capacity(model.pairs.len());
+        let mut rows = Vec::with_capacity(model.pairs.len() * kin.nv());
+        distance_jacobians(model, ws, kin, q, &mut d, &mut rows)?;
+        Ok((d, rows))
+    })
 }
 
 /// Runs `f` on each row of `qs` (N × nq) on all cores, one workspace per thread; a row the

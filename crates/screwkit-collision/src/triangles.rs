@@ -164,6 +164,60 @@ pub fn closest_box(h: &V, t: &[V; 3]) -> (V, V) {
     best.pair
 }
 
+/// The corners of a box of half extents `h` centred at the origin, corner i's signs from its
+/// bits (x: bit 0, y: bit 1, z: bit 2).
+fn corner(h: &V, i: usize) -> V {
+    V::new(
+        if i & 1 == 0 { -h.x } else { h.x },
+        if i & 2 == 0 { -h.y } else { h.y },
+        if i & 4 == 0 { -h.z } else { h.z },
+    )
+}
+
+/// The closest points (on box a, on box b; a's frame) of two boxes that do not intersect: a of
+/// half extents `ha` centred at the origin, b of half extents `hb` at rotation `r` and centre
+/// `p`. The closest pair of two convex polytopes is a vertex of one and its nearest point on
+/// the other, or the closest points of an edge of each: the best of b's corners clamped into
+/// a, a's corners clamped into b (in b's frame), and the 12 × 12 edge pairs.
+pub fn closest_boxes(ha: &V, hb: &V, r: &nalgebra::Rotation3<f64>, p: &V) -> (V, V) {
+    let mut best = Best::new();
+    let clamp = |v: &V, h: &V| {
+        V::new(
+            v.x.clamp(-h.x, h.x),
+            v.y.clamp(-h.y, h.y),
+            v.z.clamp(-h.z, h.z),
+        )
+    };
+    let b_corners: [V; 8] = std::array::from_fn(|i| r * corner(hb, i) + p);
+    for c in &b_corners {
+        best.consider(clamp(c, ha), *c);
+    }
+    for i in 0..8 {
+        let c = corner(ha, i);
+        // a's corner in b's frame, clamped into b, back in a's frame.
+        let local = r.inverse() * (c - p);
+        best.consider(c, r * clamp(&local, hb) + p);
+    }
+    let edges = |i: usize| {
+        [1usize, 2, 4]
+            .into_iter()
+            .filter(move |bit| i & bit == 0)
+            .map(move |bit| (i, i | bit))
+    };
+    for ia in 0..8 {
+        for (a0, a1) in edges(ia) {
+            let (pa, qa) = (corner(ha, a0), corner(ha, a1));
+            for ib in 0..8 {
+                for (b0, b1) in edges(ib) {
+                    let (x, y) = segments(&pa, &qa, &b_corners[b0], &b_corners[b1]);
+                    best.consider(x, y);
+                }
+            }
+        }
+    }
+    best.pair
+}
+
 /// The point of the segment [a, b] and the point of triangle `t` closest to each other, when
 /// they do not intersect: the segment's ends projected on the triangle, and the closest
 /// points of the segment and each edge.

@@ -216,7 +216,8 @@ pub(crate) fn shape_of(obj: &Bound<'_, PyAny>) -> PyResult<Shape> {
 /// Every checked pair's signed distance at one configuration (`Robot.distances`): `pairs`
 /// (P pairs of link or obstacle names), `distance` (P,) (negative when the shapes overlap),
 /// `points` (P, 2, 3) (the witness points on each shape, world frame), `normal` (P, 3) (unit,
-/// from the first shape to the second).
+/// from the first shape to the second), and with `jacobians=True` `jacobian` (P, nv): each
+/// distance's rate along the tree's velocity (ḋ = J v; None when not asked).
 #[pyclass(frozen, skip_from_py_object, module = "screwkit")]
 pub struct Distances {
     #[pyo3(get)]
@@ -227,6 +228,8 @@ pub struct Distances {
     points: Py<PyArray3<f64>>,
     #[pyo3(get)]
     normal: Py<PyArray2<f64>>,
+    #[pyo3(get)]
+    jacobian: Option<Py<PyArray2<f64>>>,
 }
 
 impl Distances {
@@ -235,8 +238,13 @@ impl Distances {
         py: Python<'_>,
         model: &screwkit_collision::CollisionModel,
         d: &[screwkit_collision::PairDistance],
+        jacobian: Option<(&[f64], usize)>,
     ) -> PyResult<Self> {
         let p = d.len();
+        let jacobian = match jacobian {
+            Some((rows, nv)) => Some(rows.to_pyarray(py).reshape([p, nv])?.unbind()),
+            None => None,
+        };
         let points: Vec<f64> = d
             .iter()
             .flat_map(|x| x.point_a.into_iter().chain(x.point_b))
@@ -258,6 +266,7 @@ impl Distances {
                 .unbind(),
             points: points.to_pyarray(py).reshape([p, 2, 3])?.unbind(),
             normal: normal.to_pyarray(py).reshape([p, 3])?.unbind(),
+            jacobian,
         })
     }
 }

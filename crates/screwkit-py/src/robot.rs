@@ -1328,31 +1328,56 @@ impl Robot {
     }
 
     /// Every checked pair's signed distance at q (`Distances`: `pairs`, `distance` (P,),
-    /// `points` (P, 2, 3), `normal` (P, 3)); (N, n) → a list of N, on all cores.
+    /// `points` (P, 2, 3), `normal` (P, 3)); (N, n) → a list of N, on all cores. With
+    /// `jacobians=True`, each also holds `jacobian` (P, nv): row k is the rate of distance k
+    /// along the tree's velocity v (ḋ = J v; a floating base's six first), the unit force n at
+    /// the witness points as a wrench on each link's space Jacobian.
+    #[pyo3(signature = (q, *, jacobians = false))]
     fn distances<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
+        jacobians: bool,
     ) -> PyResult<Bound<'py, PyAny>> {
         let (kin, model) = self.body_model()?;
+        let nv = kin.nv();
         let mut ws = CollisionWorkspace::new(&kin, &model);
-        let mut out = Vec::new();
+        let (mut out, mut rows) = (Vec::new(), Vec::new());
         let mut one = |q: &[f64]| -> PyResult<crate::body::Distances> {
-            screwkit_collision::distances(&model, &mut ws, &kin, q, &mut out)
-                .map_err(|e| service_error(e.into()))?;
-            crate::body::Distances::new(py, &model, &out)
+            if jacobians {
+                screwkit_collision::distance_jacobians(
+                    &model, &mut ws, &kin, q, &mut out, &mut rows,
+                )
+            } else {
+                screwkit_collision::distances(&model, &mut ws, &kin, q, &mut out)
+            }
+            .map_err(|e| service_error(e.into()))?;
+            crate::body::Distances::new(py, &model, &out, jacobians.then_some((&rows[..], nv)))
         };
         match self.body_rows(&kin, q)? {
             (Rows::One, q) => Ok(Bound::new(py, one(&q)?)?.into_any()),
             (Rows::Many(n), qs) => {
-                let mut all = vec![Vec::new(); n];
+                let mut all = vec![(Vec::new(), Vec::new()); n];
                 pool::cancellable(py, || {
-                    screwkit_collision::distances_batch(&model, &kin, &qs, &mut all)
+                    if jacobians {
+                        screwkit_collision::distance_jacobians_batch(&model, &kin, &qs, &mut all)
+                    } else {
+                        let mut d = vec![Vec::new(); n];
+                        let r = screwkit_collision::distances_batch(&model, &kin, &qs, &mut d);
+                        for (slot, d) in all.iter_mut().zip(d) {
+                            slot.0 = d;
+                        }
+                        r
+                    }
                 })?
                 .map_err(|e| service_error(e.into()))?;
                 let list = pyo3::types::PyList::empty(py);
-                for d in &all {
-                    list.append(Bound::new(py, crate::body::Distances::new(py, &model, d)?)?)?;
+                for (d, rows) in &all {
+                    let j = jacobians.then_some((&rows[..], nv));
+                    list.append(Bound::new(
+                        py,
+                        crate::body::Distances::new(py, &model, d, j)?,
+                    )?)?;
                 }
                 Ok(list.into_any())
             }

@@ -329,4 +329,18 @@ def test_scene_obstacles_are_the_same_from_the_cli_and_python(tmp_path: Path) ->
         assert [tuple(p) for p in got["collisions"]] == robot.collisions(q)
         assert got["min_distance"]["distance"] == robot.min_distance(q)
         hits |= {name for p in got["collisions"] for name in p if name in robot.obstacles}
+        # --distances: every pair with its Jacobian row, as Python's distances(jacobians=True).
+        every = cli(
+            "collide",
+            str(path),
+            "--obstacles",
+            str(scene),
+            "--distances",
+            "--q",
+            ",".join(repr(float(x)) for x in q),
+        )["distances"]
+        d = robot.distances(q, jacobians=True)
+        assert [tuple(p["pair"]) for p in every] == d.pairs
+        np.testing.assert_array_equal([p["distance"] for p in every], d.distance)
+        np.testing.assert_array_equal([p["jacobian"] for p in every], d.jacobian)
     assert hits, "some configuration touches an obstacle"

@@ -137,6 +137,9 @@ pub struct PairReport {
     pub points: [[f64; 3]; 2],
     /// The unit normal from the first shape to the second.
     pub normal: [f64; 3],
+    /// The distance's rate along the tree's velocity (nv), when asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub jacobian: Option<Vec<f64>>,
 }
 
 impl PairReport {
@@ -148,6 +151,7 @@ impl PairReport {
             distance: d.distance,
             points: [d.point_a, d.point_b],
             normal: d.normal,
+            jacobian: None,
         }
     }
 }
@@ -166,6 +170,53 @@ pub struct CollideReport {
     pub min_distance: Option<PairReport>,
     /// The number of pairs checked.
     pub pairs: usize,
+    /// Every checked pair's distance with its Jacobian row, when asked (`--distances`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub distances: Option<Vec<PairReport>>,
+}
+
+/// `collide`'s report of q (the whole tree's, or a chain robot's joint values): collision, the
+/// colliding link pairs, the closest pair, and with `all` every pair's distance and Jacobian
+/// row.
+pub fn collide_report(
+    robot: &Robot,
+    kin: &TreeKinematics,
+    model: &CollisionModel,
+    ws: &mut screwkit_collision::CollisionWorkspace,
+    q: &[f64],
+    all: bool,
+) -> Result<CollideReport> {
+    let full = tree_q(robot, kin, q)?;
+    let mut hits = Vec::new();
+    screwkit_collision::collisions(model, ws, kin, &full, &mut hits)?;
+    let closest = screwkit_collision::min_distance(model, ws, kin, &full)?;
+    let distances = if all {
+        let (mut d, mut rows) = (Vec::new(), Vec::new());
+        screwkit_collision::distance_jacobians(model, ws, kin, &full, &mut d, &mut rows)?;
+        let nv = kin.nv().max(1);
+        Some(
+            d.iter()
+                .zip(rows.chunks(nv))
+                .map(|(d, row)| PairReport {
+                    jacobian: Some(row.to_vec()),
+                    ..PairReport::new(model, d)
+                })
+                .collect(),
+        )
+    } else {
+        None
+    };
+    Ok(CollideReport {
+        q: full.to_vec(),
+        in_collision: !hits.is_empty(),
+        collisions: colliding_links(model, &hits)
+            .into_iter()
+            .map(|(a, b)| [a, b])
+            .collect(),
+        min_distance: closest.map(|d| PairReport::new(model, &d)),
+        pairs: model.pair_count(),
+        distances,
+    })
 }
 
 /// One obstacle of a scene: a shape at a pose in the world.
