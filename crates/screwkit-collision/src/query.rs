@@ -115,9 +115,15 @@ fn place(
     Ok(())
 }
 
-/// True when the shapes of pair (a, b) intersect (touching counts).
+/// True when the shapes of pair (a, b) intersect (touching counts): two exact meshes by their
+/// box trees and exact triangle tests ([`crate::mesh_distance::intersects`]), the rest by the
+/// engine.
 fn intersects(model: &CollisionModel, ws: &CollisionWorkspace, a: usize, b: usize) -> bool {
     let (oa, ob) = (&model.objects[a], &model.objects[b]);
+    if let (Some(ta), Some(tb)) = (oa.tree.as_deref(), ob.tree.as_deref()) {
+        let rel = ws.world[a].inverse_compose(&ws.world[b]);
+        return crate::mesh_distance::intersects(ta, tb, rel.rotation(), rel.translation());
+    }
     screwkit_model::mesh::contained(|| {
         query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
             .map(|r| r.intersecting)
@@ -333,9 +339,12 @@ fn mesh_distance(
     } else {
         return None;
     };
-    let hit = query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
-        .map(|r| r.intersecting)
-        .unwrap_or(true);
+    let hit = match &other {
+        Other::Mesh(t, rot, p) => crate::mesh_distance::intersects(tree, t, rot, p),
+        _ => query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
+            .map(|r| r.intersecting)
+            .unwrap_or(true),
+    };
     if hit {
         return None;
     }

@@ -80,6 +80,45 @@ fn point_triangle(p: &V, a: &V, b: &V, c: &V) -> V {
     a + ab * (vb / denom) + ac * (vc / denom)
 }
 
+/// True when segment [a, b] meets triangle `t` (touching counts): the segment crosses the
+/// triangle's plane at a point inside it; a segment in the plane meets it when their distance
+/// is zero (to 1e-12 of the triangle's size).
+fn segment_meets(a: &V, b: &V, t: &[V; 3]) -> bool {
+    let n = (t[1] - t[0]).cross(&(t[2] - t[0]));
+    let (da, db) = (n.dot(&(a - t[0])), n.dot(&(b - t[0])));
+    if (da > 0.0 && db > 0.0) || (da < 0.0 && db < 0.0) {
+        return false;
+    }
+    if da == db {
+        // In the plane (da = db = 0), or a degenerate triangle (n = 0): by distance.
+        let (p, q) = closest_segment(a, b, t);
+        let scale = (t[1] - t[0]).norm().max((t[2] - t[0]).norm()).max(1e-300);
+        return (q - p).norm() <= 1e-12 * scale;
+    }
+    let x = a + (b - a) * (da / (da - db));
+    // Inside: x on the inner side of each edge (inclusive).
+    (0..3).all(|k| {
+        let (e0, e1) = (t[k], t[(k + 1) % 3]);
+        (e1 - e0).cross(&(x - e0)).dot(&n) >= 0.0
+    })
+}
+
+/// True when triangles `t1` and `t2` intersect (touching counts): two triangles meet exactly
+/// when an edge of one meets the other (their intersection, a segment, ends on such edges);
+/// first rejected when one lies strictly on one side of the other's plane.
+pub fn intersect(t1: &[V; 3], t2: &[V; 3]) -> bool {
+    let apart = |s: &[V; 3], t: &[V; 3]| {
+        let n = (t[1] - t[0]).cross(&(t[2] - t[0]));
+        let d = s.map(|v| n.dot(&(v - t[0])));
+        (d[0] > 0.0 && d[1] > 0.0 && d[2] > 0.0) || (d[0] < 0.0 && d[1] < 0.0 && d[2] < 0.0)
+    };
+    if apart(t1, t2) || apart(t2, t1) {
+        return false;
+    }
+    (0..3).any(|k| segment_meets(&t1[k], &t1[(k + 1) % 3], t2))
+        || (0..3).any(|k| segment_meets(&t2[k], &t2[(k + 1) % 3], t1))
+}
+
 /// The closest pair of points among the candidates offered.
 struct Best {
     pair: (V, V),
@@ -231,6 +270,47 @@ pub fn closest_segment(a: &V, b: &V, t: &[V; 3]) -> (V, V) {
         best.consider(p, q);
     }
     best.pair
+}
+
+#[cfg(test)]
+mod intersect_tests {
+    use super::*;
+
+    /// Crossing, touching at a vertex, coplanar overlapping, apart, and parallel triangles.
+    #[test]
+    fn intersect_cases() {
+        let t = [
+            V::new(0.0, 0.0, 0.0),
+            V::new(1.0, 0.0, 0.0),
+            V::new(0.0, 1.0, 0.0),
+        ];
+        let cross = [
+            V::new(0.2, 0.2, -1.0),
+            V::new(0.2, 0.2, 1.0),
+            V::new(0.9, 0.9, 0.0),
+        ];
+        assert!(intersect(&t, &cross) && intersect(&cross, &t));
+        let touch = [
+            V::new(1.0, 0.0, 0.0),
+            V::new(2.0, 0.0, 1.0),
+            V::new(2.0, 1.0, 1.0),
+        ];
+        assert!(intersect(&t, &touch));
+        let coplanar = t.map(|v| v * 0.5 + V::new(0.2, 0.2, 0.0));
+        assert!(intersect(&t, &coplanar));
+        let apart = t.map(|v| v + V::new(0.0, 0.0, 1e-9));
+        assert!(!intersect(&t, &apart));
+        let beside = t.map(|v| v + V::new(1.2, 0.0, 0.0));
+        assert!(!intersect(&t, &beside));
+        // A triangle through the other's interior, its edges around it (the second one's edges
+        // cross the first).
+        let big = [
+            V::new(0.3, 0.3, -5.0),
+            V::new(0.3, 0.3, 5.0),
+            V::new(0.3, -9.0, 0.0),
+        ];
+        assert!(intersect(&t, &big));
+    }
 }
 
 #[cfg(test)]
