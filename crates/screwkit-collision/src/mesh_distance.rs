@@ -10,8 +10,8 @@
 //! centroids, a separating axis that is tight for facing surfaces: on example-robot-data's
 //! Panda it leaves 74 exact triangle tests per pair of meshes where the boxes alone left 357.
 //!
-//! [`intersects`] answers whether two meshes' surfaces meet by the same trees and an exact
-//! triangle–triangle test.
+//! [`intersects`] and [`intersects_box`] answer whether a mesh's surface meets another mesh or
+//! a box, by the same trees and exact triangle–triangle and triangle–box tests.
 //!
 //! Only for shapes that do not intersect (the caller tests that first): the formulas assume it.
 
@@ -157,15 +157,52 @@ pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
     // (each holds the other's turned box in its own axes; both are lower bounds).
     let rot_t = rot.transpose();
     let abs_t = abs.transpose();
+    // And along the line of their centres (a separating axis: each box's half width there is
+    // Σ |u · axis_k| h_k). Boxes that overlap get that separation, negative, as their bound: a
+    // lower bound still, and an order for the search (the deeper overlap first, where the
+    // closest triangles likely are, instead of ties at 0).
+    let signed = |boxes: f64, along: f64| if boxes > 0.0 { boxes.max(along) } else { along };
     let both = |a: &Node, b: &Node| {
         let (cb, hb) = placed(&b.center, &b.half);
         let from_a = bound(a, &cb, &hb);
         let ca = rot_t * (a.center - p);
         let ha = abs_t * a.half;
         let gap = ((b.center - ca).abs() - b.half - ha).sup(&V::zeros());
-        from_a.max(gap.norm())
+        let u = cb - a.center;
+        let len = u.norm();
+        let along = if len > 0.0 {
+            (len * len - u.abs().dot(&a.half) - (rot_t * u).abs().dot(&b.half)) / len
+        } else {
+            -(a.half.norm() + b.half.norm())
+        };
+        signed(from_a.max(gap.norm()), along)
     };
-    stack.push(Pending(bound(&tree.nodes[0], &oc, &oh), 0, 0));
+    // A node and the box of the other shape, seen from both frames and along their centres'
+    // line (a swept segment's box is axis-aligned in the mesh's frame: its own bound).
+    let to_shape = |a: &Node| {
+        let from_a = bound(a, &oc, &oh);
+        let Other::Box(h, ..) = other else {
+            return from_a;
+        };
+        let ca = rot_t * (a.center - p);
+        let gap = (ca.abs() - h - abs_t * a.half).sup(&V::zeros());
+        let u = oc - a.center;
+        let len = u.norm();
+        let along = if len > 0.0 {
+            (len * len - u.abs().dot(&a.half) - (rot_t * u).abs().dot(h)) / len
+        } else {
+            -(a.half.norm() + h.norm())
+        };
+        signed(from_a.max(gap.norm()), along)
+    };
+    stack.push(Pending(
+        match other {
+            Other::Mesh(t, ..) => both(&tree.nodes[0], &t.nodes[0]),
+            _ => to_shape(&tree.nodes[0]),
+        },
+        0,
+        0,
+    ));
     while let Some(Pending(lb, ia, ib)) = stack.pop() {
         // (A stack is not sorted: a pair beaten since it was pushed is skipped, not the rest.)
         if lb >= best.2 {
@@ -211,6 +248,22 @@ pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
                                     continue;
                                 }
                             }
+                            // And along each triangle's normal (facing surfaces: their gap).
+                            let plane_gap = |s: &[V; 3], t: &[V; 3]| {
+                                let n = (s[1] - s[0]).cross(&(s[2] - s[0]));
+                                let d = t.map(|v| n.dot(&(v - s[0])));
+                                let (lo, hi) = (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]));
+                                let gap = lo.max(-hi);
+                                (gap, n.norm())
+                            };
+                            let (g, n) = plane_gap(ta, tb);
+                            if g >= best.2 * n {
+                                continue;
+                            }
+                            let (g, n) = plane_gap(tb, ta);
+                            if g >= best.2 * n {
+                                continue;
+                            }
                             let (x, y) = triangles::closest(ta, tb);
                             let d = (y - x).norm();
                             if d < best.2 {
@@ -240,8 +293,8 @@ pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
                 let [l, r] = a.children;
                 push_nearer_last(
                     &mut stack,
-                    Pending(bound(&tree.nodes[l as usize], &oc, &oh), l, 0),
-                    Pending(bound(&tree.nodes[r as usize], &oc, &oh), r, 0),
+                    Pending(to_shape(&tree.nodes[l as usize]), l, 0),
+                    Pending(to_shape(&tree.nodes[r as usize]), r, 0),
                     best.2,
                 );
             }
@@ -361,6 +414,45 @@ pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) ->
                     stack.push((ia, c));
                 }
             }
+        }
+    }
+    false
+}
+
+/// True when a mesh's surface meets a box of half extents `h` at (`rot`, `p`) in the mesh's
+/// frame (touching counts): the nodes whose box overlaps it (no separating axis among the
+/// node's and the box's own), down to the triangles ([`triangles::meets_box`]).
+pub fn intersects_box(tree: &BoxTree, h: &V, rot: &Matrix3<f64>, p: &V) -> bool {
+    let abs = rot.abs();
+    let (rot_t, abs_t) = (rot.transpose(), abs.transpose());
+    let (box_half, local_half) = (abs * h, |a: &V| abs_t * a);
+    let overlap = |n: &Node| {
+        let d = n.center - p;
+        !((d.abs() - n.half - box_half).iter().any(|g| *g > 0.0)
+            || ((rot_t * d).abs() - h - local_half(&n.half))
+                .iter()
+                .any(|g| *g > 0.0))
+    };
+    let mut stack: Vec<u32> = Vec::with_capacity(64);
+    if overlap(&tree.nodes[0]) {
+        stack.push(0);
+    }
+    while let Some(i) = stack.pop() {
+        let n = &tree.nodes[i as usize];
+        if n.children[0] == u32::MAX {
+            let tris = &tree.triangles[n.first as usize..(n.first + n.count) as usize];
+            if tris
+                .iter()
+                .any(|t| triangles::meets_box(h, &t.map(|v| rot_t * (v - p))))
+            {
+                return true;
+            }
+        } else {
+            stack.extend(
+                n.children
+                    .into_iter()
+                    .filter(|c| overlap(&tree.nodes[*c as usize])),
+            );
         }
     }
     false

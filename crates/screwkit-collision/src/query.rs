@@ -124,6 +124,20 @@ fn intersects(model: &CollisionModel, ws: &CollisionWorkspace, a: usize, b: usiz
         let rel = ws.world[a].inverse_compose(&ws.world[b]);
         return crate::mesh_distance::intersects(ta, tb, rel.rotation(), rel.translation());
     }
+    // An exact mesh and a box: the mesh's tree against the box, in the mesh's frame.
+    for (m, o) in [(a, b), (b, a)] {
+        let (om, oo) = (&model.objects[m], &model.objects[o]);
+        if let (Some(tree), Some(c)) = (om.tree.as_deref(), oo.shape.as_cuboid()) {
+            let rel = ws.world[m].inverse_compose(&ws.world[o]);
+            let h = nalgebra::Vector3::new(c.half_extents.x, c.half_extents.y, c.half_extents.z);
+            return crate::mesh_distance::intersects_box(
+                tree,
+                &h,
+                rel.rotation(),
+                rel.translation(),
+            );
+        }
+    }
     screwkit_model::mesh::contained(|| {
         query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
             .map(|r| r.intersecting)
@@ -341,6 +355,7 @@ fn mesh_distance(
     };
     let hit = match &other {
         Other::Mesh(t, rot, p) => crate::mesh_distance::intersects(tree, t, rot, p),
+        Other::Box(h, rot, p) => crate::mesh_distance::intersects_box(tree, h, rot, p),
         _ => query::intersection_test(&ws.poses[a], &*oa.shape.0, &ws.poses[b], &*ob.shape.0)
             .map(|r| r.intersecting)
             .unwrap_or(true),
