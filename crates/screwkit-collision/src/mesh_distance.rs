@@ -37,11 +37,15 @@ struct Node {
     children: [u32; 2],
 }
 
-/// A mesh's tree of bounding boxes (in the mesh's frame).
+/// A mesh's tree of bounding boxes (in the mesh's frame), and its convex hull.
 #[derive(Debug, Clone)]
 pub struct BoxTree {
     nodes: Vec<Node>,
     triangles: Vec<[V; 3]>,
+    /// The convex hull of the vertices (None when they are flat or too few).
+    hull: Option<parry3d_f64::shape::ConvexPolyhedron>,
+    /// The half diagonal of the root box (the mesh's size, for tolerances).
+    size: f64,
 }
 
 fn bound(tris: &[[V; 3]]) -> (V, V) {
@@ -61,8 +65,146 @@ impl BoxTree {
     pub fn new(mut triangles: Vec<[V; 3]>) -> BoxTree {
         let mut nodes = Vec::with_capacity(2 * triangles.len() / LEAF + 1);
         build(&mut nodes, &mut triangles, 0);
-        BoxTree { nodes, triangles }
+        let points: Vec<parry3d_f64::math::Vector> = triangles
+            .iter()
+            .flatten()
+            .map(|v| parry3d_f64::math::Vector::new(v.x, v.y, v.z))
+            .collect();
+        let hull = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&points);
+        let size = nodes.first().map_or(0.0, |n| n.half.norm());
+        BoxTree {
+            nodes,
+            triangles,
+            hull,
+            size,
+        }
     }
+
+    /// The point of the surface nearest to `q` (the mesh's frame) and its distance: branch and
+    /// bound over the boxes, the triangles by their Voronoi regions.
+    pub fn nearest(&self, q: &V) -> (V, f64) {
+        let mut best = (V::zeros(), f64::INFINITY);
+        let to_box = |n: &Node| ((q - n.center).abs() - n.half).sup(&V::zeros()).norm();
+        let mut stack: Vec<(f64, u32)> = vec![(to_box(&self.nodes[0]), 0)];
+        while let Some((lb, i)) = stack.pop() {
+            if lb >= best.1 {
+                continue;
+            }
+            let n = &self.nodes[i as usize];
+            if n.children[0] == u32::MAX {
+                for t in &self.triangles[n.first as usize..(n.first + n.count) as usize] {
+                    let x = triangles::point_triangle(q, &t[0], &t[1], &t[2]);
+                    let d = (x - q).norm();
+                    if d < best.1 {
+                        best = (x, d);
+                    }
+                }
+            } else {
+                let [l, r] = n.children;
+                let (dl, dr) = (
+                    to_box(&self.nodes[l as usize]),
+                    to_box(&self.nodes[r as usize]),
+                );
+                let (near, far) = if dl <= dr {
+                    ((dl, l), (dr, r))
+                } else {
+                    ((dr, r), (dl, l))
+                };
+                if far.0 < best.1 {
+                    stack.push(far);
+                }
+                if near.0 < best.1 {
+                    stack.push(near);
+                }
+            }
+        }
+        best
+    }
+}
+
+/// The closest points of a mesh and another shape through their convex hulls: the hulls'
+/// closest points (GJK on polytopes), each moved onto its own surface (the nearest point of
+/// the mesh, of the box, of the swept segment). Both surface points are a pair of the two
+/// shapes, so their distance U bounds the shapes' from above; the hulls' distance h bounds it
+/// from below (a shape lies in its hull). When U ≤ h to 1e-10 of the sizes (the hulls' closest
+/// features are the shapes' own: convex parts, as most of a robot link's surface is), U is the
+/// distance; otherwise U starts the tree search as its best. None without hulls or when the
+/// hulls overlap.
+fn through_hulls(tree: &BoxTree, other: &Other<'_>) -> Option<((V, V, f64), bool)> {
+    use parry3d_f64::math::{Pose, Vector};
+    let hull = tree.hull.as_ref()?;
+    let (rot, p) = match other {
+        Other::Mesh(_, r, p) | Other::Box(_, r, p) => (*r, *p),
+        Other::Swept(..) => (Matrix3::identity(), V::zeros()),
+    };
+    let m = nalgebra::Rotation3::from_matrix_unchecked(rot);
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(&m);
+    let pose = Pose::from_parts(
+        Vector::new(p.x, p.y, p.z),
+        parry3d_f64::math::Rotation::from_xyzw(q.i, q.j, q.k, q.w),
+    );
+    let na = |v: Vector| V::new(v.x, v.y, v.z);
+    let cuboid;
+    let capsule;
+    let (shape, at): (&dyn parry3d_f64::shape::Shape, Pose) = match other {
+        Other::Mesh(t, ..) => (t.hull.as_ref()?, pose),
+        Other::Box(h, ..) => {
+            cuboid = parry3d_f64::shape::Cuboid::new(Vector::new(h.x, h.y, h.z));
+            (&cuboid, pose)
+        }
+        Other::Swept(a, b, r) => {
+            capsule = parry3d_f64::shape::Capsule::new(
+                Vector::new(a.x, a.y, a.z),
+                Vector::new(b.x, b.y, b.z),
+                *r,
+            );
+            (&capsule, Pose::IDENTITY)
+        }
+    };
+    let parry3d_f64::query::ClosestPoints::WithinMargin(pa, pb) =
+        parry3d_f64::query::closest_points(&Pose::IDENTITY, hull, &at, shape, f64::MAX).ok()?
+    else {
+        return None;
+    };
+    let (pa, pb) = (na(pa), na(pb));
+    let h = (pb - pa).norm();
+    if h <= 0.0 {
+        return None;
+    }
+    let (on_a, _) = tree.nearest(&pa);
+    let on_b = match other {
+        Other::Mesh(t, ..) => {
+            let local = rot.transpose() * (pb - p);
+            rot * t.nearest(&local).0 + p
+        }
+        Other::Box(hb, ..) => {
+            let local = rot.transpose() * (pb - p);
+            let inside = V::new(
+                local.x.clamp(-hb.x, hb.x),
+                local.y.clamp(-hb.y, hb.y),
+                local.z.clamp(-hb.z, hb.z),
+            );
+            rot * inside + p
+        }
+        Other::Swept(a, b, r) => {
+            let (c, _) = triangles::segments(a, b, &pb, &pb);
+            let d = pb - c;
+            let len = d.norm();
+            if len > 0.0 {
+                c + d * (r / len)
+            } else {
+                pb
+            }
+        }
+    };
+    let upper = (on_b - on_a).norm();
+    let size = tree.size
+        + match other {
+            Other::Mesh(t, ..) => t.size,
+            Other::Box(hb, ..) => hb.norm(),
+            Other::Swept(a, b, r) => (b - a).norm() / 2.0 + r,
+        };
+    Some(((on_a, on_b, upper), upper - h <= 1e-10 * (size + h)))
 }
 
 /// Builds the node of `tris[..]` (which starts at `offset` in the whole list) and its
@@ -134,6 +276,12 @@ fn push_nearer_last(stack: &mut Vec<Pending>, x: Pending, y: Pending, best: f64)
 /// shape that do not intersect, and their distance.
 pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
     let mut best = (V::zeros(), V::zeros(), f64::INFINITY);
+    if let Some((found, exact)) = through_hulls(tree, other) {
+        if exact {
+            return found;
+        }
+        best = found;
+    }
     let mut stack: Vec<Pending> = Vec::with_capacity(64);
     // A box of the other side in the mesh's frame: centre R c + p, half extents |R| h (the box
     // that holds the turned one).
@@ -519,7 +667,8 @@ mod tests {
                     brute = brute.min((w - u).norm());
                 }
             }
-            assert_eq!(d, brute, "{case}");
+            // Exact to rounding (through the hulls, the distance of other points of the pair).
+            assert!((d - brute).abs() <= 1e-14 * brute, "{case}: {d} vs {brute}");
             assert!(((y - x).norm() - d).abs() < 1e-15);
         }
     }

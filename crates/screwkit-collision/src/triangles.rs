@@ -45,7 +45,7 @@ pub fn segments(p: &V, q: &V, r: &V, s: &V) -> (V, V) {
 }
 
 /// The point of triangle (a, b, c) nearest to p (Ericson §5.1.5, by Voronoi regions).
-fn point_triangle(p: &V, a: &V, b: &V, c: &V) -> V {
+pub(crate) fn point_triangle(p: &V, a: &V, b: &V, c: &V) -> V {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(&ap), ac.dot(&ap));
     if d1 <= 0.0 && d2 <= 0.0 {
