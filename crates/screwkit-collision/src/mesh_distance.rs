@@ -567,6 +567,84 @@ pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) ->
     false
 }
 
+/// The deepest penetration of two meshes' surfaces (`other` at `rot`, `p` in this mesh's
+/// frame), over their intersecting triangle pairs ([`triangles::penetration`]): (the point on
+/// this mesh, the point on the other, minus the depth, the unit normal from this mesh to the
+/// other), this mesh's frame; None when no triangles intersect. A mesh's inside is not solid:
+/// this is how far the surfaces cross where they cross, not a volume's depth.
+pub fn penetration(
+    tree: &BoxTree,
+    other: &BoxTree,
+    rot: &Matrix3<f64>,
+    p: &V,
+) -> Option<(V, V, f64, V)> {
+    let abs = rot.abs();
+    let (rot_t, abs_t) = (rot.transpose(), abs.transpose());
+    let overlap = |a: &Node, b: &Node| {
+        let (cb, hb) = (rot * b.center + p, abs * b.half);
+        if ((a.center - cb).abs() - a.half - hb)
+            .iter()
+            .any(|g| *g > 0.0)
+        {
+            return false;
+        }
+        let (ca, ha) = (rot_t * (a.center - p), abs_t * a.half);
+        !((b.center - ca).abs() - b.half - ha)
+            .iter()
+            .any(|g| *g > 0.0)
+    };
+    let mut deepest: Option<(V, V, f64, V)> = None;
+    let mut stack: Vec<(u32, u32)> = Vec::with_capacity(64);
+    if overlap(&tree.nodes[0], &other.nodes[0]) {
+        stack.push((0, 0));
+    }
+    while let Some((ia, ib)) = stack.pop() {
+        let (a, b) = (&tree.nodes[ia as usize], &other.nodes[ib as usize]);
+        let (a_leaf, b_leaf) = (a.children[0] == u32::MAX, b.children[0] == u32::MAX);
+        if a_leaf && b_leaf {
+            let mut placed_b = [((V::zeros(), V::zeros()), [V::zeros(); 3]); LEAF];
+            let nb = b.count as usize;
+            for (slot, tb) in placed_b
+                .iter_mut()
+                .zip(&other.triangles[b.first as usize..b.first as usize + nb])
+            {
+                let tb = tb.map(|v| rot * v + p);
+                *slot = (box_of(&tb), tb);
+            }
+            for ta in &tree.triangles[a.first as usize..(a.first + a.count) as usize] {
+                let box_a = box_of(ta);
+                for (box_b, tb) in &placed_b[..nb] {
+                    let disjoint = (box_b.0 - box_a.1)
+                        .sup(&(box_a.0 - box_b.1))
+                        .iter()
+                        .any(|g| *g > 0.0);
+                    if disjoint || !triangles::intersect(ta, tb) {
+                        continue;
+                    }
+                    if let Some((depth, n, pa, pb)) = triangles::penetration(ta, tb) {
+                        if deepest.is_none_or(|(_, _, d, _)| -depth < d) {
+                            deepest = Some((pa, pb, -depth, n));
+                        }
+                    }
+                }
+            }
+        } else if !a_leaf && (b_leaf || a.half.norm_squared() >= b.half.norm_squared()) {
+            for c in a.children {
+                if overlap(&tree.nodes[c as usize], b) {
+                    stack.push((c, ib));
+                }
+            }
+        } else {
+            for c in b.children {
+                if overlap(a, &other.nodes[c as usize]) {
+                    stack.push((ia, c));
+                }
+            }
+        }
+    }
+    deepest
+}
+
 /// True when a mesh's surface meets a box of half extents `h` at (`rot`, `p`) in the mesh's
 /// frame (touching counts): the nodes whose box overlaps it (no separating axis among the
 /// node's and the box's own), down to the triangles ([`triangles::meets_box`]).
@@ -618,6 +696,56 @@ mod tests {
                 [base, base + v() * 0.3, base + v() * 0.3]
             })
             .collect()
+    }
+
+    /// Crossing meshes: the deepest crossing equals parry's contact between the two triangle
+    /// meshes (EPA on each pair of triangles), to its tolerance.
+    #[test]
+    fn penetration_equals_the_engines_contact() {
+        use parry3d_f64::math::{Pose, Vector};
+        let mut rng = screwkit_solve::sample::SplitMix64(0x5FE2_0003);
+        let mut crossing = 0;
+        for case in 0..40 {
+            let a = random_mesh(&mut rng, 30 + case, V::zeros());
+            let b = random_mesh(&mut rng, 20 + case, V::new(0.2, 0.0, 0.0));
+            let rot =
+                nalgebra::Rotation3::from_euler_angles(0.3 * case as f64, -0.2, 0.7).into_inner();
+            let p = V::new(0.05, -0.1, 0.01 * (case % 7) as f64);
+            let (ta, tb) = (BoxTree::new(a.clone()), BoxTree::new(b.clone()));
+            let ours = penetration(&ta, &tb, &rot, &p);
+            let mesh = |t: &[[V; 3]], f: &dyn Fn(V) -> V| {
+                let vertices: Vec<Vector> = t
+                    .iter()
+                    .flatten()
+                    .map(|v| {
+                        let w = f(*v);
+                        Vector::new(w.x, w.y, w.z)
+                    })
+                    .collect();
+                let indices: Vec<[u32; 3]> = (0..t.len() as u32)
+                    .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+                    .collect();
+                parry3d_f64::shape::TriMesh::new(vertices, indices).unwrap()
+            };
+            let (ma, mb) = (mesh(&a, &|v| v), mesh(&b, &|v| rot * v + p));
+            let theirs =
+                parry3d_f64::query::contact(&Pose::IDENTITY, &ma, &Pose::IDENTITY, &mb, 0.0)
+                    .unwrap();
+            match (ours, theirs) {
+                (Some((_, _, d, _)), Some(c)) if c.dist < -1e-9 => {
+                    assert!((d - c.dist).abs() < 1e-7, "{case}: {d} vs {}", c.dist);
+                    crossing += 1;
+                }
+                (None, None) => {}
+                (ours, theirs) => {
+                    // Touching at most: both within rounding of 0.
+                    let d = ours.map_or(0.0, |o| o.2);
+                    let e = theirs.map_or(0.0, |c| c.dist);
+                    assert!(d.abs() < 1e-9 && e.abs() < 1e-9, "{case}: {d} vs {e}");
+                }
+            }
+        }
+        assert!(crossing > 10, "{crossing}");
     }
 
     /// Meshes that cross or not: the tree's answer is every pair of triangles'.

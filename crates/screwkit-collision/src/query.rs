@@ -315,8 +315,9 @@ fn measure(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDis
 }
 
 /// Pair `k` (shapes a, b) by a mesh's tree of boxes ([`crate::mesh_distance`]) when one of them is
-/// an exact mesh, the other a mesh, box, sphere or capsule, and they do not intersect; None
-/// otherwise (the engine answers).
+/// an exact mesh and the other a mesh, box, sphere or capsule: their distance when apart, and
+/// for two meshes whose surfaces cross, their deepest crossing; None otherwise (the engine
+/// answers: a mesh crossing a primitive).
 fn mesh_distance(
     model: &CollisionModel,
     ws: &CollisionWorkspace,
@@ -360,12 +361,25 @@ fn mesh_distance(
             .map(|r| r.intersecting)
             .unwrap_or(true),
     };
-    if hit {
-        return None;
-    }
-    let (on_mesh, on_other, d) = closest(tree, &other);
     let world = &ws.world[m];
     let to_world = |v: nalgebra::Vector3<f64>| world.rotation() * v + world.translation();
+    if hit {
+        // Two meshes' surfaces crossing: their deepest crossing, by the trees.
+        let Other::Mesh(t, rot, p) = &other else {
+            return None;
+        };
+        let (pm, po, d, n) = crate::mesh_distance::penetration(tree, t, rot, p)?;
+        let (pm, po, n) = (to_world(pm), to_world(po), world.rotation() * n);
+        let (p1, p2, n) = if swapped { (po, pm, -n) } else { (pm, po, n) };
+        return Some(PairDistance {
+            pair: k,
+            distance: d,
+            point_a: p1.into(),
+            point_b: p2.into(),
+            normal: n.into(),
+        });
+    }
+    let (on_mesh, on_other, d) = closest(tree, &other);
     let (pm, po) = (to_world(on_mesh), to_world(on_other));
     let (p1, p2) = if swapped { (po, pm) } else { (pm, po) };
     Some(PairDistance::witnessed(k, d, p1, p2))

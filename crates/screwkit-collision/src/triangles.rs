@@ -155,6 +155,61 @@ pub fn meets_box(h: &V, t: &[V; 3]) -> bool {
     true
 }
 
+/// The penetration of two intersecting triangles: the smallest translation of `t2` that
+/// separates them (the separating-axis theorem over the two normals and the nine edge
+/// products, exact for two convex polygons), as (depth, unit normal n from t1 to t2, the point
+/// of t1 furthest along n, the point of t2 furthest along −n); None when some axis separates
+/// them.
+pub fn penetration(t1: &[V; 3], t2: &[V; 3]) -> Option<(f64, V, V, V)> {
+    let e1 = [t1[1] - t1[0], t1[2] - t1[1], t1[0] - t1[2]];
+    let e2 = [t2[1] - t2[0], t2[2] - t2[1], t2[0] - t2[2]];
+    let mut axes = [V::zeros(); 11];
+    axes[0] = e1[0].cross(&e1[1]);
+    axes[1] = e2[0].cross(&e2[1]);
+    for i in 0..3 {
+        for j in 0..3 {
+            axes[2 + 3 * i + j] = e1[i].cross(&e2[j]);
+        }
+    }
+    let scale = e1
+        .iter()
+        .chain(&e2)
+        .map(|e| e.norm_squared())
+        .fold(0.0, f64::max);
+    let mut best: Option<(f64, V)> = None;
+    for a in axes {
+        let len2 = a.norm_squared();
+        // Parallel edges (or a degenerate triangle) give no axis.
+        if len2 <= 1e-24 * scale * scale {
+            continue;
+        }
+        let u = a / len2.sqrt();
+        let p1 = t1.map(|v| u.dot(&v));
+        let p2 = t2.map(|v| u.dot(&v));
+        let (lo1, hi1) = (p1[0].min(p1[1]).min(p1[2]), p1[0].max(p1[1]).max(p1[2]));
+        let (lo2, hi2) = (p2[0].min(p2[1]).min(p2[2]), p2[0].max(p2[1]).max(p2[2]));
+        let (forward, backward) = (hi1 - lo2, hi2 - lo1);
+        if forward < 0.0 || backward < 0.0 {
+            return None;
+        }
+        let (depth, n) = if forward <= backward {
+            (forward, u)
+        } else {
+            (backward, -u)
+        };
+        if best.is_none_or(|(d, _)| depth < d) {
+            best = Some((depth, n));
+        }
+    }
+    let (depth, n) = best?;
+    let furthest = |t: &[V; 3], d: &V| {
+        *t.iter()
+            .max_by(|a, b| d.dot(a).total_cmp(&d.dot(b)))
+            .expect("three vertices")
+    };
+    Some((depth, n, furthest(t1, &n), furthest(t2, &-n)))
+}
+
 /// The closest pair of points among the candidates offered.
 struct Best {
     pair: (V, V),
