@@ -1,6 +1,7 @@
 //! The body's queries per configuration on example-robot-data's Panda and UR5 (collision
 //! meshes and SRDFs), with the broad phase's share of a collision check and the pairs it
-//! leaves to the narrow phase. The robot files come from the Python test venv's
+//! leaves to the narrow phase, and a batch of `min_distance` on 2 threads against 1 (each its
+//! own rayon pool; `BATCH_REPEAT=k` repeats the configurations k times in the batch). The robot files come from the Python test venv's
 //! example-robot-data (`SCREWKIT_ERD_SHARE`: its `cmeel.prefix/share` folder; default: the one
 //! `cargo xtask test` makes under target/xtask-venv). Interleaved rounds, minimum kept.
 //! Run: `cargo bench -p screwkit-collision --bench body`.
@@ -9,7 +10,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use screwkit_collision::{
-    broad_phase, distances, in_collision, min_distance, CollisionModel, CollisionWorkspace, Options,
+    broad_phase, distances, in_collision, min_distance, min_distance_batch, CollisionModel,
+    CollisionWorkspace, Options,
 };
 use screwkit_model::{KinematicTree, XacroOptions};
 use screwkit_solve::TreeKinematics;
@@ -93,6 +95,34 @@ fn main() {
             }
             min = min.min(per(t0));
         }
+        // The batch on 2 threads against 1 (per row).
+        let repeat: usize = std::env::var("BATCH_REPEAT")
+            .ok()
+            .and_then(|r| r.parse().ok())
+            .unwrap_or(1);
+        let flat: Vec<f64> = (0..repeat)
+            .flat_map(|_| qs.iter().flatten().copied())
+            .collect();
+        let mut rows = vec![0.0; qs.len() * repeat];
+        let mut per_threads = [f64::MAX; 2];
+        for _ in 0..5 {
+            for (k, threads) in [1usize, 2].into_iter().enumerate() {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let t0 = Instant::now();
+                pool.install(|| min_distance_batch(&model, &kin, &flat, &mut rows).unwrap());
+                per_threads[k] = per_threads[k].min(per(t0) / repeat as f64);
+            }
+        }
+        println!(
+            "{name:<6} batch of {} min_distance, per row: 1 thread {:.1} µs, 2 threads {:.1} µs ({:.2}x)",
+            rows.len(),
+            per_threads[0],
+            per_threads[1],
+            per_threads[0] / per_threads[1]
+        );
         println!(
             "{name:<6} {} pairs, {:.1} left by the broad phase on average ({:.0} % pruned); \
              check {check:.2} µs (broad phase {broad:.2} µs, {:.0} %), distances {dist:.0} µs, \
