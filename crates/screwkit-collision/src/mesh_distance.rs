@@ -257,6 +257,24 @@ fn box_of(t: &[V; 3]) -> (V, V) {
     (t[0].inf(&t[1]).inf(&t[2]), t[0].sup(&t[1]).sup(&t[2]))
 }
 
+/// A triangle with its box (lowest, highest corner).
+type Placed = ((V, V), [V; 3]);
+
+/// A leaf's triangles placed by (`rot`, `p`) into another mesh's frame, with their boxes, on
+/// the stack; and how many.
+fn place_leaf(tree: &BoxTree, leaf: &Node, rot: &Matrix3<f64>, p: &V) -> ([Placed; LEAF], usize) {
+    let mut placed = [((V::zeros(), V::zeros()), [V::zeros(); 3]); LEAF];
+    let n = leaf.count as usize;
+    for (slot, t) in placed
+        .iter_mut()
+        .zip(&tree.triangles[leaf.first as usize..leaf.first as usize + n])
+    {
+        let t = t.map(|v| rot * v + p);
+        *slot = (box_of(&t), t);
+    }
+    (placed, n)
+}
+
 /// A pair of nodes to visit, with the lower bound of their distance.
 struct Pending(f64, u32, u32);
 
@@ -365,15 +383,7 @@ pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
                 if a_leaf && b_leaf {
                     // The leaf's few triangles placed in this mesh's frame, with their boxes,
                     // on the stack.
-                    let mut placed_b = [((V::zeros(), V::zeros()), [V::zeros(); 3]); LEAF];
-                    let nb = b.count as usize;
-                    for (slot, tb) in placed_b
-                        .iter_mut()
-                        .zip(&t.triangles[b.first as usize..b.first as usize + nb])
-                    {
-                        let tb = tb.map(|v| rot * v + p);
-                        *slot = (box_of(&tb), tb);
-                    }
+                    let (placed_b, nb) = place_leaf(t, b, &rot, &p);
                     for ta in &tree.triangles[a.first as usize..(a.first + a.count) as usize] {
                         let box_a = box_of(ta);
                         let ca = ta[0] + ta[1] + ta[2];
@@ -501,11 +511,17 @@ pub fn closest(tree: &BoxTree, other: &Other<'_>) -> (V, V, f64) {
     best
 }
 
-/// True when two meshes' surfaces meet (some pair of triangles intersects; touching counts):
-/// the node pairs whose boxes overlap seen from both frames (as [`closest`] bounds them),
-/// down to the leaves' triangles, first by their boxes, then exactly
-/// ([`triangles::intersect`]). `rot`, `p`: the other mesh's pose in this one's frame.
-pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) -> bool {
+/// Visits every pair of triangles of two meshes whose boxes overlap (`other` at `rot`, `p` in
+/// this mesh's frame; its triangles handed over in this frame): the node pairs whose boxes
+/// overlap seen from both frames, down to the leaves, then each triangle pair's boxes. `visit`
+/// returns true to stop; the result says whether it did.
+fn crossing_pairs(
+    tree: &BoxTree,
+    other: &BoxTree,
+    rot: &Matrix3<f64>,
+    p: &V,
+    mut visit: impl FnMut(&[V; 3], &[V; 3]) -> bool,
+) -> bool {
     let abs = rot.abs();
     let (rot_t, abs_t) = (rot.transpose(), abs.transpose());
     let overlap = |a: &Node, b: &Node| {
@@ -529,15 +545,7 @@ pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) ->
         let (a, b) = (&tree.nodes[ia as usize], &other.nodes[ib as usize]);
         let (a_leaf, b_leaf) = (a.children[0] == u32::MAX, b.children[0] == u32::MAX);
         if a_leaf && b_leaf {
-            let mut placed_b = [((V::zeros(), V::zeros()), [V::zeros(); 3]); LEAF];
-            let nb = b.count as usize;
-            for (slot, tb) in placed_b
-                .iter_mut()
-                .zip(&other.triangles[b.first as usize..b.first as usize + nb])
-            {
-                let tb = tb.map(|v| rot * v + p);
-                *slot = (box_of(&tb), tb);
-            }
+            let (placed_b, nb) = place_leaf(other, b, rot, p);
             for ta in &tree.triangles[a.first as usize..(a.first + a.count) as usize] {
                 let box_a = box_of(ta);
                 for (box_b, tb) in &placed_b[..nb] {
@@ -545,7 +553,7 @@ pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) ->
                         .sup(&(box_a.0 - box_b.1))
                         .iter()
                         .any(|g| *g > 0.0);
-                    if !disjoint && triangles::intersect(ta, tb) {
+                    if !disjoint && visit(ta, tb) {
                         return true;
                     }
                 }
@@ -567,6 +575,13 @@ pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) ->
     false
 }
 
+/// True when two meshes' surfaces meet (some pair of triangles intersects; touching counts),
+/// by [`crossing_pairs`] and the exact test ([`triangles::intersect`]). `rot`, `p`: the other
+/// mesh's pose in this one's frame.
+pub fn intersects(tree: &BoxTree, other: &BoxTree, rot: &Matrix3<f64>, p: &V) -> bool {
+    crossing_pairs(tree, other, rot, p, triangles::intersect)
+}
+
 /// The deepest penetration of two meshes' surfaces (`other` at `rot`, `p` in this mesh's
 /// frame), over their intersecting triangle pairs ([`triangles::penetration`]): (the point on
 /// this mesh, the point on the other, minus the depth, the unit normal from this mesh to the
@@ -578,70 +593,17 @@ pub fn penetration(
     rot: &Matrix3<f64>,
     p: &V,
 ) -> Option<(V, V, f64, V)> {
-    let abs = rot.abs();
-    let (rot_t, abs_t) = (rot.transpose(), abs.transpose());
-    let overlap = |a: &Node, b: &Node| {
-        let (cb, hb) = (rot * b.center + p, abs * b.half);
-        if ((a.center - cb).abs() - a.half - hb)
-            .iter()
-            .any(|g| *g > 0.0)
-        {
-            return false;
-        }
-        let (ca, ha) = (rot_t * (a.center - p), abs_t * a.half);
-        !((b.center - ca).abs() - b.half - ha)
-            .iter()
-            .any(|g| *g > 0.0)
-    };
     let mut deepest: Option<(V, V, f64, V)> = None;
-    let mut stack: Vec<(u32, u32)> = Vec::with_capacity(64);
-    if overlap(&tree.nodes[0], &other.nodes[0]) {
-        stack.push((0, 0));
-    }
-    while let Some((ia, ib)) = stack.pop() {
-        let (a, b) = (&tree.nodes[ia as usize], &other.nodes[ib as usize]);
-        let (a_leaf, b_leaf) = (a.children[0] == u32::MAX, b.children[0] == u32::MAX);
-        if a_leaf && b_leaf {
-            let mut placed_b = [((V::zeros(), V::zeros()), [V::zeros(); 3]); LEAF];
-            let nb = b.count as usize;
-            for (slot, tb) in placed_b
-                .iter_mut()
-                .zip(&other.triangles[b.first as usize..b.first as usize + nb])
-            {
-                let tb = tb.map(|v| rot * v + p);
-                *slot = (box_of(&tb), tb);
-            }
-            for ta in &tree.triangles[a.first as usize..(a.first + a.count) as usize] {
-                let box_a = box_of(ta);
-                for (box_b, tb) in &placed_b[..nb] {
-                    let disjoint = (box_b.0 - box_a.1)
-                        .sup(&(box_a.0 - box_b.1))
-                        .iter()
-                        .any(|g| *g > 0.0);
-                    if disjoint || !triangles::intersect(ta, tb) {
-                        continue;
-                    }
-                    if let Some((depth, n, pa, pb)) = triangles::penetration(ta, tb) {
-                        if deepest.is_none_or(|(_, _, d, _)| -depth < d) {
-                            deepest = Some((pa, pb, -depth, n));
-                        }
-                    }
-                }
-            }
-        } else if !a_leaf && (b_leaf || a.half.norm_squared() >= b.half.norm_squared()) {
-            for c in a.children {
-                if overlap(&tree.nodes[c as usize], b) {
-                    stack.push((c, ib));
-                }
-            }
-        } else {
-            for c in b.children {
-                if overlap(a, &other.nodes[c as usize]) {
-                    stack.push((ia, c));
+    crossing_pairs(tree, other, rot, p, |ta, tb| {
+        if triangles::intersect(ta, tb) {
+            if let Some((depth, n, pa, pb)) = triangles::penetration(ta, tb) {
+                if deepest.is_none_or(|(_, _, d, _)| -depth < d) {
+                    deepest = Some((pa, pb, -depth, n));
                 }
             }
         }
-    }
+        false
+    });
     deepest
 }
 

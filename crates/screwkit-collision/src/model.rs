@@ -276,10 +276,19 @@ impl CollisionModel {
         let mut objects = Vec::new();
         let mut count = vec![0usize; tree.links.len()];
         for g in tree.geometries.iter().filter(|g| g.role == Role::Collision) {
+            let link = &tree.links[g.link];
+            let k = count[g.link];
+            count[g.link] += 1;
+            let name = match &g.name {
+                Some(n) => format!("{link}/{n}"),
+                None => format!("{link}/collision/{k}"),
+            };
+            let what = format!("link \"{link}\" <collision>");
             objects.push(object(
                 g,
-                &tree.links,
-                &mut count,
+                Attach::Link(g.link),
+                name,
+                &what,
                 options.mesh_mode,
                 &mut meshes,
             )?);
@@ -311,21 +320,15 @@ impl CollisionModel {
                 if g.role != Role::Collision {
                     continue;
                 }
-                let (shape, turn, kind) = engine_shape(&g.shape, options.mesh_mode, &mut meshes)
-                    .map_err(|e| CollisionError::Geometry(format!("world geom: {e}")))?;
-                objects.push(Object {
-                    name: g.name.clone().unwrap_or_else(|| format!("world/geom/{k}")),
-                    attach: Attach::World,
-                    origin: match turn {
-                        Some(t) => g.origin.compose(&t),
-                        None => g.origin,
-                    },
-                    shape,
-                    kind,
-                    element: g.name.clone(),
-                    bits: g.bits.unwrap_or(ContactBits::DEFAULT),
-                    tree: tree_of(&g.shape, &meshes),
-                });
+                let name = g.name.clone().unwrap_or_else(|| format!("world/geom/{k}"));
+                objects.push(object(
+                    g,
+                    Attach::World,
+                    name,
+                    "world geom",
+                    options.mesh_mode,
+                    &mut meshes,
+                )?);
             }
         }
         let mut model = CollisionModel {
@@ -558,25 +561,21 @@ fn low_first(a: usize, b: usize) -> (usize, usize) {
     (a.min(b), a.max(b))
 }
 
-/// One `<collision>` element as a model object.
+/// One collision shape of the file as a model object named `name`, fixed to `attach`; `what`
+/// names it in an error.
 fn object(
     g: &Geometry,
-    links: &[String],
-    count: &mut [usize],
+    attach: Attach,
+    name: String,
+    what: &str,
     mode: MeshMode,
     meshes: &mut Meshes,
 ) -> Result<Object, CollisionError> {
-    let link = &links[g.link];
     let (shape, turn, kind) = engine_shape(&g.shape, mode, meshes)
-        .map_err(|e| CollisionError::Geometry(format!("link \"{link}\" <collision>: {e}")))?;
-    let k = count[g.link];
-    count[g.link] += 1;
+        .map_err(|e| CollisionError::Geometry(format!("{what}: {e}")))?;
     Ok(Object {
-        name: match &g.name {
-            Some(n) => format!("{link}/{n}"),
-            None => format!("{link}/collision/{k}"),
-        },
-        attach: Attach::Link(g.link),
+        name,
+        attach,
         origin: match turn {
             Some(t) => g.origin.compose(&t),
             None => g.origin,
