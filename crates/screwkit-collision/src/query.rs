@@ -563,8 +563,15 @@ pub fn distance_jacobians_batch(
     })
 }
 
-/// Runs `f` on each row of `qs` (N × nq) on all cores, one workspace per thread; a row the
-/// kinematics refuses is reported by index ([`SolveError::Rows`]), the others are answered.
+/// Runs `f` on each row of `qs` (N × nq) on all cores; a row the kinematics refuses is reported
+/// by index ([`SolveError::Rows`]), the others are answered.
+///
+/// Rows go in contiguous pieces, about sixteen per thread, each with one workspace made for
+/// it: a body query's rows differ 20× in cost (a row in contact runs its narrow phase to the
+/// end), so the pieces must be small enough to balance, and few enough that making workspaces
+/// does not eat the gain (a fresh one per rayon split with `map_init`, on every steal: the
+/// Panda's 50 µs rows scaled 1.5× on 2 threads that way, 1.87× in pieces; 8 per thread 1.90×
+/// and 1.71× on the UR5, 16 1.87× and 1.83×, 32 1.81× and 1.79×).
 fn batch<T: Send>(
     model: &CollisionModel,
     kin: &TreeKinematics,
@@ -580,26 +587,29 @@ fn batch<T: Send>(
             qs.len()
         ))));
     }
-    let bad: Vec<RowError> = out
-        .par_iter_mut()
-        .zip(qs.par_chunks(nq))
+    let piece = out.len().div_ceil(16 * rayon::current_num_threads()).max(1);
+    let bad: Vec<Vec<RowError>> = out
+        .par_chunks_mut(piece)
+        .zip(qs.par_chunks(piece * nq))
         .enumerate()
-        .map_init(
-            || CollisionWorkspace::new(kin, model),
-            |ws, (row, (o, q))| match f(ws, q) {
-                Ok(v) => {
-                    *o = v;
-                    None
+        .map(|(k, (o, q))| {
+            let mut ws = CollisionWorkspace::new(kin, model);
+            let mut bad = Vec::new();
+            for (i, (o, q)) in o.iter_mut().zip(q.chunks(nq)).enumerate() {
+                let row = k * piece + i;
+                match f(&mut ws, q) {
+                    Ok(v) => *o = v,
+                    Err(CollisionError::Solve(error)) => bad.push(RowError { row, error }),
+                    Err(e) => bad.push(RowError {
+                        row,
+                        error: SolveError::InvalidInput(e.to_string()),
+                    }),
                 }
-                Err(CollisionError::Solve(error)) => Some(RowError { row, error }),
-                Err(e) => Some(RowError {
-                    row,
-                    error: SolveError::InvalidInput(e.to_string()),
-                }),
-            },
-        )
-        .flatten()
+            }
+            bad
+        })
         .collect();
+    let bad: Vec<RowError> = bad.into_iter().flatten().collect();
     if bad.is_empty() {
         Ok(())
     } else {
