@@ -433,6 +433,13 @@ impl CollisionModel {
         shape: &Shape,
         pose: Se3,
     ) -> Result<(), CollisionError> {
+        let far = screwkit_model::geometry::MAX_SIZE;
+        if pose.translation().iter().any(|x| !x.is_finite() || x.abs() > far) {
+            return Err(CollisionError::Geometry(format!(
+                "obstacle \"{name}\": its position {:?} is not within {far} m of the origin",
+                pose.translation().as_slice()
+            )));
+        }
         let mut meshes = HashMap::new();
         let (engine, turn, kind) = engine_shape(shape, self.options.mesh_mode, &mut meshes)
             .map_err(|e| CollisionError::Geometry(format!("obstacle \"{name}\": {e}")))?;

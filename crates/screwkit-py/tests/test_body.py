@@ -260,6 +260,11 @@ def test_obstacles_srdf_and_errors(tmp_path: Path) -> None:
             "pose",
         ),
         ('{"obstacles": [{"name": "m", "shape": "mesh", "path": "none.stl"}]}', "none.stl"),
+        (
+            '{"obstacles": [{"name": "far", "shape": "sphere", "radius": 1,'
+            ' "xyz": [1e300, 0, 0]}]}',
+            "not within 1000000 m",
+        ),
         ('{"obstacles": [}', "line 1 column"),
     ],
 )
