@@ -105,6 +105,8 @@ pub struct Object {
     pub bits: ContactBits,
     /// An exact mesh's tree of bounding boxes (its distances: [`crate::mesh_distance`]).
     pub(crate) tree: Option<Arc<crate::mesh_distance::BoxTree>>,
+    /// An obstacle added by [`CollisionModel::add_obstacle`]: its shape and pose as given.
+    pub(crate) added: Option<(Shape, Se3)>,
 }
 
 impl std::fmt::Debug for Object {
@@ -434,7 +436,11 @@ impl CollisionModel {
         pose: Se3,
     ) -> Result<(), CollisionError> {
         let far = screwkit_model::geometry::MAX_SIZE;
-        if pose.translation().iter().any(|x| !x.is_finite() || x.abs() > far) {
+        if pose
+            .translation()
+            .iter()
+            .any(|x| !x.is_finite() || x.abs() > far)
+        {
             return Err(CollisionError::Geometry(format!(
                 "obstacle \"{name}\": its position {:?} is not within {far} m of the origin",
                 pose.translation().as_slice()
@@ -457,6 +463,7 @@ impl CollisionModel {
             element: None,
             bits: ContactBits::DEFAULT,
             tree: tree_of(shape, &meshes),
+            added: Some((shape.clone(), pose)),
         });
         self.update_pairs();
         Ok(())
@@ -472,6 +479,15 @@ impl CollisionModel {
             self.update_pairs();
         }
         removed
+    }
+
+    /// The obstacles added with [`CollisionModel::add_obstacle`] (not the file's world geoms),
+    /// in the order added: name, shape and pose as given (what it takes to add them again).
+    pub fn added_obstacles(&self) -> Vec<(&str, &Shape, Se3)> {
+        self.objects
+            .iter()
+            .filter_map(|o| o.added.as_ref().map(|(s, p)| (o.name.as_str(), s, *p)))
+            .collect()
     }
 
     /// The obstacles' names, in the order added.
@@ -592,6 +608,7 @@ fn object(
         element: g.name.clone(),
         bits: g.bits.unwrap_or(ContactBits::DEFAULT),
         tree: tree_of(&g.shape, meshes),
+        added: None,
     })
 }
 

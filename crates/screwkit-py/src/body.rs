@@ -213,6 +213,47 @@ pub(crate) fn shape_of(obj: &Bound<'_, PyAny>) -> PyResult<Shape> {
     ))
 }
 
+/// An added obstacle's shape as pickling keeps it: its word, its numbers (a box's size, a
+/// sphere's radius, a capsule's or a cylinder's radius and length, a mesh's scale) and a mesh's
+/// path.
+pub(crate) type ShapeState = (String, Vec<f64>, Option<std::path::PathBuf>);
+
+/// [`ShapeState`] of a shape Python can add (None for the file-only ellipsoid and plane).
+pub(crate) fn shape_state(shape: &Shape) -> Option<ShapeState> {
+    Some(match shape {
+        Shape::Box { size } => ("box".into(), size.to_vec(), None),
+        Shape::Sphere { radius } => ("sphere".into(), vec![*radius], None),
+        Shape::Capsule { radius, length } => ("capsule".into(), vec![*radius, *length], None),
+        Shape::Cylinder { radius, length } => ("cylinder".into(), vec![*radius, *length], None),
+        Shape::Mesh { path, scale, .. } => ("mesh".into(), scale.to_vec(), Some(path.clone())),
+        Shape::Ellipsoid { .. } | Shape::Plane { .. } => return None,
+    })
+}
+
+/// The shape of a [`ShapeState`].
+pub(crate) fn state_shape((word, v, path): &ShapeState) -> PyResult<Shape> {
+    let bad = || PyValueError::new_err(format!("a pickled obstacle's shape {word} {v:?}"));
+    let three = |v: &[f64]| <[f64; 3]>::try_from(v).map_err(|_| bad());
+    Ok(match (word.as_str(), v.as_slice(), path) {
+        ("box", v, None) => Shape::Box { size: three(v)? },
+        ("sphere", [r], None) => Shape::Sphere { radius: *r },
+        ("capsule", [r, l], None) => Shape::Capsule {
+            radius: *r,
+            length: *l,
+        },
+        ("cylinder", [r, l], None) => Shape::Cylinder {
+            radius: *r,
+            length: *l,
+        },
+        ("mesh", v, Some(p)) => Shape::Mesh {
+            uri: p.display().to_string(),
+            path: p.clone(),
+            scale: three(v)?,
+        },
+        _ => return Err(bad()),
+    })
+}
+
 /// Every checked pair's signed distance at one configuration (`Robot.distances`): `pairs`
 /// (P pairs of link or obstacle names), `distance` (P,) (negative when the shapes overlap),
 /// `points` (P, 2, 3) (the witness points on each shape, world frame), `normal` (P, 3) (unit,

@@ -77,6 +77,13 @@ fn bad_target(e: SolveError) -> PyErr {
     }
 }
 
+/// A pickled body: the disabled link pairs and the added obstacles (name, shape, row-major
+/// pose).
+type BodyState = (
+    Vec<(String, String)>,
+    Vec<(String, crate::body::ShapeState, Vec<f64>)>,
+);
+
 /// An option word of family `W` from a keyword argument; the error names the keyword.
 pub(crate) fn word<W: Word>(keyword: &str, given: &str) -> PyResult<W> {
     words::parse::<W>(given).map_err(|e| PyValueError::new_err(format!("{keyword}: {e}")))
@@ -366,6 +373,24 @@ impl Robot {
                 run_batch(py, &full, &q, chunk, |qs, o| poses.poses_batch(qs, o))
             }
         }
+    }
+
+    /// The body's state for pickling: the disabled link pairs and the added obstacles (name,
+    /// shape, pose row-major); empty when the body was never built.
+    fn body_state(&self) -> BodyState {
+        let Some(m) = self.body.read().expect("the body lock").clone() else {
+            return (Vec::new(), Vec::new());
+        };
+        let obstacles = m
+            .added_obstacles()
+            .into_iter()
+            .filter_map(|(name, shape, pose)| {
+                let mut flat = vec![0.0; 16];
+                pose.write_row_major(&mut flat);
+                Some((name.to_string(), crate::body::shape_state(shape)?, flat))
+            })
+            .collect();
+        (m.disabled(), obstacles)
     }
 
     /// The whole tree and the body's collision model (built on first use).
@@ -885,6 +910,8 @@ impl Robot {
                 o.geometry.as_str(),
                 o.meshes.map(|m| m.as_str()),
             ),
+            // The body's state: the pairs disabled (an SRDF's), the obstacles added.
+            r.body_state(),
         );
         Ok((ctor, args).into_pyobject(py)?.into_any())
     }
@@ -902,6 +929,7 @@ impl Robot {
         floating_base: bool,
         frames: Vec<(String, String, Vec<f64>)>,
         body: (PathBuf, Vec<PathBuf>, String, Option<String>),
+        state: BodyState,
     ) -> PyResult<Self> {
         let (dir, package_paths, geometry, meshes) = body;
         let options = LoadOptions {
@@ -923,6 +951,23 @@ impl Robot {
             let t = screwkit_lie::Se3::from_row_major(&pose, 1e-9)
                 .map_err(|e| PyValueError::new_err(format!("frame {name}: {e}")))?;
             r.add_frame_pose(&name, &link, t)?;
+        }
+        let (disabled, obstacles) = state;
+        if !disabled.is_empty() || !obstacles.is_empty() {
+            let shapes = obstacles
+                .iter()
+                .map(|(_, s, _)| crate::body::state_shape(s))
+                .collect::<PyResult<Vec<_>>>()?;
+            r.change_body(|m| {
+                for (a, b) in &disabled {
+                    m.disable(a, b)?;
+                }
+                for ((name, _, pose), shape) in obstacles.iter().zip(&shapes) {
+                    let pose = target::from_row_major(pose)?;
+                    m.add_obstacle(name, shape, pose)?;
+                }
+                Ok(())
+            })?;
         }
         Ok(r)
     }

@@ -458,3 +458,32 @@ def test_distance_jacobians_are_pinocchios_point_jacobians(name: str) -> None:
     batch = robot.distances(np.stack([q, q]), jacobians=True)
     np.testing.assert_array_equal(batch[1].jacobian, d.jacobian)
     assert robot.distances(q).jacobian is None
+
+
+def test_a_pickled_robot_keeps_its_body() -> None:
+    """Pickling keeps the body's state: the SRDF's disabled pairs and the obstacles added (a
+    mesh's path included), so a copy (a Ray worker's) answers as the original."""
+    import pickle
+
+    urdf, srdf, _ = files("panda")
+    robot = screwkit.Robot.from_urdf(urdf, package_paths=[SHARE])
+    robot.srdf(srdf)
+    table = np.eye(4)
+    table[:3, 3] = [0.5, 0.0, 0.2]
+    robot.add_obstacle("table", screwkit.Box((0.6, 1.0, 0.04)), table)
+    robot.add_obstacle("ball", screwkit.Sphere(0.1), np.eye(4) + np.diag([0, 0, 0, 0]))
+    stl = next((ROBOTS / "panda_description" / "meshes").rglob("*.stl"))
+    turned = np.eye(4)
+    turned[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+    turned[:3, 3] = [0.3, 0.4, 0.5]
+    robot.add_obstacle("part", screwkit.Mesh(stl, (1.0, 1.0, 2.0)), turned)
+    copy = pickle.loads(pickle.dumps(robot))
+    assert copy.obstacles == robot.obstacles == ["table", "ball", "part"]
+    assert copy.collision_pairs == robot.collision_pairs
+    rng = np.random.default_rng(2)
+    qs = rng.uniform(np.maximum(robot.lower, -2.0), np.minimum(robot.upper, 2.0), (20, robot.nq))
+    np.testing.assert_array_equal(copy.min_distance(qs), robot.min_distance(qs))
+    assert copy.collisions(qs) == robot.collisions(qs)
+    # A robot whose body was never asked for pickles without one.
+    plain = screwkit.Robot.from_urdf(urdf, package_paths=[SHARE])
+    assert pickle.loads(pickle.dumps(plain)).obstacles == []

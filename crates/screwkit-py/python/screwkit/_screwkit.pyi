@@ -418,6 +418,14 @@ class Robot:
         floating_base: bool,
         frames: Sequence[tuple[str, str, Sequence[float]]],
         body: tuple[str | os.PathLike[str], Sequence[str | os.PathLike[str]], str, str | None],
+        state: tuple[
+            Sequence[tuple[str, str]],
+            Sequence[
+                tuple[
+                    str, tuple[str, Sequence[float], str | os.PathLike[str] | None], Sequence[float]
+                ]
+            ],
+        ],
     ) -> Robot: ...
     def __reduce__(self) -> Any: ...
     @property
