@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, GeometryRoles, JacobianFrame, Meshes, Method, OrientationMode, RepresentativesChoice,
-    SolverChoice, TableFrames, View, Views, Word,
+    self, Collisions, GeometryRoles, JacobianFrame, Meshes, Method, OrientationMode,
+    RepresentativesChoice, SolverChoice, TableFrames, View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
 
@@ -535,6 +535,17 @@ pub struct IkArgs {
     /// (−π, π] where the limits allow).
     #[arg(long, requires = "all", value_parser = word::<RepresentativesChoice>(), default_value_t = RepresentativesChoice::Nearest)]
     pub representatives: RepresentativesChoice,
+    /// With --all: what to do with the solutions whose body collides (itself, or the
+    /// --obstacles): ignore (the default), flag (JSON "collides" per solution), filter (drop
+    /// them).
+    #[arg(long, requires = "all", value_parser = word::<Collisions>(), default_value_t = Collisions::default())]
+    pub collisions: Collisions,
+    /// With --collisions: an SRDF whose disable_collisions pairs are not checked.
+    #[arg(long)]
+    pub srdf: Option<PathBuf>,
+    /// With --collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
+    #[arg(long)]
+    pub obstacles: Option<PathBuf>,
 }
 
 /// `exp`.

@@ -4,7 +4,8 @@ use std::time::Instant;
 
 use screwkit_lie::Se3;
 use screwkit_service::report::{self, IkReport};
-use screwkit_service::{target as targets, AllSolutions};
+use screwkit_service::words::Collisions;
+use screwkit_service::{body, target as targets, AllSolutions, Robot};
 use screwkit_solve::batch::{ik_batch_from, ik_path_from};
 use screwkit_solve::ik::{solve, IkOptions, IkStatus};
 use screwkit_solve::{Kinematics, Workspace};
@@ -216,21 +217,49 @@ fn family_text(all: &AllSolutions) -> String {
     w
 }
 
-/// `ik --all`: every analytic solution, nearest to `seed` first.
+/// The body's model for `--collisions flag|filter` (the SRDF and obstacles applied), or None.
+fn solution_body(
+    robot: &Robot,
+    args: &IkArgs,
+) -> Result<Option<screwkit_collision::CollisionModel>, screwkit_service::Error> {
+    if args.collisions == Collisions::Ignore {
+        return Ok(None);
+    }
+    let kin = robot.whole()?;
+    let mut model = body::model(kin, robot.options().meshes, args.srdf.as_deref())?;
+    if let Some(scene) = &args.obstacles {
+        let obstacles = body::read_scene(scene, &robot.options().xacro.package_paths)?;
+        body::add_obstacles(&mut model, &obstacles)?;
+    }
+    Ok(Some(model))
+}
+
+/// `ik --all`: every analytic solution, nearest to `seed` first (with `body`: flagged or
+/// filtered by collision).
 fn all_solutions(
     kin: &Kinematics,
     args: &IkArgs,
     t: &Se3,
     seed: &[f64],
     format: Format,
+    body: Option<&body::SolutionBody<'_>>,
 ) -> CliResult {
     kin.check_q(seed)?;
     let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?
         .with_representatives(args.representatives);
     let mut ws = Workspace::new(kin);
-    let (sols, values) = all.solve(kin, &mut ws, t, seed)?;
+    let (mut sols, values) = all.solve(kin, &mut ws, t, seed)?;
+    let flags = match body {
+        Some(b) => b.apply(&mut sols)?,
+        None => None,
+    };
     if format == Format::Json {
-        print_json(&report::to_value(&all.report(kin, &sols, &values)))?;
+        print_json(&report::to_value(&all.report(
+            kin,
+            &sols,
+            &values,
+            flags.as_deref(),
+        )))?;
     } else {
         let family = all.solver().family();
         let mut s = format!(
@@ -253,9 +282,14 @@ fn all_solutions(
         );
         for (i, q) in sols.iter().enumerate() {
             s.push_str(&format!(
-                "{}  residual {:.1e}\n",
+                "{}  residual {:.1e}{}\n",
                 tuple(q),
-                sols.residual(i)
+                sols.residual(i),
+                match flags.as_ref().map(|f| f[i]) {
+                    Some(true) => "  COLLIDES",
+                    Some(false) => "  collision-free",
+                    None => "",
+                }
             ));
         }
         crate::output::emit(&s)?;
@@ -270,7 +304,13 @@ fn all_solutions(
 /// `ik --all --input FILE`: one JSON line of solutions per target line, each chunk through the
 /// floor's batch (the library's, on all cores; each line's seed, or --seed, orders the
 /// solutions and gives the lock value).
-fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliResult {
+fn all_batch(
+    kin: &Kinematics,
+    args: &IkArgs,
+    input: &str,
+    seed: &[f64],
+    body: Option<&body::SolutionBody<'_>>,
+) -> CliResult {
     kin.check_q(seed)?;
     let all = AllSolutions::new(kin, args.lock.as_ref(), args.sweep)?
         .with_representatives(args.representatives);
@@ -307,8 +347,13 @@ fn all_batch(kin: &Kinematics, args: &IkArgs, input: &str, seed: &[f64]) -> CliR
             if let Some(r) = row {
                 match &results[*r] {
                     Ok((sols, v)) => {
-                        values[k] =
-                            Some((report::to_value(&all.report(kin, sols, v)), sols.is_exact()))
+                        let mut sols = sols.clone();
+                        let flags = match body {
+                            Some(b) => b.apply(&mut sols)?,
+                            None => None,
+                        };
+                        let report = all.report(kin, &sols, v, flags.as_deref());
+                        values[k] = Some((report::to_value(&report), sols.is_exact()))
                     }
                     Err(e) => errors[k] = Some(e.to_string()),
                 }
@@ -346,7 +391,17 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
                 Some(s) => s.0.clone(),
                 None => kin.midpoint(),
             };
-            return all_batch(kin, args, input, &seed);
+            let model = solution_body(&robot, args)?;
+            let body = match &model {
+                Some(model) => Some(body::SolutionBody {
+                    robot: &robot,
+                    kin: robot.whole()?,
+                    model,
+                    mode: args.collisions,
+                }),
+                None => None,
+            };
+            return all_batch(kin, args, input, &seed, body.as_ref());
         }
         if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
             if args.sequential {
@@ -366,7 +421,17 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         None => kin.midpoint(),
     };
     if args.all {
-        return all_solutions(kin, args, &t, &seed, format);
+        let model = solution_body(&robot, args)?;
+        let body = match &model {
+            Some(model) => Some(body::SolutionBody {
+                robot: &robot,
+                kin: robot.whole()?,
+                model,
+                mode: args.collisions,
+            }),
+            None => None,
+        };
+        return all_solutions(kin, args, &t, &seed, format, body.as_ref());
     }
     let mut ws = Workspace::new(kin);
     let t0 = Instant::now();

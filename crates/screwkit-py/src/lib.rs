@@ -134,6 +134,7 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     d.set_item("solver_choice", all::<w::SolverChoice>())?;
     d.set_item("geometry", all::<w::GeometryRoles>())?;
     d.set_item("meshes", all::<w::Meshes>())?;
+    d.set_item("collisions", all::<w::Collisions>())?;
     Ok(d)
 }
 

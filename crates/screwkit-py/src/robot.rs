@@ -12,8 +12,8 @@ use pyo3::types::PyType;
 use screwkit_model::{table, Chain};
 use screwkit_service::query::{About, Poses, Selection};
 use screwkit_service::words::{
-    self, GeometryRoles, JacobianFrame, Meshes, Method, ScrewFrame, TableFormat, TableFrames,
-    Views, Word,
+    self, Collisions, GeometryRoles, JacobianFrame, Meshes, Method, ScrewFrame, TableFormat,
+    TableFrames, Views, Word,
 };
 use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
 use screwkit_solve::ik::{IkOptions, IkStatus};
@@ -1995,8 +1995,11 @@ impl Robot {
     /// `representatives`: "nearest" (the default: one row per posture, each joint at its 2π
     /// representative nearest the seed), "all" (every representative inside the limits: a UR5
     /// with ±2π limits lists up to 2⁶ rows per posture), "none" (one row per posture, angles
-    /// in (−π, π] where the limits allow).
-    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None, representatives = "nearest", arm_angle = None))]
+    /// in (−π, π] where the limits allow). `collisions`: "ignore" (the default), "flag" (each
+    /// target's answer is `(q, collides)`, `collides` (K,) bool: does that configuration's body
+    /// collide, itself or the obstacles, with the SRDF applied), "filter" (the colliding
+    /// solutions dropped).
+    #[pyo3(signature = (target, seed = None, *, lock = None, lock_value = None, sweep = None, representatives = "nearest", arm_angle = None, collisions = "ignore"))]
     #[allow(clippy::too_many_arguments)]
     fn ik_all<'py>(
         &self,
@@ -2008,7 +2011,22 @@ impl Robot {
         sweep: Option<usize>,
         representatives: &str,
         arm_angle: Option<f64>,
+        collisions: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let collisions = word::<Collisions>("collisions", collisions)?;
+        // The body, built (once) only when asked.
+        let body = match collisions {
+            Collisions::Ignore => None,
+            _ => Some(self.body_model()?),
+        };
+        let body = body
+            .as_ref()
+            .map(|(kin, model)| screwkit_service::body::SolutionBody {
+                robot: &self.robot,
+                kin,
+                model,
+                mode: collisions,
+            });
         if arm_angle.is_some() && (lock.is_some() || lock_value.is_some()) {
             return Err(PyValueError::new_err(
                 "arm_angle: give it alone (it stands for lock=\"arm_angle\", lock_value=ψ)",
@@ -2053,13 +2071,25 @@ impl Robot {
         .with_representatives(reps)
         .with_interrupt(screwkit_solve::ik::Interrupt(pool::cancelled));
         let n = self.kin()?.dof();
+        // A target's answer: its solutions (K, dof), filtered, or with their flags.
         let to_array = |py: Python<'py>, sols: &Solutions| -> PyResult<Bound<'py, PyAny>> {
-            Ok(new_array(py, &[sols.len(), n], |o| {
+            let mut sols = sols.clone();
+            let flags = match &body {
+                Some(b) => b.apply(&mut sols).map_err(service_error)?,
+                None => None,
+            };
+            let q = new_array(py, &[sols.len(), n], |o| {
                 for (row, q) in o.chunks_mut(n.max(1)).zip(sols.iter()) {
                     row.copy_from_slice(q);
                 }
             })?
-            .into_any())
+            .into_any();
+            Ok(match flags {
+                Some(f) => (q, numpy::PyArray1::from_vec(py, f))
+                    .into_pyobject(py)?
+                    .into_any(),
+                None => q,
+            })
         };
         let tv = targets.readonly();
         let flat = tv.as_slice()?;
@@ -2089,19 +2119,29 @@ impl Robot {
             pool::cancellable(py, || all.solve_batch(kin, flat, &seed))?.map_err(solve_error)?;
         let list = pyo3::types::PyList::empty(py);
         let mut bad = Vec::new();
+        // A failed row's answer: no solution (with no flags).
+        let empty = |py: Python<'py>| -> PyResult<Bound<'py, PyAny>> {
+            let q = zeros(py, &[0, n])?;
+            Ok(match collisions {
+                Collisions::Flag => (q, numpy::PyArray1::<bool>::zeros(py, 0, false))
+                    .into_pyobject(py)?
+                    .into_any(),
+                _ => q.into_any(),
+            })
+        };
         for (k, r) in results.into_iter().enumerate() {
             match r {
                 Ok((sols, _)) if sols.is_exact() => list.append(to_array(py, &sols)?)?,
                 // As the single call: out of reach is this row's error.
                 Ok(_) => {
-                    list.append(zeros(py, &[0, n])?)?;
+                    list.append(empty(py)?)?;
                     bad.push(screwkit_solve::RowError {
                         row: k,
                         error: screwkit_solve::SolveError::InvalidInput(OUT_OF_REACH.into()),
                     });
                 }
                 Err(error) => {
-                    list.append(zeros(py, &[0, n])?)?;
+                    list.append(empty(py)?)?;
                     bad.push(screwkit_solve::RowError { row: k, error });
                 }
             }

@@ -487,3 +487,111 @@ def test_a_pickled_robot_keeps_its_body() -> None:
     # A robot whose body was never asked for pickles without one.
     plain = screwkit.Robot.from_urdf(urdf, package_paths=[SHARE])
     assert pickle.loads(pickle.dumps(plain)).obstacles == []
+
+
+def flagged(
+    robot: screwkit.Robot, target: npt.NDArray[np.float64]
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.bool_]]:
+    """`ik_all(target, collisions="flag")` of one target: (q, collides)."""
+    answer = robot.ik_all(target, collisions="flag")
+    assert isinstance(answer, tuple)
+    return answer
+
+
+def solutions(
+    robot: screwkit.Robot, target: npt.NDArray[np.float64], mode: str
+) -> npt.NDArray[np.float64]:
+    """`ik_all(target, collisions=mode)` of one target ("ignore" or "filter")."""
+    answer = robot.ik_all(target, collisions="filter" if mode == "filter" else "ignore")
+    assert isinstance(answer, np.ndarray)
+    return answer
+
+
+def test_ik_all_flags_and_filters_collisions_as_coal() -> None:
+    """`ik_all(collisions="flag")` flags each solution as coal finds its configuration (the
+    UR5 with its SRDF and a table under it; solutions away from contact), "filter" keeps the
+    unflagged ones in order, batches equal single calls, and the CLI's JSON says the same."""
+    urdf, srdf, _ = files("ur5")
+    robot = screwkit.Robot.from_urdf(urdf, "base_link", "ee_link", package_paths=[SHARE])
+    robot.srdf(srdf)
+    table = np.eye(4)
+    table[:3, 3] = [0.4, 0.0, -0.05]
+    robot.add_obstacle("table", screwkit.Box((1.0, 1.0, 0.04)), table)
+    coal = Coal(urdf, srdf, robot)
+    hppfcl = pytest.importorskip("coal", reason="coal (pip install coal) is a test dependency")
+
+    obstacle = pin.GeometryObject(
+        "table", 0, pin.SE3(np.eye(3), table[:3, 3]), hppfcl.Box(1.0, 1.0, 0.04)
+    )
+    obstacle.parentFrame = 0  # the world
+    coal.cmodel.addGeometryObject(obstacle)
+    table_id = coal.cmodel.ngeoms - 1
+    for g in range(table_id):
+        coal.cmodel.addCollisionPair(pin.CollisionPair(g, table_id))
+    coal.cdata = pin.GeometryData(coal.cmodel)
+    rng = np.random.default_rng(6)
+    counts = {True: 0, False: 0}
+    targets = []
+    for _ in range(12):
+        q_star = rng.uniform(-np.pi, np.pi, robot.dof)
+        target = robot.fk(q_star)
+        targets.append(target)
+        q, collides = flagged(robot, target)
+        assert collides.dtype == np.bool_ and collides.shape == (len(q),)
+        for qk, c in zip(q, collides, strict=True):
+            d = coal.distances(qk)
+            if min(d.values()) < -1e-4 or min(d.values()) > 1e-4:
+                assert bool(c) == bool(coal.colliding(qk)), (qk, d)
+            counts[bool(c)] += 1
+        np.testing.assert_array_equal(solutions(robot, target, "filter"), q[~collides])
+        np.testing.assert_array_equal(solutions(robot, target, "ignore"), q)
+    assert counts[True] > 3 and counts[False] > 3, counts
+    batch = robot.ik_all(np.stack(targets), collisions="flag")
+    assert isinstance(batch, list)
+    for (bq, bc), t in zip(batch, targets, strict=True):
+        q, c = flagged(robot, t)
+        np.testing.assert_array_equal(bq, q)
+        np.testing.assert_array_equal(bc, c)
+
+
+def test_ik_all_collisions_from_the_cli(tmp_path: Path) -> None:
+    """`screwkit ik --all --collisions flag|filter` (with --srdf and --obstacles) answers as
+    `Robot.ik_all` does (JSON "collides" per solution; filter drops them)."""
+    import json
+    import os
+    import subprocess
+
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    urdf, srdf, _ = files("ur5")
+    robot = screwkit.Robot.from_urdf(urdf, "base_link", "ee_link", package_paths=[SHARE])
+    robot.srdf(srdf)
+    scene = tmp_path / "scene.json"
+    scene.write_text(
+        '{"obstacles": [{"name": "table", "shape": "box", "size": [1, 1, 0.04],'
+        ' "xyz": [0.4, 0, -0.05]}]}'
+    )
+    robot.add_obstacles(scene)
+    # A target whose solutions both collide and do not.
+    rng = np.random.default_rng(8)
+    for _ in range(100):
+        target = robot.fk(rng.uniform(-np.pi, np.pi, robot.dof))
+        q, collides = flagged(robot, target)
+        if collides.any() and not collides.all():
+            break
+    assert collides.any() and not collides.all()
+    base = [exe, "ik", str(urdf), "--package-path", str(SHARE), "--base", "base_link"]
+    base += ["--tip", "ee_link", "--all", "--srdf", str(srdf), "--obstacles", str(scene)]
+    base += ["--target-matrix", ",".join(repr(float(x)) for x in target.flatten())]
+    for mode in ("flag", "filter"):
+        out = subprocess.run(
+            [*base, "--collisions", mode, "--format", "json"], capture_output=True, text=True
+        )
+        got = json.loads(out.stdout)["solutions"]
+        if mode == "flag":
+            np.testing.assert_array_equal([s["q"] for s in got], q)
+            assert [s["collides"] for s in got] == collides.tolist()
+        else:
+            np.testing.assert_array_equal([s["q"] for s in got], q[~collides])
+            assert all("collides" not in s for s in got)

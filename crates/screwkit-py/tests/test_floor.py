@@ -174,6 +174,7 @@ def test_stub_words_are_the_floors() -> None:
         ("_Method", "method"),
         ("_Geometry", "geometry"),
         ("_Meshes", "meshes"),
+        ("_Collisions", "collisions"),
     ]:
         assert sorted(lit[alias]) == sorted(words[family]), alias
     for family in ["orientation_mode", "solver_choice"]:

@@ -381,3 +381,50 @@ pub fn add_obstacles(model: &mut CollisionModel, obstacles: &[Obstacle]) -> Resu
     }
     Ok(())
 }
+
+/// The body's verdict on a chain's analytic solutions (`Collisions::Flag` or `Filter`): each
+/// solution's configuration placed in the whole tree ([`tree_q`]) and checked for collision,
+/// self and obstacles, all of a target's solutions on all cores.
+pub struct SolutionBody<'a> {
+    /// The robot (its chain's joint values are placed in its tree).
+    pub robot: &'a Robot,
+    /// The whole tree.
+    pub kin: &'a TreeKinematics,
+    /// The collision model (SRDF and obstacles applied).
+    pub model: &'a CollisionModel,
+    /// Flag or filter.
+    pub mode: crate::words::Collisions,
+}
+
+impl SolutionBody<'_> {
+    /// Each solution's flag: true when its configuration collides.
+    pub fn flags(&self, sols: &screwkit_solve::analytic::Solutions) -> Result<Vec<bool>> {
+        let mut qs = Vec::with_capacity(sols.len() * self.kin.nq());
+        for q in sols.iter() {
+            qs.extend_from_slice(&tree_q(self.robot, self.kin, q)?);
+        }
+        let mut out = vec![false; sols.len()];
+        if !out.is_empty() {
+            screwkit_collision::in_collision_batch(self.model, self.kin, &qs, &mut out)?;
+        }
+        Ok(out)
+    }
+
+    /// The mode applied to `sols`: flagged (the flags returned, one per solution), or the
+    /// colliding ones dropped (None returned); `Ignore` leaves them (None).
+    pub fn apply(
+        &self,
+        sols: &mut screwkit_solve::analytic::Solutions,
+    ) -> Result<Option<Vec<bool>>> {
+        use crate::words::Collisions;
+        match self.mode {
+            Collisions::Ignore => Ok(None),
+            Collisions::Flag => self.flags(sols).map(Some),
+            Collisions::Filter => {
+                let free: Vec<bool> = self.flags(sols)?.iter().map(|c| !c).collect();
+                sols.retain(&free);
+                Ok(None)
+            }
+        }
+    }
+}

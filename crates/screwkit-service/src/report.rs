@@ -330,6 +330,9 @@ pub struct SolutionReport {
     /// Its FK residual.
     #[serde(serialize_with = "number")]
     pub residual: f64,
+    /// Whether its configuration collides (with `--collisions flag` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub collides: Option<bool>,
 }
 
 /// Every analytic solution of one target (`screwkit ik --all --format json`).

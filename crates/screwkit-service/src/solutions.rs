@@ -179,8 +179,15 @@ impl<'s> AllSolutions<'s> {
         )
     }
 
-    /// The report of one target's solutions (`values`: the lock values used).
-    pub fn report(&self, kin: &Kinematics, sols: &Solutions, values: &[f64]) -> AllSolutionsReport {
+    /// The report of one target's solutions (`values`: the lock values used; `collides`: each
+    /// solution's collision flag, when asked).
+    pub fn report(
+        &self,
+        kin: &Kinematics,
+        sols: &Solutions,
+        values: &[f64],
+        collides: Option<&[bool]>,
+    ) -> AllSolutionsReport {
         AllSolutionsReport {
             family: self.solver.family().word(),
             reversed: self.solver.reversed(),
@@ -200,6 +207,7 @@ impl<'s> AllSolutions<'s> {
                     q: sols.q(i).to_vec(),
                     exact: sols.exact(i),
                     residual: sols.residual(i),
+                    collides: collides.and_then(|c| c.get(i).copied()),
                 })
                 .collect(),
         }

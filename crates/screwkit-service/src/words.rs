@@ -163,6 +163,21 @@ words! {
 }
 
 words! {
+    /// What every-solution IK does with the solutions whose body collides (`--collisions`,
+    /// `collisions=`): nothing (the default), flag each, or drop them.
+    #[derive(Default)]
+    Collisions, "collisions mode" {
+        /// Solutions as they are, the body not looked at (the default).
+        #[default]
+        Ignore = "ignore",
+        /// Each solution flagged: does its configuration collide (self or obstacles)?
+        Flag = "flag",
+        /// The colliding solutions dropped.
+        Filter = "filter",
+    }
+}
+
+words! {
     /// Which of a robot file's shapes are read (`--geometry`, `geometry=`): its collision
     /// shapes, its visual ones, both (the default), or none.
     #[derive(Default)]

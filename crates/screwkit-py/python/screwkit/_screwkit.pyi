@@ -67,8 +67,11 @@ _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
 _Geometry: TypeAlias = Literal["collision", "visual", "both", "none"]
 _Meshes: TypeAlias = Literal["exact", "convex"]
+# The overloads split it ("flag" returns flags); test_floor holds it to the floor's words.
+_Collisions: TypeAlias = Literal["ignore", "flag", "filter"]  # noqa: PYI047
 _Representatives: TypeAlias = Literal["nearest", "all", "none"]
 _F64: TypeAlias = npt.NDArray[np.float64]
+_Bool: TypeAlias = npt.NDArray[np.bool_]
 _ArrayLike: TypeAlias = npt.ArrayLike
 _Weights: TypeAlias = float | Sequence[float]
 # Single versus batch in the types: one matrix (a pose, a rotation) as nested lists, or a stack of
@@ -592,6 +595,7 @@ class Robot:
         sweep: int | None = None,
         representatives: _Representatives = "nearest",
         arm_angle: float | None = None,
+        collisions: Literal["ignore", "filter"] = "ignore",
     ) -> _F64: ...
     @overload
     def ik_all(
@@ -604,7 +608,34 @@ class Robot:
         sweep: int | None = None,
         representatives: _Representatives = "nearest",
         arm_angle: float | None = None,
+        collisions: Literal["ignore", "filter"] = "ignore",
     ) -> list[_F64]: ...
+    @overload
+    def ik_all(
+        self,
+        target: _Mat,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+        representatives: _Representatives = "nearest",
+        arm_angle: float | None = None,
+        collisions: Literal["flag"],
+    ) -> tuple[_F64, _Bool]: ...
+    @overload
+    def ik_all(
+        self,
+        target: _Mats,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+        representatives: _Representatives = "nearest",
+        arm_angle: float | None = None,
+        collisions: Literal["flag"],
+    ) -> list[tuple[_F64, _Bool]]: ...
     @overload
     def ik_all(
         self,
@@ -616,8 +647,23 @@ class Robot:
         sweep: int | None = None,
         representatives: _Representatives = "nearest",
         arm_angle: float | None = None,
+        collisions: Literal["flag"],
+    ) -> tuple[_F64, _Bool] | list[tuple[_F64, _Bool]]: ...
+    @overload
+    def ik_all(
+        self,
+        target: _ArrayLike,
+        seed: _ArrayLike | None = None,
+        *,
+        lock: str | int | None = None,
+        lock_value: float | None = None,
+        sweep: int | None = None,
+        representatives: _Representatives = "nearest",
+        arm_angle: float | None = None,
+        collisions: Literal["ignore", "filter"] = "ignore",
     ) -> _F64 | list[_F64]:
-        """One target (4, 4) -> its solutions (K, dof); N targets (N, 4, 4) -> a list of N."""
+        """One target (4, 4) -> its solutions (K, dof); N targets (N, 4, 4) -> a list of N.
+        `collisions="flag"`: each answer is (q, collides); "filter": colliding ones dropped."""
     def arm_angle(self, q: _ArrayLike) -> float:
         """The arm angle (rad) of q for a 7R arm with a spherical shoulder and wrist."""
     @overload

@@ -192,6 +192,24 @@ impl Solutions {
         })
     }
 
+    /// Keeps the solutions whose `keep` entry is true, in order (a front end's filter: those
+    /// free of collisions). `branches` still counts the postures found before.
+    pub fn retain(&mut self, keep: &[bool]) {
+        let n = self.dof;
+        let mut at = 0;
+        for (i, &k) in keep.iter().enumerate().take(self.len()) {
+            if k {
+                self.q.copy_within(i * n..(i + 1) * n, at * n);
+                self.exact[at] = self.exact[i];
+                self.residual[at] = self.residual[i];
+                at += 1;
+            }
+        }
+        self.q.truncate(at * n);
+        self.exact.truncate(at);
+        self.residual.truncate(at);
+    }
+
     /// Orders the solutions nearest to `seed` first ([`Solutions::distance`]): the first is
     /// the one that moves the arm least from where it is (branch-stable tracking). Ties keep
     /// their order. Up to [`MAX_POSTURES`] · 2 solutions (every posture, one row each: the
