@@ -15,12 +15,7 @@ use crate::output::{print_json, tuple, CliResult};
 pub fn run(args: &CollideArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
     let kin = robot.whole()?;
-    let mut model = body::model(kin, robot.options().meshes, args.srdf.as_deref())?;
-    if let Some(scene) = &args.obstacles {
-        let obstacles = body::read_scene(scene, &robot.options().xacro.package_paths)?;
-        body::add_obstacles(&mut model, &obstacles)?;
-    }
-    let model = model;
+    let model = body::robot_model(&robot, args.srdf.as_deref(), args.obstacles.as_deref())?;
     let width = Space::of(&robot, Some(kin))?.q_len();
     if let Some(input) = &args.at.input {
         if let Some(output) = crate::npy::binary(input, args.at.output.as_deref())? {

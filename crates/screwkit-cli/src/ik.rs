@@ -218,20 +218,31 @@ fn family_text(all: &AllSolutions) -> String {
 }
 
 /// The body's model for `--collisions flag|filter` (the SRDF and obstacles applied), or None.
-fn solution_body(
+fn solution_model(
     robot: &Robot,
     args: &IkArgs,
 ) -> Result<Option<screwkit_collision::CollisionModel>, screwkit_service::Error> {
     if args.collisions == Collisions::Ignore {
         return Ok(None);
     }
-    let kin = robot.whole()?;
-    let mut model = body::model(kin, robot.options().meshes, args.srdf.as_deref())?;
-    if let Some(scene) = &args.obstacles {
-        let obstacles = body::read_scene(scene, &robot.options().xacro.package_paths)?;
-        body::add_obstacles(&mut model, &obstacles)?;
-    }
-    Ok(Some(model))
+    body::robot_model(robot, args.srdf.as_deref(), args.obstacles.as_deref()).map(Some)
+}
+
+/// The verdict on solutions that `model` gives (None: the body is not asked).
+fn solution_body<'a>(
+    robot: &'a Robot,
+    args: &IkArgs,
+    model: Option<&'a screwkit_collision::CollisionModel>,
+) -> Result<Option<body::SolutionBody<'a>>, screwkit_service::Error> {
+    Ok(match model {
+        Some(model) => Some(body::SolutionBody {
+            robot,
+            kin: robot.whole()?,
+            model,
+            mode: args.collisions,
+        }),
+        None => None,
+    })
 }
 
 /// `ik --all`: every analytic solution, nearest to `seed` first (with `body`: flagged or
@@ -391,16 +402,8 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
                 Some(s) => s.0.clone(),
                 None => kin.midpoint(),
             };
-            let model = solution_body(&robot, args)?;
-            let body = match &model {
-                Some(model) => Some(body::SolutionBody {
-                    robot: &robot,
-                    kin: robot.whole()?,
-                    model,
-                    mode: args.collisions,
-                }),
-                None => None,
-            };
+            let model = solution_model(&robot, args)?;
+            let body = solution_body(&robot, args, model.as_ref())?;
             return all_batch(kin, args, input, &seed, body.as_ref());
         }
         if let Some(output) = crate::npy::binary(input, args.output.as_deref())? {
@@ -421,16 +424,8 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
         None => kin.midpoint(),
     };
     if args.all {
-        let model = solution_body(&robot, args)?;
-        let body = match &model {
-            Some(model) => Some(body::SolutionBody {
-                robot: &robot,
-                kin: robot.whole()?,
-                model,
-                mode: args.collisions,
-            }),
-            None => None,
-        };
+        let model = solution_model(&robot, args)?;
+        let body = solution_body(&robot, args, model.as_ref())?;
         return all_solutions(kin, args, &t, &seed, format, body.as_ref());
     }
     let mut ws = Workspace::new(kin);

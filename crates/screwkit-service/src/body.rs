@@ -69,6 +69,22 @@ pub fn model(
     Ok(model)
 }
 
+/// The collision model of a loaded robot as the command line asks for it: its whole tree's
+/// shapes (meshes read as its load options say), an SRDF's disabled pairs and a scene file's
+/// obstacles when given (`screwkit collide`, `screwkit ik --all --collisions`).
+pub fn robot_model(
+    robot: &Robot,
+    srdf: Option<&std::path::Path>,
+    scene: Option<&std::path::Path>,
+) -> Result<CollisionModel> {
+    let mut built = model(robot.whole()?, robot.options().meshes, srdf)?;
+    if let Some(scene) = scene {
+        let obstacles = read_scene(scene, &robot.options().xacro.package_paths)?;
+        add_obstacles(&mut built, &obstacles)?;
+    }
+    Ok(built)
+}
+
 /// The whole tree's configuration for a body query given `q`: the tree's own (length nq), or,
 /// for a robot whose calls answer with its chain, the chain's joint values placed in the tree
 /// (the other joints at 0, clamped into their limits). Any other length is an error naming
