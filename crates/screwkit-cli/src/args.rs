@@ -540,10 +540,20 @@ pub struct IkArgs {
     /// them).
     #[arg(long, requires = "all", value_parser = word::<Collisions>(), default_value_t = Collisions::default())]
     pub collisions: Collisions,
-    /// With --collisions: an SRDF whose disable_collisions pairs are not checked.
+    /// Numerical IK (not --all): only answers whose body is clear of contact (itself, and
+    /// the --obstacles) by --margin; steps are steered away from close pairs. The status says
+    /// "in collision" when the budget ends with only colliding answers.
+    #[arg(long, conflicts_with = "all")]
+    pub avoid_collisions: bool,
+    /// With --avoid-collisions: the least distance (m) kept between every checked pair.
+    #[arg(long, requires = "avoid_collisions", default_value_t = screwkit_service::body::DEFAULT_MARGIN)]
+    pub margin: f64,
+    /// With --collisions or --avoid-collisions: an SRDF whose disable_collisions pairs are
+    /// not checked.
     #[arg(long)]
     pub srdf: Option<PathBuf>,
-    /// With --collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
+    /// With --collisions or --avoid-collisions: a scene file (JSON) of obstacles (as `collide
+    /// --obstacles`).
     #[arg(long)]
     pub obstacles: Option<PathBuf>,
 }

@@ -2,12 +2,13 @@
 
 use std::time::Instant;
 
+use screwkit_collision::ChainClearance;
 use screwkit_lie::Se3;
 use screwkit_service::report::{self, IkReport};
 use screwkit_service::words::Collisions;
 use screwkit_service::{body, target as targets, AllSolutions, Robot};
-use screwkit_solve::batch::{ik_batch_from, ik_path_from};
-use screwkit_solve::ik::{solve, IkOptions, IkStatus};
+use screwkit_solve::batch::{ik_batch_clear_from, ik_batch_from, ik_path_clear_from, ik_path_from};
+use screwkit_solve::ik::{solve, solve_clear, Clearance, IkOptions, IkResult, IkStatus};
 use screwkit_solve::{Kinematics, Workspace};
 use serde_json::Value;
 
@@ -78,8 +79,15 @@ fn parse_line(kin: &Kinematics, text: &str) -> Result<(Vec<f64>, Option<Vec<f64>
 }
 
 /// Batch mode: every row through the library's IK batch.
-fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) -> CliResult {
+fn run_batch(
+    kin: &Kinematics,
+    input: &str,
+    opts: &IkOptions,
+    sequential: bool,
+    clear: Option<&ChainClearance<'_>>,
+) -> CliResult {
     let n = kin.dof();
+    let mut scratch = clear.map(|c| c.scratch());
     let mid = kin.midpoint();
     // Trajectory mode: the last converged answer seeds the next line, across chunks.
     let mut warm: Option<Vec<f64>> = None;
@@ -103,7 +111,12 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
                 let t = targets::from_row_major(&target)?;
                 let start = seed.or_else(|| warm.clone()).unwrap_or_else(|| mid.clone());
                 let t0 = Instant::now();
-                let r = ik_path_from(kin, &mut ws, first_row + k, &[t], &start, opts)?;
+                let r = match (clear, scratch.as_mut()) {
+                    (Some(c), Some(s)) => {
+                        ik_path_clear_from(kin, &mut ws, first_row + k, &[t], &start, opts, c, s)?
+                    }
+                    _ => ik_path_from(kin, &mut ws, first_row + k, &[t], &start, opts)?,
+                };
                 times[k] = t0.elapsed().as_secs_f64() * 1e6;
                 let r = &r[0];
                 if r.status.converged {
@@ -131,12 +144,13 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
                 targets.extend_from_slice(&row[..16]);
                 seeds.extend_from_slice(&row[16..]);
             }
-            let result = ik_batch_from(
+            let result = solve_rows(
                 kin,
                 first_row,
                 &targets,
                 Some(&seeds),
                 opts,
+                clear,
                 &mut q,
                 &mut status,
                 Some(&mut times),
@@ -156,7 +170,13 @@ fn run_batch(kin: &Kinematics, input: &str, opts: &IkOptions, sequential: bool) 
 
 /// Binary batch: N × 4 × 4 targets from a .npy, solutions (N × dof) and status (N × 4:
 /// converged, iterations, rotation error, position error) to two .npy files, streamed.
-fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> CliResult {
+fn run_npy(
+    kin: &Kinematics,
+    input: &str,
+    output: &str,
+    opts: &IkOptions,
+    clear: Option<&ChainClearance<'_>>,
+) -> CliResult {
     let started = Instant::now();
     let status_path = crate::npy::status_path(output);
     let outputs = [output, status_path.as_str()];
@@ -181,7 +201,17 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
         let rows = r.read_rows(crate::npy::NPY_CHUNK / 8, &mut buf)?;
         let mut q = vec![0.0; rows * n];
         let mut status = vec![IkStatus::default(); rows];
-        match ik_batch_from(kin, first, &buf, None, opts, &mut q, &mut status, None) {
+        match solve_rows(
+            kin,
+            first,
+            &buf,
+            None,
+            opts,
+            clear,
+            &mut q,
+            &mut status,
+            None,
+        ) {
             Ok(()) | Err(screwkit_solve::SolveError::Rows(_)) => {}
             Err(e) => return Err(Failure(e.to_string())),
         }
@@ -205,6 +235,38 @@ fn run_npy(kin: &Kinematics, input: &str, output: &str, opts: &IkOptions) -> Cli
     ws.finish()?;
     crate::npy::summary(rows_total, failed, started)
         .map_err(|e| Failure(format!("{} (failed or did not converge)", e.0)))
+}
+
+/// A batch of numerical IK rows: the library's batch, keeping clear of contact with `clear`.
+#[allow(clippy::too_many_arguments)]
+fn solve_rows(
+    kin: &Kinematics,
+    first_row: usize,
+    targets: &[f64],
+    seeds: Option<&[f64]>,
+    opts: &IkOptions,
+    clear: Option<&ChainClearance<'_>>,
+    q: &mut [f64],
+    status: &mut [IkStatus],
+    times_us: Option<&mut [f64]>,
+) -> Result<(), screwkit_solve::SolveError> {
+    match clear {
+        Some(c) => {
+            ik_batch_clear_from(kin, first_row, targets, seeds, opts, c, q, status, times_us)
+        }
+        None => ik_batch_from(kin, first_row, targets, seeds, opts, q, status, times_us),
+    }
+}
+
+/// The body for `--avoid-collisions` (SRDF and obstacles applied), or None.
+fn clearance_model(
+    robot: &Robot,
+    args: &IkArgs,
+) -> Result<Option<screwkit_collision::CollisionModel>, screwkit_service::Error> {
+    if !args.avoid_collisions {
+        return Ok(None);
+    }
+    body::robot_model(robot, args.srdf.as_deref(), args.obstacles.as_deref()).map(Some)
 }
 
 /// The family in words for people: the JSON word, and whether the chain is read tip to base.
@@ -385,6 +447,26 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
     let robot = crate::load(&args.chain)?;
     let (chain, kin) = robot.chain_parts()?;
     let opts = args.settings().options()?;
+    if (args.srdf.is_some() || args.obstacles.is_some())
+        && !args.avoid_collisions
+        && args.collisions == Collisions::Ignore
+    {
+        return Err(Failure(
+            "--srdf and --obstacles apply with --avoid-collisions, or --all with --collisions flag|filter"
+                .into(),
+        ));
+    }
+    let tree_model = clearance_model(&robot, args)?;
+    let clear = match &tree_model {
+        Some(m) => Some(body::chain_clearance(
+            &robot,
+            robot.whole()?,
+            m,
+            args.margin,
+        )?),
+        None => None,
+    };
+    let clear = clear.as_ref();
     // A target given in another frame of the tree: T_base,target = T_base,frame T_frame,target.
     let frame = match &args.target_frame {
         Some(link) => Some(robot.frame_pose(link)?),
@@ -410,9 +492,9 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
             if args.sequential {
                 return Err(Failure("--sequential is for JSON lines input".into()));
             }
-            return run_npy(kin, input, output, &opts);
+            return run_npy(kin, input, output, &opts, clear);
         }
-        return run_batch(kin, input, &opts, args.sequential);
+        return run_batch(kin, input, &opts, args.sequential, clear);
     }
     let t = target(args)?;
     let t = match &frame {
@@ -430,7 +512,10 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
     }
     let mut ws = Workspace::new(kin);
     let t0 = Instant::now();
-    let r = solve(kin, &mut ws, &t, &seed, &opts)?;
+    let r: IkResult = match clear {
+        Some(c) => solve_clear(kin, &mut ws, &t, &seed, &opts, c, &mut c.scratch())?,
+        None => solve(kin, &mut ws, &t, &seed, &opts)?,
+    };
     let us = t0.elapsed().as_secs_f64() * 1e6;
     let st = &r.status;
     if format == Format::Json {

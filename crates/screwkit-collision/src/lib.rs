@@ -14,6 +14,8 @@
 //! - [`model`]: the [`CollisionModel`] built once from a tree (shapes, meshes read as exact
 //!   triangle meshes or as convex hulls, the pairs a query checks, obstacles).
 //! - [`acm`]: the allowed-collision matrix generated as MoveIt's setup assistant does.
+//! - [`clearance`]: a chain's body as IK asks for it ([`ChainClearance`]: IK answers clear of
+//!   contact, with distance rows that steer its steps).
 //! - [`query`]: the algorithms, Pinocchio style: `algorithm(&model, &mut ws, &kin, q)` with a
 //!   reusable [`CollisionWorkspace`]; a broad phase (each shape's bounding box at q) prunes
 //!   pairs before any narrow-phase call.
@@ -23,6 +25,7 @@
 //! penetration depth.
 
 pub mod acm;
+pub mod clearance;
 mod closed_forms;
 pub mod convert;
 pub mod ellipsoid;
@@ -31,9 +34,10 @@ pub mod model;
 pub mod query;
 mod triangles;
 
+pub use clearance::{ChainClearance, ClearanceScratch};
 pub use model::{Attach, CollisionError, CollisionModel, MeshMode, Object, Options};
 pub use query::{
-    broad_phase, collisions, collisions_batch, distance_jacobians, distance_jacobians_batch,
-    distances, distances_batch, in_collision, in_collision_batch, min_distance, min_distance_batch,
-    CollisionWorkspace, PairDistance,
+    broad_phase, clear, close_pairs, collisions, collisions_batch, distance_jacobians,
+    distance_jacobians_batch, distances, distances_batch, in_collision, in_collision_batch,
+    min_distance, min_distance_batch, CollisionWorkspace, PairDistance,
 };

@@ -504,14 +504,28 @@ pub fn distance_jacobians(
     rows: &mut Vec<f64>,
 ) -> Result<(), CollisionError> {
     distances(model, ws, kin, q, out)?;
+    pair_rows(model, ws, kin, q, out, rows)
+}
+
+/// Each pair of `found` (measured at q, the shapes placed) its Jacobian row into `rows`
+/// (row-major, nv per pair): [`distance_jacobians`]' formula, each link's space Jacobian
+/// computed once.
+fn pair_rows(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    found: &[PairDistance],
+    rows: &mut Vec<f64>,
+) -> Result<(), CollisionError> {
     let nv = kin.nv();
     let links = kin.model().links.len();
     ws.jacobians.resize(links * 6 * nv, 0.0);
     ws.jacobian_done.clear();
     ws.jacobian_done.resize(links, false);
     rows.clear();
-    rows.resize(out.len() * nv, 0.0);
-    for (d, row) in out.iter().zip(rows.chunks_mut(nv.max(1))) {
+    rows.resize(found.len() * nv, 0.0);
+    for (d, row) in found.iter().zip(rows.chunks_mut(nv.max(1))) {
         let (a, b) = model.pairs[d.pair];
         let n = nalgebra::Vector3::from(d.normal);
         let ends = [
@@ -545,6 +559,65 @@ pub fn distance_jacobians(
         }
     }
     Ok(())
+}
+
+/// The pairs closer than `within` at q (signed distance ≤ `within`), in the model's pair
+/// order, into `out`, with their Jacobian rows into `rows` (as [`distance_jacobians`]): what a
+/// step that keeps clear of contact constrains (mink's detection distance). Only pairs whose
+/// bounding boxes are within `within` are measured; a pair the engine cannot measure is left
+/// out.
+pub fn close_pairs(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    within: f64,
+    out: &mut Vec<PairDistance>,
+    rows: &mut Vec<f64>,
+) -> Result<(), CollisionError> {
+    place(model, ws, kin, q)?;
+    out.clear();
+    for (k, &(a, b)) in model.pairs.iter().enumerate() {
+        if box_distance(&ws.boxes[a as usize], &ws.boxes[b as usize]) > within {
+            continue;
+        }
+        let d = pair_distance(model, ws, k);
+        if d.distance <= within && d.normal.iter().all(|v| v.is_finite()) {
+            out.push(d);
+        }
+    }
+    pair_rows(model, ws, kin, q, out, rows)
+}
+
+/// True when every checked pair is at least `margin` apart at q (margin 0: none touches, the
+/// negation of [`in_collision`]). Pairs whose boxes are `margin` apart or more are not
+/// measured; the others get the intersection test first, then (margin > 0) their distance. A
+/// pair the engine cannot measure counts as too close.
+pub fn clear(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    margin: f64,
+) -> Result<bool, CollisionError> {
+    place(model, ws, kin, q)?;
+    for (k, &(a, b)) in model.pairs.iter().enumerate() {
+        let (a, b) = (a as usize, b as usize);
+        let gap = box_distance(&ws.boxes[a], &ws.boxes[b]);
+        if gap > margin || (gap == margin && margin > 0.0) {
+            continue;
+        }
+        if (gap == 0.0 && ws.boxes[a].intersects(&ws.boxes[b]) && intersects(model, ws, a, b))
+            || (margin > 0.0 && {
+                // NaN (not measured) counts as too close.
+                let d = pair_distance(model, ws, k).distance;
+                d.is_nan() || d < margin
+            })
+        {
+            return Ok(false);
+        }
+    }
+    Ok(true)
 }
 
 /// [`distance_jacobians`] of each row of `qs` (N × nq) into `out` (N lists of distances, N

@@ -16,7 +16,7 @@ use screwkit_service::words::{
     TableFrames, Views, Word,
 };
 use screwkit_service::{target, AllSolutions, IkSettings, JointRef, LoadOptions, Source};
-use screwkit_solve::ik::{IkOptions, IkStatus};
+use screwkit_solve::ik::{Clearance, IkOptions, IkStatus};
 use screwkit_solve::{
     batch, ik, tree, Kinematics, SolveError, TreeKinematics, TreeWorkspace, Workspace,
 };
@@ -2167,10 +2167,14 @@ impl Robot {
     /// body twist error has ‖ω‖ ≤ tol_rot (rad) and ‖v‖ ≤ tol_pos (m). Budgets: iterations and
     /// random restarts over all attempts, and `timeout_ms` of wall time per target (None, the
     /// default: no clock, so results are reproducible). Not converging is a result
-    /// (converged=False), not an exception.
+    /// (converged=False), not an exception. `avoid_collisions`: only answers whose body (the
+    /// whole robot, its disabled pairs and obstacles as they are now) keeps every checked pair
+    /// at least `margin` metres apart; steps steer away from close pairs, and `stop` says "in
+    /// collision" when the budget ends with only colliding answers.
     #[pyo3(signature = (target, seed = None, *, method = "lm", tol_rot = 1e-9, tol_pos = 1e-9,
         position_only = false, timeout_ms = None, seed_rng = 0, max_iterations = 2000,
-        max_restarts = 200, damping = None, weights = None))]
+        max_restarts = 200, damping = None, weights = None, avoid_collisions = false,
+        margin = 0.0))]
     #[allow(clippy::too_many_arguments)]
     fn ik<'py>(
         &self,
@@ -2187,7 +2191,28 @@ impl Robot {
         max_restarts: usize,
         damping: Option<f64>,
         weights: Option<Vec<f64>>,
+        avoid_collisions: bool,
+        margin: f64,
     ) -> PyResult<Bound<'py, PyAny>> {
+        // The body kept clear of (its model and tree held for the call).
+        let body = if avoid_collisions {
+            Some(self.body_model()?)
+        } else {
+            if margin != 0.0 {
+                return Err(PyValueError::new_err(
+                    "margin applies with avoid_collisions=True",
+                ));
+            }
+            None
+        };
+        let clear = body
+            .as_ref()
+            .map(|(tree, model)| {
+                screwkit_service::body::chain_clearance(&self.robot, tree, model, margin)
+            })
+            .transpose()
+            .map_err(service_error)?;
+        let clear = clear.as_ref();
         let opts = self.ik_options(IkArgs {
             method,
             damping,
@@ -2225,8 +2250,18 @@ impl Robot {
                 let kin = self.kin()?;
                 let r = py
                     .detach(|| {
-                        self.workspace()
-                            .map(|mut ws| ik::solve(kin, &mut ws, &target, seed, &opts))
+                        self.workspace().map(|mut ws| match clear {
+                            Some(c) => ik::solve_clear(
+                                kin,
+                                &mut ws,
+                                &target,
+                                seed,
+                                &opts,
+                                c,
+                                &mut c.scratch(),
+                            ),
+                            None => ik::solve(kin, &mut ws, &target, seed, &opts),
+                        })
                     })?
                     .map_err(solve_error)?;
                 pool::take_interrupt(py)?;
@@ -2261,7 +2296,22 @@ impl Robot {
                     let qo = w.as_slice_mut()?;
                     let st = &mut status;
                     let kin = self.kin()?;
-                    if rows <= batch::IK_INLINE_ROWS {
+                    if let Some(c) = clear {
+                        let piece = |r: std::ops::Range<usize>| {
+                            batch::ik_batch_clear_from(
+                                kin,
+                                r.start,
+                                &tv[16 * r.start..16 * r.end],
+                                seeds.map(|s| &s[n * r.start..n * r.end]),
+                                &opts,
+                                c,
+                                &mut qo[n * r.start..n * r.end],
+                                &mut st[r.clone()],
+                                None,
+                            )
+                        };
+                        pool::chunked(py, rows, IK_CHUNK, batch::IK_INLINE_ROWS, piece)?
+                    } else if rows <= batch::IK_INLINE_ROWS {
                         // A few targets in turn on this thread, in the robot's workspace:
                         // handing them to the pool would cost more than sharing them saves.
                         let mut ws = self.workspace()?;

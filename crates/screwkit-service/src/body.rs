@@ -95,11 +95,7 @@ pub fn tree_q<'a>(robot: &Robot, kin: &TreeKinematics, q: &'a [f64]) -> Result<C
     }
     if let Space::Chain(chain) = Space::of(robot, Some(kin))? {
         if q.len() == chain.dof() {
-            let mut full = screwkit_solve::tree::configuration::neutral(kin);
-            let (lower, upper) = (kin.lower(), kin.upper());
-            for (x, (l, u)) in full.iter_mut().zip(lower.iter().zip(&upper)) {
-                *x = x.max(*l).min(*u);
-            }
+            let mut full = chain_base(kin);
             for (name, v) in chain.names().iter().zip(q) {
                 if let Some(k) = kin.q_names().iter().position(|n| n == name) {
                     full[k] = *v;
@@ -125,6 +121,48 @@ pub fn tree_q<'a>(robot: &Robot, kin: &TreeKinematics, q: &'a [f64]) -> Result<C
             q.len()
         ),
     ))
+}
+
+/// The whole tree's configuration a chain's joint values are placed in: the tree's neutral
+/// configuration (its joints at 0) clamped into the limits.
+fn chain_base(kin: &TreeKinematics) -> Vec<f64> {
+    let mut full = screwkit_solve::tree::configuration::neutral(kin);
+    let (lower, upper) = (kin.lower(), kin.upper());
+    for (x, (l, u)) in full.iter_mut().zip(lower.iter().zip(&upper)) {
+        *x = x.max(*l).min(*u);
+    }
+    full
+}
+
+/// The margin numerical IK keeps by default when it avoids collisions (m): none, contact alone
+/// is refused.
+pub const DEFAULT_MARGIN: f64 = 0.0;
+
+/// The body numerical IK keeps clear of (`ik --avoid-collisions`, `Robot.ik(avoid_collisions=
+/// True)`): the robot's chain placed in its whole tree `kin` as [`tree_q`] places it, checked
+/// by `model` (SRDF and obstacles applied) with `margin` (m). A model without a pair to check
+/// (no collision shapes, no obstacles) is an error, never a silent "clear".
+pub fn chain_clearance<'a>(
+    robot: &Robot,
+    kin: &'a TreeKinematics,
+    model: &'a CollisionModel,
+    margin: f64,
+) -> Result<screwkit_collision::ChainClearance<'a>> {
+    if model.pair_count() == 0 {
+        return Err(Error::option(
+            "avoid_collisions",
+            "the robot has no pair of shapes to keep apart (no <collision> geometry on two \
+             bodies, and no obstacles): load it with geometry, or add obstacles",
+        ));
+    }
+    let (_, chain) = robot.chain_parts()?;
+    Ok(screwkit_collision::ChainClearance::new(
+        model,
+        kin,
+        chain.names(),
+        chain_base(kin),
+        margin,
+    )?)
 }
 
 /// The link (or obstacle) pairs of colliding shape pairs `hits` (indices into the model's

@@ -27,7 +27,9 @@ use screwkit_lie::{Frame, Se3};
 use crate::block::{SpaceJacobianBlock, TipBlock, W};
 use crate::error::{RowError, SolveError};
 use crate::fk::{fk_unchecked, link_poses_unchecked};
-use crate::ik::{check_options, check_target, solve_unchecked, IkOptions, IkStatus};
+use crate::ik::{
+    check_options, check_target, solve_unchecked, Clearance, IkOptions, IkStatus, NoBody,
+};
 use crate::jacobian::{fk_jacobian_into, JacobianKind};
 use crate::kinematics::Kinematics;
 use crate::sample::SplitMix64;
@@ -477,10 +479,57 @@ pub fn ik_batch_from(
     status: &mut [IkStatus],
     times_us: Option<&mut [f64]>,
 ) -> Result<(), SolveError> {
+    ik_rows_from(
+        kin, first_row, targets, seeds, opts, &NoBody, q, status, times_us,
+    )
+}
+
+/// [`ik_batch_from`] keeping clear of contact: each row solved by [`crate::ik::solve_clear`]
+/// with `body` (one scratch of the body per worker; `times_us` as in [`ik_batch`]). Row k equals the single call with
+/// restart seed [`row_seed`]`(opts.seed, first_row + k)`, whatever the thread count.
+#[allow(clippy::too_many_arguments)]
+pub fn ik_batch_clear_from<B: Clearance>(
+    kin: &Kinematics,
+    first_row: usize,
+    targets: &[f64],
+    seeds: Option<&[f64]>,
+    opts: &IkOptions,
+    body: &B,
+    q: &mut [f64],
+    status: &mut [IkStatus],
+    times_us: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
+    ik_rows_from(
+        kin, first_row, targets, seeds, opts, body, q, status, times_us,
+    )
+}
+
+/// The batch of [`ik_batch_from`] with a body.
+#[allow(clippy::too_many_arguments)]
+fn ik_rows_from<B: Clearance>(
+    kin: &Kinematics,
+    first_row: usize,
+    targets: &[f64],
+    seeds: Option<&[f64]>,
+    opts: &IkOptions,
+    body: &B,
+    q: &mut [f64],
+    status: &mut [IkStatus],
+    times_us: Option<&mut [f64]>,
+) -> Result<(), SolveError> {
     let rows = check_ik_batch(kin, targets, seeds, opts, q, status, times_us.as_deref())?;
-    let batch = IkRows::new(kin, first_row, targets, seeds, opts, times_us.is_some());
+    let batch = IkRows::new(
+        kin,
+        first_row,
+        targets,
+        seeds,
+        opts,
+        body,
+        times_us.is_some(),
+    );
     if rows <= IK_INLINE_ROWS {
-        return Workspace::local(kin, |ws| batch.in_turn(ws, q, status, times_us));
+        let mut bs = body.scratch();
+        return Workspace::local(kin, |ws| batch.in_turn(ws, &mut bs, q, status, times_us));
     }
     let n = kin.dof();
     let mut no_times = Vec::new();
@@ -510,9 +559,9 @@ pub fn ik_batch_from(
         // thread against a loop of single solves) shrinks fourfold.
         .with_max_len(4)
         .map_init(
-            || Workspace::new(kin),
-            |ws, (k, ((q_row, st), time))| {
-                let (error, took) = batch.row(ws, k, &mut q_row[..n], st);
+            || (Workspace::new(kin), body.scratch()),
+            |(ws, bs), (k, ((q_row, st), time))| {
+                let (error, took) = batch.row(ws, bs, k, &mut q_row[..n], st);
                 *time = took;
                 error
             },
@@ -539,8 +588,16 @@ pub fn ik_batch_in(
 ) -> Result<(), SolveError> {
     check_ik_batch(kin, targets, seeds, opts, q, status, times_us.as_deref())?;
     ws.fit(kin);
-    IkRows::new(kin, first_row, targets, seeds, opts, times_us.is_some())
-        .in_turn(ws, q, status, times_us)
+    IkRows::new(
+        kin,
+        first_row,
+        targets,
+        seeds,
+        opts,
+        &NoBody,
+        times_us.is_some(),
+    )
+    .in_turn(ws, &mut (), q, status, times_us)
 }
 
 /// The checks of an IK batch's buffers and options; its number of rows.
@@ -567,25 +624,27 @@ fn check_ik_batch(
     Ok(rows)
 }
 
-/// What every row of an IK batch shares: the chain, the rows' inputs, the options.
-struct IkRows<'a> {
+/// What every row of an IK batch shares: the chain, the rows' inputs, the options, the body.
+struct IkRows<'a, B: Clearance> {
     kin: &'a Kinematics,
     first_row: usize,
     targets: &'a [f64],
     seeds: Option<&'a [f64]>,
     opts: &'a IkOptions,
+    body: &'a B,
     /// The seed of rows without one: the middle of the limits.
     mid: Vec<f64>,
     timed: bool,
 }
 
-impl<'a> IkRows<'a> {
+impl<'a, B: Clearance> IkRows<'a, B> {
     fn new(
         kin: &'a Kinematics,
         first_row: usize,
         targets: &'a [f64],
         seeds: Option<&'a [f64]>,
         opts: &'a IkOptions,
+        body: &'a B,
         timed: bool,
     ) -> Self {
         Self {
@@ -594,6 +653,7 @@ impl<'a> IkRows<'a> {
             targets,
             seeds,
             opts,
+            body,
             mid: kin.midpoint(),
             timed,
         }
@@ -604,6 +664,7 @@ impl<'a> IkRows<'a> {
     fn row(
         &self,
         ws: &mut Workspace,
+        bs: &mut B::Scratch,
         k: usize,
         q_row: &mut [f64],
         st: &mut IkStatus,
@@ -622,10 +683,10 @@ impl<'a> IkRows<'a> {
                 };
                 if self.timed {
                     let t0 = Instant::now();
-                    *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                    *st = solve_unchecked(kin, ws, &target, seed, &o, (self.body, &mut *bs), q_row);
                     (None, t0.elapsed().as_secs_f64() * 1e6)
                 } else {
-                    *st = solve_unchecked(kin, ws, &target, seed, &o, q_row);
+                    *st = solve_unchecked(kin, ws, &target, seed, &o, (self.body, &mut *bs), q_row);
                     (None, 0.0)
                 }
             }
@@ -641,6 +702,7 @@ impl<'a> IkRows<'a> {
     fn in_turn(
         &self,
         ws: &mut Workspace,
+        bs: &mut B::Scratch,
         q: &mut [f64],
         status: &mut [IkStatus],
         mut times_us: Option<&mut [f64]>,
@@ -648,7 +710,7 @@ impl<'a> IkRows<'a> {
         let n = self.kin.dof();
         let mut errors = Vec::new();
         for (k, st) in status.iter_mut().enumerate() {
-            let (error, took) = self.row(ws, k, &mut q[k * n..(k + 1) * n], st);
+            let (error, took) = self.row(ws, bs, k, &mut q[k * n..(k + 1) * n], st);
             if let Some(t) = times_us.as_deref_mut() {
                 t[k] = took;
             }
@@ -691,6 +753,22 @@ pub fn ik_path_from(
     seed: &[f64],
     opts: &IkOptions,
 ) -> Result<Vec<crate::ik::IkResult>, SolveError> {
+    ik_path_clear_from(kin, ws, first_row, targets, seed, opts, &NoBody, &mut ())
+}
+
+/// [`ik_path_from`] keeping clear of contact (each target by [`crate::ik::solve_clear`] with
+/// `body` and its `scratch`).
+#[allow(clippy::too_many_arguments)]
+pub fn ik_path_clear_from<B: Clearance>(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    first_row: usize,
+    targets: &[Se3],
+    seed: &[f64],
+    opts: &IkOptions,
+    body: &B,
+    scratch: &mut B::Scratch,
+) -> Result<Vec<crate::ik::IkResult>, SolveError> {
     kin.check_q(seed)?;
     check_options(opts)?;
     for (k, t) in targets.iter().enumerate() {
@@ -705,7 +783,7 @@ pub fn ik_path_from(
             ..opts.clone()
         };
         let mut sol = vec![0.0; kin.dof()];
-        let status = solve_unchecked(kin, ws, target, &q, &o, &mut sol);
+        let status = solve_unchecked(kin, ws, target, &q, &o, (body, &mut *scratch), &mut sol);
         if status.converged {
             q.copy_from_slice(&sol);
         }

@@ -34,6 +34,21 @@ pub(crate) struct IkScratch {
     pub(crate) best_q: Vec<f64>,
     /// Active-set flags: joints held at a limit this iteration.
     pub(crate) locked: Vec<bool>,
+    /// The clearance step's buffers ([`crate::ik::solve_clear`]).
+    pub(crate) clear: ClearScratch,
+}
+
+/// The buffers of IK's clearance step: the close pairs' gaps and rows, the QP.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct ClearScratch {
+    pub(crate) gaps: Vec<f64>,
+    pub(crate) rows: Vec<f64>,
+    pub(crate) h: Vec<f64>,
+    pub(crate) c: Vec<f64>,
+    pub(crate) lower: Vec<f64>,
+    pub(crate) upper: Vec<f64>,
+    pub(crate) step: Vec<f64>,
+    pub(crate) qp: crate::linalg::qp::QpWorkspace,
 }
 
 impl Workspace {
@@ -49,6 +64,7 @@ impl Workspace {
                 dq: vec![0.0; n],
                 best_q: vec![0.0; n],
                 locked: vec![false; n],
+                clear: ClearScratch::default(),
             },
             analytic: None,
         }

@@ -682,6 +682,8 @@ class Robot:
         max_restarts: int = 200,
         damping: float | None = None,
         weights: Sequence[float] | None = None,
+        avoid_collisions: bool = False,
+        margin: float = 0.0,
     ) -> IkResult: ...
     @overload
     def ik(
@@ -699,6 +701,8 @@ class Robot:
         max_restarts: int = 200,
         damping: float | None = None,
         weights: Sequence[float] | None = None,
+        avoid_collisions: bool = False,
+        margin: float = 0.0,
     ) -> IkBatchResult: ...
     @overload
     def ik(
@@ -716,6 +720,8 @@ class Robot:
         max_restarts: int = 200,
         damping: float | None = None,
         weights: Sequence[float] | None = None,
+        avoid_collisions: bool = False,
+        margin: float = 0.0,
     ) -> IkResult | IkBatchResult:
         """One target (4, 4) -> IkResult; N targets (N, 4, 4) -> IkBatchResult."""
 

@@ -8,9 +8,11 @@
 //! | `dls` | the damped least-squares step Δq = Jᵀ(JJᵀ + μI)⁻¹e on 6 × 6 arrays | IK (LM, DLS), damped joint velocities |
 //! | `newton` | Newton polish of a 6-row residual: J Δ = e, damped when the full step fails | the analytic solvers' postures |
 //! | [`box_qp`] | strictly convex QPs under box constraints (primal active set) | whole-body differential IK |
+//! | [`qp`] | strictly convex QPs under bounds and general inequality rows (Goldfarb–Idnani dual active set) | IK that keeps clear of contact |
 
 pub mod box_qp;
 pub(crate) mod dls;
 pub(crate) mod eigen;
 pub(crate) mod newton;
+pub mod qp;
 pub(crate) mod svd;
