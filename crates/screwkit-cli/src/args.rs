@@ -542,7 +542,9 @@ pub struct IkArgs {
     pub collisions: Collisions,
     /// Numerical IK (not --all): only answers whose body is clear of contact (itself, and
     /// the --obstacles) by --margin; steps are steered away from close pairs. The status says
-    /// "in collision" when the budget ends with only colliding answers.
+    /// "in collision" when the budget ends with only colliding answers. With --tasks: every
+    /// step keeps every checked pair --margin apart (collision avoidance, one velocity-damper
+    /// row per pair within 5 cm).
     #[arg(long, conflicts_with = "all")]
     pub avoid_collisions: bool,
     /// With --avoid-collisions: the least distance (m) kept between every checked pair.

@@ -441,12 +441,6 @@ fn all_batch(
 
 /// Runs `ik`.
 pub fn run(args: &IkArgs, format: Format) -> CliResult {
-    if let Some(path) = &args.tasks {
-        return crate::whole_body::run(args, path, format);
-    }
-    let robot = crate::load(&args.chain)?;
-    let (chain, kin) = robot.chain_parts()?;
-    let opts = args.settings().options()?;
     if (args.srdf.is_some() || args.obstacles.is_some())
         && !args.avoid_collisions
         && args.collisions == Collisions::Ignore
@@ -456,6 +450,12 @@ pub fn run(args: &IkArgs, format: Format) -> CliResult {
                 .into(),
         ));
     }
+    if let Some(path) = &args.tasks {
+        return crate::whole_body::run(args, path, format);
+    }
+    let robot = crate::load(&args.chain)?;
+    let (chain, kin) = robot.chain_parts()?;
+    let opts = args.settings().options()?;
     let tree_model = clearance_model(&robot, args)?;
     let clear = match &tree_model {
         Some(m) => Some(body::chain_clearance(

@@ -23,15 +23,33 @@ use crate::args::{Format, IkArgs};
 use crate::batch;
 use crate::output::{print_json, tuple, CliResult, Failure};
 
-/// The solver's options: the library's defaults where the command line gives none.
-fn options(args: &IkArgs) -> TasksOptions {
+/// The solver's options: the library's defaults where the command line gives none; with
+/// `--avoid-collisions`, every checked pair of the body (SRDF and obstacles applied) kept
+/// `--margin` apart ([`screwkit_collision::CollisionAvoidance`], its other settings mink's
+/// defaults, the floor's `body::collision_avoidance`).
+fn options(args: &IkArgs, robot: &screwkit_service::Robot) -> Result<TasksOptions, Error> {
     let d = TasksOptions::default();
-    TasksOptions {
+    let mut limits = d.limits.clone();
+    if args.avoid_collisions {
+        let model = screwkit_service::body::robot_model(
+            robot,
+            args.srdf.as_deref(),
+            args.obstacles.as_deref(),
+        )?;
+        limits.push(screwkit_service::body::collision_avoidance(
+            robot,
+            model,
+            None,
+            args.margin,
+        )?);
+    }
+    Ok(TasksOptions {
         max_iterations: args.max_iter.unwrap_or(d.max_iterations),
         restarts: args.restarts.unwrap_or(d.restarts),
         seed: args.random_seed,
+        limits,
         ..d
-    }
+    })
 }
 
 /// A floor error about the tasks, naming the tasks file.
@@ -164,7 +182,7 @@ pub fn run(args: &IkArgs, path: &Path, format: Format) -> CliResult {
     }
     let text = source.read().map_err(|e| file_error(path, e))?;
     let list = TaskList::parse(&text).map_err(|e| file_error(path, e))?;
-    let opts = options(args);
+    let opts = options(args, &robot)?;
     let seed = match &args.seed {
         Some(s) => {
             kin.check_q(&s.0)

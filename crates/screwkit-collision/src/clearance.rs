@@ -138,8 +138,9 @@ impl Clearance for ChainClearance<'_> {
             self.kin,
             tq,
             self.margin + within,
+            None,
             found,
-            tree_rows,
+            Some(tree_rows),
         )
         .is_err()
         {

@@ -14,6 +14,8 @@
 //! - [`model`]: the [`CollisionModel`] built once from a tree (shapes, meshes read as exact
 //!   triangle meshes or as convex hulls, the pairs a query checks, obstacles).
 //! - [`acm`]: the allowed-collision matrix generated as MoveIt's setup assistant does.
+//! - [`avoidance`]: collision avoidance as a limit of whole-body differential IK
+//!   ([`CollisionAvoidance`]: one velocity-damper row per close pair).
 //! - [`clearance`]: a chain's body as IK asks for it ([`ChainClearance`]: IK answers clear of
 //!   contact, with distance rows that steer its steps).
 //! - [`query`]: the algorithms, Pinocchio style: `algorithm(&model, &mut ws, &kin, q)` with a
@@ -25,15 +27,18 @@
 //! penetration depth.
 
 pub mod acm;
+pub mod avoidance;
 pub mod clearance;
 mod closed_forms;
 pub mod convert;
 pub mod ellipsoid;
+pub mod hull;
 mod mesh_distance;
 pub mod model;
 pub mod query;
 mod triangles;
 
+pub use avoidance::CollisionAvoidance;
 pub use clearance::{ChainClearance, ClearanceScratch};
 pub use model::{Attach, CollisionError, CollisionModel, MeshMode, Object, Options};
 pub use query::{

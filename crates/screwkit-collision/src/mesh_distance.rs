@@ -43,7 +43,7 @@ pub struct BoxTree {
     nodes: Vec<Node>,
     triangles: Vec<[V; 3]>,
     /// The convex hull of the vertices (None when they are flat or too few).
-    hull: Option<parry3d_f64::shape::ConvexPolyhedron>,
+    hull: Option<crate::hull::Hull>,
     /// The half diagonal of the root box (the mesh's size, for tolerances).
     size: f64,
 }
@@ -70,7 +70,7 @@ impl BoxTree {
             .flatten()
             .map(|v| parry3d_f64::math::Vector::new(v.x, v.y, v.z))
             .collect();
-        let hull = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&points);
+        let hull = crate::hull::Hull::new(&points);
         let size = nodes.first().map_or(0.0, |n| n.half.norm());
         BoxTree {
             nodes,

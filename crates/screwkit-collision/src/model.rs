@@ -252,12 +252,14 @@ fn engine_shape(
             let built = match mode {
                 MeshMode::Exact => SharedShape::trimesh(vertices, mesh.triangles.clone())
                     .map_err(|e| format!("{}: {e}", path.display()))?,
-                MeshMode::ConvexHull => SharedShape::convex_hull(&vertices).ok_or_else(|| {
-                    format!(
-                        "{}: the mesh has no convex hull (its points are flat or too few)",
-                        path.display()
-                    )
-                })?,
+                MeshMode::ConvexHull => crate::hull::Hull::new(&vertices)
+                    .map(SharedShape::new)
+                    .ok_or_else(|| {
+                        format!(
+                            "{}: the mesh has no convex hull (its points are flat or too few)",
+                            path.display()
+                        )
+                    })?,
             };
             meshes.insert(key, (built.clone(), tree));
             (built, None, kind)

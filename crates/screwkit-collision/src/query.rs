@@ -28,6 +28,8 @@ pub struct CollisionWorkspace {
     world: Vec<screwkit_lie::Se3>,
     poses: Vec<Pose>,
     boxes: Vec<Aabb>,
+    /// Whether each box is computed at the last placement.
+    box_done: Vec<bool>,
     order: Vec<(f64, u32)>,
     /// Each link's space Jacobian (6 × nv, column-major) at the last q, and whether it is.
     jacobians: Vec<f64>,
@@ -42,6 +44,7 @@ impl CollisionWorkspace {
             world: Vec::with_capacity(model.objects.len()),
             poses: Vec::with_capacity(model.objects.len()),
             boxes: Vec::with_capacity(model.objects.len()),
+            box_done: Vec::with_capacity(model.objects.len()),
             order: Vec::with_capacity(model.pairs.len()),
             jacobians: Vec::new(),
             jacobian_done: Vec::new(),
@@ -98,21 +101,48 @@ fn place(
     kin: &TreeKinematics,
     q: &[f64],
 ) -> Result<(), CollisionError> {
+    place_poses(model, ws, kin, q)?;
+    for (i, o) in model.objects.iter().enumerate() {
+        ws.boxes[i] = o.shape.compute_aabb(&ws.poses[i]);
+        ws.box_done[i] = true;
+    }
+    Ok(())
+}
+
+/// Places every shape at q, its world pose only: the boxes are computed when asked
+/// ([`bounding_box`]), for queries that look at a few pairs. Checks q.
+fn place_poses(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+) -> Result<(), CollisionError> {
     let frames = screwkit_solve::tree::fk::fk_frames(kin, &mut ws.tree, q)?;
     ws.poses.clear();
-    ws.boxes.clear();
     ws.world.clear();
     for o in &model.objects {
         let world = match o.attach {
             Attach::Link(l) => frames[l].compose(&o.origin),
             Attach::World => o.origin,
         };
-        let pose = convert::pose(&world);
-        ws.boxes.push(o.shape.compute_aabb(&pose));
-        ws.poses.push(pose);
+        ws.poses.push(convert::pose(&world));
         ws.world.push(world);
     }
+    let n = model.objects.len();
+    ws.boxes.clear();
+    ws.boxes.resize(n, Aabb::new_invalid());
+    ws.box_done.clear();
+    ws.box_done.resize(n, false);
     Ok(())
+}
+
+/// Shape i's box at the placed pose, computed on first use ([`place_poses`]).
+fn bounding_box(model: &CollisionModel, ws: &mut CollisionWorkspace, i: usize) -> Aabb {
+    if !ws.box_done[i] {
+        ws.boxes[i] = model.objects[i].shape.compute_aabb(&ws.poses[i]);
+        ws.box_done[i] = true;
+    }
+    ws.boxes[i]
 }
 
 /// True when the shapes of pair (a, b) intersect (touching counts): two exact meshes by their
@@ -237,6 +267,12 @@ fn measure(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDis
     if let Some(found) = mesh_distance(model, ws, k, a, b) {
         return found;
     }
+    // Two convex shapes (no triangle mesh): the closest points in one GJK run.
+    if sa.as_trimesh().is_none() && sb.as_trimesh().is_none() {
+        if let Convex::Apart(found) = convex_pair(k, (sa, pa), (sb, pb), f64::MAX) {
+            return found;
+        }
+    }
     // The distance first (exact, the triangle trees pruned by it), with the triangles it was
     // measured between; then the witness points of those two convex pieces. (parry's
     // `closest_points` on a whole triangle mesh can stop at a triangle that is not the closest:
@@ -311,6 +347,49 @@ fn measure(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDis
             distance: 0.0,
             ..unknown
         },
+    }
+}
+
+/// What one GJK run says of two convex shapes.
+enum Convex {
+    /// Apart: their distance, witness points and normal.
+    Apart(PairDistance),
+    /// Farther apart than the run was asked to look.
+    Far,
+    /// Overlapping, or the engine cannot answer: the general path measures them.
+    Other,
+}
+
+/// Two convex shapes: their closest points by one GJK run (polished on curved surfaces, as
+/// [`measure`]'s general path) when they are apart, [`Convex::Far`] when GJK proves them
+/// farther than `max`.
+fn convex_pair(
+    k: usize,
+    (sa, pa): (&dyn Shape, &Pose),
+    (sb, pb): (&dyn Shape, &Pose),
+    max: f64,
+) -> Convex {
+    let p = match query::closest_points(pa, sa, pb, sb, max) {
+        Ok(query::ClosestPoints::WithinMargin(p1, p2)) => (p1, p2),
+        Ok(query::ClosestPoints::Disjoint) => return Convex::Far,
+        _ => return Convex::Other,
+    };
+    let na = |v: parry3d_f64::math::Vector| nalgebra::Vector3::new(v.x, v.y, v.z);
+    let smooth = |s: &dyn Shape| {
+        s.as_shape::<crate::ellipsoid::Ellipsoid>().is_some()
+            || s.as_cylinder().is_some()
+            || s.as_capsule().is_some()
+    };
+    let (p1, p2) = if smooth(sa) || smooth(sb) {
+        crate::ellipsoid::polish((sa, pa), (sb, pb), p.0, p.1)
+    } else {
+        p
+    };
+    let d = (p2 - p1).length();
+    if d > 0.0 {
+        Convex::Apart(PairDistance::witnessed(k, d, na(p1), na(p2)))
+    } else {
+        Convex::Other
     }
 }
 
@@ -431,7 +510,7 @@ pub fn distances(
     q: &[f64],
     out: &mut Vec<PairDistance>,
 ) -> Result<(), CollisionError> {
-    place(model, ws, kin, q)?;
+    place_poses(model, ws, kin, q)?;
     out.clear();
     out.extend((0..model.pairs.len()).map(|k| pair_distance(model, ws, k)));
     Ok(())
@@ -562,31 +641,83 @@ fn pair_rows(
 }
 
 /// The pairs closer than `within` at q (signed distance ≤ `within`), in the model's pair
-/// order, into `out`, with their Jacobian rows into `rows` (as [`distance_jacobians`]): what a
-/// step that keeps clear of contact constrains (mink's detection distance). Only pairs whose
-/// bounding boxes are within `within` are measured; a pair the engine cannot measure is left
-/// out.
+/// order, into `out`, with their Jacobian rows into `rows` when given (as
+/// [`distance_jacobians`]): what a
+/// step that keeps clear of contact constrains (mink's detection distance). Only the pairs
+/// `selected` (a flag per model pair; None: all) whose bounding boxes are within `within` are
+/// measured; a pair the engine cannot measure is left out.
+#[allow(clippy::too_many_arguments)]
 pub fn close_pairs(
     model: &CollisionModel,
     ws: &mut CollisionWorkspace,
     kin: &TreeKinematics,
     q: &[f64],
     within: f64,
+    selected: Option<&[bool]>,
     out: &mut Vec<PairDistance>,
-    rows: &mut Vec<f64>,
+    rows: Option<&mut Vec<f64>>,
 ) -> Result<(), CollisionError> {
-    place(model, ws, kin, q)?;
+    place_poses(model, ws, kin, q)?;
     out.clear();
     for (k, &(a, b)) in model.pairs.iter().enumerate() {
-        if box_distance(&ws.boxes[a as usize], &ws.boxes[b as usize]) > within {
+        if selected.is_some_and(|s| !s.get(k).copied().unwrap_or(false)) {
             continue;
+        }
+        let (a, b) = (a as usize, b as usize);
+        let (box_a, box_b) = (bounding_box(model, ws, a), bounding_box(model, ws, b));
+        if box_distance(&box_a, &box_b) > within {
+            continue;
+        }
+        // Two convex shapes no closed form measures: GJK stops as soon as it proves them
+        // farther than `within`.
+        let (sa, sb) = (&*model.objects[a].shape.0, &*model.objects[b].shape.0);
+        let (pa, pb) = (&ws.poses[a], &ws.poses[b]);
+        let convex = sa.as_trimesh().is_none()
+            && sb.as_trimesh().is_none()
+            && crate::closed_forms::pair((sa, pa), (sb, pb)).is_none();
+        if convex {
+            match screwkit_model::mesh::contained(|| convex_pair(k, (sa, pa), (sb, pb), within)) {
+                Ok(Convex::Far) => continue,
+                Ok(Convex::Apart(d)) => {
+                    if d.distance <= within {
+                        out.push(d);
+                    }
+                    continue;
+                }
+                _ => {}
+            }
         }
         let d = pair_distance(model, ws, k);
         if d.distance <= within && d.normal.iter().all(|v| v.is_finite()) {
             out.push(d);
         }
     }
-    pair_rows(model, ws, kin, q, out, rows)
+    match rows {
+        Some(rows) => pair_rows(model, ws, kin, q, out, rows),
+        None => Ok(()),
+    }
+}
+
+/// The signed distances of the pairs `pairs` (indices into the model's pairs) at q, in that
+/// order, into `out`.
+pub fn pair_distances(
+    model: &CollisionModel,
+    ws: &mut CollisionWorkspace,
+    kin: &TreeKinematics,
+    q: &[f64],
+    pairs: &[usize],
+    out: &mut Vec<PairDistance>,
+) -> Result<(), CollisionError> {
+    if let Some(&k) = pairs.iter().find(|&&k| k >= model.pairs.len()) {
+        return Err(CollisionError::Unknown(format!(
+            "pair {k}: the model has {} pairs",
+            model.pairs.len()
+        )));
+    }
+    place_poses(model, ws, kin, q)?;
+    out.clear();
+    out.extend(pairs.iter().map(|&k| pair_distance(model, ws, k)));
+    Ok(())
 }
 
 /// True when every checked pair is at least `margin` apart at q (margin 0: none touches, the

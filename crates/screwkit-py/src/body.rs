@@ -323,3 +323,131 @@ impl Distances {
         format!("Distances({} pairs, min {min:.6} m)", self.pairs.len())
     }
 }
+
+/// Collision avoidance for whole-body IK (`ik_step`, `ik_step_qp`, `ik_tasks`,
+/// `ik_trajectory`: `limits=[CollisionAvoidance(…)]`), mink's `CollisionAvoidanceLimit`: each
+/// pair of the robot's body (its checked pairs with the SRDF's disabled and the obstacles, as
+/// they are at the call) closer than `detection_distance` beyond `margin` gives one row,
+/// n · (J_b(p_b) − J_a(p_a)) v ≥ −gain (d − margin) / dt, so no pair closes faster than `gain`
+/// of its gap per step and a pair already too close moves apart. `pairs`: "all" (every checked
+/// pair), or a list of (link or obstacle, link or obstacle) names.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+pub struct CollisionAvoidance {
+    pairs: Option<Vec<(String, String)>>,
+    margin: f64,
+    detection_distance: f64,
+    gain: f64,
+    /// The limit built on a body model of a tree, kept while they are the robot's.
+    built: std::sync::Mutex<Option<Built>>,
+}
+
+type Built = (
+    std::sync::Arc<screwkit_collision::CollisionModel>,
+    std::sync::Arc<screwkit_solve::TreeKinematics>,
+    std::sync::Arc<screwkit_collision::CollisionAvoidance>,
+);
+
+#[pymethods]
+impl CollisionAvoidance {
+    #[new]
+    #[pyo3(signature = (pairs = None, margin = 0.005, detection_distance = 0.05, gain = 0.85))]
+    fn new(
+        pairs: Option<&Bound<'_, PyAny>>,
+        margin: f64,
+        detection_distance: f64,
+        gain: f64,
+    ) -> PyResult<Self> {
+        let pairs = match pairs {
+            None => None,
+            Some(p) if p.extract::<String>().is_ok_and(|s| s == "all") => None,
+            Some(p) => Some(p.extract::<Vec<(String, String)>>().map_err(|_| {
+                PyValueError::new_err(
+                    "pairs: \"all\", or a list of (name, name) pairs of links or obstacles",
+                )
+            })?),
+        };
+        // The values are checked here too, so a bad one fails where it is written.
+        let bad = |what: &str, x: f64| {
+            PyValueError::new_err(format!("CollisionAvoidance: {what}, got {x}"))
+        };
+        if !(margin.is_finite() && margin >= 0.0) {
+            return Err(bad("margin must be a distance ≥ 0 (m)", margin));
+        }
+        if !(detection_distance.is_finite() && detection_distance > 0.0) {
+            return Err(bad(
+                "detection_distance must be a distance > 0 (m)",
+                detection_distance,
+            ));
+        }
+        if !(gain > 0.0 && gain <= 1.0) {
+            return Err(bad("gain must be in (0, 1]", gain));
+        }
+        Ok(Self {
+            pairs,
+            margin,
+            detection_distance,
+            gain,
+            built: std::sync::Mutex::new(None),
+        })
+    }
+    /// The pairs constrained: None for all, else the (name, name) pairs given.
+    #[getter]
+    fn pairs(&self) -> Option<Vec<(String, String)>> {
+        self.pairs.clone()
+    }
+    /// The least distance kept (m).
+    #[getter]
+    fn margin(&self) -> f64 {
+        self.margin
+    }
+    /// Pairs closer than this beyond the margin get a row (m).
+    #[getter]
+    fn detection_distance(&self) -> f64 {
+        self.detection_distance
+    }
+    /// The fraction of its gap a pair may close in one step.
+    #[getter]
+    fn gain(&self) -> f64 {
+        self.gain
+    }
+    fn __repr__(&self) -> String {
+        let pairs = match &self.pairs {
+            None => "'all'".to_string(),
+            Some(p) => format!("{p:?}"),
+        };
+        format!(
+            "CollisionAvoidance(pairs={pairs}, margin={}, detection_distance={}, gain={})",
+            self.margin, self.detection_distance, self.gain
+        )
+    }
+}
+
+impl CollisionAvoidance {
+    /// The limit on `model` (the body of tree `kin`): built once per model and tree.
+    pub(crate) fn limit(
+        &self,
+        model: &std::sync::Arc<screwkit_collision::CollisionModel>,
+        kin: &std::sync::Arc<screwkit_solve::TreeKinematics>,
+    ) -> PyResult<std::sync::Arc<screwkit_collision::CollisionAvoidance>> {
+        use std::sync::Arc;
+        let mut built = self.built.lock().expect("the limit's lock");
+        if let Some((m, k, limit)) = built.as_ref() {
+            if Arc::ptr_eq(m, model) && Arc::ptr_eq(k, kin) {
+                return Ok(limit.clone());
+            }
+        }
+        let limit = Arc::new(
+            screwkit_collision::CollisionAvoidance::new(
+                model.clone(),
+                kin,
+                self.pairs.as_deref(),
+                self.margin,
+                self.detection_distance,
+                self.gain,
+            )
+            .map_err(|e| PyValueError::new_err(e.to_string()))?,
+        );
+        *built = Some((model.clone(), kin.clone(), limit.clone()));
+        Ok(limit)
+    }
+}

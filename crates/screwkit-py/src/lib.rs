@@ -144,6 +144,7 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
     m.add_class::<body::Distances>()?;
     m.add_class::<body::Box_>()?;
+    m.add_class::<body::CollisionAvoidance>()?;
     m.add_class::<body::Sphere>()?;
     m.add_class::<body::Capsule>()?;
     m.add_class::<body::Cylinder>()?;

@@ -102,6 +102,7 @@ fn tasks_options(
         seed,
         position_limits,
         interrupt: Some(ik::Interrupt(pool::interrupted)),
+        limits: Vec::new(),
     }
 }
 
@@ -262,6 +263,33 @@ impl Robot {
     /// The inputs of a step: the tree, q, the tasks (a list resolved now, or a prepared
     /// `TaskSet`), the limits.
     #[allow(clippy::type_complexity)]
+    /// The limit objects of a `limits=` argument (a sequence of `CollisionAvoidance`), each
+    /// on the robot's body as it is now.
+    fn extra_limits(
+        &self,
+        limits: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Vec<Arc<dyn tree::limits::Limit>>> {
+        let Some(limits) = limits else {
+            return Ok(Vec::new());
+        };
+        let mut out: Vec<Arc<dyn tree::limits::Limit>> = Vec::new();
+        for (i, item) in limits.try_iter()?.enumerate() {
+            let item = item?;
+            let ca = item
+                .cast::<crate::body::CollisionAvoidance>()
+                .map_err(|_| {
+                    pyo3::exceptions::PyTypeError::new_err(format!(
+                        "limits[{i}]: expected a CollisionAvoidance, got {}",
+                        item.get_type().name().map_or("?".into(), |n| n.to_string())
+                    ))
+                })?;
+            let (kin, model) = self.body_model()?;
+            out.push(ca.get().limit(&model, &kin)?);
+        }
+        Ok(out)
+    }
+
+    #[allow(clippy::too_many_arguments)]
     fn step_inputs<'t>(
         &self,
         q: &Bound<'_, PyAny>,
@@ -269,6 +297,7 @@ impl Robot {
         position: bool,
         velocity: bool,
         caps: Option<Bound<'_, PyAny>>,
+        limits: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<(
         Arc<TreeKinematics>,
         Vec<f64>,
@@ -302,7 +331,7 @@ impl Robot {
                 position,
                 velocity,
                 velocity_caps,
-                ..Default::default()
+                extra: self.extra_limits(limits)?,
             },
         ))
     }
@@ -1583,7 +1612,7 @@ impl Robot {
     /// variables,) when given). A q outside its limits raises ValueError naming the joint. The
     /// GIL is released. `tasks`: task objects, or a `TaskSet` prepared by `task_set` (no name
     /// lookup per step: a control loop's form).
-    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None))]
+    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None, limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_step<'py>(
         &self,
@@ -1594,9 +1623,16 @@ impl Robot {
         position_limits: bool,
         velocity_limits: bool,
         velocity_caps: Option<Bound<'py, PyAny>>,
+        limits: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let (kin, q, tasks, limits) =
-            self.step_inputs(q, tasks, position_limits, velocity_limits, velocity_caps)?;
+        let (kin, q, tasks, limits) = self.step_inputs(
+            q,
+            tasks,
+            position_limits,
+            velocity_limits,
+            velocity_caps,
+            limits.as_ref(),
+        )?;
         let v = py
             .detach(|| {
                 self.with_diff_ws(&kin, |ws| {
@@ -1610,7 +1646,7 @@ impl Robot {
     /// The quadratic program `ik_step` solves, for inspection and reference solvers:
     /// (H (nv, nv), c (nv,), lower (nv,), upper (nv,)); its minimiser of ½ΔᵀHΔ + cᵀΔ within
     /// lower ≤ Δ ≤ upper is Δ = v·dt.
-    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None))]
+    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None, limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_step_qp<'py>(
         &self,
@@ -1621,9 +1657,16 @@ impl Robot {
         position_limits: bool,
         velocity_limits: bool,
         velocity_caps: Option<Bound<'py, PyAny>>,
+        limits: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
-        let (kin, q, tasks, limits) =
-            self.step_inputs(q, tasks, position_limits, velocity_limits, velocity_caps)?;
+        let (kin, q, tasks, limits) = self.step_inputs(
+            q,
+            tasks,
+            position_limits,
+            velocity_limits,
+            velocity_caps,
+            limits.as_ref(),
+        )?;
         let nv = kin.nv();
         let (h, c, l, u) = self
             .with_diff_ws(&kin, |ws| {
@@ -1661,7 +1704,7 @@ impl Robot {
     /// centre-of-mass task) is within its tolerances, restarting from random joint values
     /// (`restarts`, seeded by `seed_rng`) when a descent stalls. Returns a TasksResult (.q,
     /// .converged, .iterations, .stop, .task_errors). The GIL is released; Ctrl-C interrupts.
-    #[pyo3(signature = (tasks, seed = None, *, max_iterations = 100, restarts = 50, seed_rng = 0, position_limits = true))]
+    #[pyo3(signature = (tasks, seed = None, *, max_iterations = 100, restarts = 50, seed_rng = 0, position_limits = true, limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_tasks(
         &self,
@@ -1672,6 +1715,7 @@ impl Robot {
         restarts: usize,
         seed_rng: u64,
         position_limits: bool,
+        limits: Option<Bound<'_, PyAny>>,
     ) -> PyResult<crate::tasks::TasksResult> {
         let kin = self.tree_model()?;
         let tasks = self.resolve_tasks(&kin, tasks)?;
@@ -1679,7 +1723,10 @@ impl Robot {
             Some(s) => Self::one_vector(&s, kin.nq(), "seed")?,
             None => screwkit_service::tasks::default_seed(&kin),
         };
-        let opts = tasks_options(max_iterations, restarts, seed_rng, position_limits);
+        let opts = differential_ik::TasksOptions {
+            limits: self.extra_limits(limits.as_ref())?,
+            ..tasks_options(max_iterations, restarts, seed_rng, position_limits)
+        };
         let r = py
             .detach(|| {
                 self.with_diff_ws(&kin, |ws| {
@@ -1696,7 +1743,7 @@ impl Robot {
     /// are solved in segments of that many on all cores, each segment first solving the
     /// `warm_up` sets before it from `seed` (the answers depend on these two, never on the
     /// thread count).
-    #[pyo3(signature = (task_sets, seed = None, *, segment = 0, warm_up = 0, max_iterations = 100, restarts = 50, seed_rng = 0, position_limits = true))]
+    #[pyo3(signature = (task_sets, seed = None, *, segment = 0, warm_up = 0, max_iterations = 100, restarts = 50, seed_rng = 0, position_limits = true, limits = None))]
     #[allow(clippy::too_many_arguments)]
     fn ik_trajectory(
         &self,
@@ -1709,6 +1756,7 @@ impl Robot {
         restarts: usize,
         seed_rng: u64,
         position_limits: bool,
+        limits: Option<Bound<'_, PyAny>>,
     ) -> PyResult<Vec<crate::tasks::TasksResult>> {
         let kin = self.tree_model()?;
         let mut sets = Vec::new();
@@ -1727,6 +1775,7 @@ impl Robot {
         // The sets run on the pool's threads: Ctrl-C reaches them through `pool::cancelled`.
         let opts = differential_ik::TasksOptions {
             interrupt: Some(ik::Interrupt(pool::cancelled)),
+            limits: self.extra_limits(limits.as_ref())?,
             ..tasks_options(max_iterations, restarts, seed_rng, position_limits)
         };
         let segments = differential_ik::Segments {

@@ -12,6 +12,7 @@ import json
 import os
 import subprocess
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -194,3 +195,176 @@ def test_bad_requests_are_refused(tmp_path: Path) -> None:
     bare = screwkit.Robot.from_urdf(urdf, "panda_link0", "panda_hand", geometry="none")
     with pytest.raises(ValueError, match="no pair of shapes"):
         bare.ik(t, avoid_collisions=True)
+
+
+# Whole-body differential IK with `CollisionAvoidance`: TALOS (collision meshes, exact) beside a
+# table, its right arm driven under the table top and across its own torso. Checked by coal on
+# every step: the constrained pairs never come closer than the margin.
+TALOS_TABLE = ((0.4, 1.0, 0.05), (0.45, 0.0, -0.25))
+TALOS_OTHERS = ["table", "torso_1_link", "torso_2_link", "base_link"]
+TALOS_MARGIN = 0.005
+
+
+def talos() -> tuple[screwkit.Robot, npt.NDArray[np.float64], list[tuple[str, str]], Any]:
+    """TALOS with a table, its start (arms forward, clear), the constrained pairs (the right
+    arm's links against the table, the torso and the base) and coal's model of those pairs."""
+    from test_body import ROBOTS, Coal
+
+    urdf = ROBOTS / "talos_data/robots/talos_reduced.urdf"
+    srdf = ROBOTS / "talos_data/srdf/talos.srdf"
+    if not urdf.exists():
+        pytest.skip("example-robot-data (pip install example-robot-data) is a test dependency")
+    robot = screwkit.Robot.from_urdf(urdf, package_paths=[SHARE])
+    size, centre = TALOS_TABLE
+    pose = np.eye(4)
+    pose[:3, 3] = centre
+    robot.add_obstacle("table", screwkit.Box(size), pose)
+    arm = sorted({a for p in robot.collision_pairs for a in p if "right" in a and "leg" not in a})
+    checked = {(min(p), max(p)) for p in robot.collision_pairs}
+    pairs: list[tuple[str, str]] = sorted(
+        {(min(a, b), max(a, b)) for a in arm for b in TALOS_OTHERS} & checked
+    )
+    q0 = np.clip(np.zeros(robot.nq), robot.lower, robot.upper)
+    for name, value in [
+        ("arm_left_2_joint", 0.4),
+        ("arm_right_2_joint", -0.4),
+        ("arm_left_4_joint", -1.2),
+        ("arm_right_4_joint", -1.2),
+    ]:
+        q0[robot.q_names.index(name)] = value
+    c = Coal(urdf, srdf, robot)
+    box = pin.GeometryObject("table", 0, pin.SE3(np.eye(3), np.array(centre)), coal.Box(*size))
+    box.parentFrame = 0
+    c.cmodel.addGeometryObject(box)
+    c.cmodel.removeAllCollisionPairs()
+    owner = ["table" if g == c.cmodel.ngeoms - 1 else c.link(g) for g in range(c.cmodel.ngeoms)]
+    wanted = set(pairs)
+    for i in range(c.cmodel.ngeoms):
+        for j in range(i + 1, c.cmodel.ngeoms):
+            if tuple(sorted((owner[i], owner[j]))) in wanted:
+                c.cmodel.addCollisionPair(pin.CollisionPair(i, j))
+    c.cdata = pin.GeometryData(c.cmodel)
+    for r in c.cdata.distanceRequests:
+        r.gjk_tolerance = 1e-12
+    return robot, q0, pairs, c
+
+
+def coal_min(c: Any, q: npt.NDArray[np.float64]) -> float:
+    return float(min(c.distances(q).values()))
+
+
+@pytest.mark.parametrize(
+    "goal", [(0.45, -0.2, -0.45), (0.0, 0.1, 0.0)], ids=["under the table", "into the torso"]
+)
+def test_whole_body_steps_keep_the_margin(goal: tuple[float, float, float]) -> None:
+    """Every `ik_step` with `CollisionAvoidance` ends at least the margin from contact (coal,
+    every step, 1e-6 m), the hand still moves towards its goal (it stops short, not frozen),
+    and the velocity changes smoothly where the limit becomes active (the step-to-step change
+    of v stays below the velocity's own size)."""
+    robot, q0, pairs, c = talos()
+    hand = "gripper_right_base_link"
+    target = np.eye(4)
+    target[:3, :3] = robot.fk(q0, hand)[:3, :3]
+    target[:3, 3] = goal
+    tasks = robot.task_set(
+        [
+            screwkit.FrameTask(hand, target, gain=0.05, orientation_weight=0.0),
+            screwkit.PostureTask(q0, weight=1e-2),
+            screwkit.DampingTask(0.3),
+        ]
+    )
+    avoid = [screwkit.CollisionAvoidance(pairs, margin=TALOS_MARGIN, detection_distance=0.05)]
+    assert coal_min(c, q0) > TALOS_MARGIN
+    q, vs, closest = q0.copy(), [], np.inf
+    start = np.linalg.norm(robot.fk(q0, hand)[:3, 3] - goal)
+    for _ in range(150):
+        v = robot.ik_step(q, tasks, 0.01, limits=avoid)
+        q = robot.integrate(q, v, 0.01)
+        vs.append(v)
+        d = coal_min(c, q)
+        closest = min(closest, d)
+        assert d >= TALOS_MARGIN - 1e-6, f"coal finds {d} m, margin {TALOS_MARGIN}"
+    # The limit was active (the goal is inside an obstacle) and the hand got closer.
+    assert closest < TALOS_MARGIN + 1e-3
+    assert np.linalg.norm(robot.fk(q, hand)[:3, 3] - goal) < start
+    v = np.array(vs)
+    change = np.linalg.norm(np.diff(v[10:], axis=0), axis=1)
+    print(
+        f"closest {closest:.6f} m; ‖Δv‖ max {change.max():.3g}, p99"
+        f" {np.percentile(change, 99):.3g}; ‖v‖ max {np.linalg.norm(v, axis=1).max():.3g}"
+    )
+    assert change.max() < np.linalg.norm(v, axis=1).max()
+
+
+def test_tasks_and_trajectories_keep_the_margin() -> None:
+    """`ik_tasks` and `ik_trajectory` with `CollisionAvoidance`: every answer at least the
+    margin from contact by coal, whether its goal is clear (converged) or under the table."""
+    robot, q0, pairs, c = talos()
+    hand = "gripper_right_base_link"
+    avoid = [screwkit.CollisionAvoidance(pairs, margin=TALOS_MARGIN)]
+
+    def goal(xyz: tuple[float, float, float]) -> list[screwkit.FrameTask]:
+        t = np.eye(4)
+        t[:3, :3] = robot.fk(q0, hand)[:3, :3]
+        t[:3, 3] = xyz
+        return [screwkit.FrameTask(hand, t, orientation_weight=0.0)]
+
+    clear = robot.ik_tasks(goal((0.4, -0.35, 0.0)), q0, limits=avoid, restarts=2)
+    assert clear.converged
+    assert coal_min(c, clear.q) >= TALOS_MARGIN - 1e-6
+    blocked = robot.ik_tasks(goal((0.45, -0.2, -0.45)), q0, limits=avoid, restarts=2)
+    assert not blocked.converged
+    assert coal_min(c, blocked.q) >= TALOS_MARGIN - 1e-6
+    sets = [goal((0.4, -0.35, z)) for z in (0.0, -0.1, -0.2, -0.3)]
+    for r in robot.ik_trajectory(sets, q0, limits=avoid, restarts=2):
+        assert coal_min(c, r.q) >= TALOS_MARGIN - 1e-6
+
+
+def test_collision_avoidance_refuses_bad_settings() -> None:
+    robot, q0, _, _ = talos()
+    for kw in ({"margin": -1.0}, {"detection_distance": 0.0}, {"gain": 1.5}, {"gain": 0.0}):
+        with pytest.raises(ValueError):
+            screwkit.CollisionAvoidance(**kw)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="no checked pair"):
+        robot.ik_step(q0, [], 0.01, limits=[screwkit.CollisionAvoidance([("table", "nowhere")])])
+    with pytest.raises(TypeError, match="CollisionAvoidance"):
+        robot.ik_step(q0, [], 0.01, limits=[1])  # type: ignore[list-item]
+    assert "margin=0.005" in repr(screwkit.CollisionAvoidance())
+
+
+def test_tasks_from_the_command_line_avoid_collisions(tmp_path: Path) -> None:
+    """`screwkit ik --tasks --avoid-collisions --margin --obstacles` answers as `ik_tasks` with
+    `CollisionAvoidance(margin=…)` on every checked pair (the same q), clear by coal."""
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    robot, q0, _, c = talos()
+    hand = "gripper_right_base_link"
+    target = np.eye(4)
+    target[:3, :3] = robot.fk(q0, hand)[:3, :3]
+    target[:3, 3] = (0.45, -0.2, -0.45)
+    avoid = [screwkit.CollisionAvoidance(margin=TALOS_MARGIN)]
+    py = robot.ik_tasks(
+        [screwkit.FrameTask(hand, target, orientation_weight=0.0)], q0, limits=avoid, restarts=2
+    )
+    tasks = tmp_path / "tasks.json"
+    spec = {"type": "frame", "frame": hand, "orientation_weight": 0}
+    tasks.write_text(json.dumps({"tasks": [{**spec, "target": target.flatten().tolist()}]}))
+    size, centre = TALOS_TABLE
+    scene = tmp_path / "scene.json"
+    table = {"name": "table", "shape": "box", "size": list(size), "xyz": list(centre)}
+    scene.write_text(json.dumps({"obstacles": [table]}))
+    from test_body import ROBOTS
+
+    urdf = ROBOTS / "talos_data/robots/talos_reduced.urdf"
+    out = subprocess.run(
+        [exe, "ik", str(urdf), "--package-path", str(SHARE), "--tasks", str(tasks)]
+        + ["--avoid-collisions", "--margin", str(TALOS_MARGIN), "--obstacles", str(scene)]
+        + ["--seed", ",".join(repr(float(x)) for x in q0), "--restarts", "2"]
+        + ["--format", "json"],
+        capture_output=True,
+        text=True,
+    )
+    got = json.loads(out.stdout)
+    np.testing.assert_array_equal(got["q"], py.q)
+    assert coal_min(c, py.q) >= TALOS_MARGIN - 1e-6

@@ -165,6 +165,36 @@ pub fn chain_clearance<'a>(
     )?)
 }
 
+/// Whole-body IK's collision avoidance on `model` (the robot's body, SRDF and obstacles
+/// applied): every checked pair (`pairs` None) or the named ones, kept `margin` apart, mink's
+/// detection distance and gain ([`screwkit_collision::avoidance`]'s defaults). A model without
+/// a pair to check is an error.
+pub fn collision_avoidance(
+    robot: &Robot,
+    model: CollisionModel,
+    pairs: Option<&[(String, String)]>,
+    margin: f64,
+) -> Result<std::sync::Arc<dyn screwkit_solve::tree::limits::Limit>> {
+    if model.pair_count() == 0 {
+        return Err(Error::option(
+            "avoid_collisions",
+            "the robot has no pair of shapes to keep apart (no <collision> geometry on two \
+             bodies, and no obstacles): load it with geometry, or add obstacles",
+        ));
+    }
+    use screwkit_collision::avoidance::{DEFAULT_DETECTION_DISTANCE, DEFAULT_GAIN};
+    Ok(std::sync::Arc::new(
+        screwkit_collision::CollisionAvoidance::new(
+            std::sync::Arc::new(model),
+            robot.whole()?,
+            pairs,
+            margin,
+            DEFAULT_DETECTION_DISTANCE,
+            DEFAULT_GAIN,
+        )?,
+    ))
+}
+
 /// The link (or obstacle) pairs of colliding shape pairs `hits` (indices into the model's
 /// pairs), each once, in the model's pair order: what "which pairs collide" answers (a link
 /// with several shapes can touch another with more than one).

@@ -28,6 +28,7 @@ __all__ = [
     "Capsule",
     "Cylinder",
     "Mesh",
+    "CollisionAvoidance",
     "exp",
     "log",
     "adjoint",
@@ -330,6 +331,26 @@ class Mesh:
 _Shape: TypeAlias = Box | Sphere | Capsule | Cylinder | Mesh
 
 @final
+class CollisionAvoidance:
+    """Collision avoidance for whole-body IK (`limits=[CollisionAvoidance(...)]`): one row
+    per close pair, n·(J_b − J_a) v ≥ −gain (d − margin) / dt."""
+    def __new__(
+        cls,
+        pairs: Literal["all"] | Sequence[tuple[str, str]] | None = None,
+        margin: float = 0.005,
+        detection_distance: float = 0.05,
+        gain: float = 0.85,
+    ) -> CollisionAvoidance: ...
+    @property
+    def pairs(self) -> list[tuple[str, str]] | None: ...
+    @property
+    def margin(self) -> float: ...
+    @property
+    def detection_distance(self) -> float: ...
+    @property
+    def gain(self) -> float: ...
+
+@final
 class Distances:
     """Every checked pair's signed distance at one configuration."""
     @property
@@ -531,6 +552,7 @@ class Robot:
         position_limits: bool = True,
         velocity_limits: bool = True,
         velocity_caps: _ArrayLike | None = None,
+        limits: Sequence[CollisionAvoidance] | None = None,
     ) -> _F64: ...
     def ik_step_qp(
         self,
@@ -541,6 +563,7 @@ class Robot:
         position_limits: bool = True,
         velocity_limits: bool = True,
         velocity_caps: _ArrayLike | None = None,
+        limits: Sequence[CollisionAvoidance] | None = None,
     ) -> tuple[_F64, _F64, _F64, _F64]: ...
     def ik_tasks(
         self,
@@ -551,6 +574,7 @@ class Robot:
         restarts: int = 50,
         seed_rng: int = 0,
         position_limits: bool = True,
+        limits: Sequence[CollisionAvoidance] | None = None,
     ) -> TasksResult: ...
     def ik_trajectory(
         self,
@@ -563,6 +587,7 @@ class Robot:
         restarts: int = 50,
         seed_rng: int = 0,
         position_limits: bool = True,
+        limits: Sequence[CollisionAvoidance] | None = None,
     ) -> list[TasksResult]: ...
     def analyze(
         self,

@@ -42,7 +42,8 @@ enum Constraint {
 /// Reusable scratch for problems of up to the size it has grown to (no allocation once grown).
 #[derive(Debug, Clone, Default)]
 pub struct QpWorkspace {
-    /// J = L⁻ᵀ Q, n × n row-major.
+    /// J = L⁻ᵀ Q stored by columns (row a of this buffer is J's column a: every update and
+    /// product below then runs over contiguous memory).
     j: Vec<f64>,
     /// R, upper triangular, n × n row-major (its leading q × q block used).
     r: Vec<f64>,
@@ -187,10 +188,10 @@ pub fn solve(
     factor(ws, hm, n)?;
     // x = −H⁻¹ c = −J Jᵀ c.
     for a in 0..n {
-        ws.d[a] = (0..n).map(|i| ws.j[i * n + a] * c[i]).sum();
+        ws.d[a] = dot(&ws.j[a * n..(a + 1) * n], c);
     }
     for i in 0..n {
-        x[i] = -(0..n).map(|a| ws.j[i * n + a] * ws.d[a]).sum::<f64>();
+        x[i] = -(0..n).map(|a| ws.j[a * n + i] * ws.d[a]).sum::<f64>();
     }
     let p = Problem { n, l, u, g, h };
     // Tolerance of a slack: rounding of the constraints' terms.
@@ -246,22 +247,30 @@ pub fn solve(
             let q = ws.active.len();
             // d = Jᵀ n_p.
             match np {
-                Constraint::Lower(i) => ws.d.copy_from_slice(&ws.j[i * n..(i + 1) * n]),
+                Constraint::Lower(i) => {
+                    for a in 0..n {
+                        ws.d[a] = ws.j[a * n + i];
+                    }
+                }
                 Constraint::Upper(i) => {
                     for a in 0..n {
-                        ws.d[a] = -ws.j[i * n + a];
+                        ws.d[a] = -ws.j[a * n + i];
                     }
                 }
                 Constraint::Row(k) => {
                     let row = &g[k * n..(k + 1) * n];
                     for a in 0..n {
-                        ws.d[a] = (0..n).map(|i| ws.j[i * n + a] * row[i]).sum();
+                        ws.d[a] = dot(&ws.j[a * n..(a + 1) * n], row);
                     }
                 }
             }
             // z = J₂ d₂, r = R⁻¹ d₁.
-            for i in 0..n {
-                ws.z[i] = (q..n).map(|a| ws.j[i * n + a] * ws.d[a]).sum();
+            ws.z.fill(0.0);
+            for a in q..n {
+                let da = ws.d[a];
+                for (z, j) in ws.z.iter_mut().zip(&ws.j[a * n..(a + 1) * n]) {
+                    *z += da * j;
+                }
             }
             for a in (0..q).rev() {
                 let mut v = ws.d[a];
@@ -330,17 +339,16 @@ fn describe(c: Constraint) -> String {
     }
 }
 
-/// L Lᵀ = H (lower triangle of `hm`), then J = L⁻ᵀ (upper triangular) into `ws.j`.
+/// L Lᵀ = H (lower triangle of `hm`), then J = L⁻ᵀ into `ws.j` (by columns: row a of the
+/// buffer is row a of L⁻¹).
 fn factor(ws: &mut QpWorkspace, hm: &[f64], n: usize) -> Result<(), SolveError> {
-    // L into ws.r (lower triangle) as scratch.
+    // L into ws.r (row-major, lower triangle) as scratch.
     let lm = &mut ws.r;
     lm.fill(0.0);
     for i in 0..n {
         for k in 0..=i {
-            let mut v = hm[i * n + k];
-            for a in 0..k {
-                v -= lm[i * n + a] * lm[k * n + a];
-            }
+            let (row_i, row_k) = (&lm[i * n..i * n + k], &lm[k * n..k * n + k]);
+            let v = hm[i * n + k] - dot(row_i, row_k);
             if i == k {
                 if v.is_nan() || v <= 0.0 {
                     return Err(SolveError::Numerical(format!(
@@ -353,16 +361,24 @@ fn factor(ws: &mut QpWorkspace, hm: &[f64], n: usize) -> Result<(), SolveError> 
             }
         }
     }
-    // Column `col` of L⁻¹ by forward substitution, stored as row `col` of J: J = L⁻ᵀ.
+    // Row i of L⁻¹ = (e_i − Σ_{a<i} L_ia (row a of L⁻¹)) / L_ii: contiguous row updates.
     let j = &mut ws.j;
     j.fill(0.0);
-    for col in 0..n {
-        for i in col..n {
-            let mut v = if i == col { 1.0 } else { 0.0 };
-            for a in col..i {
-                v -= lm[i * n + a] * j[col * n + a];
+    for i in 0..n {
+        let (done, rest) = j.split_at_mut(i * n);
+        let row = &mut rest[..n];
+        row[i] = 1.0;
+        for a in 0..i {
+            let f = lm[i * n + a];
+            if f != 0.0 {
+                for (x, y) in row[..=a].iter_mut().zip(&done[a * n..a * n + a + 1]) {
+                    *x -= f * y;
+                }
             }
-            j[col * n + i] = v / lm[i * n + i];
+        }
+        let inv = 1.0 / lm[i * n + i];
+        for x in row[..=i].iter_mut() {
+            *x *= inv;
         }
     }
     lm.fill(0.0);
@@ -379,12 +395,14 @@ fn givens(a: f64, b: f64) -> (f64, f64, f64) {
     }
 }
 
-/// Rotates columns a and b of J: J_a ← c J_a + s J_b, J_b ← −s J_a + c J_b.
+/// Rotates columns a < b of J (rows of the buffer): J_a ← c J_a + s J_b, J_b ← −s J_a + c J_b.
 fn rotate_columns(j: &mut [f64], n: usize, a: usize, b: usize, c: f64, s: f64) {
-    for i in 0..n {
-        let (x, y) = (j[i * n + a], j[i * n + b]);
-        j[i * n + a] = c * x + s * y;
-        j[i * n + b] = -s * x + c * y;
+    let (first, second) = j.split_at_mut(b * n);
+    let (ja, jb) = (&mut first[a * n..(a + 1) * n], &mut second[..n]);
+    for (x, y) in ja.iter_mut().zip(jb.iter_mut()) {
+        let (u, v) = (*x, *y);
+        *x = c * u + s * v;
+        *y = -s * u + c * v;
     }
 }
 

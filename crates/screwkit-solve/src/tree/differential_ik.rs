@@ -46,9 +46,11 @@
 //! answers do not either.
 //!
 //! **Limits are types** ([`super::limits`]: position, velocity, one file each, behind the
-//! [`super::limits::Limit`] trait). Self-collision is not one yet (it needs geometry): it would
-//! be a general inequality row G Δ ≤ h beside the box, handed to a general QP in place of
-//! [`crate::linalg::box_qp`].
+//! [`super::limits::Limit`] trait). A limit may also give general inequality rows G Δ ≥ h
+//! beside the box (collision avoidance, `screwkit_collision::CollisionAvoidance`: one row per
+//! close pair); a step with rows is solved by the dual active-set QP
+//! [`crate::linalg::qp`] (exact too; no feasible start needed, so a pair already closer than
+//! its margin is a row like any other), one without by [`crate::linalg::box_qp`].
 
 use rayon::prelude::*;
 use screwkit_lie::Se3;
@@ -58,6 +60,7 @@ use super::{TreeKinematics, TreeWorkspace};
 use crate::error::SolveError;
 use crate::ik::Interrupt;
 use crate::linalg::box_qp::{self, BoxQpWorkspace};
+use crate::linalg::qp::{self, QpWorkspace};
 
 pub use super::limits::{Limits, LIMIT_TOLERANCE};
 
@@ -67,6 +70,13 @@ pub use super::limits::{Limits, LIMIT_TOLERANCE};
 /// an error naming this limit, before anything of that size is allocated (a 30,000-joint tree
 /// asked for 7.2 GB and aborted).
 pub const MAX_NV: usize = 2048;
+
+/// The most draws of a restart point that keeps the extra limits.
+const RESTART_DRAWS: usize = 20;
+
+/// The most times a step's rows are tightened and its QP solved again
+/// ([`super::limits::Limit::tighten`]).
+pub const TIGHTEN_ROUNDS: usize = 4;
 
 /// Refuses a tree whose whole-body QP would exceed [`MAX_NV`].
 fn check_size(kin: &TreeKinematics) -> Result<(), SolveError> {
@@ -95,6 +105,9 @@ pub struct DiffIkWorkspace {
     q: Vec<f64>,
     q_try: Vec<f64>,
     qp: BoxQpWorkspace,
+    /// The limits' general rows G Δ ≥ h and their QP.
+    limit_rows: super::limits::LimitRows,
+    rows_qp: QpWorkspace,
 }
 
 impl DiffIkWorkspace {
@@ -119,6 +132,8 @@ impl DiffIkWorkspace {
             q: vec![0.0; kin.nq()],
             q_try: vec![0.0; kin.nq()],
             qp: BoxQpWorkspace::new(),
+            limit_rows: Default::default(),
+            rows_qp: QpWorkspace::new(),
         }
     }
 
@@ -138,6 +153,72 @@ impl DiffIkWorkspace {
     /// inspection and reference solves: its solution is that step's Δ = v·dt.
     pub fn qp(&self) -> (&[f64], &[f64], &[f64], &[f64]) {
         (&self.h, &self.c, &self.lo, &self.hi)
+    }
+
+    /// The general rows of the last step or iteration (G row-major, nv per row; h): with
+    /// [`DiffIkWorkspace::qp`], the whole problem, G Δ ≥ h beside the box.
+    pub fn rows(&self) -> (&[f64], &[f64]) {
+        (&self.limit_rows.g, &self.limit_rows.h)
+    }
+
+    /// After the QP: while the step to q ⊕ Δ breaks a limit its rows linearise (a pair closer
+    /// than its margin), the broken rows' bounds are raised by the shortfall and the QP solved
+    /// again (at most [`TIGHTEN_ROUNDS`] times: sequential linearisation, as an SQP's).
+    fn keep_limits(
+        &mut self,
+        kin: &TreeKinematics,
+        q: &[f64],
+        limits: &Limits,
+    ) -> Result<(), SolveError> {
+        for _ in 0..TIGHTEN_ROUNDS {
+            if self.limit_rows.h.is_empty() {
+                return Ok(());
+            }
+            step_into(kin, q, &self.delta, limits.position, &mut self.q_try);
+            if !limits.tighten(kin, &self.q_try, &self.delta, &mut self.limit_rows)? {
+                return Ok(());
+            }
+            // Tightened rows the box cannot meet: the last step stands.
+            self.v.copy_from_slice(&self.delta);
+            if self.solve_qp().is_err() {
+                self.delta.copy_from_slice(&self.v);
+                return Ok(());
+            }
+        }
+        Ok(())
+    }
+
+    /// The step's QP solved into `delta`: the box alone by [`box_qp`]; with rows, the box's
+    /// answer when it meets them all (added constraints it meets leave the optimum where it
+    /// is), else by [`qp`].
+    fn solve_qp(&mut self) -> Result<(), SolveError> {
+        box_qp::solve(
+            &mut self.qp,
+            &self.h,
+            &self.c,
+            &self.lo,
+            &self.hi,
+            &mut self.delta,
+        )?;
+        let nv = self.delta.len();
+        let rows = &self.limit_rows;
+        let meets = |(g, &h): (&[f64], &f64)| {
+            g.iter().zip(&self.delta).map(|(a, b)| a * b).sum::<f64>() >= h
+        };
+        if rows.g.chunks(nv.max(1)).zip(&rows.h).all(meets) {
+            return Ok(());
+        }
+        qp::solve(
+            &mut self.rows_qp,
+            &self.h,
+            &self.c,
+            &self.lo,
+            &self.hi,
+            &self.limit_rows.g,
+            &self.limit_rows.h,
+            &mut self.delta,
+        )?;
+        Ok(())
     }
 }
 
@@ -299,9 +380,11 @@ fn step<'w>(
     ws.fit(kin);
     let nv = kin.nv();
     limits.bounds(kin, q, Some(dt), &mut ws.lo, &mut ws.hi)?;
+    limits.rows(kin, q, &mut ws.limit_rows)?;
     evaluate(kin, &mut ws.tree, q, base, tasks, &mut ws.rows);
     normal_equations(&ws.rows, nv, None, &mut ws.h, &mut ws.c)?;
-    box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
+    ws.solve_qp()?;
+    ws.keep_limits(kin, q, limits)?;
     for (v, d) in ws.v.iter_mut().zip(&ws.delta) {
         *v = d / dt;
     }
@@ -339,7 +422,7 @@ impl TasksStop {
 }
 
 /// Settings of [`ik_tasks`].
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct TasksOptions {
     /// Iteration budget of each descent (default 100).
     pub max_iterations: usize,
@@ -352,6 +435,25 @@ pub struct TasksOptions {
     /// A stop check polled every 16 iterations, from the first (so a trajectory of short
     /// solves polls it once per set).
     pub interrupt: Option<Interrupt>,
+    /// Further limits every iteration respects (collision avoidance; none by default).
+    pub limits: Vec<std::sync::Arc<dyn super::limits::Limit>>,
+}
+
+impl PartialEq for TasksOptions {
+    /// Equal settings and the same limit objects.
+    fn eq(&self, o: &TasksOptions) -> bool {
+        self.max_iterations == o.max_iterations
+            && self.restarts == o.restarts
+            && self.seed == o.seed
+            && self.position_limits == o.position_limits
+            && self.interrupt == o.interrupt
+            && self.limits.len() == o.limits.len()
+            && self
+                .limits
+                .iter()
+                .zip(&o.limits)
+                .all(|(a, b)| std::sync::Arc::ptr_eq(a, b))
+    }
 }
 
 impl Default for TasksOptions {
@@ -362,6 +464,7 @@ impl Default for TasksOptions {
             seed: 0,
             position_limits: true,
             interrupt: None,
+            limits: Vec::new(),
         }
     }
 }
@@ -422,6 +525,7 @@ pub fn ik_tasks(
     let limits = Limits {
         position: opts.position_limits,
         velocity: false,
+        extra: opts.limits.clone(),
         ..Limits::default()
     };
     limits.bounds(kin, seed, None, &mut ws.lo, &mut ws.hi)?;
@@ -429,34 +533,49 @@ pub fn ik_tasks(
     let deps = dependence(kin, tasks);
     let mut rng = crate::sample::SplitMix64(opts.seed);
     let mut start = seed.to_vec();
-    let mut best: Option<(f64, TasksResult)> = None;
+    // (keeps the extra limits, merit, result) of the best descent.
+    let mut best: Option<(bool, f64, TasksResult)> = None;
     let (mut iterations, mut interrupted) = (0, false);
     for attempt in 0..=opts.restarts {
         if attempt > 0 {
             // Odd restarts keep the best answer's met goals and redraw the variables of the
-            // unmet ones; even restarts redraw every joint from the seed.
-            match (&best, attempt % 2) {
-                (Some((_, b)), 1) => {
-                    let mask = unmet_variables(kin, &deps, tasks, &b.task_errors);
-                    restart_point(kin, &b.q, Some(&mask), &mut rng, &mut start);
+            // unmet ones; even restarts redraw every joint from the seed. A draw that breaks
+            // an extra limit (a configuration in contact) is drawn again, a few times.
+            for _ in 0..RESTART_DRAWS {
+                match (&best, attempt % 2) {
+                    (Some((_, _, b)), 1) => {
+                        let mask = unmet_variables(kin, &deps, tasks, &b.task_errors);
+                        restart_point(kin, &b.q, Some(&mask), &mut rng, &mut start);
+                    }
+                    _ => restart_point(kin, seed, None, &mut rng, &mut start),
                 }
-                _ => restart_point(kin, seed, None, &mut rng, &mut start),
+                if limits.extra.is_empty() || limits.satisfied(kin, &start)? {
+                    break;
+                }
             }
         }
         let (stop, used) = descend(kin, ws, tasks, &deps, &start, &limits, opts)?;
         iterations += used;
         let merit = ws.rows.merit;
+        // An answer that keeps the extra limits beats one that does not, then the lower merit.
+        let kept = limits.extra.is_empty() || limits.satisfied(kin, &ws.q)?;
+        let converged = stop == TasksStop::Converged && kept;
         if best
             .as_ref()
-            .is_none_or(|(m, _)| merit < *m || stop == TasksStop::Converged)
+            .is_none_or(|(k, m, _)| (kept && !k) || (kept == *k && (merit < *m || converged)))
         {
             best = Some((
+                kept,
                 merit,
                 TasksResult {
                     q: ws.q.clone(),
-                    converged: ws.rows.converged,
+                    converged: ws.rows.converged && kept,
                     iterations,
-                    stop,
+                    stop: if stop == TasksStop::Converged && !kept {
+                        TasksStop::Stalled
+                    } else {
+                        stop
+                    },
                     task_errors: ws.rows.errors.clone(),
                 },
             ));
@@ -464,11 +583,11 @@ pub fn ik_tasks(
         if stop == TasksStop::Interrupted {
             interrupted = true;
         }
-        if matches!(stop, TasksStop::Converged | TasksStop::Interrupted) {
+        if converged || stop == TasksStop::Interrupted {
             break;
         }
     }
-    let mut result = best.expect("at least one descent").1;
+    let mut result = best.expect("at least one descent").2;
     result.iterations = iterations;
     if interrupted && !result.converged {
         // The best answer so far, and the reason the search ended.
@@ -563,14 +682,33 @@ fn descend(
         let e = ws.rows.merit;
         damping.update(deps, &ws.rows);
         limits.bounds(kin, &ws.q, None, &mut ws.lo, &mut ws.hi)?;
+        limits.rows(kin, &ws.q, &mut ws.limit_rows)?;
         let mut accepted = false;
         while damping.lambda < 1e10 {
             normal_equations(&ws.rows, nv, Some(&damping), &mut ws.h, &mut ws.c)?;
-            box_qp::solve(&mut ws.qp, &ws.h, &ws.c, &ws.lo, &ws.hi, &mut ws.delta)?;
+            match ws.solve_qp() {
+                // Rows the box cannot meet (a restart drawn in contact, held by a joint
+                // limit): this descent ends there, the next restarts elsewhere.
+                Err(SolveError::Numerical(_)) if !ws.limit_rows.h.is_empty() => {
+                    return Ok((TasksStop::Stalled, iterations));
+                }
+                r => r?,
+            }
+            let q = std::mem::take(&mut ws.q);
+            let kept = ws.keep_limits(kin, &q, limits);
+            ws.q = q;
+            kept?;
             step_into(kin, &ws.q, &ws.delta, limits.position, &mut ws.q_try);
             let base = kin.check_q(&ws.q_try)?;
             evaluate(kin, &mut ws.tree, &ws.q_try, &base, tasks, &mut ws.next);
-            if ws.next.merit < e {
+            // A step is taken when it lowers the merit and keeps the extra limits (their rows
+            // are linear, an iteration's step is not small: a step into contact is retried
+            // with more damping), or when q breaks them already (its rows move it out).
+            if ws.next.merit < e
+                && (limits.extra.is_empty()
+                    || limits.satisfied(kin, &ws.q_try)?
+                    || !limits.satisfied(kin, &ws.q)?)
+            {
                 accepted = true;
                 damping.lambda = (damping.lambda / 3.0).max(1e-12);
                 slow = if progress(tasks, &ws.rows, &ws.next) {
