@@ -61,6 +61,10 @@ pub struct Hull {
     neighbours: Vec<u32>,
     /// The support vertex of each cell's direction ([`cell`]), where searches start.
     starts: Vec<u32>,
+    /// The local box and bounding sphere (parry's polyhedron computes them from every vertex
+    /// at each call).
+    local_aabb: Aabb,
+    sphere: BoundingSphere,
 }
 
 impl Hull {
@@ -95,6 +99,8 @@ impl Hull {
             .map(|k| scan(poly.points(), cell_direction(k)))
             .collect();
         Hull {
+            local_aabb: poly.local_aabb(),
+            sphere: poly.local_bounding_sphere(),
             poly,
             offsets,
             neighbours,
@@ -176,11 +182,11 @@ impl RayCast for Hull {
 
 impl Shape for Hull {
     fn compute_local_aabb(&self) -> Aabb {
-        self.poly.local_aabb()
+        self.local_aabb
     }
 
     fn compute_local_bounding_sphere(&self) -> BoundingSphere {
-        self.poly.local_bounding_sphere()
+        self.sphere
     }
 
     /// The exact world box: the support points along ±x, ±y, ±z of the world.

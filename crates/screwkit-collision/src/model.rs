@@ -107,6 +107,16 @@ pub struct Object {
     pub(crate) tree: Option<Arc<crate::mesh_distance::BoxTree>>,
     /// An obstacle added by [`CollisionModel::add_obstacle`]: its shape and pose as given.
     pub(crate) added: Option<(Shape, Se3)>,
+    /// A sphere holding the shape, in the object's frame (centre, radius; the radius is
+    /// infinite for a plane): the cheapest prune of a pair.
+    pub(crate) sphere: ([f64; 3], f64),
+}
+
+/// The sphere holding `shape` in its own frame (centre, radius).
+fn sphere_of(shape: &SharedShape) -> ([f64; 3], f64) {
+    let s = shape.compute_local_bounding_sphere();
+    let c = s.center();
+    ([c.x, c.y, c.z], s.radius())
 }
 
 impl std::fmt::Debug for Object {
@@ -460,6 +470,7 @@ impl CollisionModel {
             name: name.to_string(),
             attach: Attach::World,
             origin,
+            sphere: sphere_of(&engine),
             shape: engine,
             kind,
             element: None,
@@ -605,6 +616,7 @@ fn object(
             Some(t) => g.origin.compose(&t),
             None => g.origin,
         },
+        sphere: sphere_of(&shape),
         shape,
         kind,
         element: g.name.clone(),

@@ -28,8 +28,6 @@ pub struct CollisionWorkspace {
     world: Vec<screwkit_lie::Se3>,
     poses: Vec<Pose>,
     boxes: Vec<Aabb>,
-    /// Whether each box is computed at the last placement.
-    box_done: Vec<bool>,
     order: Vec<(f64, u32)>,
     /// Each link's space Jacobian (6 × nv, column-major) at the last q, and whether it is.
     jacobians: Vec<f64>,
@@ -44,7 +42,6 @@ impl CollisionWorkspace {
             world: Vec::with_capacity(model.objects.len()),
             poses: Vec::with_capacity(model.objects.len()),
             boxes: Vec::with_capacity(model.objects.len()),
-            box_done: Vec::with_capacity(model.objects.len()),
             order: Vec::with_capacity(model.pairs.len()),
             jacobians: Vec::new(),
             jacobian_done: Vec::new(),
@@ -104,13 +101,12 @@ fn place(
     place_poses(model, ws, kin, q)?;
     for (i, o) in model.objects.iter().enumerate() {
         ws.boxes[i] = o.shape.compute_aabb(&ws.poses[i]);
-        ws.box_done[i] = true;
     }
     Ok(())
 }
 
-/// Places every shape at q, its world pose only: the boxes are computed when asked
-/// ([`bounding_box`]), for queries that look at a few pairs. Checks q.
+/// Places every shape at q, its world pose only (no box), for the queries that measure pairs
+/// without a broad phase or prune by spheres and loose boxes. Checks q.
 fn place_poses(
     model: &CollisionModel,
     ws: &mut CollisionWorkspace,
@@ -128,21 +124,28 @@ fn place_poses(
         ws.poses.push(convert::pose(&world));
         ws.world.push(world);
     }
-    let n = model.objects.len();
+    // No box yet (the queries on a few pairs use none; `place` computes them all).
     ws.boxes.clear();
-    ws.boxes.resize(n, Aabb::new_invalid());
-    ws.box_done.clear();
-    ws.box_done.resize(n, false);
+    ws.boxes.resize(model.objects.len(), Aabb::new_invalid());
     Ok(())
 }
 
-/// Shape i's box at the placed pose, computed on first use ([`place_poses`]).
-fn bounding_box(model: &CollisionModel, ws: &mut CollisionWorkspace, i: usize) -> Aabb {
-    if !ws.box_done[i] {
-        ws.boxes[i] = model.objects[i].shape.compute_aabb(&ws.poses[i]);
-        ws.box_done[i] = true;
+/// The distance between the spheres holding shapes a and b at the placed poses (≤ the shapes'
+/// distance; −∞ when either sphere is unbounded, a plane's).
+fn sphere_gap(model: &CollisionModel, ws: &CollisionWorkspace, a: usize, b: usize) -> f64 {
+    let (oa, ob) = (&model.objects[a], &model.objects[b]);
+    let (ra, rb) = (oa.sphere.1, ob.sphere.1);
+    if !(ra.is_finite() && rb.is_finite()) {
+        return f64::NEG_INFINITY;
     }
-    ws.boxes[i]
+    let centre = |w: &screwkit_lie::Se3, c: [f64; 3]| {
+        w.rotation() * nalgebra::Vector3::from(c) + w.translation()
+    };
+    let (ca, cb) = (
+        centre(&ws.world[a], oa.sphere.0),
+        centre(&ws.world[b], ob.sphere.0),
+    );
+    (ca - cb).norm() - ra - rb
 }
 
 /// True when the shapes of pair (a, b) intersect (touching counts): two exact meshes by their
@@ -664,8 +667,19 @@ pub fn close_pairs(
             continue;
         }
         let (a, b) = (a as usize, b as usize);
-        let (box_a, box_b) = (bounding_box(model, ws, a), bounding_box(model, ws, b));
-        if box_distance(&box_a, &box_b) > within {
+        // The spheres holding the shapes first (a lower bound of their distance), then their
+        // local boxes turned into the world (a box around the shape's box: O(1) where the
+        // exact world box of a hull takes six support points).
+        if sphere_gap(model, ws, a, b) > within {
+            continue;
+        }
+        let loose = |i: usize| {
+            model.objects[i]
+                .shape
+                .compute_local_aabb()
+                .transform_by(&ws.poses[i])
+        };
+        if box_distance(&loose(a), &loose(b)) > within {
             continue;
         }
         // Two convex shapes no closed form measures: GJK stops as soon as it proves them
