@@ -79,21 +79,7 @@ impl CollisionAvoidance {
         detection_distance: f64,
         gain: f64,
     ) -> Result<CollisionAvoidance, CollisionError> {
-        let bad = |what: &str, x: f64| {
-            CollisionError::Geometry(format!("collision avoidance: {what}, got {x}"))
-        };
-        if !(margin.is_finite() && (0.0..=crate::clearance::MAX_MARGIN).contains(&margin)) {
-            return Err(bad("margin must be a distance ≥ 0 (m)", margin));
-        }
-        if !(detection_distance.is_finite() && detection_distance > 0.0) {
-            return Err(bad(
-                "detection_distance must be a distance > 0 (m)",
-                detection_distance,
-            ));
-        }
-        if !(gain > 0.0 && gain <= 1.0) {
-            return Err(bad("gain must be in (0, 1]", gain));
-        }
+        check_settings(margin, detection_distance, gain)?;
         check_model(&model, kin)?;
         let selected = match pairs {
             None => vec![true; model.pair_count()],
@@ -138,6 +124,33 @@ impl CollisionAvoidance {
     pub fn margin(&self) -> f64 {
         self.margin
     }
+}
+
+/// The limit's settings: `margin` ≥ 0 (at most [`crate::clearance::MAX_MARGIN`]) and
+/// `detection_distance` > 0 in metres, `gain` in (0, 1]; an error naming the bad one.
+pub fn check_settings(
+    margin: f64,
+    detection_distance: f64,
+    gain: f64,
+) -> Result<(), CollisionError> {
+    let bad = |what: &str, x: f64| {
+        Err(CollisionError::Geometry(format!(
+            "collision avoidance: {what}, got {x}"
+        )))
+    };
+    if !(margin.is_finite() && (0.0..=crate::clearance::MAX_MARGIN).contains(&margin)) {
+        return bad("margin must be a distance ≥ 0 (m)", margin);
+    }
+    if !(detection_distance.is_finite() && detection_distance > 0.0) {
+        return bad(
+            "detection_distance must be a distance > 0 (m)",
+            detection_distance,
+        );
+    }
+    if !(gain > 0.0 && gain <= 1.0) {
+        return bad("gain must be in (0, 1]", gain);
+    }
+    Ok(())
 }
 
 /// The model must be the tree's: the same links, in order.

@@ -367,21 +367,8 @@ impl CollisionAvoidance {
             })?),
         };
         // The values are checked here too, so a bad one fails where it is written.
-        let bad = |what: &str, x: f64| {
-            PyValueError::new_err(format!("CollisionAvoidance: {what}, got {x}"))
-        };
-        if !(margin.is_finite() && margin >= 0.0) {
-            return Err(bad("margin must be a distance ≥ 0 (m)", margin));
-        }
-        if !(detection_distance.is_finite() && detection_distance > 0.0) {
-            return Err(bad(
-                "detection_distance must be a distance > 0 (m)",
-                detection_distance,
-            ));
-        }
-        if !(gain > 0.0 && gain <= 1.0) {
-            return Err(bad("gain must be in (0, 1]", gain));
-        }
+        screwkit_collision::avoidance::check_settings(margin, detection_distance, gain)
+            .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(Self {
             pairs,
             margin,

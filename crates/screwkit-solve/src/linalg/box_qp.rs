@@ -149,18 +149,8 @@ fn solve_symmetric(
     x: &mut [f64],
 ) -> Result<BoxQpInfo, SolveError> {
     let n = c.len();
+    check_bounds(l, u)?;
     for i in 0..n {
-        if l[i].is_nan()
-            || u[i].is_nan()
-            || l[i] > u[i]
-            || l[i] == f64::INFINITY
-            || u[i] == f64::NEG_INFINITY
-        {
-            return Err(SolveError::InvalidInput(format!(
-                "box constraint {i}: the bounds [{}, {}] are empty",
-                l[i], u[i]
-            )));
-        }
         x[i] = 0.0_f64.clamp(l[i], u[i]);
         ws.held[i] = if l[i] == u[i] {
             Held::Lower
@@ -293,6 +283,18 @@ fn solve_symmetric(
 
 /// (H x + c)_i (H with both triangles).
 #[inline]
+/// Bounds l ≤ u, none NaN, l < +∞, u > −∞: an error naming the first empty one.
+pub(crate) fn check_bounds(l: &[f64], u: &[f64]) -> Result<(), SolveError> {
+    for (i, (&lo, &hi)) in l.iter().zip(u).enumerate() {
+        if lo.is_nan() || hi.is_nan() || lo > hi || lo == f64::INFINITY || hi == f64::NEG_INFINITY {
+            return Err(SolveError::InvalidInput(format!(
+                "box constraint {i}: the bounds [{lo}, {hi}] are empty"
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn gradient(h: &[f64], c: &[f64], x: &[f64], i: usize) -> f64 {
     let n = c.len();
     c[i] + dot(&h[i * n..i * n + n], x)

@@ -164,19 +164,7 @@ pub fn solve(
     let m = h.len();
     debug_assert!(hm.len() == n * n && l.len() == n && u.len() == n && x.len() == n);
     debug_assert!(g.len() == m * n);
-    for i in 0..n {
-        if l[i].is_nan()
-            || u[i].is_nan()
-            || l[i] > u[i]
-            || l[i] == f64::INFINITY
-            || u[i] == f64::NEG_INFINITY
-        {
-            return Err(SolveError::InvalidInput(format!(
-                "bound {i}: the bounds [{}, {}] are empty",
-                l[i], u[i]
-            )));
-        }
-    }
+    super::box_qp::check_bounds(l, u)?;
     if let Some(k) =
         (0..m).find(|&k| !h[k].is_finite() || g[k * n..(k + 1) * n].iter().any(|v| !v.is_finite()))
     {
