@@ -353,6 +353,63 @@ fn measure(model: &CollisionModel, ws: &CollisionWorkspace, k: usize) -> PairDis
     }
 }
 
+/// How far beyond a hull pair's distance its other vertices still count as touching (m).
+const PATCH: f64 = 1e-3;
+/// The most vertices a contact patch adds.
+const PATCH_VERTICES: usize = 8;
+
+/// A hull lying flat against another convex shape touches it along a face: every vertex of
+/// the face ties for the distance, and GJK's witness jumps between them from one
+/// configuration to the next. A row on the witness alone lets the hull turn about it and push
+/// another corner in (seen as chatter: TALOS's gripper on a table top). So each hull vertex
+/// within [`PATCH`] of the separating plane (through the other shape's witness point, normal
+/// n; the other shape lies beyond it, so the vertex's gap to the plane is a lower bound of its
+/// distance) adds the entry of a row: same pair, its gap, the vertex and its foot on the plane,
+/// the same normal (at most [`PATCH_VERTICES`], the closest first).
+fn contact_patch(
+    model: &CollisionModel,
+    ws: &CollisionWorkspace,
+    a: usize,
+    b: usize,
+    d: &PairDistance,
+    out: &mut Vec<PairDistance>,
+) {
+    let n = nalgebra::Vector3::from(d.normal);
+    for (side, (h, witness, plane)) in [(a, d.point_a, d.point_b), (b, d.point_b, d.point_a)]
+        .into_iter()
+        .enumerate()
+    {
+        let shape = &model.objects[h].shape;
+        // A convex side only: on a mesh (not convex) the plane need not separate the shapes.
+        let Some(hull) = shape.as_shape::<crate::hull::Hull>() else {
+            continue;
+        };
+        let vertices = hull.points();
+        let (w, p) = (&ws.world[h], nalgebra::Vector3::from(plane));
+        let witness = nalgebra::Vector3::from(witness);
+        // Side 0 (the hull is a): gap n·(p − v); side 1 (the hull is b): n·(v − p).
+        let sign = if side == 0 { 1.0 } else { -1.0 };
+        let mut near: Vec<(f64, nalgebra::Vector3<f64>)> = vertices
+            .iter()
+            .map(|v| w.rotation() * nalgebra::Vector3::new(v.x, v.y, v.z) + w.translation())
+            .map(|v| (sign * n.dot(&(p - v)), v))
+            .filter(|(g, v)| *g <= d.distance + PATCH && (v - witness).norm() > 1e-9)
+            .collect();
+        near.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for (gap, v) in near.into_iter().take(PATCH_VERTICES) {
+            let foot = v + sign * gap * n;
+            let (pa, pb) = if side == 0 { (v, foot) } else { (foot, v) };
+            out.push(PairDistance {
+                pair: d.pair,
+                distance: gap,
+                point_a: pa.into(),
+                point_b: pb.into(),
+                normal: d.normal,
+            });
+        }
+    }
+}
+
 /// What one GJK run says of two convex shapes.
 enum Convex {
     /// Apart: their distance, witness points and normal.
@@ -695,6 +752,9 @@ pub fn close_pairs(
                 Ok(Convex::Apart(d)) => {
                     if d.distance <= within {
                         out.push(d);
+                        if rows.is_some() {
+                            contact_patch(model, ws, a, b, &d, out);
+                        }
                     }
                     continue;
                 }
@@ -704,6 +764,13 @@ pub fn close_pairs(
         let d = pair_distance(model, ws, k);
         if d.distance <= within && d.normal.iter().all(|v| v.is_finite()) {
             out.push(d);
+            if rows.is_some()
+                && d.distance > 0.0
+                && model.objects[a].tree.is_none()
+                && model.objects[b].tree.is_none()
+            {
+                contact_patch(model, ws, a, b, &d, out);
+            }
         }
     }
     match rows {

@@ -205,16 +205,22 @@ TALOS_OTHERS = ["table", "torso_1_link", "torso_2_link", "base_link"]
 TALOS_MARGIN = 0.005
 
 
-def talos() -> tuple[screwkit.Robot, npt.NDArray[np.float64], list[tuple[str, str]], Any]:
-    """TALOS with a table, its start (arms forward, clear), the constrained pairs (the right
-    arm's links against the table, the torso and the base) and coal's model of those pairs."""
+def talos(
+    meshes: str = "exact",
+) -> tuple[screwkit.Robot, npt.NDArray[np.float64], list[tuple[str, str]], Any]:
+    """TALOS with a table (its meshes read as `meshes` says), its start (arms forward,
+    clear), the constrained pairs (the right arm's links against the table, the torso and the
+    base) and coal's model of those pairs (exact meshes: a hull holds its mesh, so coal's
+    distance is at least screwkit's on hulls)."""
     from test_body import ROBOTS, Coal
 
     urdf = ROBOTS / "talos_data/robots/talos_reduced.urdf"
     srdf = ROBOTS / "talos_data/srdf/talos.srdf"
     if not urdf.exists():
         pytest.skip("example-robot-data (pip install example-robot-data) is a test dependency")
-    robot = screwkit.Robot.from_urdf(urdf, package_paths=[SHARE])
+    robot = screwkit.Robot.from_urdf(
+        urdf, package_paths=[SHARE], meshes="convex" if meshes == "convex" else "exact"
+    )
     size, centre = TALOS_TABLE
     pose = np.eye(4)
     pose[:3, 3] = centre
@@ -254,14 +260,21 @@ def coal_min(c: Any, q: npt.NDArray[np.float64]) -> float:
 
 
 @pytest.mark.parametrize(
-    "goal", [(0.45, -0.2, -0.45), (0.0, 0.1, 0.0)], ids=["under the table", "into the torso"]
+    ("goal", "meshes"),
+    [
+        ((0.45, -0.2, -0.45), "exact"),
+        ((0.0, 0.1, 0.0), "exact"),
+        ((0.45, -0.2, -0.45), "convex"),
+    ],
+    ids=["under the table", "into the torso", "under the table, hulls"],
 )
-def test_whole_body_steps_keep_the_margin(goal: tuple[float, float, float]) -> None:
+def test_whole_body_steps_keep_the_margin(goal: tuple[float, float, float], meshes: str) -> None:
     """Every `ik_step` with `CollisionAvoidance` ends at least the margin from contact (coal,
     every step, 1e-6 m), the hand still moves towards its goal (it stops short, not frozen),
     and the velocity changes smoothly where the limit becomes active (the step-to-step change
-    of v stays below the velocity's own size)."""
-    robot, q0, pairs, c = talos()
+    of v stays below the velocity's own size; with hulls, whose faces lie flat on the table,
+    it settles: the contact patch's rows, not the witness alone)."""
+    robot, q0, pairs, c = talos(meshes)
     hand = "gripper_right_base_link"
     target = np.eye(4)
     target[:3, :3] = robot.fk(q0, hand)[:3, :3]
@@ -277,7 +290,8 @@ def test_whole_body_steps_keep_the_margin(goal: tuple[float, float, float]) -> N
     assert coal_min(c, q0) > TALOS_MARGIN
     q, vs, closest = q0.copy(), [], np.inf
     start = np.linalg.norm(robot.fk(q0, hand)[:3, 3] - goal)
-    for _ in range(150):
+    # On hulls, long enough for the gripper to ride on the table top a while.
+    for _ in range(400 if meshes == "convex" else 150):
         v = robot.ik_step(q, tasks, 0.01, limits=avoid)
         q = robot.integrate(q, v, 0.01)
         vs.append(v)
@@ -294,6 +308,11 @@ def test_whole_body_steps_keep_the_margin(goal: tuple[float, float, float]) -> N
         f" {np.percentile(change, 99):.3g}; ‖v‖ max {np.linalg.norm(v, axis=1).max():.3g}"
     )
     assert change.max() < np.linalg.norm(v, axis=1).max()
+    if meshes == "convex":
+        # Riding on the table top: no step-to-step alternation (with a row on GJK's witness
+        # alone, the 99th percentile here was 0.17 rad/s, 5 % of the peak speed; 0.6 rad/s in
+        # the benchmark's run).
+        assert np.percentile(change, 99) < 0.03 * np.linalg.norm(v, axis=1).max()
 
 
 def test_tasks_and_trajectories_keep_the_margin() -> None:
