@@ -196,6 +196,25 @@ pub struct ReachArgs {
     /// Also write the SVG slices through the base (xy, xz, yz) to this file (whole maps).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<String>,
+    /// Count only solutions whose body is clear of contact (itself, the rest of the robot at
+    /// its neutral pose, and the --obstacles) by --margin: every analytic posture is checked;
+    /// numerical IK steers away from contact. The summary says how many poses were reached
+    /// only in contact.
+    #[arg(long)]
+    pub avoid_collisions: bool,
+    /// With --avoid-collisions: the least distance (m) kept between every checked pair.
+    #[arg(long, requires = "avoid_collisions", default_value_t = screwkit_service::body::DEFAULT_MARGIN)]
+    pub margin: f64,
+    /// With --avoid-collisions: an SRDF whose disable_collisions pairs are not checked.
+    #[arg(long, requires = "avoid_collisions")]
+    pub srdf: Option<PathBuf>,
+    /// With --avoid-collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
+    #[arg(long, requires = "avoid_collisions")]
+    pub obstacles: Option<PathBuf>,
+    /// With --avoid-collisions: how the body's meshes are read, exact (their triangles) or
+    /// convex (their hulls, faster); default exact for URDF, convex for MJCF.
+    #[arg(long, requires = "avoid_collisions", value_parser = word::<Meshes>())]
+    pub meshes: Option<Meshes>,
     /// The map to write: .npz (numpy), or for small maps (≤ 10⁷ poses) .csv (one line per
     /// voxel) or .json (per voxel and per pose).
     #[arg(short, long, required = true)]

@@ -63,9 +63,13 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         tip: a.tip.clone(),
         tool: a.tool.clone(),
         floating_base: false,
-        // Reach maps do not look at the body yet.
-        geometry: screwkit_service::words::GeometryRoles::None,
-        meshes: None,
+        // The body's shapes are read only for a map clear of contact.
+        geometry: if a.avoid_collisions {
+            screwkit_service::words::GeometryRoles::Collision
+        } else {
+            screwkit_service::words::GeometryRoles::None
+        },
+        meshes: a.meshes,
     };
     let robot = crate::load(&chain_args)?;
     // The map and its picture: neither an input of this run (the robot's file, an include),
@@ -88,6 +92,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         seed: a.seed,
         restarts: a.restarts,
         iterations: a.iterations,
+        collision_margin: a.avoid_collisions.then_some(a.margin),
     };
     let shard = a.shard.unwrap_or(Shard::WHOLE);
     if a.svg.is_some() && shard.count > 1 {
@@ -96,6 +101,16 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         ));
     }
     let plan = Plan::new(chain, kin, &spec)?;
+    // The body (SRDF and obstacles applied), read before the map is computed.
+    let model = if a.avoid_collisions {
+        Some(screwkit_service::body::robot_model(
+            &robot,
+            a.srdf.as_deref(),
+            a.obstacles.as_deref(),
+        )?)
+    } else {
+        None
+    };
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(0);
         if let Ok(style) = ProgressStyle::with_template(
@@ -124,12 +139,23 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         output.clone()
     };
     let started = Instant::now();
-    let s = screwkit_reach::build(&plan, kin, shard, &npz, |done, total| {
+    let progress = |done, total| {
         if let Some(b) = &bar {
             b.set_length(total as u64);
             b.set_position(done as u64);
         }
-    })?;
+    };
+    let s = match &model {
+        Some(model) => {
+            let body = screwkit_reach::Body {
+                robot: &robot,
+                tree: robot.whole()?,
+                model,
+            };
+            screwkit_reach::build_clear(&plan, kin, body, shard, &npz, progress)?
+        }
+        None => screwkit_reach::build(&plan, kin, shard, &npz, progress)?,
+    };
     let secs = started.elapsed().as_secs_f64();
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -154,6 +180,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         Some(plan.rotations.len()),
         secs,
         &what,
+        spec.collision_margin.is_some(),
     )
 }
 
@@ -173,6 +200,7 @@ fn print_summary(
     k: Option<usize>,
     secs: f64,
     what: &str,
+    clear: bool,
 ) -> CliResult {
     let threads = rayon::current_num_threads();
     let r = MapReport::built(
@@ -180,15 +208,20 @@ fn print_summary(
         secs,
         threads,
         solver,
-    );
+    )
+    .with_lost_to_collisions(clear.then_some(s.collided));
     if format == Format::Json {
         return crate::output::print_json(&report::to_value(&r));
     }
     let k = k
         .map(|k| format!(" × {k} orientations"))
         .unwrap_or_default();
+    let lost = r
+        .lost_to_collisions
+        .map(|n| format!(" ({n} more only in contact)"))
+        .unwrap_or_default();
     crate::output::emit(&format!(
-        "{} voxels{k} = {} poses ({} solved in reach), {} reached ({:.1} %), {secs:.2} s, {:.0} solves/s on {threads} threads ({solver} IK) {what}\n",
+        "{} voxels{k} = {} poses ({} solved in reach), {} reached ({:.1} %){lost}, {secs:.2} s, {:.0} solves/s on {threads} threads ({solver} IK) {what}\n",
         r.voxels,
         r.poses,
         s.solved,

@@ -503,6 +503,47 @@ impl CollisionModel {
             .collect()
     }
 
+    /// A digest of everything a query sees ([`screwkit_model::digest`], 16 hex digits): each
+    /// shape's name, owner, pose on it, kind, local box and sphere and, for a mesh or a hull,
+    /// its vertices; and the pairs checked. Two models with the same digest answer every query
+    /// alike: what a file computed from a body (a reachability map clear of contact) stores to
+    /// refuse being merged with one computed from another body.
+    pub fn digest(&self) -> String {
+        let mut d = screwkit_model::digest::Digest::new();
+        d.word(match self.options.mesh_mode {
+            MeshMode::Exact => "exact",
+            MeshMode::ConvexHull => "convex",
+        });
+        d.count(self.objects.len());
+        for o in &self.objects {
+            d.word(&o.name).word(o.kind);
+            match o.attach {
+                Attach::Link(l) => d.word(&self.links[l]),
+                Attach::World => d.word(""),
+            };
+            d.values(o.origin.to_homogeneous().iter().copied());
+            let aabb = o.shape.compute_local_aabb();
+            d.values(aabb.mins.to_array().into_iter().chain(aabb.maxs.to_array()));
+            d.values(o.sphere.0).value(o.sphere.1);
+            let points: &[parry3d_f64::math::Vector] = if let Some(m) = o.shape.as_trimesh() {
+                m.vertices()
+            } else if let Some(h) = o.shape.as_shape::<crate::hull::Hull>() {
+                h.points()
+            } else {
+                &[]
+            };
+            d.count(points.len());
+            for p in points {
+                d.values([p.x, p.y, p.z]);
+            }
+        }
+        d.count(self.pairs.len());
+        for &(a, b) in &self.pairs {
+            d.count(a as usize).count(b as usize);
+        }
+        d.hex()
+    }
+
     /// The obstacles' names, in the order added.
     pub fn obstacles(&self) -> Vec<&str> {
         self.objects

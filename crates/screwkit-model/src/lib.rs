@@ -17,6 +17,7 @@
 //! - [`kinematic_tree`]: the whole robot: every joint's screw, every link's home pose, frames,
 //!   the variable order, the floating base.
 //! - [`chain`]: the chain base → tip: S_i, B_i, M, limits, mimic joints, link home poses.
+//! - [`digest`]: a stable digest of a model's numbers, for files that name what they came from.
 //! - [`table`]: screw-axis tables (Markdown, CSV, JSON), and reading them back.
 //! - [`screws`]: robots given by M and screw axes ([`ScrewRobot`]: its exact chain and an
 //!   equivalent tree).
@@ -34,6 +35,7 @@
 //! tip link; URDF rpy is fixed-axis, R = R_z(y) R_y(p) R_x(r).
 
 pub mod chain;
+pub mod digest;
 pub mod error;
 pub mod geometry;
 pub mod input;

@@ -30,7 +30,7 @@ pub(crate) fn report_dict<'py>(
 /// Builds shard `shard_index` of `shard_count` of the map of `robot` into the .npz `path`;
 /// returns its report as a dict (the fields of `screwkit reach --format json`).
 #[pyfunction]
-#[pyo3(signature = (robot, path, *, resolution, orientations, mode, bounds, solver, seed, restarts, iterations, shard_index, shard_count))]
+#[pyo3(signature = (robot, path, *, resolution, orientations, mode, bounds, solver, seed, restarts, iterations, shard_index, shard_count, collision_margin = None, obstacles = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn reach_build<'py>(
     py: Python<'py>,
@@ -46,6 +46,8 @@ pub fn reach_build<'py>(
     iterations: usize,
     shard_index: usize,
     shard_count: usize,
+    collision_margin: Option<f64>,
+    obstacles: Option<std::path::PathBuf>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let spec = ReachSpec {
         resolution,
@@ -56,13 +58,39 @@ pub fn reach_build<'py>(
         seed,
         restarts,
         iterations,
+        collision_margin,
     };
     let shard = Shard::new(shard_index, shard_count).map_err(crate::errors::service_error)?;
     let (chain, kin) = robot.parts()?;
     let plan = Plan::new(chain, kin, &spec).map_err(reach_error)?;
+    if collision_margin.is_none() && obstacles.is_some() {
+        return Err(PyValueError::new_err(
+            "obstacles apply with avoid_collisions=True",
+        ));
+    }
+    // The body (read before the map is computed), when the map keeps clear of it.
+    let body = collision_margin
+        .map(|_| robot.body_with_scene(obstacles.as_deref()))
+        .transpose()?;
     let started = std::time::Instant::now();
     let s = py
-        .detach(|| pool::run(|| screwkit_reach::build(&plan, kin, shard, &path, |_, _| {})))?
+        .detach(|| {
+            pool::run(|| match &body {
+                Some((tree, model)) => screwkit_reach::build_clear(
+                    &plan,
+                    kin,
+                    screwkit_reach::Body {
+                        robot: robot.service(),
+                        tree,
+                        model,
+                    },
+                    shard,
+                    &path,
+                    |_, _| {},
+                ),
+                None => screwkit_reach::build(&plan, kin, shard, &path, |_, _| {}),
+            })
+        })?
         .map_err(reach_error)?;
     report_dict(
         py,
@@ -71,7 +99,8 @@ pub fn reach_build<'py>(
             started.elapsed().as_secs_f64(),
             pool::num_threads()?,
             plan.solver_name(),
-        ),
+        )
+        .with_lost_to_collisions(collision_margin.map(|_| s.collided)),
     )
 }
 

@@ -436,6 +436,29 @@ impl Robot {
         Ok((kin, m))
     }
 
+    /// The floor's robot.
+    pub(crate) fn service(&self) -> &screwkit_service::Robot {
+        &self.robot
+    }
+
+    /// The body a computation keeps clear of: the body as it is now, and the obstacles of the
+    /// scene file `scene` added to a copy of it (the robot's own body is left as it is).
+    pub(crate) fn body_with_scene(
+        &self,
+        scene: Option<&std::path::Path>,
+    ) -> PyResult<(Arc<TreeKinematics>, Arc<CollisionModel>)> {
+        let (kin, model) = self.body_model()?;
+        let Some(scene) = scene else {
+            return Ok((kin, model));
+        };
+        let obstacles =
+            screwkit_service::body::read_scene(scene, &self.robot.options().xacro.package_paths)
+                .map_err(service_error)?;
+        let mut copy = (*model).clone();
+        screwkit_service::body::add_obstacles(&mut copy, &obstacles).map_err(service_error)?;
+        Ok((kin, Arc::new(copy)))
+    }
+
     /// Runs `f` with the kept body workspace (a fresh one when another thread holds it, or the
     /// model or tree changed).
     fn with_body_ws<T>(

@@ -387,3 +387,94 @@ def test_tasks_from_the_command_line_avoid_collisions(tmp_path: Path) -> None:
     got = json.loads(out.stdout)
     np.testing.assert_array_equal(got["q"], py.q)
     assert coal_min(c, py.q) >= TALOS_MARGIN - 1e-6
+
+
+# Reachability maps clear of contact: the UR5 (analytic IK, every posture checked) beside the
+# table and the box. A pose is reached exactly when one of its postures is clear by coal.
+MAP_BOUNDS = (0.2, -0.6, 0.0, 0.9, 0.6, 0.5)
+
+
+def test_reach_maps_count_only_clear_postures_by_coal(tmp_path: Path) -> None:
+    robot, oracle, _, _ = setup("ur5")
+    clear = screwkit.reach(robot, 0.1, 6, bounds=MAP_BOUNDS, avoid_collisions=True, margin=MARGIN)
+    plain = screwkit.reach(robot, 0.1, 6, bounds=MAP_BOUNDS)
+    assert clear.meta["solver"] == "analytic" and clear.meta["spec"]["collision_margin"] == MARGIN
+    assert "body" in clear.meta and "body" not in plain.meta
+    reached = ~np.isnan(plain.pose_manipulability)
+    kept = ~np.isnan(clear.pose_manipulability)
+    assert not np.any(kept & ~reached), "reached clear of contact but not at all"
+    v, k = np.nonzero(reached)
+    pick = np.random.default_rng(3).choice(len(v), size=min(300, len(v)), replace=False)
+    targets = np.tile(np.eye(4), (len(pick), 1, 1))
+    targets[:, :3, :3] = clear.orientations[k[pick]]
+    targets[:, :3, 3] = clear.centres[v[pick]]
+    lost = found = 0
+    for i, postures in enumerate(robot.ik_all(targets)):
+        d = np.array([oracle.min_distance(q) for q in postures])
+        if d.size == 0 or np.any(np.abs(d - MARGIN) < 1e-5):
+            continue  # at the margin: either verdict is right
+        assert kept[v[pick[i]], k[pick[i]]] == bool(np.any(d >= MARGIN)), (
+            f"pose {v[pick[i]]}, {k[pick[i]]}: coal finds {d}"
+        )
+        lost += int(np.all(d < MARGIN))
+        found += int(np.any(d >= MARGIN))
+    assert lost >= 20 and found >= 20, f"lost {lost}, found {found}"
+    # The scene's obstacles given to the map equal the same obstacles added to the robot.
+    bare = screwkit.Robot.from_urdf(files("ur5")[0], *TIPS["ur5"], package_paths=[SHARE])
+    bare.srdf(files("ur5")[1])
+    again = screwkit.reach(
+        bare,
+        0.1,
+        6,
+        bounds=MAP_BOUNDS,
+        avoid_collisions=True,
+        margin=MARGIN,
+        obstacles=scene(tmp_path),
+    )
+    assert bare.obstacles == []
+    np.testing.assert_array_equal(again.pose_manipulability, clear.pose_manipulability)
+    assert again.meta == clear.meta
+    with pytest.raises(ValueError, match="obstacles apply"):
+        screwkit.reach(bare, 0.3, 2, obstacles=scene(tmp_path))
+    with pytest.raises(ValueError, match="margin applies"):
+        screwkit.reach(bare, 0.3, 2, margin=0.1)
+    with pytest.raises(ValueError, match="margin"):
+        screwkit.reach(bare, 0.3, 2, avoid_collisions=True, margin=-1.0)
+    plain_robot = screwkit.Robot.from_urdf(files("ur5")[0], *TIPS["ur5"], geometry="none")
+    with pytest.raises(ValueError, match="no pair of shapes"):
+        screwkit.reach(plain_robot, 0.3, 2, avoid_collisions=True)
+
+
+def test_reach_from_the_command_line_is_the_same_file(tmp_path: Path) -> None:
+    """`screwkit reach --avoid-collisions --margin --srdf --obstacles` writes Python's map,
+    byte for byte, and says how many poses only contact reached."""
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    robot, _, urdf, srdf = setup("ur5")
+    py = tmp_path / "py.npz"
+    screwkit.reach(
+        robot, 0.15, 4, bounds=MAP_BOUNDS, avoid_collisions=True, margin=MARGIN, path=str(py)
+    )
+    cli = tmp_path / "cli.npz"
+    base, tip = TIPS["ur5"]
+    args = [exe, "reach", str(urdf), "--package-path", str(SHARE), "--base", base, "--tip", tip]
+    args += ["--resolution", "0.15", "--orientations", "4"]
+    args += ["--bounds", ",".join(str(b) for b in MAP_BOUNDS)]
+    args += ["--avoid-collisions", "--margin", str(MARGIN), "--srdf", str(srdf)]
+    args += ["--obstacles", str(scene(tmp_path)), "-o", str(cli), "--format", "json"]
+    out = subprocess.run(args, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    assert cli.read_bytes() == py.read_bytes()
+    report = json.loads(out.stdout)
+    plain = screwkit.reach(robot, 0.15, 4, bounds=MAP_BOUNDS)
+    reached = int(np.sum(~np.isnan(plain.pose_manipulability)))
+    assert report["lost_to_collisions"] == reached - report["reached"] > 0
+    # The body's files without --avoid-collisions: one line, non-zero.
+    bad = subprocess.run(
+        [exe, "reach", str(urdf), "--obstacles", str(scene(tmp_path)), "-o", str(cli)],
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode != 0 and "--avoid-collisions" in bad.stderr
+    assert len(bad.stderr.strip().splitlines()) == 1

@@ -4,10 +4,12 @@ cluster the distributed map equals the one-machine map, also when workers are ki
 
 from __future__ import annotations
 
+import json
 import subprocess
 import threading
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -105,7 +107,7 @@ def test_errors(ur5: screwkit.Robot, panda: screwkit.Robot, tmp_path: Path) -> N
         screwkit.ReachMap.load(str(p)).svg()
 
 
-def test_ray_cluster_equals_one_machine(ur5: screwkit.Robot) -> None:
+def test_ray_cluster_equals_one_machine(ur5: screwkit.Robot, tmp_path: Path) -> None:
     import ray
 
     from screwkit import distributed
@@ -119,6 +121,27 @@ def test_ray_cluster_equals_one_machine(ur5: screwkit.Robot) -> None:
         # From a file name, as on a cluster whose workers load the robot themselves.
         by_path = distributed.reach(str(ASSETS / "ur5.urdf"), 0.2, 10, shards=3)
         np.testing.assert_array_equal(by_path.pose_manipulability, local.pose_manipulability)
+
+        # A map clear of contact (the UR5 with a sphere on its flange, a box from a scene file
+        # read on the driver and pickled to the tasks with the robot): the same on the cluster.
+        urdf = tmp_path / "ur5.urdf"
+        sphere = '<collision><geometry><sphere radius="0.05"/></geometry></collision>'
+        urdf.write_text(
+            (ASSETS / "ur5.urdf")
+            .read_text()
+            .replace('<link name="wrist_3_link"/>', f'<link name="wrist_3_link">{sphere}</link>')
+        )
+        arm = screwkit.Robot.from_urdf(str(urdf))
+        scene = tmp_path / "scene.json"
+        box = {"name": "box", "shape": "box", "size": [0.6, 0.6, 0.6], "xyz": [0.5, 0.0, 0.0]}
+        scene.write_text(json.dumps({"obstacles": [box]}))
+        spec: dict[str, Any] = dict(avoid_collisions=True, obstacles=scene)
+        near = screwkit.reach(arm, 0.2, 10, **spec)
+        clear = distributed.reach(arm, 0.2, 10, shards=3, **spec)
+        np.testing.assert_array_equal(clear.pose_manipulability, near.pose_manipulability)
+        assert clear.meta["body"] == near.meta["body"] and arm.obstacles == []
+        kept = np.sum(~np.isnan(near.pose_manipulability))
+        assert 0 < kept < np.sum(~np.isnan(local.pose_manipulability))
 
         # Workers killed mid-run: Ray retries their tasks and the map is still the same.
         big = screwkit.reach(ur5, 0.07, 16)

@@ -22,9 +22,10 @@ pub mod slices;
 
 use nalgebra::Matrix3;
 
+use screwkit_model::digest::Digest;
 use screwkit_model::{Chain, JointKind};
 use screwkit_solve::analytic::{AnalyticIk, Representatives};
-use screwkit_solve::ik::{IkMethod, IkOptions, IkStatus};
+use screwkit_solve::ik::{Clearance, IkMethod, IkOptions, IkStatus, NoBody, StopReason};
 use screwkit_solve::{Frame, Kinematics, SolveError};
 
 pub use grid::{orientations, Grid};
@@ -197,9 +198,9 @@ impl Plan {
     }
 
     /// The map's metadata (the `meta` entry, JSON): everything that defines its arrays.
-    fn meta(&self, shard: Shard) -> String {
+    fn meta(&self, shard: Shard, body: Option<&str>) -> String {
         let range = shard.voxels(self.grid.len());
-        serde_json::json!({
+        let mut meta = serde_json::json!({
             "format": "screwkit reachability map 1",
             "robot": self.label,
             "kinematics": self.kinematics,
@@ -211,18 +212,26 @@ impl Plan {
             "reach_radius": self.reach_radius.is_finite().then_some(self.reach_radius),
             "shard": [shard.index, shard.count],
             "voxels": [range.start, range.end],
-        })
-        .to_string()
+        });
+        // A map clear of contact names the body it kept clear of (a map without one has no
+        // such entry: its bytes are those maps had before bodies existed).
+        if let (Some(digest), Some(o)) = (body, meta.as_object_mut()) {
+            o.insert("body".into(), digest.into());
+        }
+        meta.to_string()
     }
 
     /// Solves voxels `voxels` (all K poses of each) and writes each pose's best manipulability
-    /// (NaN: not reached) into `out` (voxels × K, row-major).
-    fn solve_voxels(
+    /// over the solutions `body` finds clear (NaN: not reached) into `out` (voxels × K,
+    /// row-major). Returns the poses reached only in contact (every posture of the analytic
+    /// solver colliding; numerical IK's budget ended with only colliding answers).
+    fn solve_voxels<B: Clearance>(
         &self,
         kin: &Kinematics,
+        body: &B,
         voxels: Range<usize>,
         out: &mut [f64],
-    ) -> Result<(), ReachError> {
+    ) -> Result<usize, ReachError> {
         let k = self.rotations.len();
         out.fill(f64::NAN);
         // Targets of the voxels in reach, in runs of consecutive global pose indices.
@@ -263,18 +272,35 @@ impl Plan {
         let mut qs: Vec<f64> = Vec::new();
         let mut owner: Vec<usize> = Vec::new();
         let base = voxels.start * k;
+        let mut collided = 0;
         match &self.solver {
             Solver::Analytic(ik) => {
+                use rayon::prelude::*;
                 // One row per posture (the 2π representatives that joints with limits wider
-                // than ±π add have the same manipulability: not listed).
+                // than ±π add have the same manipulability and the same body: not listed),
+                // those the body finds clear.
                 let results = ik.solve_batch_postures(kin, &targets, None, Representatives::One)?;
-                let distinct: Vec<Vec<f64>> = results
-                    .iter()
-                    .map(|r| match r {
-                        Ok(s) if s.is_exact() => s.iter().flatten().copied().collect(),
-                        _ => Vec::new(),
-                    })
+                let distinct: Vec<(Vec<f64>, bool)> = results
+                    .par_iter()
+                    .map_init(
+                        || body.scratch(),
+                        |scratch, r| match r {
+                            Ok(s) if s.is_exact() => {
+                                let clear: Vec<f64> = s
+                                    .iter()
+                                    .filter(|q| body.is_clear(scratch, q))
+                                    .flatten()
+                                    .copied()
+                                    .collect();
+                                let lost = clear.is_empty() && s.iter().next().is_some();
+                                (clear, lost)
+                            }
+                            _ => (Vec::new(), false),
+                        },
+                    )
                     .collect();
+                collided += distinct.iter().filter(|(_, lost)| *lost).count();
+                let distinct: Vec<Vec<f64>> = distinct.into_iter().map(|(q, _)| q).collect();
                 let mut row = 0;
                 for &(first, count) in &runs {
                     for p in first..first + count {
@@ -295,16 +321,21 @@ impl Plan {
                     let mut status = vec![IkStatus::unsolved(); count];
                     // Bad rows cannot occur (the targets are rotations built here); a row
                     // error would leave its status unsolved, i.e. not reached.
-                    let _ = screwkit_solve::batch::ik_batch_from(
+                    let _ = screwkit_solve::batch::ik_batch_clear_from(
                         kin,
                         first,
                         t,
                         None,
                         opts,
+                        body,
                         &mut q,
                         &mut status,
                         None,
                     );
+                    collided += status
+                        .iter()
+                        .filter(|st| st.stop == StopReason::InCollision)
+                        .count();
                     for (i, st) in status.iter().enumerate() {
                         if st.converged && kin.within_limits(&q[i * n..(i + 1) * n], 1e-9) {
                             qs.extend_from_slice(&q[i * n..(i + 1) * n]);
@@ -316,7 +347,7 @@ impl Plan {
             }
         }
         if owner.is_empty() {
-            return Ok(());
+            return Ok(collided);
         }
         let mut jac = vec![0.0; owner.len() * 6 * n];
         screwkit_solve::batch::jacobian_batch(kin, &qs, Frame::Space, &mut jac, None)?;
@@ -329,7 +360,7 @@ impl Plan {
         for (&p, &w) in owner.iter().zip(&w) {
             out[p] = if out[p].is_nan() { w } else { out[p].max(w) };
         }
-        Ok(())
+        Ok(collided)
     }
 }
 
@@ -382,37 +413,28 @@ pub struct Summary {
     pub solved: usize,
     /// Poses reached.
     pub reached: usize,
+    /// Poses reached only in contact (a map clear of contact; 0 otherwise): the map's loss to
+    /// collisions.
+    pub collided: usize,
 }
 
 /// A 64-bit FNV-1a hash (16 hex digits) of everything that decides a chain's reach: each
 /// joint's kind, space screw S_i and mimic rule, each variable's limits, and the home pose M
 /// (with its tool). The exact bits of every number are hashed.
 pub fn kinematics_hash(chain: &Chain) -> String {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |bytes: &[u8]| {
-        for b in bytes {
-            h ^= u64::from(*b);
-            h = h.wrapping_mul(0x0100_0000_01b3);
-        }
-    };
-    let num = |x: f64, eat: &mut dyn FnMut(&[u8])| eat(&x.to_bits().to_le_bytes());
+    let mut d = Digest::new();
     for j in &chain.joints {
-        eat(j.kind.as_str().as_bytes());
-        for x in j.s_space.twist().to_vector().iter() {
-            num(*x, &mut eat);
-        }
-        eat(&(j.drive.variable as u64).to_le_bytes());
-        num(j.drive.multiplier, &mut eat);
-        num(j.drive.offset, &mut eat);
+        d.bytes(j.kind.as_str().as_bytes())
+            .nums(j.s_space.twist().to_vector().iter().copied())
+            .count(j.drive.variable)
+            .num(j.drive.multiplier)
+            .num(j.drive.offset);
     }
     for v in &chain.variables {
-        num(v.lower, &mut eat);
-        num(v.upper, &mut eat);
+        d.num(v.lower).num(v.upper);
     }
-    for x in chain.home.to_homogeneous().iter() {
-        num(*x, &mut eat);
-    }
-    format!("{h:016x}")
+    d.nums(chain.home.to_homogeneous().iter().copied());
+    d.hex()
 }
 
 /// Poses solved per step of a build (whole voxels; progress is reported after each). Bounds
@@ -431,10 +453,66 @@ pub const MAX_ORIENTATIONS: usize = 100_000;
 
 /// Builds shard `shard` of the map of `plan` into the `.npz` file `path`, streaming the
 /// per-pose results: memory holds a chunk of poses and the per-voxel arrays. `progress(done,
-/// total)` is called with poses after each chunk.
+/// total)` is called with poses after each chunk. A spec asking for a map clear of contact
+/// needs [`build_clear`].
 pub fn build(
     plan: &Plan,
     kin: &Kinematics,
+    shard: Shard,
+    path: &str,
+    progress: impl FnMut(usize, usize),
+) -> Result<Summary, ReachError> {
+    if plan.spec.collision_margin.is_some() {
+        return Err(ReachError::Input(
+            "a map clear of contact needs the robot's body (its collision geometry)".into(),
+        ));
+    }
+    build_with(plan, kin, &NoBody, None, shard, path, progress)
+}
+
+/// The body a map keeps clear of: the robot (its chain placed in its whole tree `tree`, the
+/// tree's other joints at their neutral values), checked by `model` (its SRDF and obstacles
+/// applied) with the spec's margin.
+#[derive(Debug, Clone, Copy)]
+pub struct Body<'a> {
+    /// The robot whose chain the map is of.
+    pub robot: &'a screwkit_service::load::Robot,
+    /// Its whole tree.
+    pub tree: &'a screwkit_solve::TreeKinematics,
+    /// Its collision model.
+    pub model: &'a screwkit_collision::CollisionModel,
+}
+
+/// [`build`] counting only solutions whose body is clear of contact by the spec's
+/// `collision_margin`: a pose is reached when one of its analytic postures is clear (every
+/// one checked), or numerical IK finds a clear answer (it steers away from contact as
+/// `screwkit ik --avoid-collisions` does). The map's metadata names the body by
+/// [`screwkit_collision::CollisionModel::digest`], so shards of other bodies never merge.
+pub fn build_clear(
+    plan: &Plan,
+    kin: &Kinematics,
+    body: Body<'_>,
+    shard: Shard,
+    path: &str,
+    progress: impl FnMut(usize, usize),
+) -> Result<Summary, ReachError> {
+    let Some(margin) = plan.spec.collision_margin else {
+        return Err(ReachError::Input(
+            "the map's spec does not ask to avoid collisions (collision_margin)".into(),
+        ));
+    };
+    let clearance =
+        screwkit_service::body::chain_clearance(body.robot, body.tree, body.model, margin)
+            .map_err(|e| ReachError::Input(e.to_string()))?;
+    let digest = body.model.digest();
+    build_with(plan, kin, &clearance, Some(&digest), shard, path, progress)
+}
+
+fn build_with<B: Clearance>(
+    plan: &Plan,
+    kin: &Kinematics,
+    body: &B,
+    digest: Option<&str>,
     shard: Shard,
     path: &str,
     mut progress: impl FnMut(usize, usize),
@@ -456,6 +534,7 @@ pub fn build(
         poses: nv * k,
         solved: 0,
         reached: 0,
+        collided: 0,
     };
     let chunk_voxels = (CHUNK_POSES / k).max(1);
     let mut buf = vec![0.0; chunk_voxels * k];
@@ -463,7 +542,7 @@ pub fn build(
     while v < range.end {
         let end = (v + chunk_voxels).min(range.end);
         let w = &mut buf[..(end - v) * k];
-        plan.solve_voxels(kin, v..end, w)?;
+        summary.collided += plan.solve_voxels(kin, body, v..end, w)?;
         for (i, poses) in w.chunks(k).enumerate() {
             let reached = poses.iter().filter(|x| !x.is_nan()).count();
             if plan.in_reach(v + i) {
@@ -478,25 +557,18 @@ pub fn build(
         progress((v - range.start) * k, nv * k);
     }
     let centres: Vec<f64> = range.clone().flat_map(|v| plan.grid.centre(v)).collect();
-    write_tail(&mut out, plan, shard, &centres, &index, &best)?;
+    out.f64_array("centres", &[nv, 3], &centres)?;
+    out.f64_array("index", &[nv], &index)?;
+    out.f64_array("best_manipulability", &[nv], &best)?;
+    write_description(
+        &mut out,
+        plan.meta(shard, digest),
+        &plan.grid,
+        &plan.rotations,
+        shard,
+    )?;
     out.finish()?;
     Ok(summary)
-}
-
-/// The per-voxel and descriptive entries after `pose_manipulability`, in a fixed order.
-fn write_tail(
-    out: &mut NpzWriter,
-    plan: &Plan,
-    shard: Shard,
-    centres: &[f64],
-    index: &[f64],
-    best: &[f64],
-) -> Result<(), ReachError> {
-    let nv = index.len();
-    out.f64_array("centres", &[nv, 3], centres)?;
-    out.f64_array("index", &[nv], index)?;
-    out.f64_array("best_manipulability", &[nv], best)?;
-    write_description(out, plan.meta(shard), &plan.grid, &plan.rotations, shard)
 }
 
 fn write_description(
@@ -665,6 +737,7 @@ pub fn merge(paths: &[String], out: &str) -> Result<Summary, ReachError> {
         poses: nv * k,
         solved: 0,
         reached,
+        collided: 0,
     })
 }
 

@@ -387,6 +387,9 @@ pub struct MapReport {
     /// Shards joined; None for a build.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shards: Option<usize>,
+    /// Poses reached only in contact (a build clear of contact); None otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lost_to_collisions: Option<usize>,
 }
 
 impl MapReport {
@@ -408,7 +411,14 @@ impl MapReport {
             threads: Some(threads),
             solver: Some(solver),
             shards: None,
+            lost_to_collisions: None,
         }
+    }
+
+    /// The report with the poses a build clear of contact reached only in contact.
+    pub fn with_lost_to_collisions(mut self, lost: Option<usize>) -> MapReport {
+        self.lost_to_collisions = lost;
+        self
     }
 
     /// The report of a merge of `shards` files.
@@ -428,6 +438,7 @@ impl MapReport {
             threads: None,
             solver: None,
             shards: Some(shards),
+            lost_to_collisions: None,
         }
     }
 }

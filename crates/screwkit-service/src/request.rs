@@ -104,6 +104,11 @@ pub struct ReachSpec {
     pub restarts: usize,
     /// Numerical IK: iterations per attempt.
     pub iterations: usize,
+    /// Count only solutions whose body keeps every checked pair this far apart (m); None:
+    /// the body is not looked at. Written in the map's metadata only when set, so a map that
+    /// ignores the body has the bytes it had before maps could see one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collision_margin: Option<f64>,
 }
 
 impl Default for ReachSpec {
@@ -119,6 +124,7 @@ impl Default for ReachSpec {
             seed: 0,
             restarts: 5,
             iterations: 100,
+            collision_margin: None,
         }
     }
 }

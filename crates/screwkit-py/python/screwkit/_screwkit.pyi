@@ -825,6 +825,8 @@ def _reach_build(
     iterations: int,
     shard_index: int,
     shard_count: int,
+    collision_margin: float | None = None,
+    obstacles: str | None = None,
 ) -> dict[str, Any]:
     """Builds shard `shard_index` of `shard_count` of a reachability map into the .npz `path`
     (the GIL released); a summary dict. Use `screwkit.reach`."""

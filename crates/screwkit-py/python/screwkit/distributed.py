@@ -10,12 +10,13 @@ Needs Ray: ``pip install "screwkit[ray]"``.
 from __future__ import annotations
 
 import os
+import pickle
 import tempfile
 from typing import Any, Literal
 
 from . import _screwkit
 from ._screwkit import Robot
-from .reach import Bounds, ReachMap, _check, _unsaved, merge
+from .reach import Bounds, ReachMap, _check, _collision_margin, _unsaved, merge
 
 
 def _shard_task(
@@ -48,6 +49,9 @@ def reach(
     address: str | None = None,
     path: str | None = None,
     max_retries: int = 3,
+    avoid_collisions: bool = False,
+    margin: float = 0.0,
+    obstacles: str | os.PathLike[str] | None = None,
 ) -> ReachMap:
     """The reachability map of ``robot`` (a :class:`screwkit.Robot`, or a URDF path with
     ``base``/``tip``) computed as ``shards`` Ray tasks (default: 4 per CPU of the cluster).
@@ -56,12 +60,18 @@ def reach(
     ``None`` starts a local one). Each task is retried up to ``max_retries`` times when its
     worker dies. The other arguments are those of :func:`screwkit.reach`; the result equals its
     map exactly. ``path``: where the merged map is written (default: a temporary file).
+    ``obstacles`` (a scene file) is read here, on the driver: the tasks get the robot with
+    them.
     """
     import ray
 
     _check(resolution, orientations)
-    if isinstance(robot, str):
-        robot = Robot.from_urdf(robot, base, tip)
+    collision_margin = _collision_margin(avoid_collisions, margin, obstacles)
+    arm: Robot = Robot.from_urdf(robot, base, tip) if isinstance(robot, str) else robot
+    if obstacles is not None:
+        # A copy (the caller's robot keeps its body), pickled to the tasks with the obstacles.
+        arm = pickle.loads(pickle.dumps(arm))
+        arm.add_obstacles(os.fspath(obstacles))
     if not ray.is_initialized():
         ray.init(address=address, ignore_reinit_error=True, log_to_driver=False)
     if shards is None:
@@ -76,9 +86,10 @@ def reach(
         seed=seed,
         restarts=restarts,
         iterations=iterations,
+        collision_margin=collision_margin,
     )
     task = ray.remote(max_retries=max_retries, retry_exceptions=False)(_shard_task)
-    robot_ref = ray.put(robot)
+    robot_ref = ray.put(arm)
     refs = [task.remote(robot_ref, spec, i, shards) for i in range(shards)]
     with tempfile.TemporaryDirectory(prefix="screwkit-reach-") as tmp:
         files = []

@@ -121,6 +121,19 @@ def _check(resolution: float, orientations: int) -> None:
         raise ValueError(f"orientations: expected at least 1, got {orientations}")
 
 
+def _collision_margin(
+    avoid_collisions: bool, margin: float, obstacles: str | os.PathLike[str] | None
+) -> float | None:
+    """The spec's collision margin (None: the body is not looked at)."""
+    if not avoid_collisions:
+        if margin != 0.0:
+            raise ValueError("margin applies with avoid_collisions=True")
+        if obstacles is not None:
+            raise ValueError("obstacles apply with avoid_collisions=True")
+        return None
+    return float(margin)
+
+
 def reach(
     robot: Robot,
     resolution: float = 0.05,
@@ -134,6 +147,9 @@ def reach(
     iterations: int = 100,
     path: str | None = None,
     shard: tuple[int, int] | None = None,
+    avoid_collisions: bool = False,
+    margin: float = 0.0,
+    obstacles: str | os.PathLike[str] | None = None,
 ) -> ReachMap:
     """The reachability map of ``robot`` on this machine.
 
@@ -143,11 +159,16 @@ def reach(
     ``solver``: ``"auto"``, ``"analytic"`` or ``"numerical"`` (``restarts`` and ``iterations``
     apply to it). ``path``: where the ``.npz`` is written (default: a temporary file, removed
     after reading). ``shard``: (i, N) computes the i-th of N parts (see
-    :func:`merge`). Deterministic: the same arguments give the same arrays whatever the
-    thread count. Raises ``ValueError`` for bad arguments, ``OSError`` when the file cannot be
-    written.
+    :func:`merge`). ``avoid_collisions``: count only solutions whose body keeps every
+    checked pair (the chain against itself, the rest of the robot at its neutral pose, the
+    robot's obstacles and those of the scene file ``obstacles``) ``margin`` metres apart; every
+    analytic posture is checked, numerical IK steers away from contact (as
+    :meth:`Robot.ik` with ``avoid_collisions=True``). Deterministic: the same arguments give
+    the same arrays whatever the thread count. Raises ``ValueError`` for bad arguments,
+    ``OSError`` when the file cannot be written.
     """
     _check(resolution, orientations)
+    collision_margin = _collision_margin(avoid_collisions, margin, obstacles)
     index, count = shard if shard is not None else (0, 1)
     keep = path is not None
     target = path if path is not None else _temp_path()
@@ -165,6 +186,8 @@ def reach(
             iterations=iterations,
             shard_index=index,
             shard_count=count,
+            collision_margin=collision_margin,
+            obstacles=None if obstacles is None else os.fspath(obstacles),
         )
         m = ReachMap.load(target)
         return m if keep else _unsaved(m)
