@@ -13,7 +13,6 @@
 //!
 //! Run: `cargo bench -p screwkit-collision --bench body`.
 
-use std::path::PathBuf;
 use std::time::Instant;
 
 use screwkit_collision::{
@@ -26,22 +25,8 @@ use screwkit_solve::ik::{self, Clearance, IkOptions};
 use screwkit_solve::TreeKinematics;
 use screwkit_solve::{Kinematics, Workspace};
 
-fn share() -> Option<PathBuf> {
-    if let Some(s) = std::env::var_os("SCREWKIT_ERD_SHARE") {
-        return Some(PathBuf::from(s));
-    }
-    let venv = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/xtask-venv/lib");
-    std::fs::read_dir(venv)
-        .ok()?
-        .filter_map(|e| e.ok())
-        .find_map(|e| {
-            let p = e.path().join("site-packages/cmeel.prefix/share");
-            p.join("example-robot-data").is_dir().then_some(p)
-        })
-}
-
 fn main() {
-    let Some(share) = share() else {
+    let Some(share) = screwkit_testkit::example_robot_data() else {
         eprintln!(
             "skipped: no example-robot-data (set SCREWKIT_ERD_SHARE, or run cargo xtask test)"
         );

@@ -138,6 +138,7 @@ impl Clearance for ChainClearance<'_> {
             self.kin,
             tq,
             self.margin + within,
+            f64::INFINITY,
             None,
             found,
             Some(tree_rows),

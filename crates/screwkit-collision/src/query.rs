@@ -32,6 +32,8 @@ pub struct CollisionWorkspace {
     /// Each link's space Jacobian (6 × nv, column-major) at the last q, and whether it is.
     jacobians: Vec<f64>,
     jacobian_done: Vec<bool>,
+    /// A contact patch's vertices near the plane (gap, local vertex index).
+    near: Vec<(f64, u32)>,
 }
 
 impl CollisionWorkspace {
@@ -45,6 +47,7 @@ impl CollisionWorkspace {
             order: Vec::with_capacity(model.pairs.len()),
             jacobians: Vec::new(),
             jacobian_done: Vec::new(),
+            near: Vec::new(),
         }
     }
 }
@@ -368,7 +371,7 @@ const PATCH_VERTICES: usize = 8;
 /// the same normal (at most [`PATCH_VERTICES`], the closest first).
 fn contact_patch(
     model: &CollisionModel,
-    ws: &CollisionWorkspace,
+    ws: &mut CollisionWorkspace,
     a: usize,
     b: usize,
     d: &PairDistance,
@@ -385,18 +388,33 @@ fn contact_patch(
             continue;
         };
         let vertices = hull.points();
-        let (w, p) = (&ws.world[h], nalgebra::Vector3::from(plane));
+        let w = &ws.world[h];
         let witness = nalgebra::Vector3::from(witness);
-        // Side 0 (the hull is a): gap n·(p − v); side 1 (the hull is b): n·(v − p).
+        // Side 0 (the hull is a): gap n·(p − v); side 1 (the hull is b): n·(v − p), v = R x + t
+        // for the hull's local vertex x: gap = s (n·(p − t) − (Rᵀn)·x), s = ±1, measured in
+        // the hull's frame (one dot product a vertex; only the patch's vertices are placed).
         let sign = if side == 0 { 1.0 } else { -1.0 };
-        let mut near: Vec<(f64, nalgebra::Vector3<f64>)> = vertices
-            .iter()
-            .map(|v| w.rotation() * nalgebra::Vector3::new(v.x, v.y, v.z) + w.translation())
-            .map(|v| (sign * n.dot(&(p - v)), v))
-            .filter(|(g, v)| *g <= d.distance + PATCH && (v - witness).norm() > 1e-9)
-            .collect();
-        near.sort_by(|x, y| x.0.total_cmp(&y.0));
-        for (gap, v) in near.into_iter().take(PATCH_VERTICES) {
+        let offset = n.dot(&(nalgebra::Vector3::from(plane) - w.translation()));
+        let local = w.rotation().transpose() * n;
+        ws.near.clear();
+        for (k, x) in vertices.iter().enumerate() {
+            let gap = sign * (offset - (local.x * x.x + local.y * x.y + local.z * x.z));
+            if gap <= d.distance + PATCH {
+                ws.near.push((gap, k as u32));
+            }
+        }
+        ws.near
+            .sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        let mut added = 0;
+        for &(gap, k) in &ws.near {
+            if added == PATCH_VERTICES {
+                break;
+            }
+            let x = vertices[k as usize];
+            let v = w.rotation() * nalgebra::Vector3::new(x.x, x.y, x.z) + w.translation();
+            if (v - witness).norm() <= 1e-9 {
+                continue;
+            }
             let foot = v + sign * gap * n;
             let (pa, pb) = if side == 0 { (v, foot) } else { (foot, v) };
             out.push(PairDistance {
@@ -406,6 +424,7 @@ fn contact_patch(
                 point_b: pb.into(),
                 normal: d.normal,
             });
+            added += 1;
         }
     }
 }
@@ -705,7 +724,10 @@ fn pair_rows(
 /// [`distance_jacobians`]): what a
 /// step that keeps clear of contact constrains (mink's detection distance). Only the pairs
 /// `selected` (a flag per model pair; None: all) whose bounding boxes are within `within` are
-/// measured; a pair the engine cannot measure is left out.
+/// measured; a pair the engine cannot measure is left out. With `rows`, a pair with a convex
+/// hull closer than `patch_within` also gives its contact patch: an entry (and row) for each
+/// other hull vertex within 1 mm of the separating plane, so that a hull lying flat on a
+/// shape is held at its face's corners, not at GJK's witness alone.
 #[allow(clippy::too_many_arguments)]
 pub fn close_pairs(
     model: &CollisionModel,
@@ -713,6 +735,7 @@ pub fn close_pairs(
     kin: &TreeKinematics,
     q: &[f64],
     within: f64,
+    patch_within: f64,
     selected: Option<&[bool]>,
     out: &mut Vec<PairDistance>,
     rows: Option<&mut Vec<f64>>,
@@ -752,7 +775,7 @@ pub fn close_pairs(
                 Ok(Convex::Apart(d)) => {
                     if d.distance <= within {
                         out.push(d);
-                        if rows.is_some() {
+                        if rows.is_some() && d.distance <= patch_within {
                             contact_patch(model, ws, a, b, &d, out);
                         }
                     }
@@ -766,6 +789,7 @@ pub fn close_pairs(
             out.push(d);
             if rows.is_some()
                 && d.distance > 0.0
+                && d.distance <= patch_within
                 && model.objects[a].tree.is_none()
                 && model.objects[b].tree.is_none()
             {

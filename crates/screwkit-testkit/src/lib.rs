@@ -79,6 +79,23 @@ impl Sampler {
     }
 }
 
+/// The `cmeel.prefix/share` folder holding example-robot-data's robots (TALOS, the Panda, the
+/// UR5 with meshes and SRDFs), for benches: `SCREWKIT_ERD_SHARE`, else the one the venv of
+/// `cargo xtask test` has; None when neither exists.
+pub fn example_robot_data() -> Option<std::path::PathBuf> {
+    if let Some(s) = std::env::var_os("SCREWKIT_ERD_SHARE") {
+        return Some(s.into());
+    }
+    let venv = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/xtask-venv/lib");
+    std::fs::read_dir(venv)
+        .ok()?
+        .filter_map(|e| e.ok())
+        .find_map(|e| {
+            let p = e.path().join("site-packages/cmeel.prefix/share");
+            p.join("example-robot-data").is_dir().then_some(p)
+        })
+}
+
 /// A bundled robot with every `<origin xyz>` multiplied by `s` (a robot s times the size):
 /// for the scale-free IK test and benchmark.
 pub fn scaled_chain(file: &str, s: f64) -> Chain {

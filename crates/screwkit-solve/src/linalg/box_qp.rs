@@ -36,6 +36,7 @@
 //! distance's gradient times v above a bound) needs a
 //! general QP; it would enter here as a new constraint kind beside the box.
 
+use super::dot;
 use crate::error::SolveError;
 
 /// Which bound a variable is held at.
@@ -298,28 +299,6 @@ pub(crate) fn check_bounds(l: &[f64], u: &[f64]) -> Result<(), SolveError> {
 fn gradient(h: &[f64], c: &[f64], x: &[f64], i: usize) -> f64 {
     let n = c.len();
     c[i] + dot(&h[i * n..i * n + n], x)
-}
-
-/// aᵀb over the shorter length, four partial sums (a dependency chain four times shorter
-/// than the sequential sum's, which bounds these small kernels).
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let k = a.len().min(b.len());
-    let (a, b) = (&a[..k], &b[..k]);
-    let (mut ca, mut cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let mut s = [0.0; 4];
-    for (x, y) in (&mut ca).zip(&mut cb) {
-        for j in 0..4 {
-            s[j] += x[j] * y[j];
-        }
-    }
-    let tail: f64 = ca
-        .remainder()
-        .iter()
-        .zip(cb.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    (s[0] + s[1]) + (s[2] + s[3]) + tail
 }
 
 /// The factor from scratch: `order` = the free variables, L Lᵀ = H_FF row by row.
