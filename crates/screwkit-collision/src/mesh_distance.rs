@@ -122,6 +122,11 @@ impl BoxTree {
     }
 }
 
+/// The convex hull of the mesh's vertices (None when flat or too few).
+pub(crate) fn hull(tree: &BoxTree) -> Option<&crate::hull::Hull> {
+    tree.hull.as_ref()
+}
+
 /// The closest points of a mesh and another shape through their convex hulls: the hulls'
 /// closest points (GJK on polytopes), each moved onto its own surface (the nearest point of
 /// the mesh, of the box, of the swept segment). Both surface points are a pair of the two

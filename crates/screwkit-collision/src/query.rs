@@ -784,6 +784,10 @@ pub fn close_pairs(
                 _ => {}
             }
         }
+        // An exact mesh whose hull is already farther than `within`: no triangles.
+        if hulls_apart(model, ws, a, b, within) {
+            continue;
+        }
         let d = pair_distance(model, ws, k);
         if d.distance <= within && d.normal.iter().all(|v| v.is_finite()) {
             out.push(d);
@@ -843,6 +847,9 @@ pub fn clear(
         if gap > margin || (gap == margin && margin > 0.0) {
             continue;
         }
+        if hulls_apart(model, ws, a, b, margin) {
+            continue;
+        }
         if (gap == 0.0 && ws.boxes[a].intersects(&ws.boxes[b]) && intersects(model, ws, a, b))
             || (margin > 0.0 && {
                 // NaN (not measured) counts as too close.
@@ -854,6 +861,43 @@ pub fn clear(
         }
     }
     Ok(true)
+}
+
+/// True when a pair with an exact mesh is at least `margin` apart (and apart) by the convex
+/// hulls standing in for its meshes: a mesh lies in its hull, so the hulls' distance bounds the
+/// shapes' from below, and one GJK run on the hulls (stopped once they are proven farther than
+/// the margin) spares the triangle trees (measured: a collision-free reach map of the UR5 on
+/// exact meshes, BENCHMARKS.md). False when it cannot tell: the exact test decides.
+fn hulls_apart(
+    model: &CollisionModel,
+    ws: &CollisionWorkspace,
+    a: usize,
+    b: usize,
+    margin: f64,
+) -> bool {
+    let (oa, ob) = (&model.objects[a], &model.objects[b]);
+    if oa.tree.is_none() && ob.tree.is_none() {
+        return false;
+    }
+    fn convex(o: &crate::model::Object) -> Option<&dyn Shape> {
+        match o.tree.as_deref() {
+            Some(t) => crate::mesh_distance::hull(t).map(|h| h as &dyn Shape),
+            None => (o.shape.as_trimesh().is_none() && o.shape.as_support_map().is_some())
+                .then_some(&*o.shape.0),
+        }
+    }
+    let (Some(sa), Some(sb)) = (convex(oa), convex(ob)) else {
+        return false;
+    };
+    let (pa, pb) = (&ws.poses[a], &ws.poses[b]);
+    match screwkit_model::mesh::contained(|| query::closest_points(pa, sa, pb, sb, margin)) {
+        Ok(Ok(query::ClosestPoints::Disjoint)) => true,
+        Ok(Ok(query::ClosestPoints::WithinMargin(p, r))) => {
+            let d = (r - p).length();
+            d > 0.0 && d >= margin
+        }
+        _ => false,
+    }
 }
 
 /// [`distance_jacobians`] of each row of `qs` (N × nq) into `out` (N lists of distances, N
