@@ -28,11 +28,26 @@ fn chromium(dir: &Path, args: &[&str]) -> Output {
             "--disable-component-update",
             "--disable-sync",
             "--hide-scrollbars",
+            // WebGL without a GPU: SwiftShader, Chromium's software renderer.
+            "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader",
+            "--enable-logging=stderr",
         ])
         .arg(format!("--user-data-dir={}", profile.display()))
         .args(args)
         .output()
         .unwrap_or_else(|e| panic!("cannot run {exe} (install Debian's chromium): {e}"))
+}
+
+/// The page's own errors in Chromium's log (its console): an exception the page threw, or a
+/// console error it wrote; none expected.
+fn page_errors(out: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&out.stderr)
+        .lines()
+        .filter(|l| l.contains("CONSOLE") && !l.contains("GL Driver Message"))
+        .filter(|l| l.contains("Uncaught") || l.contains("Error") || l.contains(":ERROR:"))
+        .map(str::to_string)
+        .collect()
 }
 
 fn screwkit(args: &[&str]) -> Output {
@@ -105,8 +120,17 @@ fn the_page_computes_the_same_fk_as_the_library() {
             let list: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
             let url = format!("file://{}#q={}", page.display(), list.join(","));
             let out = chromium(&dir, &["--dump-dom", &url]);
+            assert!(
+                page_errors(&out).is_empty(),
+                "{file}: {:?}",
+                page_errors(&out)
+            );
             let dom = String::from_utf8_lossy(&out.stdout);
             assert_eq!(pre_numbers(&dom, "q-exact"), q, "{file}: the page read q");
+            assert!(
+                !dom.contains("class=\"no-webgl\""),
+                "{file}: the page found no WebGL"
+            );
             let page_fk = pre_numbers(&dom, "fk-exact");
             let q_arg = list.join(",");
             let mut fk: Vec<&str> = vec!["fk"];
@@ -193,6 +217,11 @@ fn the_tree_page_computes_the_same_fk_as_the_library() {
             let list: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
             let url = format!("file://{}#q={}", page.display(), list.join(","));
             let out = chromium(&dir, &["--dump-dom", &url]);
+            assert!(
+                page_errors(&out).is_empty(),
+                "{file}: {:?}",
+                page_errors(&out)
+            );
             let dom = String::from_utf8_lossy(&out.stdout);
             assert_eq!(pre_numbers(&dom, "q-exact"), q, "{file}: the page read q");
             let page_fk = pre_numbers(&dom, "fk-exact");
@@ -273,7 +302,7 @@ fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
     ] {
         let shot = dir.join("shot.png");
         let _ = std::fs::remove_file(&shot);
-        chromium(
+        let out = chromium(
             &dir,
             &[
                 &format!("--screenshot={}", shot.display()),
@@ -281,6 +310,7 @@ fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
                 &format!("file://{}", file.display()),
             ],
         );
+        assert!(page_errors(&out).is_empty(), "{:?}", page_errors(&out));
         let dark = dark_pixels(&shot, max_x, min_y);
         // The UR5's links alone are several thousand dark pixels; an empty page has none.
         assert!(dark > 2000, "{}: only {dark} dark pixels", file.display());

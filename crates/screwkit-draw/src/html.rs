@@ -1,12 +1,14 @@
 //! The interactive page: one self-contained HTML file (no network, no CDN) with the chain or
-//! the whole tree embedded as JSON and a small canvas renderer (`viewer/viewer.js`,
+//! the whole tree embedded as JSON, the robot's body (its shapes, meshes embedded once each as
+//! base64 float32 vertices and uint32 triangles) and a three.js renderer (WebGL; the subset of
+//! three.js the page uses, bundled by `viewer/three/build.sh` from the npm registry and
+//! inlined with its MIT licence), and the page's own code (`viewer/viewer.js`,
 //! `viewer/viewer.css`, compiled in). The page computes FK itself from the embedded screws —
-//! the product of exponentials in JavaScript — and writes the drawn frames' poses (a chain's
-//! tip; a tree's leaves) at full precision into `<pre id="fk-exact">`, which the browser tests
-//! compare with the library's FK.
-//!
-//! A hand-written renderer rather than three.js: the picture is a few hundred line segments,
-//! and 300 lines of plain JavaScript keep the file small (≈ 20 kB), offline and readable.
+//! the product of exponentials in JavaScript — places each link's shapes at its pose, and
+//! writes the drawn frames' poses (a chain's tip; a tree's leaves) at full precision into
+//! `<pre id="fk-exact">`, which the browser tests compare with the library's FK. The visual
+//! shapes are drawn by default, the collision shapes as a toggle, the skeleton, screw axes and
+//! frames as overlays.
 
 use screwkit_model::{Chain, JointKind};
 use screwkit_solve::{Kinematics, SolveError, TreeKinematics};
@@ -16,6 +18,9 @@ use crate::svg::escape;
 
 const CSS: &str = include_str!("viewer/viewer.css");
 const JS: &str = include_str!("viewer/viewer.js");
+/// three.js, bundled (`viewer/three/build.sh`), and its licence.
+const THREE: &str = include_str!("viewer/three/three.min.js");
+const THREE_LICENSE: &str = include_str!("viewer/three/LICENSE");
 
 fn row_major(t: &screwkit_lie::Se3) -> Vec<f64> {
     let mut out = vec![0.0; 16];
@@ -212,15 +217,154 @@ pub fn tree_json(kin: &TreeKinematics, q: &[f64]) -> Value {
     })
 }
 
+/// The most triangles of all the embedded meshes together: past it, the largest meshes are
+/// drawn as their bounding boxes (the page says which), so that a page stays a few MB.
+pub const MAX_TRIANGLES: usize = 1_500_000;
+
+/// Standard base64 (RFC 4648, with padding).
+fn base64(bytes: &[u8]) -> String {
+    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let n = (u32::from(c[0]) << 16)
+            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
+            | u32::from(*c.get(2).unwrap_or(&0));
+        for k in 0..4 {
+            if k <= c.len() {
+                out.push(ABC[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// The body the page draws for the links named `links` (index = the page's link index): every
+/// visual and collision shape of those links in `tree` (`role` tells which; the page shows
+/// the visual ones, or the collision ones of a link without visuals, and the rest on a
+/// toggle), each with its link, origin, colour and dimensions; meshes read once per file and
+/// scale, embedded as base64 little-endian float32 vertices (x, y, z) and uint32 triangles.
+/// A mesh that cannot be read is listed in `problems` (one sentence naming the link and file)
+/// and drawn as nothing: a picture never fails on the body.
+pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
+    use screwkit_model::geometry::{Role, Shape};
+    let index: std::collections::HashMap<&str, usize> = links
+        .iter()
+        .enumerate()
+        .map(|(k, n)| (n.as_str(), k))
+        .collect();
+    let mut meshes: Vec<Value> = Vec::new();
+    let mut read: std::collections::HashMap<(std::path::PathBuf, [u64; 3]), Option<usize>> =
+        std::collections::HashMap::new();
+    let mut problems: Vec<String> = tree.geometry_problems.clone();
+    let mut triangles = 0usize;
+    let mut shapes = Vec::new();
+    for g in &tree.geometries {
+        let Some(&link) = tree.links.get(g.link).and_then(|n| index.get(n.as_str())) else {
+            continue;
+        };
+        let mut shape = json!({
+            "link": link,
+            "role": match g.role { Role::Visual => "visual", Role::Collision => "collision" },
+            "origin": row_major(&g.origin),
+            "rgba": g.rgba,
+            "kind": g.shape.word(),
+        });
+        let o = shape.as_object_mut().expect("an object");
+        match &g.shape {
+            Shape::Box { size } => {
+                o.insert("size".into(), json!(size));
+            }
+            Shape::Cylinder { radius, length } | Shape::Capsule { radius, length } => {
+                o.insert("radius".into(), json!(radius));
+                o.insert("length".into(), json!(length));
+            }
+            Shape::Sphere { radius } => {
+                o.insert("radius".into(), json!(radius));
+            }
+            Shape::Ellipsoid { radii } => {
+                o.insert("radii".into(), json!(radii));
+            }
+            Shape::Plane { size } => {
+                o.insert("size".into(), json!(size));
+            }
+            Shape::Mesh { path, scale, .. } => {
+                let key = (path.clone(), scale.map(f64::to_bits));
+                let m = *read.entry(key).or_insert_with(|| {
+                    match screwkit_model::mesh::read_mesh(path, *scale) {
+                        Ok(mesh) if triangles + mesh.triangles.len() <= MAX_TRIANGLES => {
+                            triangles += mesh.triangles.len();
+                            let v: Vec<u8> = mesh
+                                .vertices
+                                .iter()
+                                .flatten()
+                                .flat_map(|x| (*x as f32).to_le_bytes())
+                                .collect();
+                            let t: Vec<u8> = mesh
+                                .triangles
+                                .iter()
+                                .flatten()
+                                .flat_map(|i| i.to_le_bytes())
+                                .collect();
+                            meshes.push(json!({
+                                "positions": base64(&v),
+                                "indices": base64(&t),
+                                "triangles": mesh.triangles.len(),
+                            }));
+                            Some(meshes.len() - 1)
+                        }
+                        Ok(mesh) => {
+                            problems.push(format!(
+                                "{}: {} triangles would take the page past {MAX_TRIANGLES}: not drawn",
+                                path.display(),
+                                mesh.triangles.len()
+                            ));
+                            None
+                        }
+                        Err(e) => {
+                            problems.push(format!("link \"{}\": {e}", tree.links[g.link]));
+                            None
+                        }
+                    }
+                });
+                match m {
+                    Some(m) => {
+                        o.insert("mesh".into(), json!(m));
+                    }
+                    None => continue,
+                }
+            }
+        }
+        shapes.push(shape);
+    }
+    json!({"shapes": shapes, "meshes": meshes, "problems": problems})
+}
+
 /// The page of `chain` at `q` (default: each joint at 0, or at the limit nearest 0 when 0 is
-/// outside its limits — the Panda's joint 4 is). Checks q.
+/// outside its limits — the Panda's joint 4 is). Checks q. Without a body: the skeleton.
 pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
+    page_with_body(chain, kin, q, None)
+}
+
+/// [`page`] drawing the body `tree` gives the chain's links (its shapes, [`body_json`]).
+pub fn page_with_body(
+    chain: &Chain,
+    kin: &Kinematics,
+    q: Option<&[f64]>,
+    tree: Option<&screwkit_model::Tree>,
+) -> Result<String, SolveError> {
     let zeros: Vec<f64> = (0..kin.dof())
         .map(|k| 0f64.clamp(kin.lower()[k], kin.upper()[k]))
         .collect();
     let q = q.unwrap_or(&zeros);
     kin.check_q(q)?;
-    Ok(document(&chain.robot, &model_json(chain, kin, q)))
+    let mut model = model_json(chain, kin, q);
+    if let Some(tree) = tree {
+        let names: Vec<String> = kin.links().iter().map(|l| l.name.clone()).collect();
+        model["body"] = body_json(tree, &names);
+    }
+    Ok(document(&chain.robot, &model))
 }
 
 /// The page of the whole tree at `q` (its configuration, `q_names`; default: the neutral
@@ -235,7 +379,10 @@ pub fn tree_page(kin: &TreeKinematics, q: Option<&[f64]>) -> Result<String, Solv
         .collect();
     let q = q.unwrap_or(&start);
     kin.check_q(q)?;
-    Ok(document(&kin.model().robot, &tree_json(kin, q)))
+    let mut model = tree_json(kin, q);
+    let names: Vec<String> = kin.model().links.iter().map(|l| l.name.clone()).collect();
+    model["body"] = body_json(&kin.model().tree, &names);
+    Ok(document(&kin.model().robot, &model))
 }
 
 /// The HTML document around the embedded model.
@@ -258,6 +405,7 @@ fn document(robot: &str, model: &Value) -> String {
 <h1 id="title"></h1>
 <div class="sub" id="chain"></div>
 <div id="error"></div>
+<div id="show"><label><input type="checkbox" id="show-visual" checked> body</label> <label><input type="checkbox" id="show-collision"> collision shapes</label> <label><input type="checkbox" id="show-skeleton"> skeleton</label> <label><input type="checkbox" id="show-axes"> screw axes</label> <label><input type="checkbox" id="show-frames" checked> frames</label></div>
 <h2>joints</h2>
 <div id="sliders"></div>
 <h2 id="pose-title">tip pose T(q)</h2>
@@ -272,6 +420,11 @@ fn document(robot: &str, model: &Value) -> String {
 <div class="sub">screwkit: T(q) = e<sup>[S1]θ1</sup> ⋯ e<sup>[Sn]θn</sup> M, twists (ω, v), metres, radians.</div>
 </div>
 <script type="application/json" id="model">{json}</script>
+<script>
+/* three.js (https://threejs.org), the classes this page uses, bundled by esbuild.
+{THREE_LICENSE}*/
+{THREE}
+</script>
 <script>
 {JS}</script>
 </body>

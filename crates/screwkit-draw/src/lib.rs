@@ -64,6 +64,8 @@ pub fn picture(
         (Space::Chain(kin), Picture::Svg(views)) => {
             svg::render(&Scene::new(robot.chain()?, kin, q)?, views)
         }
-        (Space::Chain(kin), Picture::Page) => html::page(robot.chain()?, kin, q)?,
+        (Space::Chain(kin), Picture::Page) => {
+            html::page_with_body(robot.chain()?, kin, q, Some(robot.tree()))?
+        }
     })
 }

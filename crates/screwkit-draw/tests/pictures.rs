@@ -184,10 +184,22 @@ fn the_page_embeds_the_chain_and_runs_offline() {
         let (chain, kin) = load(file, base, tip);
         let page = html::page(&chain, &kin, None).unwrap();
         assert!(page.starts_with("<!DOCTYPE html>"));
+        // Nothing fetched: no address but the XHTML namespace three.js creates its canvas in
+        // (and three.js's home in its licence comment).
+        let addresses = page
+            .replace("http://www.w3.org/1999/xhtml", "")
+            .replace("https://threejs.org", "");
         assert!(
-            !page.contains("http://") && !page.contains("https://"),
+            !addresses.contains("http://") && !addresses.contains("https://"),
             "{file}: a URL"
         );
+        assert!(
+            !page.contains(" src=\"") && !page.contains("fetch("),
+            "{file}: a load"
+        );
+        // three.js and its licence are inlined.
+        assert!(page.contains("Copyright © 2010-2026 three.js authors"));
+        assert!(page.contains("WebGLRenderer"));
         let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
         let end = start + page[start..].find("</script>").unwrap();
         let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
@@ -416,4 +428,122 @@ fn a_whole_tree_draws_every_branch_and_names_its_leaves() {
         assert_eq!(json["q"].as_array().unwrap().len(), kin.nq());
         assert!(html::tree_page(&kin, Some(&[0.0; 3])).is_err());
     }
+}
+
+/// The page's body: every visual and collision shape of the drawn links with its link,
+/// origin, dimensions and colour; a mesh embedded once however many shapes use it, its
+/// vertices (float32) and triangles (uint32) decoding to the file's; a mesh that cannot be
+/// read named in `problems`, the page made all the same.
+#[test]
+fn the_page_embeds_the_body() {
+    let dir = std::env::temp_dir().join(format!("screwkit-draw-body-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("tet.stl"),
+        "solid t\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 1 0 0\n vertex 0 1 0\n endloop\n endfacet\n facet normal 0 0 1\n outer loop\n vertex 0 0 0\n vertex 0 1 0\n vertex 0 0 1\n endloop\n endfacet\nendsolid t\n",
+    )
+    .unwrap();
+    let urdf = r#"<robot name="r">
+      <material name="red"><color rgba="1 0 0 1"/></material>
+      <link name="a"><visual><origin xyz="0 0 0.1"/><geometry><box size="0.1 0.2 0.3"/></geometry><material name="red"/></visual>
+        <collision><geometry><cylinder radius="0.05" length="0.2"/></geometry></collision></link>
+      <link name="b"><visual><geometry><mesh filename="tet.stl" scale="2 2 2"/></geometry></visual>
+        <collision><geometry><mesh filename="tet.stl" scale="2 2 2"/></geometry></collision>
+        <visual><geometry><mesh filename="missing.stl"/></geometry></visual></link>
+      <joint name="j" type="revolute"><parent link="a"/><child link="b"/><origin xyz="0 0 0.5"/>
+        <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </robot>"#;
+    let path = dir.join("r.urdf");
+    std::fs::write(&path, urdf).unwrap();
+    let tree = screwkit_model::load_tree(&path, &Default::default()).unwrap();
+    let chain = screwkit_model::load_chain(&path, None, None).unwrap();
+    let kin = screwkit_solve::Kinematics::new(&chain);
+    let page = html::page_with_body(&chain, &kin, None, Some(&tree)).unwrap();
+    let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
+    let end = start + page[start..].find("</script>").unwrap();
+    let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
+    let body = &model["body"];
+    let shapes = body["shapes"].as_array().unwrap();
+    let link = |name: &str| {
+        model["links"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .position(|l| l["name"] == name)
+            .unwrap()
+    };
+    let kinds: Vec<(&str, &str, usize)> = shapes
+        .iter()
+        .map(|s| {
+            (
+                s["kind"].as_str().unwrap(),
+                s["role"].as_str().unwrap(),
+                s["link"].as_u64().unwrap() as usize,
+            )
+        })
+        .collect();
+    let mut sorted = kinds.clone();
+    sorted.sort();
+    assert_eq!(
+        sorted,
+        [
+            ("box", "visual", link("a")),
+            ("cylinder", "collision", link("a")),
+            ("mesh", "collision", link("b")),
+            ("mesh", "visual", link("b")),
+        ]
+    );
+    let of = |kind: &str, role: &str| {
+        &shapes[kinds
+            .iter()
+            .position(|k| k.0 == kind && k.1 == role)
+            .unwrap()]
+    };
+    let bx = of("box", "visual");
+    assert_eq!(bx["size"], serde_json::json!([0.1, 0.2, 0.3]));
+    assert_eq!(bx["rgba"], serde_json::json!([1.0, 0.0, 0.0, 1.0]));
+    assert_eq!(bx["origin"][11], 0.1);
+    assert_eq!(of("cylinder", "collision")["radius"], 0.05);
+    // One mesh for both shapes of the same file and scale.
+    assert_eq!(of("mesh", "visual")["mesh"], 0);
+    assert_eq!(of("mesh", "collision")["mesh"], 0);
+    let meshes = body["meshes"].as_array().unwrap();
+    assert_eq!(meshes.len(), 1);
+    let decode = |b64: &str| -> Vec<u8> {
+        let abc = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let mut bits = 0u32;
+        let mut n = 0;
+        let mut out = Vec::new();
+        for c in b64.chars().filter(|&c| c != '=') {
+            bits = bits << 6 | abc.find(c).unwrap() as u32;
+            n += 6;
+            if n >= 8 {
+                n -= 8;
+                out.push((bits >> n) as u8);
+            }
+        }
+        out
+    };
+    let v: Vec<f32> = decode(meshes[0]["positions"].as_str().unwrap())
+        .chunks(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let t: Vec<u32> = decode(meshes[0]["indices"].as_str().unwrap())
+        .chunks(4)
+        .map(|b| u32::from_le_bytes(b.try_into().unwrap()))
+        .collect();
+    let file = screwkit_model::mesh::read_mesh(&dir.join("tet.stl"), [2.0; 3]).unwrap();
+    let want_v: Vec<f32> = file.vertices.iter().flatten().map(|x| *x as f32).collect();
+    let want_t: Vec<u32> = file.triangles.iter().flatten().copied().collect();
+    assert!(want_v.contains(&2.0), "scaled");
+    assert_eq!((v, t), (want_v, want_t));
+    assert_eq!(meshes[0]["triangles"], 2);
+    let problems = body["problems"].as_array().unwrap();
+    assert!(
+        problems
+            .iter()
+            .any(|p| p.as_str().unwrap().contains("missing.stl")),
+        "{problems:?}"
+    );
+    let _ = std::fs::remove_dir_all(dir);
 }

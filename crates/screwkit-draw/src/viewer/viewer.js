@@ -1,6 +1,8 @@
 // screwkit viewer: a chain or a whole tree embedded as JSON (screw axes S at home, each
 // joint's parent, link and frame home poses M, limits, mimic rule) and its forward kinematics
-// T(q) = Π_{path} e^[S_j]θ_j M, θ = m q + o, drawn on a canvas. Poses are row-major 4 × 4 arrays; twists (ω, v). No network, no library.
+// T(q) = Π_{path} e^[S_j]θ_j M, θ = m q + o; each link's shapes (the embedded body) drawn at
+// its pose by three.js (inlined before this script), the skeleton, screw axes and frames as
+// overlays. Poses are row-major 4 × 4 arrays; twists (ω, v). No network.
 "use strict";
 (function () {
   const model = JSON.parse(document.getElementById("model").textContent);
@@ -138,54 +140,214 @@
   const fmt = (x) => (Math.abs(x) < 5e-7 ? 0 : x).toFixed(6);
   const fmt4 = (x) => (Math.abs(x) < 5e-5 ? 0 : x).toFixed(4);
 
-  // ---- Drawing.
+  // ---- Drawing, with three.js (WebGL). Without WebGL the tables still follow the sliders.
   const canvas = document.getElementById("view");
-  const ctx = canvas.getContext("2d");
-  let az = Math.PI / 4, el = Math.atan(1 / Math.SQRT2), zoom = 1;
   let state = fk(q);
   const home = fk(model.variables.map(() => 0));
   const pts = home.links.map((T) => [T[3], T[7], T[11]]);
   const lo = [0, 1, 2].map((k) => Math.min(...pts.map((p) => p[k])));
   const hi = [0, 1, 2].map((k) => Math.max(...pts.map((p) => p[k])));
   const centre = lo.map((x, k) => (x + hi[k]) / 2);
-  const size = Math.max(Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]), 1e-3);
-  function project(p) {
-    const x = p[0] - centre[0], y = p[1] - centre[1], z = p[2] - centre[2];
-    const ca = Math.cos(az), sa = Math.sin(az), ce = Math.cos(el), se = Math.sin(el);
-    const right = -sa * x + ca * y;
-    const depth = ca * x + sa * y;
-    const up = z * ce - depth * se;
-    const w = canvas.width, h = canvas.height;
-    const scale = (0.8 * Math.min(w, h) / size) * zoom;
-    return [w / 2 + right * scale, h / 2 - up * scale];
+  const size = Math.max(Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]), 0.3);
+  const body = model.body || { shapes: [], meshes: [], problems: [] };
+  if (body.problems.length) {
+    const more = body.problems.length - 1;
+    error.textContent = "body: " + body.problems[0] + (more ? ` (and ${more} more)` : "");
+    error.title = body.problems.join("\n");
   }
-  function seg(a, b, colour, width, dash) {
-    const p = project(a), r = project(b);
-    ctx.strokeStyle = colour;
-    ctx.lineWidth = width;
-    ctx.setLineDash(dash || []);
-    ctx.beginPath();
-    ctx.moveTo(p[0], p[1]);
-    ctx.lineTo(r[0], r[1]);
-    ctx.stroke();
+  let az = Math.PI / 4, el = Math.atan(1 / Math.SQRT2), zoom = 1;
+  let three = null;
+  try {
+    three = makeScene();
+  } catch (e) {
+    error.textContent = "no WebGL in this browser (" + e.message + "): the 3D view is off, the tables follow the sliders";
+    error.className = "no-webgl";
   }
-  function draw() {
-    const dpr = window.devicePixelRatio || 1;
-    canvas.width = canvas.clientWidth * dpr;
-    canvas.height = canvas.clientHeight * dpr;
-    ctx.setTransform(1, 0, 0, 1, 0, 0);
-    ctx.clearRect(0, 0, canvas.width, canvas.height);
-    ctx.lineCap = "round";
+  // Row-major 4 × 4 into a three.js matrix (Matrix4.set reads row-major).
+  function setMatrix(m, T) {
+    m.set(...T);
+  }
+  function decode(b64, Type) {
+    const bin = atob(b64);
+    const bytes = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return new Type(bytes.buffer);
+  }
+  function makeScene() {
+    const T3 = THREE;
+    const renderer = new T3.WebGLRenderer({ canvas, antialias: true, preserveDrawingBuffer: true });
+    const scene = new T3.Scene();
+    scene.background = new T3.Color(0xfbfbf8);
+    const camera = new T3.PerspectiveCamera(35, 1, size / 200, size * 200);
+    camera.up.set(0, 0, 1);
+    scene.add(camera);
+    scene.add(new T3.AmbientLight(0xffffff, 1.2));
+    const sun = new T3.DirectionalLight(0xffffff, 2.2);
+    sun.position.set(1, 2, 3);
+    camera.add(sun);
     // Ground grid on the base's xy plane.
     const step = Math.pow(10, Math.floor(Math.log10(size / 2)));
-    const n = Math.ceil(size / step);
-    for (let i = -n; i <= n; i++) {
-      const g = "#e4e4dc";
-      seg([centre[0] + i * step, centre[1] - n * step, 0], [centre[0] + i * step, centre[1] + n * step, 0], g, 1);
-      seg([centre[0] - n * step, centre[1] + i * step, 0], [centre[0] + n * step, centre[1] + i * step, 0], g, 1);
+    const n = 2 * Math.ceil(size / step);
+    const grid = new T3.GridHelper(n * step, n, 0xd0d0c8, 0xe4e4dc);
+    grid.rotation.x = Math.PI / 2;
+    grid.position.set(centre[0], centre[1], Math.min(0, lo[2]));
+    scene.add(grid);
+    // Meshes, decoded once.
+    const geometries = body.meshes.map((m) => {
+      const g = new T3.BufferGeometry();
+      g.setAttribute("position", new T3.BufferAttribute(decode(m.positions, Float32Array), 3));
+      g.setIndex(new T3.BufferAttribute(decode(m.indices, Uint32Array), 1));
+      g.computeVertexNormals();
+      return g;
+    });
+    function geometryOf(s) {
+      switch (s.kind) {
+        case "box":
+          return new T3.BoxGeometry(s.size[0], s.size[1], s.size[2]);
+        case "cylinder":
+          return new T3.CylinderGeometry(s.radius, s.radius, s.length, 32).rotateX(Math.PI / 2);
+        case "capsule":
+          return new T3.CapsuleGeometry(s.radius, s.length, 8, 24).rotateX(Math.PI / 2);
+        case "sphere":
+          return new T3.SphereGeometry(s.radius, 32, 16);
+        case "ellipsoid":
+          return new T3.SphereGeometry(1, 32, 16).scale(s.radii[0], s.radii[1], s.radii[2]);
+        case "plane":
+          return new T3.BoxGeometry(2 * (s.size[0] || size), 2 * (s.size[1] || size), 1e-4 * size);
+        case "mesh":
+          return geometries[s.mesh];
+      }
+      return null;
     }
+    // Each page link a group placed at its pose; its shapes inside at their origins.
+    const groups = model.links.map(() => {
+      const g = new T3.Group();
+      g.matrixAutoUpdate = false;
+      scene.add(g);
+      return g;
+    });
+    const visualOf = new Set(body.shapes.filter((s) => s.role === "visual").map((s) => s.link));
+    const shapes = { visual: [], collision: [] };
+    body.shapes.forEach((s) => {
+      const geometry = geometryOf(s);
+      if (!geometry) return;
+      const rgba = s.rgba || (s.role === "collision" ? [0.85, 0.45, 0.2, 0.55] : [0.7, 0.72, 0.75, 1]);
+      const material = new T3.MeshStandardMaterial({
+        color: new T3.Color(rgba[0], rgba[1], rgba[2]),
+        transparent: rgba[3] < 1 || s.role === "collision",
+        opacity: s.role === "collision" ? Math.min(rgba[3], 0.55) : rgba[3],
+        metalness: 0.1,
+        roughness: 0.6,
+      });
+      const mesh = new T3.Mesh(geometry, material);
+      mesh.matrixAutoUpdate = false;
+      setMatrix(mesh.matrix, s.origin);
+      groups[s.link].add(mesh);
+      // A link without visual shapes shows its collision shapes as its body.
+      const role = s.role === "collision" && !visualOf.has(s.link) ? "visual" : s.role;
+      shapes[role].push(mesh);
+    });
+    // Overlays, drawn over the body.
+    function lines(colour) {
+      const g = new T3.BufferGeometry();
+      const m = new T3.LineBasicMaterial({ color: colour, depthTest: false, transparent: true });
+      const l = new T3.LineSegments(g, m);
+      l.renderOrder = 10;
+      l.frustumCulled = false;
+      scene.add(l);
+      return l;
+    }
+    // The skeleton: a rod from each link's parent, a ball at each joint (unit shapes, placed
+    // and scaled at each draw).
+    const dark = new T3.MeshStandardMaterial({ color: 0x3a3a3a, roughness: 0.8 });
+    const rod = new T3.CylinderGeometry(1, 1, 1, 12);
+    const ball = new T3.SphereGeometry(1, 16, 8);
+    const rods = model.links.map((l) => {
+      if (l.parent === null) return null;
+      const m = new T3.Mesh(rod, dark);
+      m.matrixAutoUpdate = false;
+      scene.add(m);
+      return m;
+    });
+    const balls = model.joints.map(() => {
+      const m = new T3.Mesh(ball, dark);
+      m.matrixAutoUpdate = false;
+      scene.add(m);
+      return m;
+    });
+    const overlay = {
+      rods,
+      balls,
+      axes: lines(0x7b3294),
+      frames: [lines(0xd7191c), lines(0x1a9641), lines(0x2b83ba)],
+    };
+    return { T3, renderer, scene, camera, groups, shapes, overlay };
+  }
+  function setLines(l, points) {
+    l.geometry.setAttribute("position", new THREE.BufferAttribute(new Float32Array(points), 3));
+    l.geometry.computeBoundingSphere();
+  }
+  const toggles = ["visual", "collision", "skeleton", "axes", "frames"].map((k) => document.getElementById("show-" + k));
+  const [showVisual, showCollision, showSkeleton, showAxes, showFrames] = toggles;
+  const drawn = new Set(body.shapes.map((s) => s.link));
+  if (drawn.size < model.links.length / 2) {
+    // Little or nothing to draw of the body (no shapes, or meshes not found): the stick figure.
+    showVisual.checked = drawn.size > 0;
+    showSkeleton.checked = true;
+    // Screw axes for a chain or a small tree (a humanoid's 30 axes hide it).
+    showAxes.checked = model.joints.length <= 12;
+  }
+  toggles.forEach((t) => t.addEventListener("change", () => draw()));
+  function draw() {
+    if (!three) return;
+    const { renderer, scene, camera, groups, shapes, overlay } = three;
+    const w = canvas.clientWidth, h = canvas.clientHeight;
+    renderer.setPixelRatio(window.devicePixelRatio || 1);
+    renderer.setSize(w, h, false);
+    camera.aspect = w / Math.max(h, 1);
+    // The links' box fills the view with room for the shapes around them (35° field of view).
+    const dist = (2.3 * size) / zoom;
+    const ce = Math.cos(el);
+    camera.position.set(
+      centre[0] + dist * ce * Math.cos(az),
+      centre[1] + dist * ce * Math.sin(az),
+      centre[2] + dist * Math.sin(el),
+    );
+    camera.lookAt(centre[0], centre[1], centre[2]);
+    camera.updateProjectionMatrix();
+    groups.forEach((g, k) => {
+      setMatrix(g.matrix, state.links[k]);
+      g.matrixWorldNeedsUpdate = true;
+    });
+    shapes.visual.forEach((m) => (m.visible = showVisual.checked));
+    shapes.collision.forEach((m) => (m.visible = showCollision.checked));
     const L = 0.18 * size;
+    // Skeleton: a rod from each link's parent (a unit cylinder along y turned onto the
+    // segment), a ball at each joint.
+    const T3 = three.T3;
+    const r = 0.012 * size;
+    const up = new T3.Vector3(0, 1, 0);
+    model.links.forEach((l, k) => {
+      const m = overlay.rods[k];
+      if (!m) return;
+      const a = state.links[l.parent], b = state.links[k];
+      const pa = new T3.Vector3(a[3], a[7], a[11]), pb = new T3.Vector3(b[3], b[7], b[11]);
+      const d = pb.clone().sub(pa);
+      const len = d.length();
+      const turn = len > 0 ? new T3.Quaternion().setFromUnitVectors(up, d.divideScalar(len)) : new T3.Quaternion();
+      m.matrix.compose(pa.add(pb).multiplyScalar(0.5), turn, new T3.Vector3(r, Math.max(len, 1e-9), r));
+      m.matrixWorldNeedsUpdate = true;
+      m.visible = showSkeleton.checked && len > 0;
+    });
+    model.joints.forEach((j, k) => {
+      const T = state.links[j.link];
+      const m = overlay.balls[k];
+      m.matrix.compose(new T3.Vector3(T[3], T[7], T[11]), new T3.Quaternion(), new T3.Vector3(2 * r, 2 * r, 2 * r));
+      m.matrixWorldNeedsUpdate = true;
+      m.visible = showSkeleton.checked;
+    });
     // Screw axes at q.
+    const ax = [];
     model.joints.forEach((j, k) => {
       const s = state.screws[k];
       const T = state.links[j.link];
@@ -193,69 +355,29 @@
       const wn2 = s[0] * s[0] + s[1] * s[1] + s[2] * s[2];
       if (wn2 === 0) {
         const vn = Math.hypot(s[3], s[4], s[5]);
-        seg(o, [0, 1, 2].map((i) => o[i] + (L * s[3 + i]) / vn), "#008837", 3);
+        ax.push(...o, ...[0, 1, 2].map((i) => o[i] + (L * s[3 + i]) / vn));
       } else {
-        const w = s.slice(0, 3).map((x) => x / Math.sqrt(wn2));
+        const wv = s.slice(0, 3).map((x) => x / Math.sqrt(wn2));
         const p0 = cross(s.slice(0, 3), s.slice(3, 6)).map((x) => x / wn2);
-        const d = w[0] * (o[0] - p0[0]) + w[1] * (o[1] - p0[1]) + w[2] * (o[2] - p0[2]);
-        const p = [0, 1, 2].map((i) => p0[i] + d * w[i]);
-        seg([0, 1, 2].map((i) => p[i] - L * w[i]), [0, 1, 2].map((i) => p[i] + L * w[i]), "#7b3294", 2, [8, 4]);
-        const e = project([0, 1, 2].map((i) => p[i] + L * w[i]));
-        ctx.fillStyle = "#7b3294";
-        ctx.font = `${12 * dpr}px sans-serif`;
-        ctx.fillText(String(k + 1), e[0] + 4, e[1] - 4);
+        const d = wv[0] * (o[0] - p0[0]) + wv[1] * (o[1] - p0[1]) + wv[2] * (o[2] - p0[2]);
+        const p = [0, 1, 2].map((i) => p0[i] + d * wv[i]);
+        ax.push(...[0, 1, 2].map((i) => p[i] - L * wv[i]), ...[0, 1, 2].map((i) => p[i] + L * wv[i]));
       }
     });
-    // Links: a segment from each link's parent (the previous link on a chain).
-    model.links.forEach((l, k) => {
-      if (l.parent === null) return;
-      const a = state.links[l.parent], b = state.links[k];
-      seg([a[3], a[7], a[11]], [b[3], b[7], b[11]], "#3a3a3a", 5 * dpr);
-    });
-    // The base and the drawn frames (the tip, or every leaf with its name).
-    // A tree's leaves get short triads and their names, moved down or up by a line off the
-    // names already written.
+    setLines(overlay.axes, ax);
+    overlay.axes.visible = showAxes.checked;
+    // The base and the drawn frames as RGB triads.
     const tree = model.frames.length > 1;
-    const placed = [];
-    ctx.font = `${11 * dpr}px sans-serif`;
-    [state.base, ...state.frames].forEach((T, f) => {
-      const o = [T[3], T[7], T[11]];
-      const len = (tree && f > 0 ? 0.05 : 0.12) * size;
-      ["#d7191c", "#1a9641", "#2b83ba"].forEach((c, k) => {
-        seg(o, [0, 1, 2].map((i) => o[i] + len * T[4 * i + k]), c, 2.5 * dpr);
+    [0, 1, 2].forEach((c) => {
+      const seg = [];
+      [state.base, ...state.frames].forEach((T, f) => {
+        const len = (tree && f > 0 ? 0.05 : 0.12) * size;
+        seg.push(T[3], T[7], T[11], T[3] + len * T[c], T[7] + len * T[4 + c], T[11] + len * T[8 + c]);
       });
-      if (f > 0 && tree) {
-        const name = model.frames[f - 1].name;
-        const e = project(o);
-        const x = e[0] + 8 * dpr, w = ctx.measureText(name).width, line = 13 * dpr;
-        const free = (y) => placed.every((b) => x + w <= b[0] || b[0] + b[2] <= x || Math.abs(y - b[1]) >= line);
-        let y = e[1] + 14 * dpr;
-        for (let k = 0; k <= 16; k++) {
-          const t = e[1] + 14 * dpr + (k % 2 ? 1 : -1) * Math.floor((k + 1) / 2) * line;
-          if (free(t)) {
-            y = t;
-            break;
-          }
-        }
-        placed.push([x, y, w]);
-        ctx.fillStyle = "#222222";
-        ctx.fillText(name, x, y);
-      }
+      setLines(overlay.frames[c], seg);
+      overlay.frames[c].visible = showFrames.checked;
     });
-    // Joints.
-    ctx.setLineDash([]);
-    model.joints.forEach((j) => {
-      const T = state.links[j.link];
-      const c = project([T[3], T[7], T[11]]);
-      ctx.fillStyle = "#ffffff";
-      ctx.strokeStyle = "#3a3a3a";
-      ctx.lineWidth = 2 * dpr;
-      ctx.beginPath();
-      if (j.kind === "prismatic") ctx.rect(c[0] - 6 * dpr, c[1] - 6 * dpr, 12 * dpr, 12 * dpr);
-      else ctx.arc(c[0], c[1], 6 * dpr, 0, 2 * Math.PI);
-      ctx.fill();
-      ctx.stroke();
-    });
+    renderer.render(scene, camera);
   }
 
   // ---- Tables and the exact values the tests read.
