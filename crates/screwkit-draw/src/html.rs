@@ -217,9 +217,57 @@ pub fn tree_json(kin: &TreeKinematics, q: &[f64]) -> Value {
     })
 }
 
-/// The most triangles of all the embedded meshes together: past it, the largest meshes are
-/// drawn as their bounding boxes (the page says which), so that a page stays a few MB.
+/// The most triangles of all the embedded meshes together: past it, a mesh is not drawn (the
+/// page says which).
 pub const MAX_TRIANGLES: usize = 1_500_000;
+
+/// The most triangles a mesh is drawn with: a finer one is simplified to about this many
+/// ([`decimate`]).
+pub const MESH_TRIANGLES: usize = 5_000;
+
+/// A mesh's f32 vertices welded (equal positions made one vertex, as STL files repeat them per
+/// triangle) and, past [`MESH_TRIANGLES`], simplified by meshoptimizer's edge collapse (the
+/// `meshopt` crate) towards that many triangles, within 1 % of the mesh's size; the unused
+/// vertices dropped. Returns (vertices, triangles).
+pub fn decimate(vertices: &[[f64; 3]], triangles: &[[u32; 3]]) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let mut weld: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::new();
+    let mut points: Vec<[f32; 3]> = Vec::new();
+    let remap: Vec<u32> = vertices
+        .iter()
+        .map(|v| {
+            let p = v.map(|x| x as f32);
+            *weld.entry(p.map(f32::to_bits)).or_insert_with(|| {
+                points.push(p);
+                (points.len() - 1) as u32
+            })
+        })
+        .collect();
+    let mut indices: Vec<u32> = triangles
+        .iter()
+        .flatten()
+        .filter_map(|&i| remap.get(i as usize).copied())
+        .collect();
+    indices.truncate(indices.len() / 3 * 3);
+    if indices.len() / 3 > MESH_TRIANGLES {
+        let bytes: Vec<u8> = points
+            .iter()
+            .flatten()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        if let Ok(adapter) = meshopt::VertexDataAdapter::new(&bytes, 12, 0) {
+            indices = meshopt::simplify(
+                &indices,
+                &adapter,
+                3 * MESH_TRIANGLES,
+                0.01,
+                meshopt::SimplifyOptions::None,
+                None,
+            );
+        }
+    }
+    let points = meshopt::optimize_vertex_fetch(&mut indices, &points);
+    (points, indices)
+}
 
 /// Standard base64 (RFC 4648, with padding).
 fn base64(bytes: &[u8]) -> String {
@@ -244,7 +292,8 @@ fn base64(bytes: &[u8]) -> String {
 /// visual and collision shape of those links in `tree` (`role` tells which; the page shows
 /// the visual ones, or the collision ones of a link without visuals, and the rest on a
 /// toggle), each with its link, origin, colour and dimensions; meshes read once per file and
-/// scale, embedded as base64 little-endian float32 vertices (x, y, z) and uint32 triangles.
+/// scale, [`decimate`]d, embedded as base64 little-endian float32 vertices (x, y, z) and
+/// uint32 triangles.
 /// A mesh that cannot be read is listed in `problems` (one sentence naming the link and file)
 /// and drawn as nothing: a picture never fails on the body.
 pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
@@ -293,24 +342,17 @@ pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
                 let key = (path.clone(), scale.map(f64::to_bits));
                 let m = *read.entry(key).or_insert_with(|| {
                     match screwkit_model::mesh::read_mesh(path, *scale) {
-                        Ok(mesh) if triangles + mesh.triangles.len() <= MAX_TRIANGLES => {
-                            triangles += mesh.triangles.len();
-                            let v: Vec<u8> = mesh
-                                .vertices
-                                .iter()
-                                .flatten()
-                                .flat_map(|x| (*x as f32).to_le_bytes())
-                                .collect();
-                            let t: Vec<u8> = mesh
-                                .triangles
-                                .iter()
-                                .flatten()
-                                .flat_map(|i| i.to_le_bytes())
-                                .collect();
+                        Ok(mesh) if triangles + mesh.triangles.len().min(MESH_TRIANGLES) <= MAX_TRIANGLES => {
+                            let (points, indices) = decimate(&mesh.vertices, &mesh.triangles);
+                            triangles += indices.len() / 3;
+                            let v: Vec<u8> =
+                                points.iter().flatten().flat_map(|x| x.to_le_bytes()).collect();
+                            let t: Vec<u8> = indices.iter().flat_map(|i| i.to_le_bytes()).collect();
                             meshes.push(json!({
                                 "positions": base64(&v),
                                 "indices": base64(&t),
-                                "triangles": mesh.triangles.len(),
+                                "triangles": indices.len() / 3,
+                                "file_triangles": mesh.triangles.len(),
                             }));
                             Some(meshes.len() - 1)
                         }

@@ -533,10 +533,26 @@ fn the_page_embeds_the_body() {
         .map(|b| u32::from_le_bytes(b.try_into().unwrap()))
         .collect();
     let file = screwkit_model::mesh::read_mesh(&dir.join("tet.stl"), [2.0; 3]).unwrap();
-    let want_v: Vec<f32> = file.vertices.iter().flatten().map(|x| *x as f32).collect();
-    let want_t: Vec<u32> = file.triangles.iter().flatten().copied().collect();
-    assert!(want_v.contains(&2.0), "scaled");
-    assert_eq!((v, t), (want_v, want_t));
+    // The same triangles, corner by corner (the vertices welded and reordered).
+    let corners: Vec<[f32; 3]> = t
+        .iter()
+        .map(|&i| {
+            [
+                v[3 * i as usize],
+                v[3 * i as usize + 1],
+                v[3 * i as usize + 2],
+            ]
+        })
+        .collect();
+    let want: Vec<[f32; 3]> = file
+        .triangles
+        .iter()
+        .flatten()
+        .map(|&i| file.vertices[i as usize].map(|x| x as f32))
+        .collect();
+    assert!(want.iter().any(|p| p.contains(&2.0)), "scaled");
+    assert_eq!(corners, want);
+    assert_eq!(v.len(), 3 * 4, "welded: a tetrahedron's 4 corners");
     assert_eq!(meshes[0]["triangles"], 2);
     let problems = body["problems"].as_array().unwrap();
     assert!(
@@ -546,4 +562,51 @@ fn the_page_embeds_the_body() {
         "{problems:?}"
     );
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A fine mesh (a sphere of 20,000 triangles) is drawn with about `MESH_TRIANGLES`, its
+/// vertices still on the sphere (to 1 % of its radius) and its extent kept; a coarse one is
+/// drawn as it is.
+#[test]
+fn fine_meshes_are_decimated() {
+    let (rings, segments) = (100, 100);
+    let mut vertices = Vec::new();
+    for i in 0..=rings {
+        let th = std::f64::consts::PI * i as f64 / rings as f64;
+        for j in 0..segments {
+            let ph = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
+            vertices.push([th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()]);
+        }
+    }
+    let mut triangles = Vec::new();
+    for i in 0..rings {
+        for j in 0..segments {
+            let a = (i * segments + j) as u32;
+            let b = (i * segments + (j + 1) % segments) as u32;
+            let (c, d) = (a + segments as u32, b + segments as u32);
+            triangles.push([a, c, b]);
+            triangles.push([b, c, d]);
+        }
+    }
+    assert_eq!(triangles.len(), 20_000);
+    let (points, indices) = html::decimate(&vertices, &triangles);
+    let n = indices.len() / 3;
+    assert!(
+        (html::MESH_TRIANGLES / 2..=html::MESH_TRIANGLES * 11 / 10).contains(&n),
+        "{n} triangles"
+    );
+    for p in &points {
+        let r = p.iter().map(|x| f64::from(*x).powi(2)).sum::<f64>().sqrt();
+        assert!((r - 1.0).abs() < 0.01, "a vertex off the sphere: {r}");
+    }
+    let top = points.iter().map(|p| p[2]).fold(f32::MIN, f32::max);
+    assert!(top > 0.99, "{top}");
+    let quad = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 1.0, 0.0],
+    ];
+    let (few, idx) = html::decimate(&quad, &[[0, 1, 2], [1, 3, 2]]);
+    assert_eq!((few.len(), idx.len()), (4, 6));
 }
