@@ -643,6 +643,13 @@ pub struct ViewArgs {
     /// overrides them.
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
     pub q: Option<List>,
+    /// A motion to play back: configurations, one per frame, as .npy (frames × values) or JSON
+    /// (an array of rows, or lines each a row or {"q": row}).
+    #[arg(long, value_name = "FILE")]
+    pub motion: Option<PathBuf>,
+    /// With --motion: frames per second.
+    #[arg(long, requires = "motion", default_value_t = screwkit_draw::html::DEFAULT_FPS)]
+    pub fps: f64,
     /// The HTML file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,

@@ -39,7 +39,16 @@ pub fn draw(a: &DrawArgs) -> CliResult {
     )
 }
 
-/// `screwkit view`.
+/// `screwkit view` (with `--motion`: the motion's frames, read by the floor).
 pub fn view(a: &ViewArgs) -> CliResult {
-    picture(&a.chain, a.q.as_ref(), &a.output, Picture::Page)
+    let frames = match &a.motion {
+        Some(path) => {
+            Some(screwkit_service::io::motion::read(path).map_err(|e| Failure(e.to_string()))?)
+        }
+        None => None,
+    };
+    let motion = frames
+        .as_deref()
+        .map(|frames| screwkit_draw::html::Motion { frames, fps: a.fps });
+    picture(&a.chain, a.q.as_ref(), &a.output, Picture::Page(motion))
 }

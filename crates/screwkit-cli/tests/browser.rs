@@ -132,23 +132,9 @@ fn the_page_computes_the_same_fk_as_the_library() {
                 "{file}: the page found no WebGL"
             );
             let page_fk = pre_numbers(&dom, "fk-exact");
-            let q_arg = list.join(",");
-            let mut fk: Vec<&str> = vec!["fk"];
-            fk.extend(args.iter().map(String::as_str));
-            fk.extend(["--q", &q_arg, "--format", "json"]);
-            let json: serde_json::Value = serde_json::from_slice(&screwkit(&fk).stdout).unwrap();
-            let lib: Vec<f64> = json["pose"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
-                .collect();
+            let lib = library_pose(&args, &list.join(","));
             assert_eq!(page_fk.len(), 16);
-            let diff = page_fk
-                .iter()
-                .zip(&lib)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let diff = max_diff(&page_fk, &lib);
             assert!(
                 diff < 1e-12,
                 "{file} {tip:?}: page vs library FK differ by {diff:e}"
@@ -172,6 +158,28 @@ fn trees() -> Vec<String> {
         v.push(format!("{shared}/trees/{f}"));
     }
     v
+}
+
+/// The largest difference of two lists of numbers.
+fn max_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The chain's tip pose (`screwkit fk`), row-major.
+fn library_pose(args: &[String], q: &str) -> Vec<f64> {
+    let mut fk: Vec<&str> = vec!["fk"];
+    fk.extend(args.iter().map(String::as_str));
+    fk.extend(["--q", q, "--format", "json"]);
+    let json: serde_json::Value = serde_json::from_slice(&screwkit(&fk).stdout).unwrap();
+    json["pose"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()))
+        .collect()
 }
 
 /// Every leaf's pose (`screwkit fk FILE` of a whole tree), row-major, one after the other.
@@ -228,11 +236,7 @@ fn the_tree_page_computes_the_same_fk_as_the_library() {
             let lib = library_leaves(&args, &list.join(","));
             assert!(lib.len() >= 32, "{file}: {} numbers", lib.len());
             assert_eq!(page_fk.len(), lib.len(), "{file}: one pose per leaf");
-            let diff = page_fk
-                .iter()
-                .zip(&lib)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let diff = max_diff(&page_fk, &lib);
             assert!(
                 diff < 1e-12,
                 "{file} (floating base {floating}): page vs library FK differ by {diff:e}"
@@ -315,5 +319,53 @@ fn screenshots_of_the_page_and_the_drawing_are_not_blank() {
         // The UR5's links alone are several thousand dark pixels; an empty page has none.
         assert!(dark > 2000, "{}: only {dark} dark pixels", file.display());
     }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// A motion played back (`view --motion`, `#play` in the URL): after a second of the page's
+/// time, the pose shown is one of the motion's frames past the first, and the page's FK of it
+/// equals the library's.
+#[test]
+#[ignore = "needs Chromium: .ci/run's conformance stage"]
+fn the_page_plays_a_motion() {
+    let dir = scratch("motion");
+    let ur5 = bundled("ur5.urdf");
+    let frames: Vec<Vec<f64>> = (0..60)
+        .map(|k| {
+            let t = k as f64 / 60.0;
+            vec![t, -1.0 + 0.5 * t, 1.4, -0.8, -1.2 + t, 0.4]
+        })
+        .collect();
+    let motion = dir.join("motion.json");
+    std::fs::write(&motion, serde_json::to_string(&frames).unwrap()).unwrap();
+    let page = dir.join("motion.html");
+    screwkit(&[
+        "view",
+        &ur5,
+        "--motion",
+        motion.to_str().unwrap(),
+        "--fps",
+        "20",
+        "-o",
+        page.to_str().unwrap(),
+    ]);
+    let url = format!("file://{}#play", page.display());
+    let out = chromium(&dir, &["--virtual-time-budget=1500", "--dump-dom", &url]);
+    assert!(page_errors(&out).is_empty(), "{:?}", page_errors(&out));
+    let dom = String::from_utf8_lossy(&out.stdout);
+    let q = pre_numbers(&dom, "q-exact");
+    let k = frames
+        .iter()
+        .position(|f| *f == q)
+        .unwrap_or_else(|| panic!("the page shows {q:?}, not a frame of the motion"));
+    assert!(k > 0, "the motion did not play");
+    let list: Vec<String> = q.iter().map(|x| format!("{x:?}")).collect();
+    let lib = library_pose(std::slice::from_ref(&ur5), &list.join(","));
+    let page_fk = pre_numbers(&dom, "fk-exact");
+    let diff = max_diff(&page_fk, &lib);
+    assert!(
+        diff < 1e-12,
+        "frame {k}: page vs library FK differ by {diff:e}"
+    );
     let _ = std::fs::remove_dir_all(dir);
 }

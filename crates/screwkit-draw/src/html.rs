@@ -383,28 +383,72 @@ pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
     json!({"shapes": shapes, "meshes": meshes, "problems": problems})
 }
 
+/// A motion the page plays back (play/pause, a time slider): `frames` configurations of the
+/// page's variables (a chain's joint values, or a whole tree's q), `fps` frames per second.
+#[derive(Debug, Clone, Copy)]
+pub struct Motion<'a> {
+    /// One configuration per frame.
+    pub frames: &'a [Vec<f64>],
+    /// Frames per second (0 < fps ≤ 1000).
+    pub fps: f64,
+}
+
+/// Frames per second of a motion when not told (the CLI's `--fps`; Python's `fps=30.0`, a
+/// literal the stubs can check, tested equal to this).
+pub const DEFAULT_FPS: f64 = 30.0;
+
+/// The motion as the page reads it, each frame checked by `check` (an error naming the frame).
+fn motion_json(
+    motion: &Motion<'_>,
+    check: impl Fn(&[f64]) -> Result<(), SolveError>,
+) -> Result<Value, SolveError> {
+    if !(motion.fps.is_finite() && motion.fps > 0.0 && motion.fps <= 1000.0) {
+        return Err(SolveError::InvalidInput(format!(
+            "motion: fps must be in (0, 1000], got {}",
+            motion.fps
+        )));
+    }
+    if motion.frames.is_empty() {
+        return Err(SolveError::InvalidInput("motion: no frames".into()));
+    }
+    for (k, f) in motion.frames.iter().enumerate() {
+        check(f).map_err(|e| SolveError::InvalidInput(format!("motion frame {k}: {e}")))?;
+    }
+    Ok(json!({"frames": motion.frames, "fps": motion.fps}))
+}
+
 /// The page of `chain` at `q` (default: each joint at 0, or at the limit nearest 0 when 0 is
 /// outside its limits — the Panda's joint 4 is). Checks q. Without a body: the skeleton.
 pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
-    page_with_body(chain, kin, q, None)
+    page_with_body(chain, kin, q, None, None)
 }
 
-/// [`page`] drawing the body `tree` gives the chain's links (its shapes, [`body_json`]).
+/// [`page`] drawing the body `tree` gives the chain's links (its shapes, [`body_json`]), and
+/// playing `motion` back (each frame checked as q is).
 pub fn page_with_body(
     chain: &Chain,
     kin: &Kinematics,
     q: Option<&[f64]>,
     tree: Option<&screwkit_model::Tree>,
+    motion: Option<&Motion<'_>>,
 ) -> Result<String, SolveError> {
     let zeros: Vec<f64> = (0..kin.dof())
         .map(|k| 0f64.clamp(kin.lower()[k], kin.upper()[k]))
         .collect();
-    let q = q.unwrap_or(&zeros);
+    // The motion first: its errors name the frame (its first frame is the default q).
+    let played = motion
+        .map(|m| motion_json(m, |f| kin.check_q(f)))
+        .transpose()?;
+    let first = motion.and_then(|m| m.frames.first()).map(Vec::as_slice);
+    let q = q.or(first).unwrap_or(&zeros);
     kin.check_q(q)?;
     let mut model = model_json(chain, kin, q);
     if let Some(tree) = tree {
         let names: Vec<String> = kin.links().iter().map(|l| l.name.clone()).collect();
         model["body"] = body_json(tree, &names);
+    }
+    if let Some(m) = played {
+        model["motion"] = m;
     }
     Ok(document(&chain.robot, &model))
 }
@@ -413,17 +457,33 @@ pub fn page_with_body(
 /// configuration with each joint brought inside its limits): every branch, a slider per
 /// variable, the pose of every leaf. Checks q.
 pub fn tree_page(kin: &TreeKinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
+    tree_page_with_motion(kin, q, None)
+}
+
+/// [`tree_page`] playing `motion` back (each frame a whole configuration, checked as q is).
+pub fn tree_page_with_motion(
+    kin: &TreeKinematics,
+    q: Option<&[f64]>,
+    motion: Option<&Motion<'_>>,
+) -> Result<String, SolveError> {
     let (lower, upper) = (kin.lower(), kin.upper());
     let start: Vec<f64> = screwkit_solve::tree::configuration::neutral(kin)
         .into_iter()
         .enumerate()
         .map(|(k, x)| x.clamp(lower[k], upper[k]))
         .collect();
-    let q = q.unwrap_or(&start);
+    let played = motion
+        .map(|m| motion_json(m, |f| kin.check_q(f).map(|_| ())))
+        .transpose()?;
+    let first = motion.and_then(|m| m.frames.first()).map(Vec::as_slice);
+    let q = q.or(first).unwrap_or(&start);
     kin.check_q(q)?;
     let mut model = tree_json(kin, q);
     let names: Vec<String> = kin.model().links.iter().map(|l| l.name.clone()).collect();
     model["body"] = body_json(&kin.model().tree, &names);
+    if let Some(m) = played {
+        model["motion"] = m;
+    }
     Ok(document(&kin.model().robot, &model))
 }
 
@@ -448,6 +508,7 @@ fn document(robot: &str, model: &Value) -> String {
 <div class="sub" id="chain"></div>
 <div id="error"></div>
 <div id="show"><label><input type="checkbox" id="show-visual" checked> body</label> <label><input type="checkbox" id="show-collision"> collision shapes</label> <label><input type="checkbox" id="show-skeleton"> skeleton</label> <label><input type="checkbox" id="show-axes"> screw axes</label> <label><input type="checkbox" id="show-frames" checked> frames</label></div>
+<div id="player" hidden><h2>motion</h2><button id="play">play</button> <input type="range" id="time" min="0" step="1" value="0"> <output id="clock"></output></div>
 <h2>joints</h2>
 <div id="sliders"></div>
 <h2 id="pose-title">tip pose T(q)</h2>

@@ -458,7 +458,7 @@ fn the_page_embeds_the_body() {
     let tree = screwkit_model::load_tree(&path, &Default::default()).unwrap();
     let chain = screwkit_model::load_chain(&path, None, None).unwrap();
     let kin = screwkit_solve::Kinematics::new(&chain);
-    let page = html::page_with_body(&chain, &kin, None, Some(&tree)).unwrap();
+    let page = html::page_with_body(&chain, &kin, None, Some(&tree), None).unwrap();
     let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
     let end = start + page[start..].find("</script>").unwrap();
     let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
@@ -609,4 +609,41 @@ fn fine_meshes_are_decimated() {
     ];
     let (few, idx) = html::decimate(&quad, &[[0, 1, 2], [1, 3, 2]]);
     assert_eq!((few.len(), idx.len()), (4, 6));
+}
+
+/// A motion rides in the page (frames and rate, the first frame shown first); a frame of the
+/// wrong length or a value that is not finite is an error naming the frame, a bad rate too.
+#[test]
+fn the_page_embeds_a_motion() {
+    let (chain, kin) = load("ur5.urdf", None, None);
+    let frames: Vec<Vec<f64>> = (0..5).map(|k| vec![0.1 * k as f64; 6]).collect();
+    let motion = html::Motion {
+        frames: &frames,
+        fps: 50.0,
+    };
+    let page = html::page_with_body(&chain, &kin, None, None, Some(&motion)).unwrap();
+    let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
+    let end = start + page[start..].find("</script>").unwrap();
+    let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
+    assert_eq!(model["motion"]["fps"], 50.0);
+    let got: Vec<Vec<f64>> = serde_json::from_value(model["motion"]["frames"].clone()).unwrap();
+    assert_eq!(got, frames);
+    assert_eq!(model["q"], serde_json::json!(frames[0]));
+    let error = |frames: &[Vec<f64>], fps: f64| {
+        let m = html::Motion { frames, fps };
+        html::page_with_body(&chain, &kin, None, None, Some(&m))
+            .unwrap_err()
+            .to_string()
+    };
+    let mut bad = frames.clone();
+    bad[3].pop();
+    let e = error(&bad, 50.0);
+    assert!(e.contains("frame 3"), "{e}");
+    bad[3] = vec![f64::NAN; 6];
+    let e = error(&bad, 50.0);
+    assert!(e.contains("frame 3"), "{e}");
+    for fps in [0.0, -1.0, f64::NAN, 1e6] {
+        let e = error(&frames, fps);
+        assert!(e.contains("fps"), "{e}");
+    }
 }

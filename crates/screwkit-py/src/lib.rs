@@ -103,6 +103,7 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyAny>> {
             "seed": screwkit_collision::acm::Generate::default().seed,
             "never": screwkit_collision::acm::Generate::default().never,
         },
+        "viewer": {"fps": screwkit_draw::html::DEFAULT_FPS},
         "reach": {
             "resolution": m.resolution, "orientations": m.orientations,
             "mode": m.mode.as_str(), "solver": m.solver.as_str(), "seed": m.seed,

@@ -2023,13 +2023,53 @@ impl Robot {
         Ok(text)
     }
 
-    /// A self-contained interactive HTML page of the chain at q (default: home): 3D view with
-    /// orbit and zoom, a slider per joint, the live tip pose and screw axes; `#q=a,b,…` in its
-    /// URL sets the joints. Of a whole tree (as `draw`): every branch, a slider per variable,
-    /// the pose of the leaf chosen. Returns the HTML and writes it to `path` when given.
-    #[pyo3(signature = (q = None, path = None))]
-    fn viewer(&self, q: Option<&Bound<'_, PyAny>>, path: Option<PathBuf>) -> PyResult<String> {
-        let text = self.picture(q, screwkit_draw::Picture::Page)?;
+    /// A self-contained interactive HTML page of the robot at q (default: home): its body
+    /// (visual shapes and meshes; collision shapes, skeleton, screw axes and frames as
+    /// toggles) in 3D with orbit and zoom, a slider per joint, the live tip pose and screw
+    /// axes; `#q=a,b,…` in its URL sets the joints. Of a whole tree (as `draw`): every branch,
+    /// a slider per variable, the pose of the leaf chosen. `motion`: configurations to play
+    /// back, an array (frames, values) — `ik_trajectory`'s output — or a file (`.npy`, JSON)
+    /// as `screwkit view --motion` reads it, at `fps` frames per second. Returns the HTML and
+    /// writes it to `path` when given.
+    #[pyo3(signature = (q = None, path = None, *, motion = None, fps = 30.0))]
+    fn viewer(
+        &self,
+        q: Option<&Bound<'_, PyAny>>,
+        path: Option<PathBuf>,
+        motion: Option<&Bound<'_, PyAny>>,
+        fps: f64,
+    ) -> PyResult<String> {
+        let frames: Option<Vec<Vec<f64>>> = match motion {
+            None => None,
+            // A file name (str or os.PathLike), else an array.
+            Some(m) => Some(match m.extract::<PathBuf>() {
+                Ok(file)
+                    if m.is_instance_of::<pyo3::types::PyString>()
+                        || m.hasattr("__fspath__")? =>
+                {
+                    screwkit_service::io::motion::read(&file).map_err(crate::errors::file_error)?
+                }
+                _ => {
+                    let a = crate::array::f64_array(m, "motion")?;
+                    let shape = a.shape().to_vec();
+                    let [_, n] = shape[..] else {
+                        return Err(PyValueError::new_err(format!(
+                            "motion: expected an array (frames, values), got shape {}",
+                            shape_str(&shape)
+                        )));
+                    };
+                    let flat = a.readonly();
+                    flat.as_slice()?
+                        .chunks(n.max(1))
+                        .map(<[f64]>::to_vec)
+                        .collect()
+                }
+            }),
+        };
+        let motion = frames
+            .as_deref()
+            .map(|frames| screwkit_draw::html::Motion { frames, fps });
+        let text = self.picture(q, screwkit_draw::Picture::Page(motion))?;
         write_text(path, &text)?;
         Ok(text)
     }

@@ -90,6 +90,9 @@ def test_signature_defaults_are_the_floors() -> None:
         reach = inspect.signature(fn).parameters
         for name, value in d["reach"].items():
             assert reach[name].default == value, (fn, name)
+    viewer = inspect.signature(screwkit.Robot.viewer).parameters
+    for name, value in d["viewer"].items():
+        assert viewer[name].default == value, name
     srdf = inspect.signature(screwkit.Robot.write_srdf).parameters
     for name, value in d["write_srdf"].items():
         assert srdf[name].default == value, name

@@ -411,6 +411,48 @@
     draw();
   }
 
+  // ---- A motion played back: frame k of model.motion.frames at k / fps seconds.
+  if (model.motion) {
+    const frames = model.motion.frames, fps = model.motion.fps;
+    const player = document.getElementById("player");
+    const play = document.getElementById("play");
+    const time = document.getElementById("time");
+    const clock = document.getElementById("clock");
+    player.hidden = false;
+    time.max = frames.length - 1;
+    let playing = false, t0 = 0, k0 = 0;
+    const show = (k) => {
+      time.value = k;
+      clock.textContent = `frame ${k + 1} / ${frames.length}, ${(k / fps).toFixed(3)} s at ${fps} fps`;
+      q = frames[k].slice();
+      update();
+    };
+    const tick = (now) => {
+      if (!playing) return;
+      // (A frame's timestamp may precede the click's: never a negative step.)
+      const k = (k0 + Math.max(0, Math.floor(((now - t0) / 1000) * fps))) % frames.length;
+      if (k !== Number(time.value)) show(k);
+      requestAnimationFrame(tick);
+    };
+    play.addEventListener("click", () => {
+      playing = !playing;
+      play.textContent = playing ? "pause" : "play";
+      if (playing) {
+        t0 = performance.now();
+        k0 = Number(time.value);
+        requestAnimationFrame(tick);
+      }
+    });
+    time.addEventListener("input", () => {
+      playing = false;
+      play.textContent = "play";
+      show(Number(time.value));
+    });
+    clock.textContent = `frame 1 / ${frames.length}, 0.000 s at ${fps} fps`;
+    // #play in the URL starts it (#q=… still sets the first pose shown).
+    if (/(?:^#|&)play(?:&|$)/.test(location.hash)) play.click();
+  }
+
   let drag = null;
   canvas.addEventListener("pointerdown", (e) => {
     drag = [e.clientX, e.clientY];

@@ -608,6 +608,9 @@ class Robot:
         self,
         q: _ArrayLike | None = None,
         path: str | os.PathLike[str] | None = None,
+        *,
+        motion: _ArrayLike | str | os.PathLike[str] | None = None,
+        fps: float = 30.0,
     ) -> str: ...
     @overload
     def ik_all(

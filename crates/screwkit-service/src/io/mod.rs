@@ -1,9 +1,10 @@
 //! The one home of file formats and output rules shared by the front ends and the maps:
 //! numpy's `.npy`/`.npz` ([`npz`]), outputs written whole or not at all ([`atomic`]), and the
-//! JSON number rule ([`json`]).
+//! JSON number rule ([`json`]), motions to play back ([`motion`]).
 
 pub mod atomic;
 pub mod json;
+pub mod motion;
 pub mod npy;
 pub mod npz;
 

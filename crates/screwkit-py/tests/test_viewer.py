@@ -1,0 +1,59 @@
+"""The interactive page from Python: `Robot.viewer(motion=…)` plays a motion back, the same page
+`screwkit view --motion` writes from a file; bad motions raise `ValueError` naming the frame."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import screwkit
+
+from conftest import ASSETS
+
+
+def model_of(page: str) -> dict[str, object]:
+    start = page.index('id="model">') + len('id="model">')
+    end = page.index("</script>", start)
+    out: dict[str, object] = json.loads(page[start:end])
+    return out
+
+
+def test_viewer_plays_a_motion(tmp_path: Path) -> None:
+    robot = screwkit.Robot.from_urdf(ASSETS / "ur5.urdf")
+    t = np.linspace(0.0, 1.0, 40)[:, None]
+    frames = np.hstack([t, -1 + 0.5 * t, np.full_like(t, 1.4), -0.8 + 0 * t, -1.2 + t, 0.4 + 0 * t])
+    page = robot.viewer(motion=frames, fps=25.0)
+    model = model_of(page)
+    motion = model["motion"]
+    assert isinstance(motion, dict)
+    np.testing.assert_array_equal(motion["frames"], frames)
+    assert motion["fps"] == 25.0
+    np.testing.assert_array_equal(model["q"], frames[0])
+    # The same page from a file, from Python and from the command line.
+    npy = tmp_path / "motion.npy"
+    np.save(npy, frames)
+    assert robot.viewer(motion=npy, fps=25.0) == page
+    assert robot.viewer(motion=str(npy), fps=25.0) == page
+    exe = os.environ.get("SCREWKIT_CLI")
+    if exe and Path(exe).exists():
+        out = tmp_path / "page.html"
+        args = [exe, "view", str(ASSETS / "ur5.urdf"), "--motion", str(npy), "--fps", "25"]
+        done = subprocess.run([*args, "-o", str(out)], capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        assert out.read_text() == page
+    # Bad motions: the frame named.
+    bad = frames.copy()
+    bad[7, 2] = np.nan
+    with pytest.raises(ValueError, match="frame 7"):
+        robot.viewer(motion=bad)
+    with pytest.raises(ValueError, match="shape"):
+        robot.viewer(motion=frames[0])
+    with pytest.raises(ValueError, match="fps"):
+        robot.viewer(motion=frames, fps=0.0)
+    with pytest.raises(ValueError, match="frame 0"):
+        robot.viewer(motion=frames[:, :5])
