@@ -9,6 +9,7 @@ mod array;
 mod body;
 mod errors;
 mod lie;
+mod page;
 mod pool;
 mod reach;
 mod results;
@@ -143,6 +144,7 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
 #[pymodule]
 fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
+    m.add_class::<page::Page>()?;
     m.add_class::<body::Distances>()?;
     m.add_class::<body::Box_>()?;
     m.add_class::<body::CollisionAvoidance>()?;

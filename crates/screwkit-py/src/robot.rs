@@ -2074,6 +2074,20 @@ impl Robot {
         Ok(text)
     }
 
+    /// The interactive page ([`Robot::viewer`]'s) as a notebook shows it: a `Page` that
+    /// Jupyter displays inline (an iframe holding the whole page: nothing to install), with
+    /// the HTML in `.html` and `.save(path)`. `height`: the iframe's, in pixels.
+    #[pyo3(signature = (q = None, *, motion = None, fps = 30.0, height = 600))]
+    fn show(
+        &self,
+        q: Option<&Bound<'_, PyAny>>,
+        motion: Option<&Bound<'_, PyAny>>,
+        fps: f64,
+        height: u32,
+    ) -> PyResult<crate::page::Page> {
+        crate::page::Page::new(self.viewer(q, None, motion, fps)?, height)
+    }
+
     /// The arm angle ψ (rad, in [−π, π]) of configuration `q` of a 7R arm with a spherical
     /// shoulder (axes 1–3 meet at S) and a spherical wrist (axes 5–7 meet at W), the iiwa
     /// type: the angle about u = (W − S)/‖W − S‖ from r, axis 1's direction made ⊥ u, to

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import html
 import json
 import os
 import subprocess
@@ -57,3 +58,23 @@ def test_viewer_plays_a_motion(tmp_path: Path) -> None:
         robot.viewer(motion=frames, fps=0.0)
     with pytest.raises(ValueError, match="frame 0"):
         robot.viewer(motion=frames[:, :5])
+
+
+def test_show_is_the_page_in_a_notebook(tmp_path: Path) -> None:
+    """`Robot.show` gives what Jupyter displays: the whole page (the viewer's, byte for byte)
+    in an iframe's `srcdoc`, quoted so that the attribute holds all of it."""
+    robot = screwkit.Robot.from_urdf(ASSETS / "ur5.urdf")
+    q = [0.3, -1.0, 1.4, -0.8, -1.2, 0.4]
+    page = robot.show(q, height=480)
+    assert isinstance(page, screwkit.Page)
+    assert page.html == robot.viewer(q)
+    frame = page._repr_html_()
+    assert frame.startswith('<iframe srcdoc="') and "height: 480px" in frame
+    srcdoc = frame[len('<iframe srcdoc="') : frame.index('" style=')]
+    assert '"' not in srcdoc
+    assert html.unescape(srcdoc) == page.html
+    out = tmp_path / "ur5.html"
+    page.save(out)
+    assert out.read_text() == page.html
+    with pytest.raises(ValueError, match="height"):
+        robot.show(q, height=5)

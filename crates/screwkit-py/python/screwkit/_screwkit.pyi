@@ -10,6 +10,7 @@ import numpy.typing as npt
 __version__: str
 __all__ = [
     "Robot",
+    "Page",
     "IkResult",
     "IkBatchResult",
     "Analysis",
@@ -366,6 +367,17 @@ class Distances:
     def __len__(self) -> int: ...
 
 @final
+class Page:
+    """An interactive page (`Robot.show`): Jupyter displays it inline; `html` holds it."""
+
+    @property
+    def html(self) -> str: ...
+    @property
+    def height(self) -> int: ...
+    def _repr_html_(self) -> str: ...
+    def save(self, path: str | os.PathLike[str]) -> None: ...
+
+@final
 class Robot:
     """A whole robot (URDF, xacro, MJCF or a screw table), ready for kinematics: its chain
     base -> tip when it has one, and every frame of its tree (`link=...`).
@@ -612,6 +624,15 @@ class Robot:
         motion: _ArrayLike | str | os.PathLike[str] | None = None,
         fps: float = 30.0,
     ) -> str: ...
+    def show(
+        self,
+        q: _ArrayLike | None = None,
+        *,
+        motion: _ArrayLike | str | os.PathLike[str] | None = None,
+        fps: float = 30.0,
+        height: int = 600,
+    ) -> Page:
+        """The interactive page as a notebook shows it (inline, in an iframe)."""
     @overload
     def ik_all(
         self,
