@@ -650,6 +650,9 @@ pub struct ViewArgs {
     /// With --motion: frames per second.
     #[arg(long, requires = "motion", default_value_t = screwkit_draw::html::DEFAULT_FPS)]
     pub fps: f64,
+    /// A scene file (JSON) of obstacles to draw in the world (as `collide --obstacles`).
+    #[arg(long)]
+    pub obstacles: Option<PathBuf>,
     /// The HTML file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,

@@ -39,7 +39,8 @@ pub fn draw(a: &DrawArgs) -> CliResult {
     )
 }
 
-/// `screwkit view` (with `--motion`: the motion's frames, read by the floor).
+/// `screwkit view` (with `--motion`: the motion's frames, and `--obstacles`: a scene's
+/// obstacles, read by the floor).
 pub fn view(a: &ViewArgs) -> CliResult {
     let frames = match &a.motion {
         Some(path) => {
@@ -50,5 +51,15 @@ pub fn view(a: &ViewArgs) -> CliResult {
     let motion = frames
         .as_deref()
         .map(|frames| screwkit_draw::html::Motion { frames, fps: a.fps });
-    picture(&a.chain, a.q.as_ref(), &a.output, Picture::Page(motion))
+    let obstacles = match &a.obstacles {
+        Some(scene) => {
+            screwkit_service::body::read_scene(scene, &a.chain.xacro.options().package_paths)?
+        }
+        None => Vec::new(),
+    };
+    let options = screwkit_draw::html::PageOptions {
+        motion,
+        obstacles: &obstacles,
+    };
+    picture(&a.chain, a.q.as_ref(), &a.output, Picture::Page(options))
 }

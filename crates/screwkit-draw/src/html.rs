@@ -296,7 +296,11 @@ fn base64(bytes: &[u8]) -> String {
 /// uint32 triangles.
 /// A mesh that cannot be read is listed in `problems` (one sentence naming the link and file)
 /// and drawn as nothing: a picture never fails on the body.
-pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
+pub fn body_json(
+    tree: &screwkit_model::Tree,
+    links: &[String],
+    obstacles: &[screwkit_service::body::Obstacle],
+) -> Value {
     use screwkit_model::geometry::{Role, Shape};
     let index: std::collections::HashMap<&str, usize> = links
         .iter()
@@ -309,19 +313,51 @@ pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
     let mut problems: Vec<String> = tree.geometry_problems.clone();
     let mut triangles = 0usize;
     let mut shapes = Vec::new();
-    for g in &tree.geometries {
-        let Some(&link) = tree.links.get(g.link).and_then(|n| index.get(n.as_str())) else {
-            continue;
+    // The robot's shapes on its links; an MJCF world's geoms (a floor, a table) and the
+    // obstacles on the world (link null), as obstacles.
+    let world = tree
+        .contact_rules
+        .iter()
+        .flat_map(|r| r.world.iter())
+        .map(|g| {
+            (
+                None,
+                "obstacle",
+                g.origin,
+                &g.shape,
+                g.rgba,
+                tree.links.get(g.link),
+            )
+        });
+    let robot = tree.geometries.iter().filter_map(|g| {
+        let link = tree.links.get(g.link).and_then(|n| index.get(n.as_str()))?;
+        let role = match g.role {
+            Role::Visual => "visual",
+            Role::Collision => "collision",
         };
+        Some((
+            Some(*link),
+            role,
+            g.origin,
+            &g.shape,
+            g.rgba,
+            tree.links.get(g.link),
+        ))
+    });
+    let added = obstacles
+        .iter()
+        .map(|o| (None, "obstacle", o.pose, &o.shape, None, Some(&o.name)));
+    for (link, role, origin, geometry, rgba, owner) in robot.chain(world).chain(added) {
+        let owner = owner.map_or("the world", String::as_str);
         let mut shape = json!({
             "link": link,
-            "role": match g.role { Role::Visual => "visual", Role::Collision => "collision" },
-            "origin": row_major(&g.origin),
-            "rgba": g.rgba,
-            "kind": g.shape.word(),
+            "role": role,
+            "origin": row_major(&origin),
+            "rgba": rgba,
+            "kind": geometry.word(),
         });
         let o = shape.as_object_mut().expect("an object");
-        match &g.shape {
+        match geometry {
             Shape::Box { size } => {
                 o.insert("size".into(), json!(size));
             }
@@ -365,7 +401,7 @@ pub fn body_json(tree: &screwkit_model::Tree, links: &[String]) -> Value {
                             None
                         }
                         Err(e) => {
-                            problems.push(format!("link \"{}\": {e}", tree.links[g.link]));
+                            problems.push(format!("\"{owner}\": {e}"));
                             None
                         }
                     }
@@ -391,6 +427,15 @@ pub struct Motion<'a> {
     pub frames: &'a [Vec<f64>],
     /// Frames per second (0 < fps ≤ 1000).
     pub fps: f64,
+}
+
+/// What a page shows besides the robot: a motion to play back, obstacles in the world.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PageOptions<'a> {
+    /// A motion to play back.
+    pub motion: Option<Motion<'a>>,
+    /// Obstacles, drawn in the world (the scene's or the robot's body's).
+    pub obstacles: &'a [screwkit_service::body::Obstacle],
 }
 
 /// Frames per second of a motion when not told (the CLI's `--fps`; Python's `fps=30.0`, a
@@ -420,18 +465,19 @@ fn motion_json(
 /// The page of `chain` at `q` (default: each joint at 0, or at the limit nearest 0 when 0 is
 /// outside its limits — the Panda's joint 4 is). Checks q. Without a body: the skeleton.
 pub fn page(chain: &Chain, kin: &Kinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
-    page_with_body(chain, kin, q, None, None)
+    page_with_body(chain, kin, q, None, &PageOptions::default())
 }
 
-/// [`page`] drawing the body `tree` gives the chain's links (its shapes, [`body_json`]), and
-/// playing `motion` back (each frame checked as q is).
+/// [`page`] drawing the body `tree` gives the chain's links (its shapes, [`body_json`]) and
+/// the obstacles, and playing the motion back (each frame checked as q is).
 pub fn page_with_body(
     chain: &Chain,
     kin: &Kinematics,
     q: Option<&[f64]>,
     tree: Option<&screwkit_model::Tree>,
-    motion: Option<&Motion<'_>>,
+    options: &PageOptions<'_>,
 ) -> Result<String, SolveError> {
+    let motion = options.motion.as_ref();
     let zeros: Vec<f64> = (0..kin.dof())
         .map(|k| 0f64.clamp(kin.lower()[k], kin.upper()[k]))
         .collect();
@@ -445,7 +491,7 @@ pub fn page_with_body(
     let mut model = model_json(chain, kin, q);
     if let Some(tree) = tree {
         let names: Vec<String> = kin.links().iter().map(|l| l.name.clone()).collect();
-        model["body"] = body_json(tree, &names);
+        model["body"] = body_json(tree, &names, options.obstacles);
     }
     if let Some(m) = played {
         model["motion"] = m;
@@ -457,15 +503,17 @@ pub fn page_with_body(
 /// configuration with each joint brought inside its limits): every branch, a slider per
 /// variable, the pose of every leaf. Checks q.
 pub fn tree_page(kin: &TreeKinematics, q: Option<&[f64]>) -> Result<String, SolveError> {
-    tree_page_with_motion(kin, q, None)
+    tree_page_with(kin, q, &PageOptions::default())
 }
 
-/// [`tree_page`] playing `motion` back (each frame a whole configuration, checked as q is).
-pub fn tree_page_with_motion(
+/// [`tree_page`] with the obstacles drawn and the motion played back (each frame a whole
+/// configuration, checked as q is).
+pub fn tree_page_with(
     kin: &TreeKinematics,
     q: Option<&[f64]>,
-    motion: Option<&Motion<'_>>,
+    options: &PageOptions<'_>,
 ) -> Result<String, SolveError> {
+    let motion = options.motion.as_ref();
     let (lower, upper) = (kin.lower(), kin.upper());
     let start: Vec<f64> = screwkit_solve::tree::configuration::neutral(kin)
         .into_iter()
@@ -480,7 +528,7 @@ pub fn tree_page_with_motion(
     kin.check_q(q)?;
     let mut model = tree_json(kin, q);
     let names: Vec<String> = kin.model().links.iter().map(|l| l.name.clone()).collect();
-    model["body"] = body_json(&kin.model().tree, &names);
+    model["body"] = body_json(&kin.model().tree, &names, options.obstacles);
     if let Some(m) = played {
         model["motion"] = m;
     }

@@ -45,9 +45,9 @@ pub use svg::View;
 pub enum Picture<'a> {
     /// The SVG drawing in these views ([`svg::render`]).
     Svg(&'a [View]),
-    /// The interactive HTML page ([`html::page`], [`html::tree_page`]), playing a motion
-    /// back when given.
-    Page(Option<html::Motion<'a>>),
+    /// The interactive HTML page ([`html::page`], [`html::tree_page`]), with a motion to
+    /// play back and obstacles when given.
+    Page(html::PageOptions<'a>),
 }
 
 /// The picture of `robot` at q (default: home), routed once for every front end: of the whole
@@ -61,12 +61,12 @@ pub fn picture(
 ) -> Result<String, screwkit_service::Error> {
     Ok(match (Space::of(robot, tree)?, picture) {
         (Space::Tree(kin), Picture::Svg(views)) => svg::render(&Scene::tree(kin, q)?, views),
-        (Space::Tree(kin), Picture::Page(m)) => html::tree_page_with_motion(kin, q, m.as_ref())?,
+        (Space::Tree(kin), Picture::Page(o)) => html::tree_page_with(kin, q, &o)?,
         (Space::Chain(kin), Picture::Svg(views)) => {
             svg::render(&Scene::new(robot.chain()?, kin, q)?, views)
         }
-        (Space::Chain(kin), Picture::Page(m)) => {
-            html::page_with_body(robot.chain()?, kin, q, Some(robot.tree()), m.as_ref())?
+        (Space::Chain(kin), Picture::Page(o)) => {
+            html::page_with_body(robot.chain()?, kin, q, Some(robot.tree()), &o)?
         }
     })
 }

@@ -458,7 +458,7 @@ fn the_page_embeds_the_body() {
     let tree = screwkit_model::load_tree(&path, &Default::default()).unwrap();
     let chain = screwkit_model::load_chain(&path, None, None).unwrap();
     let kin = screwkit_solve::Kinematics::new(&chain);
-    let page = html::page_with_body(&chain, &kin, None, Some(&tree), None).unwrap();
+    let page = html::page_with_body(&chain, &kin, None, Some(&tree), &Default::default()).unwrap();
     let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
     let end = start + page[start..].find("</script>").unwrap();
     let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
@@ -554,6 +554,35 @@ fn the_page_embeds_the_body() {
     assert_eq!(corners, want);
     assert_eq!(v.len(), 3 * 4, "welded: a tetrahedron's 4 corners");
     assert_eq!(meshes[0]["triangles"], 2);
+    // Obstacles stand in the world (no link).
+    let table = screwkit_service::body::Obstacle {
+        name: "table".into(),
+        shape: screwkit_model::geometry::Shape::Box {
+            size: [1.0, 2.0, 0.05],
+        },
+        pose: screwkit_lie::Se3::from_parts_unchecked(
+            nalgebra::Matrix3::identity(),
+            nalgebra::Vector3::new(0.5, 0.0, 0.2),
+        ),
+    };
+    let options = html::PageOptions {
+        obstacles: std::slice::from_ref(&table),
+        ..Default::default()
+    };
+    let with = html::page_with_body(&chain, &kin, None, Some(&tree), &options).unwrap();
+    let start = with.find("id=\"model\">").unwrap() + "id=\"model\">".len();
+    let end = start + with[start..].find("</script>").unwrap();
+    let m: serde_json::Value = serde_json::from_str(&with[start..end]).unwrap();
+    let last = m["body"]["shapes"]
+        .as_array()
+        .unwrap()
+        .last()
+        .unwrap()
+        .clone();
+    assert_eq!(last["role"], "obstacle");
+    assert!(last["link"].is_null());
+    assert_eq!(last["size"], serde_json::json!([1.0, 2.0, 0.05]));
+    assert_eq!(last["origin"][3], 0.5);
     let problems = body["problems"].as_array().unwrap();
     assert!(
         problems
@@ -621,7 +650,11 @@ fn the_page_embeds_a_motion() {
         frames: &frames,
         fps: 50.0,
     };
-    let page = html::page_with_body(&chain, &kin, None, None, Some(&motion)).unwrap();
+    let options = html::PageOptions {
+        motion: Some(motion),
+        ..Default::default()
+    };
+    let page = html::page_with_body(&chain, &kin, None, None, &options).unwrap();
     let start = page.find("id=\"model\">").unwrap() + "id=\"model\">".len();
     let end = start + page[start..].find("</script>").unwrap();
     let model: serde_json::Value = serde_json::from_str(&page[start..end]).unwrap();
@@ -630,8 +663,11 @@ fn the_page_embeds_a_motion() {
     assert_eq!(got, frames);
     assert_eq!(model["q"], serde_json::json!(frames[0]));
     let error = |frames: &[Vec<f64>], fps: f64| {
-        let m = html::Motion { frames, fps };
-        html::page_with_body(&chain, &kin, None, None, Some(&m))
+        let options = html::PageOptions {
+            motion: Some(html::Motion { frames, fps }),
+            ..Default::default()
+        };
+        html::page_with_body(&chain, &kin, None, None, &options)
             .unwrap_err()
             .to_string()
     };

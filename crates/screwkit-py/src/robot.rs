@@ -2069,7 +2069,25 @@ impl Robot {
         let motion = frames
             .as_deref()
             .map(|frames| screwkit_draw::html::Motion { frames, fps });
-        let text = self.picture(q, screwkit_draw::Picture::Page(motion))?;
+        // The obstacles added to the body (not building the body just for them).
+        let obstacles: Vec<screwkit_service::body::Obstacle> =
+            match self.body.read().expect("the body lock").as_deref() {
+                Some(m) => m
+                    .added_obstacles()
+                    .into_iter()
+                    .map(|(name, shape, pose)| screwkit_service::body::Obstacle {
+                        name: name.to_string(),
+                        shape: shape.clone(),
+                        pose,
+                    })
+                    .collect(),
+                None => Vec::new(),
+            };
+        let options = screwkit_draw::html::PageOptions {
+            motion,
+            obstacles: &obstacles,
+        };
+        let text = self.picture(q, screwkit_draw::Picture::Page(options))?;
         write_text(path, &text)?;
         Ok(text)
     }

@@ -78,3 +78,30 @@ def test_show_is_the_page_in_a_notebook(tmp_path: Path) -> None:
     assert out.read_text() == page.html
     with pytest.raises(ValueError, match="height"):
         robot.show(q, height=5)
+
+
+def test_obstacles_are_drawn(tmp_path: Path) -> None:
+    """Obstacles added to the robot (Python) or given as a scene file (CLI `view --obstacles`)
+    stand in the page's world, the same shape at the same pose."""
+    robot = screwkit.Robot.from_urdf(ASSETS / "ur5.urdf")
+    pose = np.eye(4)
+    pose[:3, 3] = [0.6, 0.0, 0.1]
+    robot.add_obstacle("table", screwkit.Box((0.6, 1.2, 0.05)), pose)
+    body = model_of(robot.viewer())["body"]
+    assert isinstance(body, dict)
+    (table,) = [s for s in body["shapes"] if s["role"] == "obstacle"]
+    assert table["link"] is None and table["kind"] == "box"
+    assert table["size"] == [0.6, 1.2, 0.05]
+    np.testing.assert_array_equal(np.reshape(table["origin"], (4, 4)), pose)
+    exe = os.environ.get("SCREWKIT_CLI")
+    if exe and Path(exe).exists():
+        scene = tmp_path / "scene.json"
+        obstacle = {"name": "table", "shape": "box", "size": [0.6, 1.2, 0.05], "xyz": [0.6, 0, 0.1]}
+        scene.write_text(json.dumps({"obstacles": [obstacle]}))
+        out = tmp_path / "page.html"
+        args = [exe, "view", str(ASSETS / "ur5.urdf"), "--obstacles", str(scene), "-o", str(out)]
+        done = subprocess.run(args, capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        cli_body = model_of(out.read_text())["body"]
+        assert isinstance(cli_body, dict)
+        assert [s for s in cli_body["shapes"] if s["role"] == "obstacle"] == [table]

@@ -227,11 +227,12 @@
       return g;
     });
     const visualOf = new Set(body.shapes.filter((s) => s.role === "visual").map((s) => s.link));
-    const shapes = { visual: [], collision: [] };
+    const shapes = { visual: [], collision: [], obstacle: [] };
     body.shapes.forEach((s) => {
       const geometry = geometryOf(s);
       if (!geometry) return;
-      const rgba = s.rgba || (s.role === "collision" ? [0.85, 0.45, 0.2, 0.55] : [0.7, 0.72, 0.75, 1]);
+      const fallback = { collision: [0.85, 0.45, 0.2, 0.55], obstacle: [0.55, 0.62, 0.7, 0.8] };
+      const rgba = s.rgba || fallback[s.role] || [0.7, 0.72, 0.75, 1];
       const material = new T3.MeshStandardMaterial({
         color: new T3.Color(rgba[0], rgba[1], rgba[2]),
         transparent: rgba[3] < 1 || s.role === "collision",
@@ -242,7 +243,8 @@
       const mesh = new T3.Mesh(geometry, material);
       mesh.matrixAutoUpdate = false;
       setMatrix(mesh.matrix, s.origin);
-      groups[s.link].add(mesh);
+      // An obstacle (link null) stands in the world.
+      (s.link === null ? scene : groups[s.link]).add(mesh);
       // A link without visual shapes shows its collision shapes as its body.
       const role = s.role === "collision" && !visualOf.has(s.link) ? "visual" : s.role;
       shapes[role].push(mesh);
@@ -289,7 +291,7 @@
   }
   const toggles = ["visual", "collision", "skeleton", "axes", "frames"].map((k) => document.getElementById("show-" + k));
   const [showVisual, showCollision, showSkeleton, showAxes, showFrames] = toggles;
-  const drawn = new Set(body.shapes.map((s) => s.link));
+  const drawn = new Set(body.shapes.filter((s) => s.link !== null).map((s) => s.link));
   if (drawn.size < model.links.length / 2) {
     // Little or nothing to draw of the body (no shapes, or meshes not found): the stick figure.
     showVisual.checked = drawn.size > 0;
