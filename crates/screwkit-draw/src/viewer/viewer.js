@@ -147,8 +147,10 @@
   const pts = home.links.map((T) => [T[3], T[7], T[11]]);
   const lo = [0, 1, 2].map((k) => Math.min(...pts.map((p) => p[k])));
   const hi = [0, 1, 2].map((k) => Math.max(...pts.map((p) => p[k])));
-  const centre = lo.map((x, k) => (x + hi[k]) / 2);
-  const size = Math.max(Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]), 0.3);
+  // The view's centre and size: the links' origins at home, then (with WebGL) the body and
+  // obstacles as first shown ([`frame`]).
+  let centre = lo.map((x, k) => (x + hi[k]) / 2);
+  let size = Math.max(Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]), 0.3);
   const body = model.body || { shapes: [], meshes: [], problems: [] };
   if (body.problems.length) {
     const more = body.problems.length - 1;
@@ -159,6 +161,7 @@
   let three = null;
   try {
     three = makeScene();
+    frame();
   } catch (e) {
     error.textContent = "no WebGL in this browser (" + e.message + "): the 3D view is off, the tables follow the sliders";
     error.className = "no-webgl";
@@ -228,6 +231,7 @@
     });
     const visualOf = new Set(body.shapes.filter((s) => s.role === "visual").map((s) => s.link));
     const shapes = { visual: [], collision: [], obstacle: [] };
+    const framed = [];
     body.shapes.forEach((s) => {
       const geometry = geometryOf(s);
       if (!geometry) return;
@@ -245,6 +249,7 @@
       setMatrix(mesh.matrix, s.origin);
       // An obstacle (link null) stands in the world.
       (s.link === null ? scene : groups[s.link]).add(mesh);
+      if (s.kind !== "plane") framed.push(mesh);
       // A link without visual shapes shows its collision shapes as its body.
       const role = s.role === "collision" && !visualOf.has(s.link) ? "visual" : s.role;
       shapes[role].push(mesh);
@@ -283,7 +288,24 @@
       axes: lines(0x7b3294),
       frames: [lines(0xd7191c), lines(0x1a9641), lines(0x2b83ba)],
     };
-    return { T3, renderer, scene, camera, groups, shapes, overlay };
+    return { T3, renderer, scene, camera, groups, shapes, overlay, framed, grid };
+  }
+  // Frames the view on the body and obstacles as first shown (their box at q, planes left
+  // out), with the links' origins: a robot reaching over a table stays in the picture.
+  function frame() {
+    const { T3, scene, groups, framed, grid, camera } = three;
+    groups.forEach((g, k) => setMatrix(g.matrix, state.links[k]));
+    scene.updateMatrixWorld(true);
+    const box = new T3.Box3();
+    state.links.forEach((T) => box.expandByPoint(new T3.Vector3(T[3], T[7], T[11])));
+    framed.forEach((m) => box.expandByObject(m));
+    if (box.isEmpty()) return;
+    const c = box.getCenter(new T3.Vector3());
+    centre = [c.x, c.y, c.z];
+    size = Math.max(box.getSize(new T3.Vector3()).length(), 0.3);
+    camera.near = size / 200;
+    camera.far = size * 200;
+    grid.position.set(centre[0], centre[1], Math.min(0, box.min.z));
   }
   function setLines(l, points) {
     l.geometry.setAttribute("position", new THREE.BufferAttribute(new Float32Array(points), 3));

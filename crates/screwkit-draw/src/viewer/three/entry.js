@@ -3,6 +3,7 @@ export {
   AmbientLight,
   BufferAttribute,
   BufferGeometry,
+  Box3,
   BoxGeometry,
   CapsuleGeometry,
   Color,
