@@ -40,8 +40,17 @@ pub fn draw(a: &DrawArgs) -> CliResult {
 }
 
 /// `screwkit view` (with `--motion`: the motion's frames, and `--obstacles`: a scene's
-/// obstacles, read by the floor).
+/// obstacles, read by the floor). The page may not overwrite the motion or the scene file
+/// (nor the robot's: [`screwkit_service::io::atomic`] refuses it by any name).
 pub fn view(a: &ViewArgs) -> CliResult {
+    let inputs: Vec<&str> = [&a.motion, &a.obstacles]
+        .into_iter()
+        .flatten()
+        .filter_map(|p| p.to_str())
+        .collect();
+    if a.output != "-" {
+        screwkit_service::io::atomic::check_distinct(&inputs, &[&a.output]).map_err(Failure)?;
+    }
     let frames = match &a.motion {
         Some(path) => {
             Some(screwkit_service::io::motion::read(path).map_err(|e| Failure(e.to_string()))?)

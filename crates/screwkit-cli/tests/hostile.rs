@@ -407,47 +407,66 @@ fn info_describes_the_chain_asked_for_and_suggests_names() {
 #[cfg(unix)]
 fn ctrl_c_leaves_no_file_behind() {
     let ur5 = asset("ur5.urdf");
-    let out = tmp("interrupted.npz");
-    std::fs::write(&out, b"the previous map").unwrap();
-    let mut child = Command::new(BIN)
-        .args([
-            "reach",
-            &ur5,
+    interrupt_reach(
+        "interrupted.npz",
+        &[&ur5, "--resolution", "0.02", "--orientations", "50"],
+    );
+    // A map clear of contact (numerical IK steering away from the body's pairs) stops too.
+    let humanoid = asset("humanoid.urdf");
+    interrupt_reach(
+        "interrupted-clear.npz",
+        &[
+            &humanoid,
+            "--tip",
+            "left_hand",
             "--resolution",
-            "0.02",
+            "0.03",
             "--orientations",
             "50",
-            "-o",
-            &s(&out),
-        ])
+            "--avoid-collisions",
+        ],
+    );
+}
+
+/// Runs `screwkit reach ARGS -o NAME` over a previous file, sends SIGINT once the build has
+/// started (its temporary file exists): exit 130, no temporary file left, the previous file
+/// intact.
+#[cfg(unix)]
+fn interrupt_reach(name: &str, args: &[&str]) {
+    let out = tmp(name);
+    std::fs::write(&out, b"the previous map").unwrap();
+    let mut child = Command::new(BIN)
+        .arg("reach")
+        .args(args)
+        .args(["-o", &s(&out)])
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     // Wait until the temporary file exists (the build has started), then Ctrl-C.
     let dir = out.parent().unwrap().to_path_buf();
+    let prefix = format!(".{name}.");
     let tmp_exists = || {
         std::fs::read_dir(&dir)
             .unwrap()
             .filter_map(|e| e.ok())
-            .any(|e| {
-                e.file_name()
-                    .to_string_lossy()
-                    .starts_with(".interrupted.npz.")
-            })
+            .any(|e| e.file_name().to_string_lossy().starts_with(&prefix))
     };
     let start = std::time::Instant::now();
     while !tmp_exists() && start.elapsed() < std::time::Duration::from_secs(30) {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    assert!(tmp_exists(), "the build never started");
+    assert!(tmp_exists(), "{name}: the build never started");
+    // Into the build (it runs for seconds), still running when interrupted.
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    assert!(child.try_wait().unwrap().is_none(), "{name}: ended too soon");
     let killed = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .unwrap();
     assert!(killed.success());
     let status = child.wait().unwrap();
-    assert_eq!(status.code(), Some(130), "{status:?}");
-    assert!(!tmp_exists(), "a temporary file stayed behind");
+    assert_eq!(status.code(), Some(130), "{name}: {status:?}");
+    assert!(!tmp_exists(), "{name}: a temporary file stayed behind");
     assert_eq!(std::fs::read(&out).unwrap(), b"the previous map");
 }
 
@@ -584,6 +603,31 @@ fn no_output_overwrites_a_robot_file_or_an_include() {
     );
     assert_eq!(std::fs::read(&s0).unwrap(), shard_before);
     assert!(!Path::new(&merged).exists());
+    // view: the page over the motion it plays, or over the scene it draws, by any name.
+    let motion = dir.join("motion.json");
+    std::fs::write(&motion, "[[0,0,0,0,0,0],[0.1,0,0,0,0,0]]").unwrap();
+    let scene = dir.join("scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"obstacles": [{"name": "t", "shape": "box", "size": [1, 1, 0.1], "xyz": [0, 0, -0.2]}]}"#,
+    )
+    .unwrap();
+    let (motion_before, scene_before) = (
+        std::fs::read(&motion).unwrap(),
+        std::fs::read(&scene).unwrap(),
+    );
+    for out in [s(&motion), format!("{}/./motion.json", s(&dir))] {
+        fails_with(
+            &["view", &r, "--motion", &s(&motion), "-o", &out],
+            "is also an input",
+        );
+    }
+    fails_with(
+        &["view", &r, "--obstacles", &s(&scene), "-o", &s(&scene)],
+        "is also an input",
+    );
+    assert_eq!(std::fs::read(&motion).unwrap(), motion_before);
+    assert_eq!(std::fs::read(&scene).unwrap(), scene_before);
     // Writing elsewhere still works.
     let (code, _, err) = run(&["urdf", &r, "-o", &s(&dir.join("copy.urdf"))]);
     assert_eq!(code, Some(0), "{err}");

@@ -2047,6 +2047,13 @@ impl Robot {
                     if m.is_instance_of::<pyo3::types::PyString>()
                         || m.hasattr("__fspath__")? =>
                 {
+                    // The page may not be written over the motion it plays.
+                    if let (Some(out), Some(input)) =
+                        (path.as_ref().and_then(|p| p.to_str()), file.to_str())
+                    {
+                        screwkit_service::io::atomic::check_distinct(&[input], &[out])
+                            .map_err(PyValueError::new_err)?;
+                    }
                     screwkit_service::io::motion::read(&file).map_err(crate::errors::file_error)?
                 }
                 _ => {

@@ -47,6 +47,20 @@ def test_viewer_plays_a_motion(tmp_path: Path) -> None:
         done = subprocess.run([*args, "-o", str(out)], capture_output=True, text=True)
         assert done.returncode == 0, done.stderr
         assert out.read_text() == page
+    # The page is never written over the motion it plays, by any name, nor over the robot.
+    before = npy.read_bytes()
+    for out_name in [npy, tmp_path / "." / "motion.npy"]:
+        with pytest.raises(ValueError, match="is also an input"):
+            robot.viewer(motion=npy, path=out_name)
+    assert npy.read_bytes() == before
+    copy = tmp_path / "ur5.urdf"
+    copy.write_bytes((ASSETS / "ur5.urdf").read_bytes())
+    held = screwkit.Robot.from_urdf(copy)  # its file stays protected while it lives
+    with pytest.raises(ValueError, match="is an input of this run"):
+        held.show().save(copy)
+    with pytest.raises(ValueError, match="is an input of this run"):
+        held.viewer(path=copy)
+    assert copy.read_bytes() == (ASSETS / "ur5.urdf").read_bytes()
     # Bad motions: the frame named.
     bad = frames.copy()
     bad[7, 2] = np.nan

@@ -146,6 +146,40 @@ mod tests {
         npy.extend(crate::io::le_bytes(&[1.0, f64::NAN], f64::to_le_bytes));
         let e = read(&file("nan.npy", &npy)).unwrap_err().to_string();
         assert!(e.contains("nan.npy") && e.contains("row 1"), "{e}");
+        // Too many frames: in .npy,
+        // a JSON array and JSON lines; a header claiming more values than the file holds.
+        let mut npy = crate::io::npz::npy_header("<f8", &[MAX_FRAMES + 1, 1]);
+        npy.extend(crate::io::le_bytes(
+            &vec![0.0; MAX_FRAMES + 1],
+            f64::to_le_bytes,
+        ));
+        let e = read(&file("long.npy", &npy)).unwrap_err().to_string();
+        assert!(
+            e.contains("long.npy") && e.contains("at most 200000"),
+            "{e}"
+        );
+        let many = format!("[{}[0]]", "[0],".repeat(MAX_FRAMES));
+        let e = read(&file("long.json", many.as_bytes()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("long.json") && e.contains("at most 200000"),
+            "{e}"
+        );
+        let e = read(&file(
+            "long.jsonl",
+            "[0]\n".repeat(MAX_FRAMES + 1).as_bytes(),
+        ))
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("long.jsonl") && e.contains("more than 200000"),
+            "{e}"
+        );
+        let mut npy = crate::io::npz::npy_header("<f8", &[10, 1 << 40]);
+        npy.extend(crate::io::le_bytes(&[1.0; 4], f64::to_le_bytes));
+        let e = read(&file("wide.npy", &npy)).unwrap_err().to_string();
+        assert!(e.contains("wide.npy"), "{e}");
         let e = read(Path::new("/nonexistent/m.npy"))
             .unwrap_err()
             .to_string();
