@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, Collisions, GeometryRoles, JacobianFrame, Meshes, Method, OrientationMode,
+    self, Axes, Collisions, GeometryRoles, JacobianFrame, Labels, Meshes, Method, OrientationMode,
     RepresentativesChoice, SolverChoice, TableFrames, View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
@@ -628,6 +628,14 @@ pub struct DrawArgs {
     /// The view: iso, front (from +x), side (from -y), top (from +z), or all four on one sheet.
     #[arg(long, value_parser = word::<Views>(), default_value_t = Views::One(View::Iso))]
     pub view: Views,
+    /// The names written, each placed off the others (or left out when there is no room):
+    /// none, leaves (a chain's tip, a tree's leaves) or all (every link).
+    #[arg(long, value_parser = word::<Labels>(), default_value_t = Labels::Leaves)]
+    pub labels: Labels,
+    /// The screw axes drawn: all, none, or joints by name or number (J1,J2 or 1,2). Default:
+    /// all for a chain, or for a tree of at most 12 joints; none for a larger tree.
+    #[arg(long, value_parser = |s: &str| s.parse::<Axes>())]
+    pub axes: Option<Axes>,
     /// The SVG file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,

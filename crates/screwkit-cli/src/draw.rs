@@ -31,12 +31,12 @@ fn picture(
 
 /// `screwkit draw`.
 pub fn draw(a: &DrawArgs) -> CliResult {
-    picture(
-        &a.chain,
-        a.q.as_ref(),
-        &a.output,
-        Picture::Svg(&a.view.views()),
-    )
+    let options = screwkit_draw::svg::Options {
+        views: a.view.views(),
+        labels: a.labels,
+        axes: a.axes.clone().unwrap_or_default(),
+    };
+    picture(&a.chain, a.q.as_ref(), &a.output, Picture::Svg(&options))
 }
 
 /// `screwkit view` (with `--motion`: the motion's frames, and `--obstacles`: a scene's

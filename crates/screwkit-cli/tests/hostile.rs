@@ -458,7 +458,10 @@ fn interrupt_reach(name: &str, args: &[&str]) {
     assert!(tmp_exists(), "{name}: the build never started");
     // Into the build (it runs for seconds), still running when interrupted.
     std::thread::sleep(std::time::Duration::from_millis(300));
-    assert!(child.try_wait().unwrap().is_none(), "{name}: ended too soon");
+    assert!(
+        child.try_wait().unwrap().is_none(),
+        "{name}: ended too soon"
+    );
     let killed = Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()

@@ -30,6 +30,7 @@
 
 pub mod heatmap;
 pub mod html;
+pub mod outline;
 pub mod scene;
 pub mod svg;
 
@@ -43,8 +44,9 @@ pub use svg::View;
 /// Which picture [`picture`] makes.
 #[derive(Debug, Clone, Copy)]
 pub enum Picture<'a> {
-    /// The SVG drawing in these views ([`svg::render`]).
-    Svg(&'a [View]),
+    /// The SVG drawing ([`svg::render_with`]): its views, names and axes; the body drawn
+    /// from the robot's shapes when it has any.
+    Svg(&'a svg::Options),
     /// The interactive HTML page ([`html::page`], [`html::tree_page`]), with a motion to
     /// play back and obstacles when given.
     Page(html::PageOptions<'a>),
@@ -60,11 +62,14 @@ pub fn picture(
     picture: Picture<'_>,
 ) -> Result<String, screwkit_service::Error> {
     Ok(match (Space::of(robot, tree)?, picture) {
-        (Space::Tree(kin), Picture::Svg(views)) => svg::render(&Scene::tree(kin, q)?, views),
-        (Space::Tree(kin), Picture::Page(o)) => html::tree_page_with(kin, q, &o)?,
-        (Space::Chain(kin), Picture::Svg(views)) => {
-            svg::render(&Scene::new(robot.chain()?, kin, q)?, views)
+        (Space::Tree(kin), Picture::Svg(o)) => {
+            svg::render_with(&Scene::tree(kin, q)?.with_body(&kin.model().tree), o)?
         }
+        (Space::Tree(kin), Picture::Page(o)) => html::tree_page_with(kin, q, &o)?,
+        (Space::Chain(kin), Picture::Svg(o)) => svg::render_with(
+            &Scene::new(robot.chain()?, kin, q)?.with_body(robot.tree()),
+            o,
+        )?,
         (Space::Chain(kin), Picture::Page(o)) => {
             html::page_with_body(robot.chain()?, kin, q, Some(robot.tree()), &o)?
         }

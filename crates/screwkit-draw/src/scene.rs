@@ -87,10 +87,14 @@ pub struct Scene {
     /// The characteristic size of the picture (m): the diagonal of the box around the link
     /// origins (at least 1 mm), from which axis and triad lengths are taken.
     pub size: f64,
+    /// The body: each shape of each link at q ([`Scene::with_body`]); empty for a skeleton.
+    pub outlines: Vec<crate::outline::Outline>,
+    /// What of the body could not be drawn (a mesh that cannot be read, with its link).
+    pub problems: Vec<String>,
 }
 
 /// The diagonal of the box around the link origins (at least 1 mm).
-fn size_of(links: &[LinkMark]) -> f64 {
+pub(crate) fn size_of(links: &[LinkMark]) -> f64 {
     let (lo, hi) = links.iter().fold(
         (
             Vector3::repeat(f64::INFINITY),
@@ -191,6 +195,8 @@ impl Scene {
                 },
             ],
             size,
+            outlines: Vec::new(),
+            problems: Vec::new(),
         })
     }
 
@@ -262,7 +268,19 @@ impl Scene {
             joints,
             frames,
             size,
+            outlines: Vec::new(),
+            problems: Vec::new(),
         })
+    }
+
+    /// The scene with the body of its links from `tree` (the robot file's shapes: each link's
+    /// visual shapes, or its collision ones when it has none; [`crate::outline::outlines`]).
+    pub fn with_body(mut self, tree: &screwkit_model::Tree) -> Self {
+        let (outlines, problems) = crate::outline::outlines(tree, &self.links);
+        self.outlines = outlines;
+        self.problems.extend(tree.geometry_problems.iter().cloned());
+        self.problems.extend(problems);
+        self
     }
 
     /// The tip's pose (a chain's; the last leaf of a tree).

@@ -13,8 +13,29 @@ use screwkit_model::JointKind;
 
 use crate::scene::{FrameRole, Scene};
 
-pub use screwkit_service::words::View;
 use screwkit_service::words::Word;
+pub use screwkit_service::words::{Axes, Labels, View};
+
+/// How a drawing is made: its views, which names it writes, which screw axes it shows.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Options {
+    /// One view, or the four of [`View::ALL`] on one sheet.
+    pub views: Vec<View>,
+    /// The names written ([`Labels::Leaves`] by default).
+    pub labels: Labels,
+    /// The screw axes shown ([`Axes::Auto`] by default).
+    pub axes: Axes,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            views: vec![View::Iso],
+            labels: Labels::Leaves,
+            axes: Axes::Auto,
+        }
+    }
+}
 
 /// What the view shows, for its caption.
 fn caption(view: View) -> &'static str {
@@ -122,6 +143,8 @@ fn joint_title(scene: &Scene, j: usize) -> String {
 struct Panel {
     right: Vector3<f64>,
     up: Vector3<f64>,
+    /// Towards the viewer (right × up): the depth of painter's order.
+    toward: Vector3<f64>,
     scale: f64,
     centre: Vector2<f64>,
     x0: f64,
@@ -135,6 +158,9 @@ impl Panel {
         let mut pts: Vec<Vector2<f64>> = Vec::new();
         for l in &scene.links {
             pts.push(flat(l.pose.translation()));
+        }
+        for o in &scene.outlines {
+            pts.extend(o.points.iter().map(flat));
         }
         for j in &scene.joints {
             pts.extend(j.line.iter().map(flat));
@@ -159,6 +185,7 @@ impl Panel {
         Self {
             right,
             up,
+            toward: right.cross(&up),
             scale,
             centre: (lo + hi) / 2.0,
             x0,
@@ -245,7 +272,111 @@ fn scale_bar(size: f64) -> (f64, String) {
     (len, label)
 }
 
-fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
+/// A colour of the model (r, g, b in [0, 1]) times `k`, as `#rrggbb`.
+fn hex(rgb: [f64; 3], k: f64) -> String {
+    let c = |x: f64| ((x * k).clamp(0.0, 1.0) * 255.0).round() as u8;
+    format!("#{:02x}{:02x}{:02x}", c(rgb[0]), c(rgb[1]), c(rgb[2]))
+}
+
+/// The colour of a shape the file gives none: a light steel grey.
+const BODY: [f64; 3] = [0.74, 0.76, 0.8];
+
+/// The body's silhouettes in painter's order: each shape's points projected, their convex hull
+/// ([`crate::outline::hull`]) filled with its colour (lighter the nearer), farthest first.
+fn body(out: &mut String, scene: &Scene, p: &Panel, v: &str) {
+    if scene.outlines.is_empty() {
+        return;
+    }
+    let depth: Vec<f64> = scene
+        .outlines
+        .iter()
+        .map(|o| {
+            o.points.iter().map(|x| p.toward.dot(x)).sum::<f64>() / o.points.len().max(1) as f64
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..depth.len()).collect();
+    order.sort_by(|&a, &b| depth[a].total_cmp(&depth[b]).then(a.cmp(&b)));
+    let (near, far) = depth
+        .iter()
+        .fold((f64::MIN, f64::MAX), |(n, f), d| (n.max(*d), f.min(*d)));
+    let _ = writeln!(out, "<g id=\"{v}-body\" class=\"body\">");
+    for k in order {
+        let o = &scene.outlines[k];
+        let flat: Vec<Vector2<f64>> = o
+            .points
+            .iter()
+            .map(|x| {
+                let (a, b) = p.at(x);
+                Vector2::new(a, b)
+            })
+            .collect();
+        // The hull's vertices less than 0.75 px from the last one kept add nothing.
+        let mut ring: Vec<Vector2<f64>> = Vec::new();
+        for h in crate::outline::hull(&flat) {
+            if ring.last().is_none_or(|l| (h - l).norm() >= 0.75) {
+                ring.push(h);
+            }
+        }
+        if ring.len() < 3 {
+            continue;
+        }
+        let points: Vec<String> = ring
+            .iter()
+            .map(|h| format!("{},{}", px(h.x), px(h.y)))
+            .collect();
+        let rgba = o.rgba.unwrap_or([BODY[0], BODY[1], BODY[2], 1.0]);
+        let rgb = [rgba[0], rgba[1], rgba[2]];
+        let t = if near > far {
+            (depth[k] - far) / (near - far)
+        } else {
+            1.0
+        };
+        let opacity = if rgba[3] < 1.0 {
+            format!(" fill-opacity=\"{:.2}\"", rgba[3].max(0.1))
+        } else {
+            String::new()
+        };
+        let link = &scene.links[o.link].name;
+        let role = match o.role {
+            screwkit_model::geometry::Role::Visual => "visual",
+            screwkit_model::geometry::Role::Collision => "collision",
+        };
+        let _ = writeln!(
+            out,
+            "<polygon class=\"shape {role}\" data-link=\"{}\" points=\"{}\" fill=\"{}\"{opacity} stroke=\"{}\" stroke-width=\"0.8\" stroke-linejoin=\"round\"><title>link {} ({role} shape)</title></polygon>",
+            escape(link),
+            points.join(" "),
+            hex(rgb, 0.82 + 0.18 * t),
+            hex(rgb, 0.55),
+            escape(link)
+        );
+    }
+    let _ = writeln!(out, "</g>");
+}
+
+/// A white halo around a label's letters (its stroke painted under its fill), which keeps it
+/// readable over the body and the lines.
+const HALO: &str = " stroke=\"#ffffff\" stroke-width=\"3.5\" stroke-opacity=\"0.9\" stroke-linejoin=\"round\" paint-order=\"stroke\"";
+
+/// A label waiting for its place: what it names (for its `id`), its text, its point.
+struct Label {
+    id: String,
+    class: &'static str,
+    text: String,
+    font: f64,
+    fill: &'static str,
+    anchor: (f64, f64),
+}
+
+fn panel(
+    out: &mut String,
+    scene: &Scene,
+    options: &Options,
+    shown: &[bool],
+    view: View,
+    x0: f64,
+    y0: f64,
+) {
     let p = Panel::new(scene, view, x0, y0);
     let v = view.as_str();
     let _ = writeln!(out, "<g id=\"{v}\" class=\"view\">");
@@ -262,9 +393,23 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
         px(y0 + 20.0),
         escape(caption(view))
     );
+    // Labels stay inside the panel, off its caption and scale bar.
+    let mut placer = Placer::new([x0 + 4.0, y0 + 4.0, x0 + PANEL_W - 4.0, y0 + PANEL_H - 4.0]);
+    placer.taken.push([
+        x0,
+        y0,
+        x0 + 10.0 + text_width(caption(view), 13.0) + 4.0,
+        y0 + 26.0,
+    ]);
     // Scale bar, bottom left.
     let (len, label) = scale_bar(scene.size);
     let (bx, by) = (x0 + 14.0, y0 + PANEL_H - 14.0);
+    placer.taken.push([
+        x0,
+        by - 14.0,
+        bx + len * p.scale + 10.0 + text_width(&label, 12.0),
+        y0 + PANEL_H,
+    ]);
     let _ = writeln!(
         out,
         "<g id=\"{v}-scale\" class=\"scale\"><title>scale bar: {}</title>",
@@ -287,8 +432,14 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
         px(by + 4.0),
         escape(&label)
     );
+    // The body, under everything else.
+    body(out, scene, &p, v);
+    let mut labels: Vec<Label> = Vec::new();
     // Screw axes, under the arm.
     for (j, m) in scene.joints.iter().enumerate() {
+        if !shown[j] {
+            continue;
+        }
         let kind = kind_name(m.kind);
         let _ = writeln!(
             out,
@@ -299,11 +450,23 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
         );
         let (a, b) = (p.at(&m.line[0]), p.at(&m.line[1]));
         let end_on = (b.0 - a.0).hypot(b.1 - a.1) < 12.0;
-        let label = match (end_on, m.kind) {
-            (true, JointKind::Prismatic) => (b.0 - 22.0, b.1 - 11.0),
-            (true, _) => (b.0 + 11.0, b.1 - 11.0),
-            _ => (b.0 + 4.0, b.1 - 4.0),
+        let anchor = match (end_on, m.kind) {
+            (true, JointKind::Prismatic) => (b.0 - 9.0, b.1 - 9.0),
+            (true, _) => ((a.0 + b.0) / 2.0 + 8.0, (a.1 + b.1) / 2.0 - 8.0),
+            _ => b,
         };
+        labels.push(Label {
+            id: format!("axis-{}", m.index),
+            class: "axis",
+            text: m.index.to_string(),
+            font: 12.0,
+            fill: if m.kind == JointKind::Prismatic {
+                SLIDE
+            } else {
+                AXIS
+            },
+            anchor,
+        });
         if m.kind == JointKind::Prismatic && end_on {
             // Sliding towards or away from the viewer: a solid ring.
             let _ = writeln!(
@@ -341,20 +504,11 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
             };
             line(out, a, b, AXIS, 1.8, dash);
         }
-        let _ = writeln!(
-            out,
-            "<text x=\"{}\" y=\"{}\" font-size=\"12\" fill=\"{}\">{}</text></g>",
-            px(label.0),
-            px(label.1),
-            if m.kind == JointKind::Prismatic {
-                SLIDE
-            } else {
-                AXIS
-            },
-            m.index
-        );
+        let _ = writeln!(out, "</g>");
     }
-    // Links: a segment from each link's parent (the previous link on a chain) to its origin.
+    // Links: a segment from each link's parent (the previous link on a chain) to its origin;
+    // thinner over a body.
+    let rod = if scene.outlines.is_empty() { 5.0 } else { 2.5 };
     for l in &scene.links {
         let Some(parent) = l.parent else { continue };
         let (a, b) = (
@@ -368,12 +522,10 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
             escape(&l.name),
             vec3(l.pose.translation())
         );
-        line(out, a, b, LINK, 5.0, "");
+        line(out, a, b, LINK, rod, "");
         let _ = writeln!(out, "</g>");
     }
-    // Frames: the base and the tip, or every leaf of a tree with its name (moved off the
-    // names already written, so that a hand's fingertips stay readable).
-    let mut names = Labels::default();
+    // Frames: the base and the tip, or the base and every leaf of a tree.
     for f in &scene.frames {
         let triad = triad(scene, f);
         let (id, what) = match f.role {
@@ -392,16 +544,6 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
             let end = p.at(&(f.pose.translation() + f.pose.rotation().column(k) * triad));
             line(out, o, end, colour, 2.5, "");
         }
-        if f.role == FrameRole::Leaf {
-            let at = names.place(o.0 + 8.0, o.1 + 14.0, f.name.chars().count());
-            let _ = writeln!(
-                out,
-                "<text x=\"{}\" y=\"{}\" font-size=\"11\" fill=\"#222222\">{}</text>",
-                px(at.0),
-                px(at.1),
-                escape(&f.name)
-            );
-        }
         let _ = writeln!(out, "</g>");
     }
     // Joints on top.
@@ -417,6 +559,69 @@ fn panel(out: &mut String, scene: &Scene, view: View, x0: f64, y0: f64) {
         joint_mark(out, m.kind, p.at(&m.origin));
         let _ = writeln!(out, "</g>");
     }
+    // Names: the ends (a chain's tip, a tree's leaves) first, then every other link.
+    let ends = scene
+        .frames
+        .iter()
+        .filter(|f| matches!(f.role, FrameRole::Tip | FrameRole::Leaf));
+    let mut named: Vec<(&str, (f64, f64))> = match options.labels {
+        Labels::None => Vec::new(),
+        _ => ends
+            .map(|f| (f.name.as_str(), p.at(f.pose.translation())))
+            .collect(),
+    };
+    if options.labels == Labels::All {
+        for l in &scene.links {
+            if !named.iter().any(|(n, _)| *n == l.name) {
+                named.push((&l.name, p.at(l.pose.translation())));
+            }
+        }
+    }
+    labels.extend(named.into_iter().map(|(name, anchor)| Label {
+        id: id_part(name),
+        class: "name",
+        text: name.to_string(),
+        font: 11.0,
+        fill: "#222222",
+        anchor,
+    }));
+    // Labels on top, each placed off the others (a leader line when moved off its point),
+    // or left out when there is no room.
+    let _ = writeln!(out, "<g id=\"{v}-labels\" class=\"labels\">");
+    for l in &labels {
+        let w = text_width(&l.text, l.font);
+        let Some(at) = placer.place(l.anchor, w, l.font) else {
+            continue;
+        };
+        if let Some((a, b)) = at.leader {
+            line(out, a, b, "#888888", 0.8, "");
+        }
+        let _ = writeln!(
+            out,
+            "<text id=\"{v}-label-{}\" class=\"label {}\" x=\"{}\" y=\"{}\" font-size=\"{}\" fill=\"{}\"{HALO}>{}</text>",
+            l.id,
+            l.class,
+            px(at.x),
+            px(at.baseline),
+            l.font,
+            l.fill,
+            escape(&l.text)
+        );
+    }
+    if placer.dropped > 0 {
+        let note = format!(
+            "{} label{} left out for room",
+            placer.dropped,
+            if placer.dropped == 1 { "" } else { "s" }
+        );
+        let _ = writeln!(
+            out,
+            "<text class=\"dropped\" x=\"{}\" y=\"{}\" font-size=\"11\" fill=\"#888888\" text-anchor=\"end\">{note}</text>",
+            px(x0 + PANEL_W - 8.0),
+            px(y0 + PANEL_H - 8.0)
+        );
+    }
+    let _ = writeln!(out, "</g>");
     let _ = writeln!(out, "</g>");
 }
 
@@ -429,36 +634,107 @@ fn triad(scene: &Scene, f: &crate::scene::FrameMark) -> f64 {
     }
 }
 
-/// Name labels placed so far in a panel, as boxes (x, y of the baseline, width): a new label
-/// that would overlap one moves down (then up) by a line, at most eight lines.
-#[derive(Default)]
-struct Labels(Vec<(f64, f64, f64)>);
+/// An upper bound on the width (px) of `text` at `font` px in the sans-serif fonts a browser
+/// uses for "Helvetica, Arial, sans-serif" (DejaVu Sans, the widest of them where Helvetica
+/// and Arial are missing; Liberation Sans; Arial): per character, the largest advance of its
+/// class in those fonts, in ems. Tested against a browser's measure of every label.
+pub fn text_width(text: &str, font: f64) -> f64 {
+    text.chars()
+        .map(|c| match c {
+            'i' | 'j' | 'l' | '.' | ',' | ':' | ';' | '\'' | '|' | '!' | 'I' => 0.33,
+            'f' | 'r' | 't' | ' ' | '(' | ')' | '[' | ']' | '-' => 0.45,
+            'm' | 'w' | 'M' | 'W' | '@' | '%' => 1.0,
+            c if c.is_ascii_uppercase() => 0.8,
+            c if c.is_ascii() => 0.66,
+            _ => 1.0,
+        })
+        .sum::<f64>()
+        * font
+}
 
-impl Labels {
-    /// The height of a line of 11 px text and the width of one of its characters.
-    const LINE: f64 = 13.0;
-    const CHAR: f64 = 6.0;
+/// Where a label went: the start of its baseline, and the leader line from its point when it
+/// was moved away from it.
+struct Placed {
+    x: f64,
+    baseline: f64,
+    leader: Option<((f64, f64), (f64, f64))>,
+}
 
-    fn place(&mut self, x: f64, y: f64, chars: usize) -> (f64, f64) {
-        let w = chars as f64 * Self::CHAR;
-        let free = |y: f64, placed: &[(f64, f64, f64)]| {
-            placed
-                .iter()
-                .all(|&(px, py, pw)| x + w <= px || px + pw <= x || (y - py).abs() >= Self::LINE)
-        };
-        let y = (0..=16)
-            .map(|k| {
-                let step = f64::from((k + 1) / 2) * Self::LINE;
-                if k % 2 == 1 {
-                    y + step
-                } else {
-                    y - step
+/// Labels placed so far in a panel, as boxes (x0, y0, x1, y1): a new label goes to the first
+/// free spot around its point — right, below right, above right, below, above, left, … at
+/// growing distances — inside the panel; none free, it is left out and counted.
+struct Placer {
+    taken: Vec<[f64; 4]>,
+    bounds: [f64; 4],
+    dropped: usize,
+}
+
+impl Placer {
+    /// How far labels may move from their point (px), nearest first.
+    const RADII: [f64; 6] = [3.0, 10.0, 20.0, 34.0, 52.0, 76.0];
+    /// A label's box above and below its baseline, in ems (every font above: ascent ≤ 0.93,
+    /// descent ≤ 0.24).
+    const ASCENT: f64 = 0.95;
+    const DESCENT: f64 = 0.25;
+    /// Space kept between two labels (px).
+    const GAP: f64 = 3.0;
+
+    fn new(bounds: [f64; 4]) -> Self {
+        Self {
+            taken: Vec::new(),
+            bounds,
+            dropped: 0,
+        }
+    }
+
+    fn place(&mut self, (ax, ay): (f64, f64), w: f64, font: f64) -> Option<Placed> {
+        let h = (Self::ASCENT + Self::DESCENT) * font;
+        const D: f64 = std::f64::consts::FRAC_1_SQRT_2;
+        let dirs = [
+            (1.0, 0.0),
+            (D, D),
+            (D, -D),
+            (0.0, 1.0),
+            (0.0, -1.0),
+            (-1.0, 0.0),
+            (-D, D),
+            (-D, -D),
+        ];
+        let [bx0, by0, bx1, by1] = self.bounds;
+        for r in Self::RADII {
+            for (dx, dy) in dirs {
+                let x0 = match dx {
+                    d if d > 0.0 => ax + r * d,
+                    d if d < 0.0 => ax + r * d - w,
+                    _ => ax - w / 2.0,
+                };
+                let y0 = match dy {
+                    d if d > 0.0 => ay + r * d,
+                    d if d < 0.0 => ay + r * d - h,
+                    _ => ay - h / 2.0,
+                };
+                let b = [x0, y0, x0 + w, y0 + h];
+                let inside = b[0] >= bx0 && b[1] >= by0 && b[2] <= bx1 && b[3] <= by1;
+                let free = self.taken.iter().all(|t| {
+                    b[2] + Self::GAP <= t[0]
+                        || t[2] + Self::GAP <= b[0]
+                        || b[3] + Self::GAP <= t[1]
+                        || t[3] + Self::GAP <= b[1]
+                });
+                if inside && free {
+                    self.taken.push(b);
+                    let leader = (r > 10.0)
+                        .then(|| ((ax, ay), (ax.clamp(b[0], b[2]), ay.clamp(b[1], b[3]))));
+                    return Some(Placed {
+                        x: x0,
+                        baseline: y0 + Self::ASCENT * font,
+                        leader,
+                    });
                 }
-            })
-            .find(|&y| free(y, &self.0))
-            .unwrap_or(y);
-        self.0.push((x, y, w));
-        (x, y)
+            }
+        }
+        self.dropped += 1;
+        None
     }
 }
 
@@ -513,9 +789,40 @@ const HELICAL: Entry = (170.0, |o, x, y| {
     legend_text(o, x + 18.0, y, "helical (dotted axis)");
 });
 
+/// The legend's entry for the body, shown when a picture has one.
+const BODY_ENTRY: Entry = (150.0, |o, x, y| {
+    let _ = writeln!(
+        o,
+        "<polygon points=\"{},{} {},{} {},{} {},{}\" fill=\"{}\" stroke=\"{}\" stroke-width=\"0.8\"/>",
+        px(x),
+        px(y - 6.0),
+        px(x + 20.0),
+        px(y - 8.0),
+        px(x + 24.0),
+        px(y + 6.0),
+        px(x + 3.0),
+        px(y + 7.0),
+        hex(BODY, 1.0),
+        hex(BODY, 0.55)
+    );
+    legend_text(o, x + 32.0, y, "body (silhouettes)");
+});
+
+/// The legend's entries beyond the fixed ones a picture needs.
+#[derive(Debug, Clone, Copy)]
+struct Extras {
+    helical: bool,
+    body: bool,
+}
+
 /// The legend's entries for a scene.
-fn entries(helical: bool) -> impl Iterator<Item = Entry> {
-    LEGEND.into_iter().chain(helical.then_some(HELICAL))
+fn entries(extras: Extras) -> impl Iterator<Item = Entry> {
+    extras
+        .body
+        .then_some(BODY_ENTRY)
+        .into_iter()
+        .chain(LEGEND)
+        .chain(extras.helical.then_some(HELICAL))
 }
 
 fn legend_text(out: &mut String, x: f64, y: f64, s: &str) {
@@ -538,10 +845,10 @@ fn axis_toward_viewer(out: &mut String, c: (f64, f64)) {
 }
 
 /// The legend from (14, y), wrapped to lines of `width`; returns the rows used.
-fn legend(out: &mut String, y: f64, width: f64, helical: bool) {
+fn legend(out: &mut String, y: f64, width: f64, extras: Extras) {
     let _ = writeln!(out, "<g id=\"legend\" class=\"legend\">");
     let (mut x, mut y) = (14.0, y);
-    for (w, draw) in entries(helical) {
+    for (w, draw) in entries(extras) {
         if x + w > width - 10.0 && x > 14.0 {
             x = 14.0;
             y += LEGEND_ROW;
@@ -553,9 +860,9 @@ fn legend(out: &mut String, y: f64, width: f64, helical: bool) {
 }
 
 /// How many legend rows a sheet of `width` needs.
-fn legend_rows(width: f64, helical: bool) -> usize {
+fn legend_rows(width: f64, extras: Extras) -> usize {
     let (mut x, mut rows) = (14.0, 1);
-    for (w, _) in entries(helical) {
+    for (w, _) in entries(extras) {
         if x + w > width - 10.0 && x > 14.0 {
             x = 14.0;
             rows += 1;
@@ -589,18 +896,56 @@ fn wrap(text: &str, max: usize) -> Vec<String> {
     lines
 }
 
-/// The SVG document of `scene` in `views` (one panel, or the four of `View::ALL` in a 2 × 2
-/// sheet), with a legend and a caption naming the robot, the chain and q.
+/// The SVG document of `scene` in `views` with the default names and axes
+/// ([`Options::default`]); [`render_with`] chooses them.
 pub fn render(scene: &Scene, views: &[View]) -> String {
+    let options = Options {
+        views: views.to_vec(),
+        ..Options::default()
+    };
+    // The default axes (`Axes::Auto`) name no joint, so they cannot be refused.
+    render_with(scene, &options).unwrap_or_default()
+}
+
+/// The SVG document of `scene` as `options` ask (one panel, or the four of `View::ALL` in a
+/// 2 × 2 sheet), with a legend and a caption naming the robot, the chain and q: the body's
+/// silhouettes (when the scene has one), the skeleton, the screw axes asked, frames, and the
+/// names asked placed without overlap. An error names an axis asked of a joint not drawn.
+pub fn render_with(scene: &Scene, options: &Options) -> Result<String, screwkit_service::Error> {
+    let names: Vec<&str> = scene.joints.iter().map(|j| j.name.as_str()).collect();
+    let chain = scene.frames.iter().any(|f| f.role == FrameRole::Tip);
+    let shown =
+        options
+            .axes
+            .shown(&names, chain)
+            .map_err(|message| screwkit_service::Error::Option {
+                name: "axes",
+                message,
+            })?;
+    let views = &options.views;
     let cols = if views.len() > 1 { 2 } else { 1 };
     let rows = views.len().div_ceil(cols);
     let width = cols as f64 * PANEL_W + (cols as f64 + 1.0) * 10.0;
     let helical = scene.joints.iter().any(|j| j.kind == JointKind::Helical);
-    let legend_h = legend_rows(width, helical) as f64 * LEGEND_ROW + 16.0;
+    let extras = Extras {
+        helical,
+        body: !scene.outlines.is_empty(),
+    };
+    let legend_h = legend_rows(width, extras) as f64 * LEGEND_ROW + 16.0;
     let q: Vec<String> = scene.q.iter().map(|x| num(*x)).collect();
     let caption = format!("{}: {}, q = [{}]", scene.robot, scene.subject, q.join(", "));
     // The caption wrapped to the sheet's width (a single 580 px panel cut a 7-joint one).
-    let caption_lines = wrap(&caption, ((width - 20.0) / CAPTION_CHAR_W) as usize);
+    let mut caption_lines = wrap(&caption, ((width - 20.0) / CAPTION_CHAR_W) as usize);
+    if let Some(first) = scene.problems.first() {
+        let more = match scene.problems.len() {
+            1 => String::new(),
+            n => format!(" (and {} more)", n - 1),
+        };
+        caption_lines.extend(wrap(
+            &format!("not drawn: {first}{more}"),
+            ((width - 20.0) / CAPTION_CHAR_W) as usize,
+        ));
+    }
     let extra = (caption_lines.len() as f64 - 1.0) * CAPTION_LINE;
     let height = rows as f64 * PANEL_H + (rows as f64 + 1.0) * 10.0 + 28.0 + extra + legend_h;
     let mut out = String::new();
@@ -632,14 +977,14 @@ pub fn render(scene: &Scene, views: &[View]) -> String {
         let (c, r) = (i % cols, i / cols);
         let x0 = 10.0 + c as f64 * (PANEL_W + 10.0);
         let y0 = 38.0 + extra + r as f64 * (PANEL_H + 10.0);
-        panel(&mut out, scene, *view, x0, y0);
+        panel(&mut out, scene, options, &shown, *view, x0, y0);
     }
     legend(
         &mut out,
         height - legend_h + LEGEND_ROW / 2.0 + 4.0,
         width,
-        helical,
+        extras,
     );
     let _ = writeln!(out, "</svg>");
-    out
+    Ok(out)
 }

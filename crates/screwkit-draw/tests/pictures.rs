@@ -31,6 +31,54 @@ fn title(node: roxmltree::Node) -> String {
         .to_string()
 }
 
+/// A number attribute.
+fn num(n: roxmltree::Node, a: &str) -> f64 {
+    n.attribute(a)
+        .unwrap_or_else(|| panic!("no {a}"))
+        .parse()
+        .unwrap()
+}
+
+/// The boxes of view `v`'s labels (x0, y0, x1, y1): from the baseline's start, as wide as
+/// `svg::text_width` says (an upper bound on a browser's, held by the browser test), from
+/// 0.95 em above the baseline to 0.25 em below.
+fn label_boxes(doc: &roxmltree::Document, v: &str) -> Vec<(String, [f64; 4])> {
+    group(doc, &format!("{v}-labels"))
+        .children()
+        .filter(|n| n.has_tag_name("text") && n.attribute("id").is_some())
+        .map(|n| {
+            let (x, y, f) = (num(n, "x"), num(n, "y"), num(n, "font-size"));
+            let w = svg::text_width(n.text().unwrap_or_default(), f);
+            (
+                n.attribute("id").unwrap().to_string(),
+                [x, y - 0.95 * f, x + w, y + 0.25 * f],
+            )
+        })
+        .collect()
+}
+
+/// No two labels of view `v` overlap, and each lies inside its panel.
+fn assert_labels_apart(doc: &roxmltree::Document, v: &str) -> usize {
+    let panel = group(doc, v)
+        .children()
+        .find(|n| n.has_tag_name("rect"))
+        .unwrap();
+    let (x0, y0) = (num(panel, "x"), num(panel, "y"));
+    let (x1, y1) = (x0 + num(panel, "width"), y0 + num(panel, "height"));
+    let boxes = label_boxes(doc, v);
+    for (k, (a, p)) in boxes.iter().enumerate() {
+        assert!(
+            p[0] >= x0 && p[1] >= y0 && p[2] <= x1 && p[3] <= y1,
+            "{a} leaves the panel"
+        );
+        for (b, q) in &boxes[k + 1..] {
+            let apart = p[2] <= q[0] || q[2] <= p[0] || p[3] <= q[1] || q[3] <= p[1];
+            assert!(apart, "{a} {p:?} overlaps {b} {q:?}");
+        }
+    }
+    boxes.len()
+}
+
 #[test]
 fn every_chain_every_view_is_valid_findable_and_deterministic() {
     let mut rng = Sampler::new(3);
@@ -244,7 +292,6 @@ fn any_size_is_fitted_to_the_page() {
             .children()
             .find(|n| n.has_tag_name("rect"))
             .unwrap();
-        let num = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
         let (x0, y0) = (num(panel, "x"), num(panel, "y"));
         let (x1, y1) = (x0 + num(panel, "width"), y0 + num(panel, "height"));
         let mut xs = Vec::new();
@@ -387,22 +434,13 @@ fn a_whole_tree_draws_every_branch_and_names_its_leaves() {
                 assert_eq!(g.attribute("data-joint"), Some(j.name.as_str()));
             }
         }
-        let mut boxes: Vec<(f64, f64, f64)> = Vec::new();
         for leaf in ["head", "left_hand", "right_hand"] {
             let g = group(&doc, &format!("{v}-leaf-{leaf}"));
             assert!(title(g).contains(&format!("leaf frame: link {leaf}")));
-            let label = g.children().find(|c| c.has_tag_name("text")).unwrap();
+            let label = group(&doc, &format!("{v}-label-{leaf}"));
             assert_eq!(label.text(), Some(leaf));
-            let at = |a: &str| label.attribute(a).unwrap().parse::<f64>().unwrap();
-            let (x, y, w) = (at("x"), at("y"), 6.0 * leaf.len() as f64);
-            for &(bx, by, bw) in &boxes {
-                assert!(
-                    x + w <= bx || bx + bw <= x || (y - by).abs() >= 13.0,
-                    "{v}: {leaf}'s name on another"
-                );
-            }
-            boxes.push((x, y, w));
         }
+        assert_labels_apart(&doc, v);
         assert!(group(&doc, &format!("{v}-base-frame")).has_tag_name("g"));
     }
     for floating in [false, true] {
@@ -682,4 +720,185 @@ fn the_page_embeds_a_motion() {
         let e = error(&frames, fps);
         assert!(e.contains("fps"), "{e}");
     }
+}
+
+/// Issue 49, item 4, on the bundled humanoid (23 joints, a capsule or sphere on every link):
+/// every link's name asked (`Labels::All`) in the four views: no two labels overlap, each
+/// inside its panel, and the names left out for room are counted in the panel's note; the
+/// axes of a tree of more than 12 joints are left out unless asked, by name or number; an
+/// unknown joint is refused by name.
+#[test]
+fn dense_names_never_overlap_and_axes_are_chosen() {
+    use screwkit_model::KinematicTree;
+    use screwkit_solve::TreeKinematics;
+    use svg::{Axes, Labels, Options};
+    let tree = screwkit_model::urdf::load_file(bundled("humanoid.urdf")).unwrap();
+    let model = KinematicTree::from_tree(&tree).unwrap();
+    let kin = TreeKinematics::new(&model).unwrap();
+    let scene = Scene::tree(&kin, None).unwrap().with_body(&tree);
+    assert!(!scene.outlines.is_empty() && scene.problems.is_empty());
+    for labels in [Labels::None, Labels::Leaves, Labels::All] {
+        let options = Options {
+            views: View::ALL.to_vec(),
+            labels,
+            axes: Axes::Auto,
+        };
+        let text = svg::render_with(&scene, &options).unwrap();
+        let doc = roxmltree::Document::parse(&text).unwrap();
+        for &view in View::ALL {
+            let v = view.as_str();
+            let placed = assert_labels_apart(&doc, v);
+            let dropped: usize = group(&doc, &format!("{v}-labels"))
+                .children()
+                .find(|n| n.attribute("class") == Some("dropped"))
+                .map_or(0, |n| {
+                    n.text()
+                        .unwrap()
+                        .split(' ')
+                        .next()
+                        .unwrap()
+                        .parse()
+                        .unwrap()
+                });
+            let asked = match labels {
+                Labels::None => 0,
+                Labels::Leaves => 5, // two soles, two hands, the head
+                Labels::All => model.links.len(),
+            };
+            assert_eq!(placed + dropped, asked, "{v} {labels}");
+            if labels == Labels::Leaves {
+                assert_eq!(dropped, 0, "{v}: a leaf's name left out");
+            }
+            // No axis (23 joints), every joint mark.
+            assert!(!text.contains(&format!("id=\"{v}-axis-")));
+            assert!(text.contains(&format!("id=\"{v}-joint-23\"")));
+        }
+    }
+    let options = Options {
+        axes: "3,left_knee".parse().unwrap(),
+        ..Options::default()
+    };
+    let text = svg::render_with(&scene, &options).unwrap();
+    let knee = model
+        .joints
+        .iter()
+        .position(|j| j.name == "left_knee")
+        .unwrap()
+        + 1;
+    let mut drawn: Vec<usize> = text
+        .match_indices("id=\"iso-axis-")
+        .map(|(k, m)| {
+            let rest = &text[k + m.len()..];
+            rest[..rest.find('"').unwrap()].parse().unwrap()
+        })
+        .collect();
+    drawn.sort();
+    let mut want = vec![3, knee];
+    want.sort();
+    assert_eq!(drawn, want);
+    let options = Options {
+        axes: "left_knee,elbow".parse().unwrap(),
+        ..Options::default()
+    };
+    let e = svg::render_with(&scene, &options).unwrap_err().to_string();
+    assert!(e.starts_with("axes: no joint \"elbow\""), "{e}");
+}
+
+/// The body's silhouettes, against closed forms: a 0.2 × 0.4 × 0.1 m box seen from above is
+/// a 0.2 × 0.4 rectangle at its place, a sphere a circle (every vertex at one radius, within
+/// the ring's spacing) at its centre, both in the scale of the drawing's scale bar; painter's
+/// order puts the farther shape first in the document, whatever the file's order; a colour
+/// from the file is kept; a mesh that cannot be read is named in the caption, the rest drawn.
+#[test]
+fn silhouettes_are_the_shapes_projected_in_painters_order() {
+    let urdf = r#"<robot name="shapes">
+      <link name="base"/>
+      <link name="arm">
+        <visual><origin xyz="0.5 0.2 0.3"/><geometry><box size="0.2 0.4 0.1"/></geometry>
+          <material name="red"><color rgba="1 0 0 1"/></material></visual>
+        <visual><origin xyz="-0.3 -0.1 0.0"/><geometry><sphere radius="0.15"/></geometry></visual>
+        <visual><geometry><mesh filename="missing.stl"/></geometry></visual>
+      </link>
+      <link name="tip"/>
+      <joint name="j1" type="revolute"><parent link="base"/><child link="arm"/>
+        <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="j2" type="revolute"><parent link="arm"/><child link="tip"/>
+        <origin xyz="1 0 0"/><axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+    </robot>"#;
+    let tree = screwkit_model::urdf::load_str(urdf, "shapes.urdf").unwrap();
+    let chain = Chain::from_tree(&tree, None, None).unwrap();
+    let kin = Kinematics::new(&chain);
+    let scene = Scene::new(&chain, &kin, Some(&[0.0, 0.0]))
+        .unwrap()
+        .with_body(&tree);
+    assert_eq!(scene.outlines.len(), 2);
+    assert!(
+        scene.problems[0].contains("missing.stl"),
+        "{:?}",
+        scene.problems
+    );
+    let text = svg::render(&scene, &[View::Top]);
+    let doc = roxmltree::Document::parse(&text).unwrap();
+    assert!(
+        doc.root_element()
+            .children()
+            .filter_map(|n| n.text())
+            .any(|t| t.starts_with("not drawn: \"arm\": ") && t.contains("missing.stl")),
+        "the caption names the mesh"
+    );
+    let shapes: Vec<roxmltree::Node> = group(&doc, "top-body")
+        .children()
+        .filter(|n| n.has_tag_name("polygon"))
+        .collect();
+    assert_eq!(shapes.len(), 2);
+    // The box (z = 0.3) is nearer to a viewer above than the sphere (z = 0): drawn last.
+    assert_eq!(shapes[1].attribute("fill"), Some("#ff0000"));
+    let points = |n: roxmltree::Node| -> Vec<(f64, f64)> {
+        n.attribute("points")
+            .unwrap()
+            .split(' ')
+            .map(|p| {
+                let (x, y) = p.split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect()
+    };
+    // Pixels per metre: the scale bar's length over its label.
+    let bar = group(&doc, "top-scale");
+    let line = bar.children().find(|n| n.has_tag_name("line")).unwrap();
+    let label = bar
+        .children()
+        .find(|n| n.has_tag_name("text"))
+        .unwrap()
+        .text()
+        .unwrap();
+    let metres: f64 = match label.strip_suffix(" mm") {
+        Some(mm) => mm.parse::<f64>().unwrap() / 1e3,
+        None => label.strip_suffix(" m").unwrap().parse().unwrap(),
+    };
+    let ppm = (num(line, "x2") - num(line, "x1")) / metres;
+    let rect = points(shapes[1]);
+    assert_eq!(rect.len(), 4, "{rect:?}");
+    let span = |k: usize, pts: &[(f64, f64)]| {
+        let v: Vec<f64> = pts.iter().map(|p| if k == 0 { p.0 } else { p.1 }).collect();
+        v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min)
+    };
+    assert!((span(0, &rect) - 0.2 * ppm).abs() < 0.02, "{rect:?}");
+    assert!((span(1, &rect) - 0.4 * ppm).abs() < 0.02, "{rect:?}");
+    let circle = points(shapes[0]);
+    let n = circle.len() as f64;
+    let c = (
+        circle.iter().map(|p| p.0).sum::<f64>() / n,
+        circle.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    for p in &circle {
+        let r = (p.0 - c.0).hypot(p.1 - c.1) / ppm;
+        assert!((r - 0.15).abs() < 0.15 * 0.01, "radius {r}");
+    }
+    // The box's centre is 0.8 m right of and 0.3 m above (y) the sphere's (y up, page down).
+    let rc = (
+        rect.iter().map(|p| p.0).sum::<f64>() / 4.0,
+        rect.iter().map(|p| p.1).sum::<f64>() / 4.0,
+    );
+    assert!(((rc.0 - c.0) / ppm - 0.8).abs() < 1e-3 && ((c.1 - rc.1) / ppm - 0.3).abs() < 1e-3);
 }

@@ -204,12 +204,16 @@ pub struct ContactRules {
     pub world: Vec<Geometry>,
 }
 
-/// Where a mesh file named `uri` is: `package://pkg/rest` in package `pkg`'s folder (found
+/// Where a mesh file named `uri` is: `package://pkg/rest` (or `package:///pkg/rest`) in package `pkg`'s folder (found
 /// below `package_paths`, then `ROS_PACKAGE_PATH`, then `AMENT_PREFIX_PATH`'s `share/`, as
 /// xacro's `$(find pkg)`), `file:///abs` that path, anything else relative to `dir` (the robot
 /// file's folder). The file itself is not opened here; an unknown package is an error.
 pub fn resolve_mesh(uri: &str, dir: &Path, package_paths: &[PathBuf]) -> Result<PathBuf, String> {
     if let Some(rest) = uri.strip_prefix("package://") {
+        // `package:///pkg/rest` (an empty package name, as example-robot-data's
+        // talos_full_v2.urdf writes): a path below a package folder's parent, as Pinocchio
+        // reads it — the same as `package://pkg/rest`.
+        let rest = rest.trim_start_matches('/');
         let (pkg, inner) = rest.split_once('/').unwrap_or((rest, ""));
         if pkg.is_empty() {
             return Err(format!("mesh \"{uri}\": no package name after package://"));

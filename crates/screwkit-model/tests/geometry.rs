@@ -90,6 +90,7 @@ fn every_shape_and_every_problem() {
     <visual><geometry><sphere radius="1"/><box size="1 1 1"/></geometry></visual>
     <collision><geometry><mesh filename="package://nowhere/x.stl"/></geometry></collision>
     <collision><geometry><sphere radius="-1"/></geometry></collision>
+    <collision><geometry><mesh filename="package:///my_robot/meshes/d.stl"/></geometry></collision>
   </link>
   <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
     <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
@@ -143,7 +144,7 @@ fn every_shape_and_every_problem() {
     assert_eq!(av[0].rgba, Some([0.0, 0.0, 1.0, 1.0]));
     assert_eq!(av[1].rgba, Some([1.0, 0.0, 0.0, 0.5]));
     let bc = of(b, Role::Collision);
-    assert_eq!(bc.len(), 2, "{bc:?}");
+    assert_eq!(bc.len(), 3, "{bc:?}");
     let paths: Vec<_> = bc
         .iter()
         .map(|g| match &g.shape {
@@ -156,6 +157,12 @@ fn every_shape_and_every_problem() {
         std::path::absolute(pkg.join("meshes/b.dae")).unwrap()
     );
     assert_eq!(paths[1], pkg.join("meshes/c.obj"));
+    // `package:///pkg/…` (an empty package name, as example-robot-data's TALOS writes it):
+    // below the package folder's parent, as Pinocchio reads it.
+    assert_eq!(
+        std::path::absolute(&paths[2]).unwrap(),
+        std::path::absolute(pkg.join("meshes/d.stl")).unwrap()
+    );
     let problems = tree.geometry_problems.join("\n");
     for expected in [
         "link \"b\" <collision> 3: <box size>: \"x\" is not a number",

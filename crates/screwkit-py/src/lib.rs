@@ -132,6 +132,7 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     d.set_item("table_frames", all::<w::TableFrames>())?;
     d.set_item("table_format", all::<w::TableFormat>())?;
     d.set_item("views", all::<w::Views>())?;
+    d.set_item("labels", all::<w::Labels>())?;
     d.set_item("orientation_mode", all::<w::OrientationMode>())?;
     d.set_item("solver_choice", all::<w::SolverChoice>())?;
     d.set_item("geometry", all::<w::GeometryRoles>())?;

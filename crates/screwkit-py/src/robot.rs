@@ -2005,20 +2005,60 @@ impl Robot {
         })
     }
 
-    /// An SVG picture of the chain at q (default: home): the skeleton through the link
-    /// origins, joints by kind, every joint's screw axis S_i(q), base and tip frames, a scale
-    /// bar and a legend. A whole tree (no chain, or a floating base; q of shape (nq,)) is drawn
-    /// with every branch, and every leaf's frame with its name. `view`: "iso", "front", "side", "top" or "all" (the four on one sheet).
-    /// Returns the SVG text and writes it to `path` when given. Deterministic.
-    #[pyo3(signature = (q = None, path = None, *, view = "iso"))]
+    /// An SVG picture of the chain at q (default: home): the body's silhouettes (each shape
+    /// of each link projected, in painter's order) under the skeleton through the link
+    /// origins, joints by kind, the screw axes S_i(q) asked, base and tip frames, a scale bar
+    /// and a legend. A whole tree (no chain, or a floating base; q of shape (nq,)) is drawn
+    /// with every branch and every leaf's frame. `view`: "iso", "front", "side", "top" or
+    /// "all" (the four on one sheet). `labels`: the names written — "none", "leaves" (a
+    /// chain's tip, a tree's leaves) or "all" (every link) — each placed off the others, or
+    /// left out when there is no room. `axes`: "all", "none", or joints by name or number
+    /// (a list, or "J1,J2"); default: all for a chain or a tree of at most 12 joints, none
+    /// for a larger tree. Returns the SVG text and writes it to `path` when given.
+    /// Deterministic.
+    #[pyo3(signature = (q = None, path = None, *, view = "iso", labels = "leaves", axes = None))]
     fn draw(
         &self,
         q: Option<&Bound<'_, PyAny>>,
         path: Option<PathBuf>,
         view: &str,
+        labels: &str,
+        axes: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<String> {
-        let views = word::<Views>("view", view)?.views();
-        let text = self.picture(q, screwkit_draw::Picture::Svg(&views))?;
+        let axes = match axes {
+            None => screwkit_service::words::Axes::Auto,
+            Some(a) if a.is_instance_of::<pyo3::types::PyString>() => a
+                .extract::<String>()?
+                .parse()
+                .map_err(|e: String| PyValueError::new_err(format!("axes: {e}")))?,
+            Some(a) => {
+                // A list of names (str) or numbers (int, from 1).
+                let mut names = Vec::new();
+                for item in a.try_iter().map_err(|_| {
+                    pyo3::exceptions::PyTypeError::new_err("axes: expected \"all\", \"none\", a string of joints or a list of joint names or numbers")
+                })? {
+                    let item = item?;
+                    names.push(match item.extract::<String>() {
+                        Ok(n) => n,
+                        Err(_) => item
+                            .extract::<usize>()
+                            .map_err(|_| {
+                                pyo3::exceptions::PyTypeError::new_err(format!(
+                                    "axes: {item} is neither a joint name nor a number"
+                                ))
+                            })?
+                            .to_string(),
+                    });
+                }
+                screwkit_service::words::Axes::Joints(names)
+            }
+        };
+        let options = screwkit_draw::svg::Options {
+            views: word::<Views>("view", view)?.views(),
+            labels: word::<screwkit_service::words::Labels>("labels", labels)?,
+            axes,
+        };
+        let text = self.picture(q, screwkit_draw::Picture::Svg(&options))?;
         write_text(path, &text)?;
         Ok(text)
     }

@@ -54,3 +54,48 @@ def test_draw_errors(ur5: screwkit.Robot, tmp_path: Path) -> None:
         ur5.draw([0, 0, 0, 0, 0, np.nan])
     with pytest.raises(FileNotFoundError, match=r"no_dir"):
         ur5.draw(path=tmp_path / "no_dir" / "x.svg")
+
+
+def test_labels_and_axes_are_chosen(tmp_path: Path) -> None:
+    """Issue 49, item 4: `labels` and `axes` choose the names and screw axes, as
+    `screwkit draw --labels --axes` does (the same bytes); the humanoid's body is drawn
+    (a silhouette per shape); a tree of 23 joints shows no axis unless asked."""
+    import os
+    import subprocess
+
+    from conftest import ASSETS
+
+    humanoid = screwkit.Robot.from_urdf(ASSETS / "humanoid.urdf")
+    default = humanoid.draw()
+    root = ET.fromstring(default)
+    shapes = [e for e in root.iter(SVG + "polygon") if (e.get("class") or "").startswith("shape")]
+    assert len(shapes) >= 20
+    assert 'id="iso-axis-' not in default
+    names = [e.text for e in root.iter(SVG + "text") if e.get("class") == "label name"]
+    assert sorted(n for n in names if n) == [
+        "head",
+        "left_hand",
+        "left_sole",
+        "right_hand",
+        "right_sole",
+    ]
+    everything = humanoid.draw(labels="all", axes="all")
+    assert 'id="iso-axis-23"' in everything
+    assert humanoid.draw(labels="none").count('class="label ') == 0
+    picked = humanoid.draw(axes=["left_knee", 1])
+    assert picked == humanoid.draw(axes="left_knee,1")
+    assert picked.count('class="axis ') == 2
+    with pytest.raises(ValueError, match='axes: no joint "elbow"'):
+        humanoid.draw(axes=["elbow"])
+    with pytest.raises(TypeError, match="axes"):
+        humanoid.draw(axes=[1.5])  # type: ignore[list-item]
+    with pytest.raises(ValueError, match='labels: unknown labels "some"'):
+        humanoid.draw(labels="some")  # type: ignore[arg-type]
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not (exe and Path(exe).exists()):
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    out = tmp_path / "humanoid.svg"
+    args = ["draw", str(ASSETS / "humanoid.urdf"), "--labels", "all", "--axes", "left_knee,1"]
+    done = subprocess.run([exe, *args, "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert out.read_text() == humanoid.draw(labels="all", axes=["left_knee", 1])

@@ -174,6 +174,7 @@ def test_stub_words_are_the_floors() -> None:
         ("_TableFormat", "table_format"),
         ("_TableFrames", "table_frames"),
         ("_Views", "views"),
+        ("_Labels", "labels"),
         ("_Method", "method"),
         ("_Geometry", "geometry"),
         ("_Meshes", "meshes"),

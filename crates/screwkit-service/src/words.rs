@@ -349,6 +349,95 @@ impl Views {
 }
 
 words! {
+    /// Which names a drawing writes (`screwkit draw --labels`, `Robot.draw(labels=…)`); each
+    /// placed off the others, with a leader line when moved from its point, or left out when
+    /// there is no room.
+    Labels, "labels" {
+        /// No names.
+        None = "none",
+        /// The names of the ends: a chain's tip, every leaf of a tree (the default).
+        Leaves = "leaves",
+        /// Every link's name.
+        All = "all",
+    }
+}
+
+/// Which screw axes a drawing shows (`screwkit draw --axes`, `Robot.draw(axes=…)`): `all`,
+/// `none`, or joints by name or by their number in the drawing (`J1,J2`, `1,2`). Not given
+/// ([`Axes::Auto`]): every axis of a chain, or of a tree of at most [`Axes::AUTO_MAX`] joints;
+/// none for a larger tree (a humanoid's 44 axes hide it).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum Axes {
+    /// The rule above.
+    #[default]
+    Auto,
+    /// Every joint's axis.
+    All,
+    /// No axis.
+    None,
+    /// The joints named (or numbered, from 1, as the drawing labels them).
+    Joints(Vec<String>),
+}
+
+impl Axes {
+    /// The most joints of a tree whose axes are drawn when not told.
+    pub const AUTO_MAX: usize = 12;
+
+    /// Which of the joints `names` (in the drawing's order, numbered from 1) show their axis:
+    /// an error naming a joint that is not one of them.
+    pub fn shown(&self, names: &[&str], chain: bool) -> Result<Vec<bool>, String> {
+        Ok(match self {
+            Axes::Auto => vec![chain || names.len() <= Self::AUTO_MAX; names.len()],
+            Axes::All => vec![true; names.len()],
+            Axes::None => vec![false; names.len()],
+            Axes::Joints(asked) => {
+                let mut shown = vec![false; names.len()];
+                for a in asked {
+                    let k = names.iter().position(|n| n == a).or_else(|| {
+                        a.parse::<usize>()
+                            .ok()
+                            .filter(|k| (1..=names.len()).contains(k))
+                            .map(|k| k - 1)
+                    });
+                    match k {
+                        Some(k) => shown[k] = true,
+                        None => {
+                            return Err(format!(
+                                "no joint \"{a}\" among the {} drawn ({}{})",
+                                names.len(),
+                                names.iter().take(8).cloned().collect::<Vec<_>>().join(", "),
+                                if names.len() > 8 { ", …" } else { "" }
+                            ))
+                        }
+                    }
+                }
+                shown
+            }
+        })
+    }
+}
+
+impl std::str::FromStr for Axes {
+    type Err = String;
+    /// `all`, `none`, or joint names or numbers separated by commas.
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "all" => Ok(Axes::All),
+            "none" => Ok(Axes::None),
+            list => {
+                let names: Vec<String> = list.split(',').map(|n| n.trim().to_string()).collect();
+                if names.iter().any(String::is_empty) {
+                    return Err(format!(
+                        "expected \"all\", \"none\" or joint names separated by commas, got \"{s}\""
+                    ));
+                }
+                Ok(Axes::Joints(names))
+            }
+        }
+    }
+}
+
+words! {
     /// How the K orientations of each voxel of a map are chosen.
     OrientationMode, "orientation mode" {
         /// K rotations spread evenly over SO(3) (a super-Fibonacci spiral, Alexa, CVPR 2022):
@@ -461,12 +550,52 @@ mod tests {
         check::<TableFormat>();
         check::<View>();
         check::<Views>();
+        check::<Labels>();
         check::<OrientationMode>();
         check::<SolverChoice>();
         assert_eq!(
             "x".parse::<Method>().unwrap_err().to_string(),
             "unknown IK method \"x\": expected \"lm\", \"dls\" or \"nr\""
         );
+    }
+
+    /// `--axes`: the rule when not told (a chain all, a tree of ≤ 12 joints all, a larger one
+    /// none), names and numbers, and an unknown joint or an empty name refused by name.
+    #[test]
+    fn axes_are_chosen_by_name_number_or_rule() {
+        let three = ["a", "b", "c"];
+        let many: Vec<String> = (0..13).map(|k| format!("j{k}")).collect();
+        let many: Vec<&str> = many.iter().map(String::as_str).collect();
+        assert_eq!(Axes::Auto.shown(&three, false).unwrap(), [true; 3]);
+        assert_eq!(Axes::Auto.shown(&many, true).unwrap(), vec![true; 13]);
+        assert_eq!(Axes::Auto.shown(&many, false).unwrap(), vec![false; 13]);
+        assert_eq!(
+            Axes::Auto.shown(&many[..12], false).unwrap(),
+            vec![true; 12]
+        );
+        let pick: Axes = "c, 1".parse().unwrap();
+        assert_eq!(pick.shown(&three, false).unwrap(), [true, false, true]);
+        assert_eq!(
+            "none".parse::<Axes>().unwrap().shown(&three, true).unwrap(),
+            [false; 3]
+        );
+        assert_eq!(
+            "all".parse::<Axes>().unwrap().shown(&many, false).unwrap(),
+            vec![true; 13]
+        );
+        let e = "b,z"
+            .parse::<Axes>()
+            .unwrap()
+            .shown(&three, true)
+            .unwrap_err();
+        assert!(e.contains("no joint \"z\"") && e.contains("a, b, c"), "{e}");
+        let e = "4"
+            .parse::<Axes>()
+            .unwrap()
+            .shown(&three, true)
+            .unwrap_err();
+        assert!(e.contains("\"4\""), "{e}");
+        assert!("a,,b".parse::<Axes>().is_err() && "".parse::<Axes>().is_err());
     }
 
     #[test]

@@ -66,6 +66,7 @@ _JacobianFrame: TypeAlias = Literal["space", "body", "world-aligned", "world_ali
 _TableFormat: TypeAlias = Literal["markdown", "md", "text", "csv", "json"]
 _TableFrames: TypeAlias = Literal["space", "body", "both"]
 _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
+_Labels: TypeAlias = Literal["none", "leaves", "all"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
 _Geometry: TypeAlias = Literal["collision", "visual", "both", "none"]
 _Meshes: TypeAlias = Literal["exact", "convex"]
@@ -615,6 +616,8 @@ class Robot:
         path: str | os.PathLike[str] | None = None,
         *,
         view: _Views = "iso",
+        labels: _Labels = "leaves",
+        axes: str | Sequence[str | int] | None = None,
     ) -> str: ...
     def viewer(
         self,
