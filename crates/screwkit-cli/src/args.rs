@@ -661,6 +661,17 @@ pub struct ViewArgs {
     /// A scene file (JSON) of obstacles to draw in the world (as `collide --obstacles`).
     #[arg(long)]
     pub obstacles: Option<PathBuf>,
+    /// Tint the links (and obstacles) in collision red, at the configuration first shown and
+    /// at each motion frame (the body's <collision> shapes, the pairs an --srdf leaves).
+    #[arg(long)]
+    pub show_collisions: bool,
+    /// With the collisions, draw each pair closer than 5 cm as its minimum-distance segment,
+    /// with the distances listed in the panel.
+    #[arg(long)]
+    pub show_distances: bool,
+    /// An SRDF whose disabled pairs the collisions leave out (implies --show-collisions).
+    #[arg(long, value_name = "FILE")]
+    pub srdf: Option<PathBuf>,
     /// The HTML file to write (- for standard output).
     #[arg(short, long)]
     pub output: String,

@@ -43,7 +43,7 @@ pub fn draw(a: &DrawArgs) -> CliResult {
 /// obstacles, read by the floor). The page may not overwrite the motion or the scene file
 /// (nor the robot's: [`screwkit_service::io::atomic`] refuses it by any name).
 pub fn view(a: &ViewArgs) -> CliResult {
-    let inputs: Vec<&str> = [&a.motion, &a.obstacles]
+    let inputs: Vec<&str> = [&a.motion, &a.obstacles, &a.srdf]
         .into_iter()
         .flatten()
         .filter_map(|p| p.to_str())
@@ -66,9 +66,32 @@ pub fn view(a: &ViewArgs) -> CliResult {
         }
         None => Vec::new(),
     };
+    let robot = crate::load(&a.chain)?;
+    // The body whose contacts the page shows: the whole tree's collision shapes, an SRDF's
+    // disabled pairs left out, the scene's obstacles.
+    let body = if a.show_collisions || a.show_distances || a.srdf.is_some() {
+        let kin = robot.whole()?;
+        let mut model =
+            screwkit_service::body::model(kin, robot.options().meshes, a.srdf.as_deref())?;
+        screwkit_service::body::add_obstacles(&mut model, &obstacles)?;
+        Some((kin, model))
+    } else {
+        None
+    };
     let options = screwkit_draw::html::PageOptions {
         motion,
         obstacles: &obstacles,
+        contacts: body
+            .as_ref()
+            .map(|(kin, model)| screwkit_draw::html::ShowContacts {
+                kin,
+                model,
+                distances: a.show_distances,
+            }),
     };
-    picture(&a.chain, a.q.as_ref(), &a.output, Picture::Page(options))
+    let q = a.q.as_ref().map(|l| l.0.as_slice());
+    write_out(
+        &a.output,
+        &screwkit_draw::picture(&robot, None, q, Picture::Page(options))?,
+    )
 }

@@ -22,9 +22,12 @@ const JS: &str = include_str!("viewer/viewer.js");
 const THREE: &str = include_str!("viewer/three/three.min.js");
 const THREE_LICENSE: &str = include_str!("viewer/three/LICENSE");
 
+/// A pose row-major, −0 written as 0 (a pose from a file's rpy and the same pose built in
+/// Python give the same page).
 fn row_major(t: &screwkit_lie::Se3) -> Vec<f64> {
     let mut out = vec![0.0; 16];
     t.write_row_major(&mut out);
+    out.iter_mut().for_each(|x| *x += 0.0);
     out
 }
 
@@ -357,6 +360,10 @@ pub fn body_json(
             "kind": geometry.word(),
         });
         let o = shape.as_object_mut().expect("an object");
+        if link.is_none() {
+            // An obstacle's name: the contacts name it.
+            o.insert("name".into(), json!(owner));
+        }
         match geometry {
             Shape::Box { size } => {
                 o.insert("size".into(), json!(size));
@@ -429,14 +436,36 @@ pub struct Motion<'a> {
     pub fps: f64,
 }
 
-/// What a page shows besides the robot: a motion to play back, obstacles in the world.
+/// What a page shows besides the robot: a motion to play back, obstacles in the world, the
+/// body's contacts.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct PageOptions<'a> {
     /// A motion to play back.
     pub motion: Option<Motion<'a>>,
     /// Obstacles, drawn in the world (the scene's or the robot's body's).
     pub obstacles: &'a [screwkit_service::body::Obstacle],
+    /// The body's contacts at the configuration first shown and at each motion frame
+    /// ([`crate::picture`] computes them): the colliding links tinted red, and the close
+    /// pairs' minimum-distance segments when asked.
+    pub contacts: Option<ShowContacts<'a>>,
 }
+
+/// The body whose contacts a page shows ([`PageOptions::contacts`]).
+#[derive(Debug, Clone, Copy)]
+pub struct ShowContacts<'a> {
+    /// The whole tree the collision model was built on.
+    pub kin: &'a TreeKinematics,
+    /// The collision model: the pairs checked (an SRDF's disabled ones left out) and the
+    /// obstacles.
+    pub model: &'a screwkit_collision::CollisionModel,
+    /// Also each pair closer than [`screwkit_service::body::SHOWN_WITHIN`]: its distance and
+    /// its minimum-distance segment (`--show-distances`).
+    pub distances: bool,
+}
+
+/// The most configurations (the first shown and a motion's frames) whose contacts a page
+/// embeds.
+pub const MAX_CONTACT_FRAMES: usize = 10_000;
 
 /// Frames per second of a motion when not told (the CLI's `--fps`; Python's `fps=30.0`, a
 /// literal the stubs can check, tested equal to this).
@@ -477,6 +506,20 @@ pub fn page_with_body(
     tree: Option<&screwkit_model::Tree>,
     options: &PageOptions<'_>,
 ) -> Result<String, SolveError> {
+    Ok(document(
+        &chain.robot,
+        &chain_model(chain, kin, q, tree, options)?,
+    ))
+}
+
+/// The JSON [`page_with_body`] embeds (its `q` the configuration first shown).
+pub fn chain_model(
+    chain: &Chain,
+    kin: &Kinematics,
+    q: Option<&[f64]>,
+    tree: Option<&screwkit_model::Tree>,
+    options: &PageOptions<'_>,
+) -> Result<Value, SolveError> {
     let motion = options.motion.as_ref();
     let zeros: Vec<f64> = (0..kin.dof())
         .map(|k| 0f64.clamp(kin.lower()[k], kin.upper()[k]))
@@ -496,7 +539,7 @@ pub fn page_with_body(
     if let Some(m) = played {
         model["motion"] = m;
     }
-    Ok(document(&chain.robot, &model))
+    Ok(model)
 }
 
 /// The page of the whole tree at `q` (its configuration, `q_names`; default: the neutral
@@ -513,6 +556,15 @@ pub fn tree_page_with(
     q: Option<&[f64]>,
     options: &PageOptions<'_>,
 ) -> Result<String, SolveError> {
+    Ok(document(&kin.model().robot, &tree_model(kin, q, options)?))
+}
+
+/// The JSON [`tree_page_with`] embeds (its `q` the configuration first shown).
+pub fn tree_model(
+    kin: &TreeKinematics,
+    q: Option<&[f64]>,
+    options: &PageOptions<'_>,
+) -> Result<Value, SolveError> {
     let motion = options.motion.as_ref();
     let (lower, upper) = (kin.lower(), kin.upper());
     let start: Vec<f64> = screwkit_solve::tree::configuration::neutral(kin)
@@ -532,11 +584,11 @@ pub fn tree_page_with(
     if let Some(m) = played {
         model["motion"] = m;
     }
-    Ok(document(&kin.model().robot, &model))
+    Ok(model)
 }
 
-/// The HTML document around the embedded model.
-fn document(robot: &str, model: &Value) -> String {
+/// The HTML document around the embedded model ([`chain_model`], [`tree_model`]).
+pub fn document(robot: &str, model: &Value) -> String {
     // "</" inside a <script> element would end it: JSON allows "\/" for "/".
     let json = model.to_string().replace("</", "<\\/");
     let title = escape(&format!("{robot} — screwkit"));
@@ -557,6 +609,7 @@ fn document(robot: &str, model: &Value) -> String {
 <div id="error"></div>
 <div id="show"><label><input type="checkbox" id="show-visual" checked> body</label> <label><input type="checkbox" id="show-collision"> collision shapes</label> <label><input type="checkbox" id="show-skeleton"> skeleton</label> <label><input type="checkbox" id="show-axes"> screw axes</label> <label><input type="checkbox" id="show-frames" checked> frames</label></div>
 <div id="player" hidden><h2>motion</h2><button id="play">play</button> <input type="range" id="time" min="0" step="1" value="0"> <output id="clock"></output></div>
+<div id="contacts" hidden><h2>contacts</h2><div class="sub" id="contact-state"></div><table id="contact-pairs"></table></div>
 <h2>joints</h2>
 <div id="sliders"></div>
 <h2 id="pose-title">tip pose T(q)</h2>

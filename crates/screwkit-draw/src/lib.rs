@@ -65,13 +65,72 @@ pub fn picture(
         (Space::Tree(kin), Picture::Svg(o)) => {
             svg::render_with(&Scene::tree(kin, q)?.with_body(&kin.model().tree), o)?
         }
-        (Space::Tree(kin), Picture::Page(o)) => html::tree_page_with(kin, q, &o)?,
+        (Space::Tree(kin), Picture::Page(o)) => {
+            let mut model = html::tree_model(kin, q, &o)?;
+            add_contacts(robot, &mut model, &o)?;
+            html::document(&kin.model().robot, &model)
+        }
         (Space::Chain(kin), Picture::Svg(o)) => svg::render_with(
             &Scene::new(robot.chain()?, kin, q)?.with_body(robot.tree()),
             o,
         )?,
         (Space::Chain(kin), Picture::Page(o)) => {
-            html::page_with_body(robot.chain()?, kin, q, Some(robot.tree()), &o)?
+            let chain = robot.chain()?;
+            let mut model = html::chain_model(chain, kin, q, Some(robot.tree()), &o)?;
+            add_contacts(robot, &mut model, &o)?;
+            html::document(&chain.robot, &model)
         }
     })
+}
+
+/// The body's contacts ([`screwkit_service::body::contacts`]) at the page's first
+/// configuration (`q`) and at each of its motion's frames, as the page's `contacts`: `q` the
+/// first's, `frames` the motion's, `within` the distance of the segments shown (absent
+/// without `distances`).
+fn add_contacts(
+    robot: &Robot,
+    model: &mut serde_json::Value,
+    options: &html::PageOptions<'_>,
+) -> Result<(), screwkit_service::Error> {
+    let Some(c) = options.contacts else {
+        return Ok(());
+    };
+    let values = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .map(|a| a.iter().filter_map(serde_json::Value::as_f64).collect())
+            .unwrap_or_default()
+    };
+    let first = values(&model["q"]);
+    let frames: Vec<Vec<f64>> = model["motion"]["frames"]
+        .as_array()
+        .map(|f| f.iter().map(values).collect())
+        .unwrap_or_default();
+    if frames.len() + 1 > html::MAX_CONTACT_FRAMES {
+        return Err(screwkit_service::Error::Option {
+            name: "show_distances",
+            message: format!(
+                "the contacts of a motion of {} frames: at most {} (play a part of it)",
+                frames.len(),
+                html::MAX_CONTACT_FRAMES - 1
+            ),
+        });
+    }
+    let within = c.distances.then_some(screwkit_service::body::SHOWN_WITHIN);
+    let mut ws = screwkit_collision::CollisionWorkspace::new(c.kin, c.model);
+    let mut at = |q: &[f64]| -> Result<serde_json::Value, screwkit_service::Error> {
+        let found = screwkit_service::body::contacts(robot, c.kin, c.model, &mut ws, q, within)?;
+        Ok(serde_json::to_value(found).unwrap_or_default())
+    };
+    let shown = at(&first)?;
+    let played = frames
+        .iter()
+        .map(|f| at(f))
+        .collect::<Result<Vec<_>, _>>()?;
+    model["contacts"] = serde_json::json!({
+        "q": shown,
+        "frames": played,
+        "within": within,
+        "pairs": c.model.pair_count(),
+    });
+    Ok(())
 }

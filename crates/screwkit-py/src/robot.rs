@@ -2069,15 +2069,22 @@ impl Robot {
     /// axes; `#q=a,b,…` in its URL sets the joints. Of a whole tree (as `draw`): every branch,
     /// a slider per variable, the pose of the leaf chosen. `motion`: configurations to play
     /// back, an array (frames, values) — `ik_trajectory`'s output — or a file (`.npy`, JSON)
-    /// as `screwkit view --motion` reads it, at `fps` frames per second. Returns the HTML and
-    /// writes it to `path` when given.
-    #[pyo3(signature = (q = None, path = None, *, motion = None, fps = 30.0))]
+    /// as `screwkit view --motion` reads it, at `fps` frames per second. `show_collisions`:
+    /// the links (and obstacles) in collision tinted red, at the configuration first shown and
+    /// at each motion frame (the body's pairs: its SRDF's disabled pairs left out, its
+    /// obstacles in); `show_distances`: also each pair closer than 5 cm as its
+    /// minimum-distance segment, the distances listed. Returns the HTML and writes it to
+    /// `path` when given.
+    #[pyo3(signature = (q = None, path = None, *, motion = None, fps = 30.0, show_collisions = false, show_distances = false))]
+    #[allow(clippy::too_many_arguments)]
     fn viewer(
         &self,
         q: Option<&Bound<'_, PyAny>>,
         path: Option<PathBuf>,
         motion: Option<&Bound<'_, PyAny>>,
         fps: f64,
+        show_collisions: bool,
+        show_distances: bool,
     ) -> PyResult<String> {
         let frames: Option<Vec<Vec<f64>>> = match motion {
             None => None,
@@ -2130,9 +2137,21 @@ impl Robot {
                     .collect(),
                 None => Vec::new(),
             };
+        let body = if show_collisions || show_distances {
+            Some(self.body_model()?)
+        } else {
+            None
+        };
         let options = screwkit_draw::html::PageOptions {
             motion,
             obstacles: &obstacles,
+            contacts: body
+                .as_ref()
+                .map(|(kin, model)| screwkit_draw::html::ShowContacts {
+                    kin,
+                    model,
+                    distances: show_distances,
+                }),
         };
         let text = self.picture(q, screwkit_draw::Picture::Page(options))?;
         write_text(path, &text)?;
@@ -2142,15 +2161,21 @@ impl Robot {
     /// The interactive page ([`Robot::viewer`]'s) as a notebook shows it: a `Page` that
     /// Jupyter displays inline (an iframe holding the whole page: nothing to install), with
     /// the HTML in `.html` and `.save(path)`. `height`: the iframe's, in pixels.
-    #[pyo3(signature = (q = None, *, motion = None, fps = 30.0, height = 600))]
+    #[pyo3(signature = (q = None, *, motion = None, fps = 30.0, height = 600, show_collisions = false, show_distances = false))]
+    #[allow(clippy::too_many_arguments)]
     fn show(
         &self,
         q: Option<&Bound<'_, PyAny>>,
         motion: Option<&Bound<'_, PyAny>>,
         fps: f64,
         height: u32,
+        show_collisions: bool,
+        show_distances: bool,
     ) -> PyResult<crate::page::Page> {
-        crate::page::Page::new(self.viewer(q, None, motion, fps)?, height)
+        crate::page::Page::new(
+            self.viewer(q, None, motion, fps, show_collisions, show_distances)?,
+            height,
+        )
     }
 
     /// The arm angle ψ (rad, in [−π, π]) of configuration `q` of a 7R arm with a spherical

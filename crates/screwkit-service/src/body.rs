@@ -303,6 +303,71 @@ pub fn collide_report(
     })
 }
 
+/// The body's contacts at one configuration, as the 3D page shows them ([`contacts`]).
+#[derive(Debug, Clone, Serialize)]
+pub struct Contacts {
+    /// The colliding pairs, by link (or obstacle) name, each once.
+    pub collisions: Vec<[String; 2]>,
+    /// When asked: each pair of links (or link and obstacle) closer than the distance asked,
+    /// once (its closest shapes), closest first; the closest pair of all always among them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub close: Option<Vec<PairReport>>,
+}
+
+/// The distance (m) within which the page draws a pair's minimum-distance segment.
+pub const SHOWN_WITHIN: f64 = 0.05;
+
+/// The contacts of `model` at q (the whole tree's, or a chain robot's joint values): the
+/// colliding link pairs, and with `within` the link pairs closer than it with their witness
+/// points (the closest pair always).
+pub fn contacts(
+    robot: &Robot,
+    kin: &TreeKinematics,
+    model: &CollisionModel,
+    ws: &mut screwkit_collision::CollisionWorkspace,
+    q: &[f64],
+    within: Option<f64>,
+) -> Result<Contacts> {
+    let full = tree_q(robot, kin, q)?;
+    let mut hits = Vec::new();
+    screwkit_collision::collisions(model, ws, kin, &full, &mut hits)?;
+    let collisions = colliding_links(model, &hits)
+        .into_iter()
+        .map(|(a, b)| [a, b])
+        .collect();
+    let close = match within {
+        None => None,
+        Some(within) => {
+            let mut near = Vec::new();
+            screwkit_collision::close_pairs(
+                model,
+                ws,
+                kin,
+                &full,
+                within,
+                f64::NEG_INFINITY,
+                None,
+                &mut near,
+                None,
+            )?;
+            near.retain(|d| d.distance < within);
+            if let Some(closest) = screwkit_collision::min_distance(model, ws, kin, &full)? {
+                near.push(closest);
+            }
+            near.sort_by(|a, b| a.distance.total_cmp(&b.distance).then(a.pair.cmp(&b.pair)));
+            let mut out: Vec<PairReport> = Vec::new();
+            for d in &near {
+                let r = PairReport::new(model, d);
+                if !out.iter().any(|o| o.pair == r.pair) {
+                    out.push(r);
+                }
+            }
+            Some(out)
+        }
+    };
+    Ok(Contacts { collisions, close })
+}
+
 /// One obstacle of a scene: a shape at a pose in the world.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Obstacle {

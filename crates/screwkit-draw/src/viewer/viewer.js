@@ -231,6 +231,7 @@
     });
     const visualOf = new Set(body.shapes.filter((s) => s.role === "visual").map((s) => s.link));
     const shapes = { visual: [], collision: [], obstacle: [] };
+    const owners = new Map();
     const framed = [];
     body.shapes.forEach((s) => {
       const geometry = geometryOf(s);
@@ -247,6 +248,9 @@
       const mesh = new T3.Mesh(geometry, material);
       mesh.matrixAutoUpdate = false;
       setMatrix(mesh.matrix, s.origin);
+      // Its owner's name (a link's, or an obstacle's), for the contacts' tint.
+      const owner = s.link === null ? s.name : model.links[s.link].name;
+      (owners.get(owner) || owners.set(owner, []).get(owner)).push({ material, colour: material.color.clone() });
       // An obstacle (link null) stands in the world.
       (s.link === null ? scene : groups[s.link]).add(mesh);
       if (s.kind !== "plane") framed.push(mesh);
@@ -287,8 +291,11 @@
       balls,
       axes: lines(0x7b3294),
       frames: [lines(0xd7191c), lines(0x1a9641), lines(0x2b83ba)],
+      // Minimum-distance segments: red through overlapping shapes, orange between close ones.
+      touching: lines(0xd62728),
+      close: lines(0xff7f0e),
     };
-    return { T3, renderer, scene, camera, groups, shapes, overlay, framed, grid };
+    return { T3, renderer, scene, camera, groups, shapes, overlay, framed, grid, owners, rod };
   }
   // Frames the view on the body and obstacles as first shown (their box at q, planes left
   // out), with the links' origins: a robot reaching over a table stays in the picture.
@@ -401,7 +408,65 @@
       setLines(overlay.frames[c], seg);
       overlay.frames[c].visible = showFrames.checked;
     });
+    // The body's contacts at this configuration, when the page holds them.
+    const red = new T3.Color(0xd62728);
+    const colliding = new Set(contactsNow ? contactsNow.collisions.flat() : []);
+    three.owners.forEach((list, name) =>
+      list.forEach((m) => m.material.color.copy(colliding.has(name) ? red : m.colour)),
+    );
+    const touching = [], close = [];
+    ((contactsNow && contactsNow.close) || []).forEach((p) =>
+      (p.distance < 0 ? touching : close).push(...p.points[0], ...p.points[1]),
+    );
+    setLines(overlay.touching, touching);
+    setLines(overlay.close, close);
     renderer.render(scene, camera);
+  }
+
+  // ---- The body's contacts, computed by the library at the first configuration and at each
+  // motion frame: shown while the page is at one of those, said to be unknown elsewhere.
+  let contactsNow = null;
+  const same = (a, b) => a.length === b.length && a.every((x, k) => x === b[k]);
+  function contactsAt() {
+    const c = model.contacts;
+    if (!c) return null;
+    if (model.motion) {
+      const k = Number(document.getElementById("time").value);
+      if (c.frames[k] && same(q, model.motion.frames[k])) return c.frames[k];
+    }
+    return same(q, model.q) ? c.q : null;
+  }
+  function showContacts() {
+    const c = model.contacts;
+    if (!c) return;
+    document.getElementById("contacts").hidden = false;
+    const state = document.getElementById("contact-state");
+    const table = document.getElementById("contact-pairs");
+    table.innerHTML = "";
+    if (!contactsNow) {
+      state.textContent = "known at the first pose" + (model.motion ? " and the motion's frames" : "") +
+        " only: the library computes them (" + c.pairs + " pairs)";
+      return;
+    }
+    const n = contactsNow.collisions.length;
+    state.textContent = (n ? `${n} pair${n > 1 ? "s" : ""} in collision (red)` : "no collision") +
+      ` of ${c.pairs} pairs checked` + (c.within ? `; pairs closer than ${c.within * 1000} mm:` : "");
+    if (!c.within) {
+      contactsNow.collisions.slice(0, 10).forEach((p) => {
+        table.insertRow().insertCell().textContent = p[0] + " – " + p[1];
+      });
+      if (n > 10) table.insertRow().insertCell().textContent = `(and ${n - 10} more)`;
+    }
+    // The closest ten; the rest counted.
+    const near = (c.within && contactsNow.close) || [];
+    near.slice(0, 10).forEach((p) => {
+      const tr = table.insertRow();
+      const name = tr.insertCell();
+      name.textContent = p.pair[0] + " – " + p.pair[1];
+      name.title = name.textContent;
+      tr.insertCell().textContent = (p.distance * 1000).toFixed(1) + " mm";
+    });
+    if (near.length > 10) table.insertRow().insertCell().textContent = `(and ${near.length - 10} more)`;
   }
 
   // ---- Tables and the exact values the tests read.
@@ -430,6 +495,8 @@
       tr.insertCell().textContent = s.slice(0, 3).map(fmt4).join(" ");
       tr.insertCell().textContent = s.slice(3, 6).map(fmt4).join(" ");
     });
+    contactsNow = contactsAt();
+    showContacts();
     document.getElementById("q-exact").textContent = JSON.stringify(q);
     document.getElementById("fk-exact").textContent = JSON.stringify([].concat(...state.frames));
     draw();

@@ -626,6 +626,8 @@ class Robot:
         *,
         motion: _ArrayLike | str | os.PathLike[str] | None = None,
         fps: float = 30.0,
+        show_collisions: bool = False,
+        show_distances: bool = False,
     ) -> str: ...
     def show(
         self,
@@ -634,6 +636,8 @@ class Robot:
         motion: _ArrayLike | str | os.PathLike[str] | None = None,
         fps: float = 30.0,
         height: int = 600,
+        show_collisions: bool = False,
+        show_distances: bool = False,
     ) -> Page:
         """The interactive page as a notebook shows it (inline, in an iframe)."""
     @overload
