@@ -249,16 +249,10 @@ fn the_tree_page_computes_the_same_fk_as_the_library() {
 /// Pixels darker than the background and panels (the links and joints, whose grey is #3a3a3a,
 /// and dark text) in the box x < `max_x`, y ≥ `min_y`.
 fn dark_pixels(png_file: &Path, max_x: usize, min_y: usize) -> usize {
-    let decoder = png::Decoder::new(std::io::BufReader::new(
-        std::fs::File::open(png_file).unwrap(),
-    ));
-    let mut reader = decoder.read_info().unwrap();
-    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut buf).unwrap();
-    let channels = info.color_type.samples();
-    let width = info.width as usize;
-    buf[..info.buffer_size()]
-        .chunks(channels)
+    let (width, _, pixels) = rgb_pixels(png_file);
+    let width = width as usize;
+    pixels
+        .iter()
         .enumerate()
         .filter(|(i, _)| i % width < max_x && i / width >= min_y)
         .filter(|(_, p)| p[0] < 100 && p[1] < 100 && p[2] < 100)
