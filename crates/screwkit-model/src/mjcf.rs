@@ -1069,12 +1069,28 @@ impl Builder {
             if mass < 0.0 {
                 return Err(i.error(format!("mass {mass} is negative")));
             }
-            let pos = self.numbers(i, "main", "pos", 3)?.unwrap_or(vec![0.0; 3]);
+            // The inertial frame (pos and its orientation: quat, euler, …) and the tensor in
+            // it: `diaginertia` (its principal moments) or `fullinertia` (M11 M22 M33 M12 M13
+            // M23), turned into the body's axes.
+            let frame = self.pose(i, "main")?;
+            let pos = frame.translation.vector;
+            let diag = self.numbers(i, "main", "diaginertia", 3)?;
+            let full = self.numbers(i, "main", "fullinertia", 6)?;
+            let local = match (diag, full) {
+                (Some(_), Some(_)) => {
+                    return Err(i.error("both diaginertia and fullinertia: give one"));
+                }
+                (Some(d), None) => [d[0], 0.0, 0.0, d[1], 0.0, d[2]],
+                (None, Some(f)) => [f[0], f[3], f[4], f[1], f[5], f[2]],
+                (None, None) => [0.0; 6],
+            };
+            let r = frame.rotation.to_rotation_matrix();
             self.inertials.push((
                 name.clone(),
                 Inertial {
                     mass,
-                    com: [pos[0], pos[1], pos[2]],
+                    com: [pos.x, pos.y, pos.z],
+                    inertia: crate::tree::rotate_inertia(&local, r.matrix()),
                 },
             ));
         }

@@ -94,7 +94,7 @@ pub struct Mimic {
     pub offset: f64,
 }
 
-/// A link's `<inertial>`: what the centre of mass needs (the inertia tensor is not read).
+/// A link's `<inertial>`: its mass, centre of mass and rotational inertia.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Inertial {
     /// `<mass value>` (kg), finite and ≥ 0.
@@ -102,6 +102,65 @@ pub struct Inertial {
     /// The centre of mass in the link's frame: `<inertial><origin xyz>` (zero when absent;
     /// `rpy` only turns the inertia tensor's axes, so it does not move the centre).
     pub com: [f64; 3],
+    /// The inertia tensor about the centre of mass, in the link's axes (the file's tensor
+    /// turned by its `rpy`, or an MJCF `quat`): (ixx, ixy, ixz, iyy, iyz, izz), kg m². Zero
+    /// where the file gives none. Not checked here (dynamics checks it: [`Inertial::problem`]).
+    pub inertia: [f64; 6],
+}
+
+/// An inertia tensor (ixx, ixy, ixz, iyy, iyz, izz) given in axes turned by `r` from the
+/// link's, in the link's axes: R I Rᵀ.
+pub fn rotate_inertia(local: &[f64; 6], r: &nalgebra::Matrix3<f64>) -> [f64; 6] {
+    let [xx, xy, xz, yy, yz, zz] = *local;
+    let i = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
+    let o = r * i * r.transpose();
+    [
+        o[(0, 0)],
+        o[(0, 1)],
+        o[(0, 2)],
+        o[(1, 1)],
+        o[(1, 2)],
+        o[(2, 2)],
+    ]
+}
+
+impl Inertial {
+    /// The tensor as a symmetric 3 × 3 matrix, rows (ixx ixy ixz), (ixy iyy iyz), (ixz iyz izz).
+    pub fn tensor(&self) -> [[f64; 3]; 3] {
+        let [xx, xy, xz, yy, yz, zz] = self.inertia;
+        [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]
+    }
+
+    /// Why this inertial cannot be a rigid body's, or `None`: a negative mass, an inertia
+    /// tensor that is not positive semi-definite (a negative principal moment, beyond a
+    /// relative 1e-9), or principal moments breaking the triangle inequality (A + B ≥ C, same
+    /// tolerance) — what MuJoCo's compiler refuses.
+    pub fn problem(&self) -> Option<String> {
+        if !(self.mass.is_finite() && self.mass >= 0.0) {
+            return Some(format!("mass {} is not a finite number ≥ 0", self.mass));
+        }
+        if self.inertia.iter().any(|x| !x.is_finite()) {
+            return Some("the inertia tensor is not finite".into());
+        }
+        let t = self.tensor();
+        let m = nalgebra::Matrix3::from_fn(|i, j| t[i][j]);
+        let mut e: Vec<f64> = m.symmetric_eigenvalues().iter().copied().collect();
+        e.sort_by(f64::total_cmp);
+        let scale = e[2].abs().max(f64::MIN_POSITIVE);
+        if e[0] < -1e-9 * scale {
+            return Some(format!(
+                "the inertia tensor is not positive semi-definite (principal moments {:.6e}, {:.6e}, {:.6e})",
+                e[0], e[1], e[2]
+            ));
+        }
+        if e[0] + e[1] < e[2] * (1.0 - 1e-9) {
+            return Some(format!(
+                "the principal moments {:.6e}, {:.6e}, {:.6e} break the triangle inequality (A + B ≥ C)",
+                e[0], e[1], e[2]
+            ));
+        }
+        None
+    }
 }
 
 /// A joint of the tree, as read from the URDF (not yet validated for chain use).

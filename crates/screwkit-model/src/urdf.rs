@@ -231,7 +231,13 @@ fn pre_pass(text: &str, robot: &roxmltree::Node) -> Result<PrePass, ErrorKind> {
     Ok((out, facts, inertials, body))
 }
 
-/// A link's first `<inertial>`: mass and centre of mass, checked (see the module docs).
+/// R = Rz(yaw) Ry(pitch) Rx(roll), URDF's fixed-axis roll, pitch, yaw.
+fn rotation_rpy([r, p, y]: [f64; 3]) -> nalgebra::Matrix3<f64> {
+    *nalgebra::Rotation3::from_euler_angles(r, p, y).matrix()
+}
+
+/// A link's first `<inertial>`: mass, centre of mass and inertia tensor, checked (see the
+/// module docs).
 fn inertial_of(
     text: &str,
     link: &roxmltree::Node,
@@ -251,15 +257,18 @@ fn inertial_of(
     };
     let element = |tag: &str| format!("link \"{name}\" <inertial><{tag}>");
     let mut com = [0.0; 3];
+    let mut rpy = [0.0; 3];
     if let Some(origin) = child(text, &inertial, "origin") {
         for attr in ["xyz", "rpy"] {
             if let Some(v) = origin.attribute(attr) {
                 check_numbers_of(&element("origin"), attr, v, 3)?;
             }
         }
-        if let Some(v) = origin.attribute("xyz") {
-            for (c, t) in com.iter_mut().zip(v.split_whitespace()) {
-                *c = t.parse().unwrap_or(f64::NAN);
+        for (attr, out) in [("xyz", &mut com), ("rpy", &mut rpy)] {
+            if let Some(v) = origin.attribute(attr) {
+                for (c, t) in out.iter_mut().zip(v.split_whitespace()) {
+                    *c = t.parse().unwrap_or(f64::NAN);
+                }
             }
         }
     }
@@ -270,6 +279,27 @@ fn inertial_of(
     if com.iter().any(|c| !c.is_finite()) {
         return Err(bad("the centre of mass <origin xyz> is not finite".into()));
     }
+    if rpy.iter().any(|c| !c.is_finite()) {
+        return Err(bad("<origin rpy> is not finite".into()));
+    }
+    // The tensor in the inertial frame (urdfdom's attributes; a missing one is 0), turned into
+    // the link's axes: I = R I' Rᵀ with R = Rz(yaw) Ry(pitch) Rx(roll).
+    let mut local = [0.0; 6];
+    if let Some(i) = child(text, &inertial, "inertia") {
+        for (k, attr) in ["ixx", "ixy", "ixz", "iyy", "iyz", "izz"]
+            .iter()
+            .enumerate()
+        {
+            if let Some(v) = i.attribute(*attr) {
+                check_numbers_of(&element("inertia"), attr, v, 1)?;
+                local[k] = v.trim().parse().unwrap_or(f64::NAN);
+            }
+        }
+    }
+    if local.iter().any(|c| !c.is_finite()) {
+        return Err(bad("the <inertia> is not finite".into()));
+    }
+    let inertia = crate::tree::rotate_inertia(&local, &rotation_rpy(rpy));
     let value = child(text, &inertial, "mass")
         .and_then(|m| m.attribute("value"))
         .ok_or_else(|| bad("no <mass value=\"…\"/> (urdfdom requires one)".into()))?;
@@ -278,7 +308,7 @@ fn inertial_of(
     if !(mass.is_finite() && mass >= 0.0) {
         return Err(bad(format!("mass {value} is not a finite number ≥ 0")));
     }
-    Ok(Some(Inertial { mass, com }))
+    Ok(Some(Inertial { mass, com, inertia }))
 }
 
 /// One `<joint>` reduced to its kinematic children, numbers checked, `<limit>` completed.

@@ -54,6 +54,16 @@ pub struct Robot {
     body: RwLock<Option<Arc<CollisionModel>>>,
     /// Scratch of single body queries, with the model and tree it was made for.
     body_ws: Mutex<Option<BodyScratch>>,
+    /// The dynamic model (built on first use) with the tree it was made for, and its scratch.
+    dynamics: Mutex<Option<DynamicsScratch>>,
+}
+
+/// The dynamic model of a tree, the tree (held, so that `add_frame`'s new tree is told apart)
+/// and one thread's scratch.
+struct DynamicsScratch {
+    kin: Arc<TreeKinematics>,
+    model: screwkit_solve::tree::dynamics::Dynamics,
+    ws: screwkit_solve::tree::dynamics::DynamicsWorkspace,
 }
 
 /// A collision workspace kept between calls, and the model and tree it was made for (held, so
@@ -198,6 +208,7 @@ impl Robot {
             analytic: screwkit_service::solutions::Solvers::default(),
             body: RwLock::new(None),
             body_ws: Mutex::new(None),
+            dynamics: Mutex::new(None),
         })
     }
 
@@ -215,6 +226,47 @@ impl Robot {
                 self.robot.whole().expect_err("no tree means an error"),
             )),
         }
+    }
+
+    /// Runs `f` with the whole tree's dynamic model and scratch (built on first use; again
+    /// after `add_frame`). An inertial that cannot be a rigid body's is an error naming its
+    /// link; a link without one is massless, said once in a warning.
+    fn with_dynamics<T>(
+        &self,
+        py: Python<'_>,
+        f: impl FnOnce(
+            &screwkit_solve::tree::dynamics::Dynamics,
+            &mut screwkit_solve::tree::dynamics::DynamicsWorkspace,
+        ) -> Result<T, SolveError>,
+    ) -> PyResult<T> {
+        use screwkit_solve::tree::dynamics::{Dynamics, DynamicsWorkspace};
+        let kin = self.tree_model()?;
+        let mut guard = self.dynamics.lock().unwrap_or_else(|e| e.into_inner());
+        if !guard.as_ref().is_some_and(|d| Arc::ptr_eq(&d.kin, &kin)) {
+            let model = Dynamics::new(&kin, false).map_err(solve_error)?;
+            if !model.massless().is_empty() {
+                let names = model.massless();
+                let shown: Vec<&str> = names.iter().take(5).map(String::as_str).collect();
+                let message = format!(
+                    "{} link{} without <inertial> taken as massless: {}{}",
+                    names.len(),
+                    if names.len() == 1 { "" } else { "s" },
+                    shown.join(", "),
+                    if names.len() > 5 { ", …" } else { "" }
+                );
+                let cls = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                PyErr::warn(
+                    py,
+                    &cls,
+                    &std::ffi::CString::new(message).unwrap_or_default(),
+                    1,
+                )?;
+            }
+            let ws = DynamicsWorkspace::new(&model);
+            *guard = Some(DynamicsScratch { kin, model, ws });
+        }
+        let d = guard.as_mut().expect("built above");
+        f(&d.model, &mut d.ws).map_err(solve_error)
     }
 
     /// Runs `f` with the shared whole-tree scratch (or a new one when another thread holds
@@ -1613,6 +1665,123 @@ impl Robot {
     #[getter]
     fn total_mass(&self) -> PyResult<f64> {
         Ok(tree::com::total_mass(&*self.tree_model()?))
+    }
+
+    /// Inverse dynamics τ = ID(q, v, a) of the whole tree (nv): the generalized forces that give
+    /// the accelerations `a` at (q, v) under gravity, by recursive Newton–Euler in screw form
+    /// (Pinocchio's `rnea`). q as `com` takes it (nq), v and a in `v_names` order; with a
+    /// floating base τ starts with the wrench (m, f) on the base in its own frame.
+    fn inverse_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        a: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        let a = Self::one_vector(a, kin.nv(), "a")?;
+        let tau = self.with_dynamics(py, |d, ws| {
+            Ok(screwkit_solve::tree::dynamics::inverse_dynamics(d, ws, &q, &v, &a)?.to_vec())
+        })?;
+        Ok(tau.to_pyarray(py))
+    }
+
+    /// The gravity forces g(q) (nv) = ID(q, 0, 0) (Pinocchio's `computeGeneralizedGravity`).
+    fn gravity<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let g = self.with_dynamics(py, |d, ws| {
+            Ok(screwkit_solve::tree::dynamics::gravity(d, ws, &q)?.to_vec())
+        })?;
+        Ok(g.to_pyarray(py))
+    }
+
+    /// The nonlinear effects h(q, v) = C(q, v) v + g(q) (nv) (Pinocchio's `nonLinearEffects`).
+    fn nonlinear_effects<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        let h = self.with_dynamics(py, |d, ws| {
+            Ok(screwkit_solve::tree::dynamics::nonlinear_effects(d, ws, &q, &v)?.to_vec())
+        })?;
+        Ok(h.to_pyarray(py))
+    }
+
+    /// The mass matrix M(q) (nv, nv), by the composite-rigid-body algorithm (Pinocchio's
+    /// `crba`, both triangles filled).
+    fn mass_matrix<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let nv = kin.nv();
+        let m = self.with_dynamics(py, |d, ws| {
+            Ok(screwkit_solve::tree::dynamics::mass_matrix(d, ws, &q)?.clone())
+        })?;
+        Ok(new_array(py, &[nv, nv], |o| {
+            for r in 0..nv {
+                for c in 0..nv {
+                    o[r * nv + c] = m[(r, c)];
+                }
+            }
+        })?
+        .into_any())
+    }
+
+    /// Forward dynamics a = FD(q, v, τ) = M(q)⁻¹ (τ − h(q, v)) (nv): the accelerations the
+    /// forces τ give (Pinocchio's `aba` answers the same).
+    fn forward_dynamics<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        tau: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        let tau = Self::one_vector(tau, kin.nv(), "tau")?;
+        let a = self.with_dynamics(py, |d, ws| {
+            Ok(screwkit_solve::tree::dynamics::forward_dynamics(d, ws, &q, &v, &tau)?.to_vec())
+        })?;
+        Ok(a.to_pyarray(py))
+    }
+
+    /// The kinetic energy ½ vᵀ M(q) v (J).
+    fn kinetic_energy(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        v: &Bound<'_, PyAny>,
+    ) -> PyResult<f64> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        self.with_dynamics(py, |d, ws| {
+            screwkit_solve::tree::dynamics::kinetic_energy(d, ws, &q, &v)
+        })
+    }
+
+    /// The potential energy −Σ m_i gᵀ c_i (J; zero at the world's origin height).
+    fn potential_energy(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<f64> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        self.with_dynamics(py, |d, ws| {
+            screwkit_solve::tree::dynamics::potential_energy(d, ws, &q)
+        })
     }
 
     /// The tasks prepared for this robot's whole tree (`TaskSet`): frames found and every task

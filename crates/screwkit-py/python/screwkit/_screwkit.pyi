@@ -555,6 +555,18 @@ class Robot:
     def obstacles(self) -> list[str]: ...
     @property
     def total_mass(self) -> float: ...
+    def inverse_dynamics(self, q: _ArrayLike, v: _ArrayLike, a: _ArrayLike) -> _F64:
+        """τ = ID(q, v, a) of the whole tree (nv), by recursive Newton–Euler."""
+    def gravity(self, q: _ArrayLike) -> _F64:
+        """The gravity forces g(q) (nv)."""
+    def nonlinear_effects(self, q: _ArrayLike, v: _ArrayLike) -> _F64:
+        """h(q, v) = C(q, v) v + g(q) (nv)."""
+    def mass_matrix(self, q: _ArrayLike) -> _F64:
+        """M(q) (nv, nv), by the composite-rigid-body algorithm."""
+    def forward_dynamics(self, q: _ArrayLike, v: _ArrayLike, tau: _ArrayLike) -> _F64:
+        """a = M(q)⁻¹ (τ − h(q, v)) (nv)."""
+    def kinetic_energy(self, q: _ArrayLike, v: _ArrayLike) -> float: ...
+    def potential_energy(self, q: _ArrayLike) -> float: ...
     def task_set(self, tasks: Sequence[_Task]) -> TaskSet: ...
     def ik_step(
         self,

@@ -31,6 +31,7 @@ pub mod batch;
 pub mod com;
 pub mod configuration;
 pub mod differential_ik;
+pub mod dynamics;
 pub mod fk;
 pub mod jacobian;
 pub mod limits;
@@ -80,6 +81,21 @@ pub(crate) struct FrameData {
     pub(crate) view: std::sync::OnceLock<Option<View>>,
 }
 
+/// A joint's screw in its own frame: (0, a) for a prismatic joint, (a, h a) for a helical one
+/// of pitch h, (a, 0) for a revolute one (a its unit axis).
+pub(crate) fn local_screw(j: &screwkit_model::TreeScrew) -> screwkit_lie::Twist {
+    match j.kind {
+        screwkit_model::JointKind::Prismatic => {
+            screwkit_lie::Twist::new(nalgebra::Vector3::zeros(), j.axis)
+        }
+        screwkit_model::JointKind::Helical => {
+            let h = j.s_space.pitch().unwrap_or(0.0);
+            screwkit_lie::Twist::new(j.axis, j.axis * h)
+        }
+        _ => screwkit_lie::Twist::new(j.axis, nalgebra::Vector3::zeros()),
+    }
+}
+
 /// The immutable kinematic model of a whole tree, prepared for the algorithms. Build once with
 /// [`TreeKinematics::new`]; share freely (`Send + Sync`).
 #[derive(Debug, Clone)]
@@ -126,18 +142,7 @@ impl TreeKinematics {
             .joints
             .iter()
             .map(|j| {
-                // The joint's screw in its own frame: (0, a), (a, 0), or (a, h a) for a
-                // helical joint of pitch h.
-                let local = match j.kind {
-                    screwkit_model::JointKind::Prismatic => {
-                        screwkit_lie::Twist::new(nalgebra::Vector3::zeros(), j.axis)
-                    }
-                    screwkit_model::JointKind::Helical => {
-                        let h = j.s_space.pitch().unwrap_or(0.0);
-                        screwkit_lie::Twist::new(j.axis, j.axis * h)
-                    }
-                    _ => screwkit_lie::Twist::new(j.axis, nalgebra::Vector3::zeros()),
-                };
+                let local = local_screw(j);
                 fk::SweepJoint {
                     fixed: fk::Placement::of(&j.placement),
                     motion: PoeJoint::new(local, j.kind, j.drive),
@@ -429,7 +434,7 @@ pub(crate) fn base_pose(q: &[f64]) -> Result<Se3, SolveError> {
 }
 
 /// A long list of names shortened for a message.
-fn short_names(names: &[String]) -> String {
+pub(crate) fn short_names(names: &[String]) -> String {
     if names.len() <= 12 {
         names.join(", ")
     } else {
