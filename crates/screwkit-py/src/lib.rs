@@ -7,6 +7,7 @@
 
 mod array;
 mod body;
+mod dynamics;
 mod errors;
 mod lie;
 mod page;
@@ -166,6 +167,7 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<tasks::TasksResult>()?;
     m.add("BatchError", m.py().get_type::<errors::BatchError>())?;
     lie::register(m)?;
+    dynamics::register(m)?;
     // The names the package had before `screwkit.lie`: the same functions.
     m.add("exp", m.getattr("exp6")?)?;
     m.add("log", m.getattr("log6")?)?;

@@ -12,7 +12,7 @@ the body frame the frame asked for.
 >>> robot.fk([0.1, -0.5, 1.0, 0.2, 0.3, -0.4])             # doctest: +SKIP
 """
 
-from . import lie
+from . import dynamics, lie
 from ._screwkit import (
     Analysis,
     AxisTask,
@@ -100,6 +100,7 @@ __all__ = [
     "exp",
     "host",
     "kernel_path",
+    "dynamics",
     "lie",
     "log",
     "merge",

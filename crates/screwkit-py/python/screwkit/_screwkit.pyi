@@ -49,6 +49,13 @@ __all__ = [
     "project_to_so3",
     "rot_inv",
     "screw_to_axis",
+    "mr_end_effector_forces",
+    "mr_forward_dynamics",
+    "mr_gravity_forces",
+    "mr_inverse_dynamics",
+    "mr_inverse_dynamics_trajectory",
+    "mr_mass_matrix",
+    "mr_vel_quadratic_forces",
     "trans_inv",
     "vee",
     "row_seed",
@@ -799,6 +806,56 @@ class Robot:
 _Scalars: TypeAlias = float | _ArrayLike
 
 def screw_to_axis(q: _ArrayLike, s: _ArrayLike, h: _Scalars | None = None) -> _F64: ...
+def mr_inverse_dynamics(
+    thetalist: _ArrayLike,
+    dthetalist: _ArrayLike,
+    ddthetalist: _ArrayLike,
+    g: _ArrayLike,
+    ftip: _ArrayLike,
+    mlist: _ArrayLike,
+    glist: _ArrayLike,
+    slist: _ArrayLike,
+) -> _F64: ...
+def mr_mass_matrix(
+    thetalist: _ArrayLike, mlist: _ArrayLike, glist: _ArrayLike, slist: _ArrayLike
+) -> _F64: ...
+def mr_vel_quadratic_forces(
+    thetalist: _ArrayLike,
+    dthetalist: _ArrayLike,
+    mlist: _ArrayLike,
+    glist: _ArrayLike,
+    slist: _ArrayLike,
+) -> _F64: ...
+def mr_gravity_forces(
+    thetalist: _ArrayLike, g: _ArrayLike, mlist: _ArrayLike, glist: _ArrayLike, slist: _ArrayLike
+) -> _F64: ...
+def mr_end_effector_forces(
+    thetalist: _ArrayLike,
+    ftip: _ArrayLike,
+    mlist: _ArrayLike,
+    glist: _ArrayLike,
+    slist: _ArrayLike,
+) -> _F64: ...
+def mr_forward_dynamics(
+    thetalist: _ArrayLike,
+    dthetalist: _ArrayLike,
+    taulist: _ArrayLike,
+    g: _ArrayLike,
+    ftip: _ArrayLike,
+    mlist: _ArrayLike,
+    glist: _ArrayLike,
+    slist: _ArrayLike,
+) -> _F64: ...
+def mr_inverse_dynamics_trajectory(
+    thetamat: _ArrayLike,
+    dthetamat: _ArrayLike,
+    ddthetamat: _ArrayLike,
+    g: _ArrayLike,
+    ftipmat: _ArrayLike,
+    mlist: _ArrayLike,
+    glist: _ArrayLike,
+    slist: _ArrayLike,
+) -> _F64: ...
 def axis_angle3(expc3: _ArrayLike) -> tuple[_F64, Any]: ...
 def axis_angle6(expc6: _ArrayLike) -> tuple[_F64, Any]: ...
 def hat(x: _ArrayLike) -> _F64: ...

@@ -109,25 +109,56 @@ impl SpatialInertia {
     }
 }
 
+/// One moving joint of the dynamic model.
+#[derive(Debug, Clone)]
+struct Joint {
+    /// The parent joint, or [`NONE`] (the root).
+    parent: usize,
+    /// Its screw in its own frame, a_k.
+    axis: Twist,
+    /// X_k: its frame at home in its parent joint's frame (the root's).
+    placement: Se3,
+    /// θ_k = multiplier · q[variable] + offset (the joint variables, after a floating base's).
+    variable: usize,
+    multiplier: f64,
+    offset: f64,
+}
+
 /// The immutable dynamic model of a tree: each moving joint's body (and, with a floating base,
-/// the root's) and gravity. Build once with [`Dynamics::new`], share freely.
+/// the root's) and gravity. Build once with [`Dynamics::new`] (a robot's tree) or
+/// [`Dynamics::from_screws`] (the textbook's (M, G, S) lists); share freely.
 #[derive(Debug, Clone)]
 pub struct Dynamics {
-    kin: TreeKinematics,
+    /// The tree it was built from (None for the textbook's lists).
+    kin: Option<TreeKinematics>,
+    joints: Vec<Joint>,
     /// Each joint's body in its own frame (the links it supports).
     bodies: Vec<SpatialInertia>,
     /// The root body (the links no joint moves) in the root link's frame.
     root: SpatialInertia,
-    /// Each joint's screw in its own frame, and its home placement in its parent joint's frame.
-    axes: Vec<Twist>,
-    placements: Vec<Se3>,
+    floating: bool,
+    nq: usize,
+    nv: usize,
+    v_names: Vec<String>,
     /// Gravity in the world (default (0, 0, −9.81)).
     gravity: Vector3<f64>,
     /// Links without an `<inertial>` (massless), said once by the front ends.
     massless: Vec<String>,
+    /// A frame fixed to the last joint's body where a tip wrench is applied (the textbook's
+    /// {n+1}): its pose in that body's frame.
+    tip: Se3,
 }
 
 impl Dynamics {
+    /// The joint variables' count (nq less a floating base's 7).
+    fn joints_variables(&self) -> usize {
+        if self.floating {
+            self.nq - 7
+        } else {
+            self.nq
+        }
+    }
+
     /// The dynamic model of `kin`'s tree from its links' `<inertial>`s. A link without one is
     /// massless (listed in [`Dynamics::massless`]). An inertial that cannot be a rigid body's
     /// (a negative mass, a tensor not positive semi-definite or breaking the triangle
@@ -164,22 +195,106 @@ impl Dynamics {
                 None => root = root.plus(&body),
             }
         }
-        let axes = model.joints.iter().map(super::local_screw).collect();
-        let placements = model.joints.iter().map(|j| j.placement).collect();
+        let joints = model
+            .joints
+            .iter()
+            .enumerate()
+            .map(|(k, j)| Joint {
+                parent: kin.parent[k],
+                axis: super::local_screw(j),
+                placement: j.placement,
+                variable: j.drive.variable,
+                multiplier: j.drive.multiplier,
+                offset: j.drive.offset,
+            })
+            .collect();
         Ok(Self {
-            kin: kin.clone(),
+            kin: Some(kin.clone()),
+            joints,
             bodies,
             root,
-            axes,
-            placements,
+            floating: kin.floating,
+            nq: kin.nq(),
+            nv: kin.nv(),
+            v_names: kin.v_names.clone(),
             gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
             massless,
+            tip: Se3::identity(),
         })
     }
 
-    /// The kinematic tree.
-    pub fn kinematics(&self) -> &TreeKinematics {
-        &self.kin
+    /// The textbook's open chain (*Modern Robotics* §8.3): `m_list` the n + 1 transforms
+    /// M_{i−1,i} between consecutive link frames at home (the last, the end-effector frame
+    /// {n+1} in link n's), `g_list` the n links' 6 × 6 spatial inertias G_i in their own
+    /// frames ((ω, v) order), `s_list` the n joints' space screw axes. Joint i's screw in link
+    /// frame i is A_i = [Ad_{M_{0,i}⁻¹}] S_i; its body is G_i.
+    pub fn from_screws(
+        m_list: &[Se3],
+        g_list: &[Matrix6<f64>],
+        s_list: &[Twist],
+    ) -> Result<Self, SolveError> {
+        let n = s_list.len();
+        if m_list.len() != n + 1 || g_list.len() != n {
+            return Err(SolveError::InvalidInput(format!(
+                "Mlist needs n + 1 = {} transforms and Glist n = {n} inertias for {n} screw axes, got {} and {}",
+                n + 1,
+                m_list.len(),
+                g_list.len()
+            )));
+        }
+        let mut home = Se3::identity();
+        let mut joints = Vec::with_capacity(n);
+        let mut bodies = Vec::with_capacity(n);
+        for i in 0..n {
+            home = home.compose(&m_list[i]);
+            let g = &g_list[i];
+            if (g - g.transpose()).amax() > 1e-9 * g.amax().max(1.0)
+                || !g.iter().all(|x| x.is_finite())
+            {
+                return Err(SolveError::InvalidInput(format!(
+                    "Glist[{i}] is not a finite symmetric 6 × 6 spatial inertia"
+                )));
+            }
+            let h = Vector3::new(g[(2, 4)], g[(0, 5)], g[(1, 3)]);
+            let body = SpatialInertia {
+                mass: g[(3, 3)],
+                first_moment: h,
+                rotational: g.fixed_view::<3, 3>(0, 0).into_owned(),
+            };
+            // A rigid body's G has m 1 in its lower right and [m c] in its upper right.
+            if (body.matrix() - g).amax() > 1e-9 * g.amax().max(1.0) {
+                return Err(SolveError::InvalidInput(format!(
+                    "Glist[{i}] is not a rigid body's spatial inertia [[I, [mc]], [[mc]ᵀ, m 1]]"
+                )));
+            }
+            bodies.push(body);
+            joints.push(Joint {
+                parent: if i == 0 { NONE } else { i - 1 },
+                axis: home.inverse().adjoint_apply(&s_list[i]),
+                placement: m_list[i],
+                variable: i,
+                multiplier: 1.0,
+                offset: 0.0,
+            });
+        }
+        Ok(Self {
+            kin: None,
+            joints,
+            bodies,
+            root: SpatialInertia::zero(),
+            floating: false,
+            nq: n,
+            nv: n,
+            v_names: (1..=n).map(|i| format!("joint {i}")).collect(),
+            gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
+            massless: Vec::new(),
+            tip: m_list[n],
+        })
+    }
+
+    /// The kinematic tree, when built from one.
+    pub fn kinematics(&self) -> Option<&TreeKinematics> {
+        self.kin.as_ref()
     }
 
     /// Gravity in the world (m/s²).
@@ -201,6 +316,20 @@ impl Dynamics {
     /// Each moving joint's body in its own frame.
     pub fn bodies(&self) -> &[SpatialInertia] {
         &self.bodies
+    }
+
+    /// nv: the velocity's length.
+    pub fn nv(&self) -> usize {
+        self.nv
+    }
+
+    /// Checks q (the tree's rules, or nq finite values) and returns the base's pose.
+    fn check_q(&self, q: &[f64]) -> Result<Se3, SolveError> {
+        if let Some(kin) = &self.kin {
+            return kin.check_q(q);
+        }
+        check_values(&self.v_names, q, "joint value")?;
+        Ok(Se3::identity())
     }
 }
 
@@ -227,7 +356,7 @@ impl DynamicsWorkspace {
     /// Scratch for `dynamics`.
     pub fn new(dynamics: &Dynamics) -> Self {
         let n = dynamics.bodies.len();
-        let nv = dynamics.kin.nv();
+        let nv = dynamics.nv;
         Self {
             local: vec![Se3::identity(); n],
             velocity: vec![Vector6::zeros(); n],
@@ -287,37 +416,41 @@ fn vec6(t: &Twist) -> Vector6<f64> {
     t.to_vector()
 }
 
-/// The root's pose and each joint's T_k at q (checked); the joint variables' θ from q.
+/// The root's pose and each joint's T_k at q (checked).
 fn place(d: &Dynamics, ws: &mut DynamicsWorkspace, q: &[f64]) -> Result<Se3, SolveError> {
-    let kin = &d.kin;
-    let base = kin.check_q(q)?;
-    let joints = &q[kin.q_offset()..];
-    for (k, j) in kin.model.joints.iter().enumerate() {
-        let theta = j.drive.multiplier * joints[j.drive.variable] + j.drive.offset;
-        ws.local[k] = d.placements[k].compose(&Se3::exp(&(d.axes[k] * theta)));
+    let base = d.check_q(q)?;
+    let joints = &q[d.nq - d.joints_variables()..];
+    for (k, j) in d.joints.iter().enumerate() {
+        let theta = j.multiplier * joints[j.variable] + j.offset;
+        ws.local[k] = j.placement.compose(&Se3::exp(&(j.axis * theta)));
     }
     Ok(base)
 }
 
-/// Checks a vector of nv values named `what`.
-fn check_nv(kin: &TreeKinematics, x: &[f64], what: &'static str) -> Result<(), SolveError> {
-    if x.len() != kin.nv() {
+/// Checks `x` against `names` (its length, each value finite).
+fn check_values(names: &[String], x: &[f64], what: &'static str) -> Result<(), SolveError> {
+    if x.len() != names.len() {
         return Err(SolveError::WrongLength {
             what,
-            expected: kin.nv(),
+            expected: names.len(),
             got: x.len(),
-            names: super::short_names(&kin.v_names),
+            names: super::short_names(names),
         });
     }
     if let Some(i) = x.iter().position(|v| !v.is_finite()) {
         return Err(SolveError::NonFinite {
             what,
             index: i,
-            name: kin.v_names.get(i).cloned().unwrap_or_default(),
+            name: names.get(i).cloned().unwrap_or_default(),
             value: x[i],
         });
     }
     Ok(())
+}
+
+/// Checks a vector of nv values named `what`.
+fn check_nv(d: &Dynamics, x: &[f64], what: &'static str) -> Result<(), SolveError> {
+    check_values(&d.v_names, x, what)
 }
 
 /// The recursive Newton–Euler pass at placed joints: τ into `ws.tau` (the module's formulas),
@@ -330,13 +463,13 @@ fn newton_euler(
     v: Option<&[f64]>,
     a: Option<&[f64]>,
     gravity: bool,
+    tip: Option<&Vector6<f64>>,
 ) {
-    let kin = &d.kin;
-    let off = if kin.floating { 6 } else { 0 };
+    let off = if d.floating { 6 } else { 0 };
     let at = |x: Option<&[f64]>, k: usize| x.map_or(0.0, |x| x[k]);
     let mut root_vel = Vector6::zeros();
     let mut root_acc = Vector6::zeros();
-    if kin.floating {
+    if d.floating {
         for i in 0..6 {
             root_vel[i] = at(v, i);
             root_acc[i] = at(a, i);
@@ -349,17 +482,17 @@ fn newton_euler(
         root_acc[4] += up.y;
         root_acc[5] += up.z;
     }
-    let joints = &kin.model.joints;
+    let joints = &d.joints;
     for (k, j) in joints.iter().enumerate() {
-        let (vp, ap) = match kin.parent[k] {
+        let (vp, ap) = match j.parent {
             NONE => (root_vel, root_acc),
             p => (ws.velocity[p], ws.acceleration[p]),
         };
         let t = &ws.local[k];
-        let s = vec6(&d.axes[k]);
-        let var = off + j.drive.variable;
-        let rate = j.drive.multiplier * at(v, var);
-        let acc = j.drive.multiplier * at(a, var);
+        let s = vec6(&j.axis);
+        let var = off + j.variable;
+        let rate = j.multiplier * at(v, var);
+        let acc = j.multiplier * at(a, var);
         let vk = twist_in_child(t, &vp) + s * rate;
         let ak = twist_in_child(t, &ap) + s * acc + ad(&vk, &s) * rate;
         let g = d.bodies[k].matrix();
@@ -367,7 +500,14 @@ fn newton_euler(
         ws.velocity[k] = vk;
         ws.acceleration[k] = ak;
     }
-    ws.root_force = if kin.floating {
+    if let Some(tip) = tip {
+        // The wrench the last body exerts on the environment at the tip frame (the
+        // textbook's F_tip), carried into that body's frame.
+        if let Some(last) = joints.len().checked_sub(1) {
+            ws.force[last] += wrench_in_parent(&d.tip, tip);
+        }
+    }
+    ws.root_force = if d.floating {
         let g = d.root.matrix();
         g * root_acc - ad_transpose(&root_vel, &(g * root_vel))
     } else {
@@ -376,15 +516,15 @@ fn newton_euler(
     ws.tau.iter_mut().for_each(|x| *x = 0.0);
     for k in (0..joints.len()).rev() {
         let j = &joints[k];
-        let s = vec6(&d.axes[k]);
-        ws.tau[off + j.drive.variable] += j.drive.multiplier * s.dot(&ws.force[k]);
+        let s = vec6(&j.axis);
+        ws.tau[off + j.variable] += j.multiplier * s.dot(&ws.force[k]);
         let up = wrench_in_parent(&ws.local[k], &ws.force[k]);
-        match kin.parent[k] {
+        match j.parent {
             NONE => ws.root_force += up,
             p => ws.force[p] += up,
         }
     }
-    if kin.floating {
+    if d.floating {
         for i in 0..6 {
             ws.tau[i] = ws.root_force[i];
         }
@@ -400,12 +540,42 @@ pub fn inverse_dynamics<'w>(
     v: &[f64],
     a: &[f64],
 ) -> Result<&'w [f64], SolveError> {
-    check_nv(&d.kin, v, "velocity value")?;
-    check_nv(&d.kin, a, "acceleration value")?;
+    check_nv(d, v, "velocity value")?;
+    check_nv(d, a, "acceleration value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), Some(a), true);
+    newton_euler(d, ws, &base, Some(v), Some(a), true, None);
     Ok(&ws.tau)
 }
+
+/// [`inverse_dynamics`] with the wrench `tip` = (m, f) that the last body exerts on the
+/// environment at its tip frame, in that frame (the textbook's F_tip, §8.3:
+/// `InverseDynamics`): τ gains Jᵀ F_tip.
+pub fn inverse_dynamics_tip<'w>(
+    d: &Dynamics,
+    ws: &'w mut DynamicsWorkspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    tip: &[f64; 6],
+) -> Result<&'w [f64], SolveError> {
+    check_nv(d, v, "velocity value")?;
+    check_nv(d, a, "acceleration value")?;
+    check_values(&TIP_NAMES.map(String::from), tip, "tip wrench value")?;
+    let base = place(d, ws, q)?;
+    newton_euler(
+        d,
+        ws,
+        &base,
+        Some(v),
+        Some(a),
+        true,
+        Some(&Vector6::from(*tip)),
+    );
+    Ok(&ws.tau)
+}
+
+/// The entries of a wrench (m, f), for messages.
+const TIP_NAMES: [&str; 6] = ["mx", "my", "mz", "fx", "fy", "fz"];
 
 /// The gravity forces g(q) = ID(q, 0, 0). Pinocchio's `computeGeneralizedGravity`.
 pub fn gravity<'w>(
@@ -414,7 +584,7 @@ pub fn gravity<'w>(
     q: &[f64],
 ) -> Result<&'w [f64], SolveError> {
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, None, None, true);
+    newton_euler(d, ws, &base, None, None, true, None);
     Ok(&ws.tau)
 }
 
@@ -426,9 +596,9 @@ pub fn nonlinear_effects<'w>(
     q: &[f64],
     v: &[f64],
 ) -> Result<&'w [f64], SolveError> {
-    check_nv(&d.kin, v, "velocity value")?;
+    check_nv(d, v, "velocity value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), None, true);
+    newton_euler(d, ws, &base, Some(v), None, true, None);
     Ok(&ws.tau)
 }
 
@@ -449,9 +619,8 @@ pub fn mass_matrix<'w>(
 
 /// The composite-rigid-body pass at placed joints, into `ws.mass`.
 fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
-    let kin = &d.kin;
-    let off = if kin.floating { 6 } else { 0 };
-    let joints = &kin.model.joints;
+    let off = if d.floating { 6 } else { 0 };
+    let joints = &d.joints;
     let n = joints.len();
     for k in 0..n {
         ws.composite[k] = d.bodies[k].matrix();
@@ -460,38 +629,38 @@ fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
     for k in (0..n).rev() {
         let x = ws.local[k].inverse().adjoint();
         let up = x.transpose() * ws.composite[k] * x;
-        match kin.parent[k] {
+        match joints[k].parent {
             NONE => root += up,
             p => ws.composite[p] += up,
         }
     }
     ws.mass.fill(0.0);
-    if kin.floating {
+    if d.floating {
         // (Exactly symmetric: the sums above round each triangle on its own.)
         let root = (root + root.transpose()) * 0.5;
         ws.mass.view_mut((0, 0), (6, 6)).copy_from(&root);
     }
     for k in 0..n {
         let jk = &joints[k];
-        let vk = off + jk.drive.variable;
-        let sk = vec6(&d.axes[k]);
-        let mut f = ws.composite[k] * sk * jk.drive.multiplier;
+        let vk = off + jk.variable;
+        let sk = vec6(&jk.axis);
+        let mut f = ws.composite[k] * sk * jk.multiplier;
         let mut l = k;
         loop {
             let jl = &joints[l];
-            let vl = off + jl.drive.variable;
-            let m = jl.drive.multiplier * vec6(&d.axes[l]).dot(&f);
+            let vl = off + jl.variable;
+            let m = jl.multiplier * vec6(&jl.axis).dot(&f);
             ws.mass[(vl, vk)] += m;
             if l != k {
                 ws.mass[(vk, vl)] += m;
             }
             f = wrench_in_parent(&ws.local[l], &f);
-            match kin.parent[l] {
+            match jl.parent {
                 NONE => break,
                 p => l = p,
             }
         }
-        if kin.floating {
+        if d.floating {
             for i in 0..6 {
                 ws.mass[(i, vk)] += f[i];
                 ws.mass[(vk, i)] += f[i];
@@ -504,7 +673,6 @@ fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
 /// give at (q, v) under gravity (a Cholesky factorisation of the mass matrix). Pinocchio's
 /// `aba` answers the same. An error when M is not positive definite (a moving joint with no
 /// mass beyond it).
-#[allow(clippy::needless_range_loop)] // the factorisation reads as its formulas, by index
 pub fn forward_dynamics<'w>(
     d: &Dynamics,
     ws: &'w mut DynamicsWorkspace,
@@ -512,12 +680,28 @@ pub fn forward_dynamics<'w>(
     v: &[f64],
     tau: &[f64],
 ) -> Result<&'w [f64], SolveError> {
-    check_nv(&d.kin, v, "velocity value")?;
-    check_nv(&d.kin, tau, "force value")?;
+    forward_dynamics_tip(d, ws, q, v, tau, &[0.0; 6])
+}
+
+/// [`forward_dynamics`] with the last body pressing on the environment with the wrench `tip`
+/// at its tip frame (the textbook's `ForwardDynamics`): a = M⁻¹ (τ − h − Jᵀ F_tip).
+#[allow(clippy::needless_range_loop)] // the factorisation reads as its formulas, by index
+pub fn forward_dynamics_tip<'w>(
+    d: &Dynamics,
+    ws: &'w mut DynamicsWorkspace,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    tip: &[f64; 6],
+) -> Result<&'w [f64], SolveError> {
+    check_nv(d, v, "velocity value")?;
+    check_nv(d, tau, "force value")?;
+    check_values(&TIP_NAMES.map(String::from), tip, "tip wrench value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), None, true);
+    let pressed = tip.iter().any(|x| *x != 0.0).then(|| Vector6::from(*tip));
+    newton_euler(d, ws, &base, Some(v), None, true, pressed.as_ref());
     crba(d, ws);
-    let nv = d.kin.nv();
+    let nv = d.nv;
     for i in 0..nv {
         ws.rhs[i] = tau[i] - ws.tau[i];
     }
@@ -531,7 +715,7 @@ pub fn forward_dynamics<'w>(
         if !(s > 0.0 && s.is_finite()) {
             return Err(SolveError::InvalidInput(format!(
                 "the mass matrix is not positive definite at \"{}\" (no mass moves with it?)",
-                d.kin.v_names[j]
+                d.v_names[j]
             )));
         }
         let ljj = s.sqrt();
@@ -570,16 +754,15 @@ pub fn kinetic_energy(
     q: &[f64],
     v: &[f64],
 ) -> Result<f64, SolveError> {
-    check_nv(&d.kin, v, "velocity value")?;
+    check_nv(d, v, "velocity value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), None, false);
-    let kin = &d.kin;
+    newton_euler(d, ws, &base, Some(v), None, false, None);
     let mut e = 0.0;
     for k in 0..d.bodies.len() {
         let vk = ws.velocity[k];
         e += 0.5 * vk.dot(&(d.bodies[k].matrix() * vk));
     }
-    if kin.floating {
+    if d.floating {
         let vr = Vector6::from_iterator(v[..6].iter().copied());
         e += 0.5 * vr.dot(&(d.root.matrix() * vr));
     }
@@ -594,7 +777,6 @@ pub fn potential_energy(
     q: &[f64],
 ) -> Result<f64, SolveError> {
     let base = place(d, ws, q)?;
-    let kin = &d.kin;
     let mut e = 0.0;
     let body_energy = |b: &SpatialInertia, t: &Se3| -> f64 {
         // The first moment in the world: R h + m p.
@@ -602,7 +784,7 @@ pub fn potential_energy(
         -d.gravity.dot(&h)
     };
     for k in 0..d.bodies.len() {
-        let parent = match kin.parent[k] {
+        let parent = match d.joints[k].parent {
             NONE => base,
             p => ws.world[p],
         };
