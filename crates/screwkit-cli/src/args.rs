@@ -95,6 +95,27 @@ pub enum Command {
     /// Generate the allowed-collision matrix as MoveIt's setup assistant does and write it as
     /// SRDF (adjacent links, pairs colliding at the default pose or almost always).
     Srdf(SrdfArgs),
+    /// The whole tree's dynamics at (q, v, a): inverse dynamics τ, gravity g(q), nonlinear
+    /// effects h(q, v), the mass matrix M(q) and the energies, from the links' <inertial>s.
+    Dynamics(DynamicsArgs),
+}
+
+/// `dynamics`.
+#[derive(Debug, Args)]
+pub struct DynamicsArgs {
+    /// The robot.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// The whole tree's configuration q1,q2,... (nq values: `info --format json`'s
+    /// "variables"; a floating base's x,y,z,qx,qy,qz,qw first).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub q: List,
+    /// The velocity (nv values; default zero).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub v: Option<List>,
+    /// The acceleration (nv values; default zero).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub a: Option<List>,
 }
 
 /// `collide`.

@@ -12,6 +12,7 @@ mod bench;
 mod calc;
 mod collide;
 mod draw;
+mod dynamics;
 mod fk;
 mod ik;
 mod info;
@@ -99,6 +100,7 @@ fn run(cli: &Cli) -> CliResult {
         Command::Reach(a) => reach::run(a, cli.format),
         Command::Collide(a) => collide::run(a, cli.format),
         Command::Srdf(a) => collide::srdf(a),
+        Command::Dynamics(a) => dynamics::run(a, cli.format),
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {

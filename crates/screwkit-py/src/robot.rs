@@ -239,21 +239,12 @@ impl Robot {
             &mut screwkit_solve::tree::dynamics::DynamicsWorkspace,
         ) -> Result<T, SolveError>,
     ) -> PyResult<T> {
-        use screwkit_solve::tree::dynamics::{Dynamics, DynamicsWorkspace};
+        use screwkit_solve::tree::dynamics::DynamicsWorkspace;
         let kin = self.tree_model()?;
         let mut guard = self.dynamics.lock().unwrap_or_else(|e| e.into_inner());
         if !guard.as_ref().is_some_and(|d| Arc::ptr_eq(&d.kin, &kin)) {
-            let model = Dynamics::new(&kin, false).map_err(solve_error)?;
-            if !model.massless().is_empty() {
-                let names = model.massless();
-                let shown: Vec<&str> = names.iter().take(5).map(String::as_str).collect();
-                let message = format!(
-                    "{} link{} without <inertial> taken as massless: {}{}",
-                    names.len(),
-                    if names.len() == 1 { "" } else { "s" },
-                    shown.join(", "),
-                    if names.len() > 5 { ", …" } else { "" }
-                );
+            let model = screwkit_service::dynamics::model(&kin).map_err(service_error)?;
+            if let Some(message) = screwkit_service::dynamics::massless_warning(&model) {
                 let cls = py.get_type::<pyo3::exceptions::PyUserWarning>();
                 PyErr::warn(
                     py,

@@ -237,3 +237,37 @@ def test_bad_inputs_are_refused() -> None:
         robot.inverse_dynamics(q, np.zeros(3), np.zeros(robot.nv))
     with pytest.raises(ValueError, match="not finite"):
         robot.gravity(np.full(robot.nq, np.nan))
+
+
+def test_the_command_line_reports_the_same_dynamics() -> None:
+    """`screwkit dynamics FILE --q --v --a --format json`: the library's numbers (the floor's
+    report), the massless links warned about once; a q of the wrong length is one line."""
+    import json
+    import os
+    import subprocess
+
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe:
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    path = ASSETS / "humanoid.urdf"
+    robot = load(path, False)
+    rng = np.random.default_rng(2)
+    q, v, a = configurations(robot, 1, 8)[0], rng.normal(size=robot.nv), rng.normal(size=robot.nv)
+
+    def arg(x: F64) -> str:
+        return ",".join(repr(float(t)) for t in x)
+
+    args = [exe, "dynamics", str(path), "--q", arg(q), "--v", arg(v), "--a", arg(a)]
+    done = subprocess.run([*args, "--format", "json"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.count("taken as massless") == 1
+    report = json.loads(done.stdout)
+    assert report["variables"] == robot.v_names
+    np.testing.assert_array_equal(report["tau"], robot.inverse_dynamics(q, v, a))
+    np.testing.assert_array_equal(report["gravity"], robot.gravity(q))
+    np.testing.assert_array_equal(report["nonlinear_effects"], robot.nonlinear_effects(q, v))
+    np.testing.assert_array_equal(report["mass_matrix"], robot.mass_matrix(q))
+    assert report["kinetic_energy"] == robot.kinetic_energy(q, v)
+    bad = subprocess.run([exe, "dynamics", str(path), "--q", "0,0"], capture_output=True, text=True)
+    assert bad.returncode == 1 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
+    assert "expected 23" in bad.stderr or "23" in bad.stderr, bad.stderr

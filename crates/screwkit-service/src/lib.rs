@@ -20,6 +20,7 @@
 //! The floor holds no kinematics: every answer comes from `screwkit_solve`.
 
 pub mod body;
+pub mod dynamics;
 pub mod error;
 pub mod info;
 pub mod io;
