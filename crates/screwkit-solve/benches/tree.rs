@@ -108,7 +108,52 @@ fn main() {
         kin.frame_count(),
         kin.nq()
     );
+    dynamics_calls(&kin, &qs);
     whole_body_step(&kin, &mut rng);
+}
+
+/// Inverse dynamics, gravity, the mass matrix and forward dynamics (Pinocchio's `rnea`,
+/// `computeGeneralizedGravity`, `crba`, `aba`) on the same configurations, v and a (or τ) of
+/// 0.1 and 0.2 rad/s(²) in every entry.
+fn dynamics_calls(kin: &TreeKinematics, qs: &[Vec<f64>]) {
+    use screwkit_solve::tree::dynamics::{self, Dynamics, DynamicsWorkspace};
+    let d = Dynamics::new(kin, true).expect("the inertias");
+    let mut ws = DynamicsWorkspace::new(&d);
+    let (v, a) = (vec![0.1; kin.nv()], vec![0.2; kin.nv()]);
+    let mut best = [f64::INFINITY; 4];
+    let calls = 20_000;
+    for _ in 0..30 {
+        let mut t = Instant::now();
+        let mut lap = |k: usize, t: &mut Instant| {
+            let now = Instant::now();
+            best[k] = best[k].min((now - *t).as_nanos() as f64 / calls as f64);
+            *t = now;
+        };
+        for k in 0..calls {
+            black_box(dynamics::inverse_dynamics(&d, &mut ws, &qs[k % 256], &v, &a).unwrap()[0]);
+        }
+        lap(0, &mut t);
+        for k in 0..calls {
+            black_box(dynamics::gravity(&d, &mut ws, &qs[k % 256]).unwrap()[0]);
+        }
+        lap(1, &mut t);
+        for k in 0..calls {
+            black_box(dynamics::mass_matrix(&d, &mut ws, &qs[k % 256]).unwrap()[(0, 0)]);
+        }
+        lap(2, &mut t);
+        for k in 0..calls {
+            black_box(dynamics::forward_dynamics(&d, &mut ws, &qs[k % 256], &v, &a).unwrap()[0]);
+        }
+        lap(3, &mut t);
+    }
+    println!(
+        "SCREWKIT dynamics nv={} rnea_ns={:.1} gravity_ns={:.1} crba_ns={:.1} aba_ns={:.1}",
+        kin.nv(),
+        best[0],
+        best[1],
+        best[2],
+        best[3]
+    );
 }
 
 /// One whole-body control step (`differential_ik::ik_step`: two grippers' poses + posture +

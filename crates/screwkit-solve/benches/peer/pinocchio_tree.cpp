@@ -13,6 +13,9 @@
 #include <pinocchio/algorithm/frames.hpp>
 #include <pinocchio/algorithm/jacobian.hpp>
 #include <pinocchio/algorithm/joint-configuration.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/aba.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -69,6 +72,29 @@ int main(int argc, char **argv) {
     best_j = std::min(best_j, std::chrono::duration<double, std::nano>(t2 - t1).count() / calls);
     best_tip = std::min(best_tip, std::chrono::duration<double, std::nano>(t3 - t2).count() / calls);
   }
+  // Dynamics, the protocol of benches/tree.rs's dynamics_calls: v = 0.1, a (or tau) = 0.2.
+  const Eigen::VectorXd v = Eigen::VectorXd::Constant(model.nv, 0.1);
+  const Eigen::VectorXd a = Eigen::VectorXd::Constant(model.nv, 0.2);
+  double best_dyn[4];
+  std::fill(best_dyn, best_dyn + 4, std::numeric_limits<double>::infinity());
+  for (int round = 0; round < 30; ++round) {
+    auto t = clock::now();
+    auto lap = [&](int k) {
+      const auto now = clock::now();
+      best_dyn[k] = std::min(best_dyn[k], std::chrono::duration<double, std::nano>(now - t).count() / calls);
+      t = now;
+    };
+    for (int k = 0; k < calls; ++k) sink = pinocchio::rnea(model, data, qs[k % 256], v, a)[0];
+    lap(0);
+    for (int k = 0; k < calls; ++k) sink = pinocchio::computeGeneralizedGravity(model, data, qs[k % 256])[0];
+    lap(1);
+    for (int k = 0; k < calls; ++k) sink = pinocchio::crba(model, data, qs[k % 256])(0, 0);
+    lap(2);
+    for (int k = 0; k < calls; ++k) sink = pinocchio::aba(model, data, qs[k % 256], v, a)[0];
+    lap(3);
+  }
+  std::printf("PINOCCHIO dynamics nv=%d rnea_ns=%.1f gravity_ns=%.1f crba_ns=%.1f aba_ns=%.1f\n",
+              (int)model.nv, best_dyn[0], best_dyn[1], best_dyn[2], best_dyn[3]);
   (void)sink;
   std::printf("PINOCCHIO %s joints=%d frames=%zu nq=%d all_frames_fk_ns=%.1f frame_jacobian_ns=%.1f "
               "tip_fk_ns=%.1f\n",

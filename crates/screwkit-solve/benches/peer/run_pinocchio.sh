@@ -4,7 +4,9 @@
 #   crates/screwkit-solve/benches/peer/run_pinocchio.sh [URDF [FRAME]] [--rounds N]
 #
 # Default: TALOS ($SCREWKIT_SHARED_URDF/trees/talos_full_v2.urdf, the CI data) and its left
-# gripper's base link.
+# gripper's base link. Also the dynamics (rnea, computeGeneralizedGravity, crba, aba; fixed base;
+# Pinocchio's C++ parser takes mimic joints as independent joints, so a file with mimic joints
+# has more velocity entries there: compare on files without them).
 # Prints, per round, screwkit's `SCREWKIT ...` line (benches/tree.rs) and Pinocchio's
 # `PINOCCHIO ...` line (pinocchio_tree.cpp, the same protocol), then the minimum of each figure
 # over the rounds and the ratios. Take the ratios, not the absolute figures (the host is shared).
@@ -105,7 +107,9 @@ for line in open(sys.argv[1]):
     for key, val in re.findall(r"(\w+_ns)=([0-9.]+)", line):
         best[(who, key)] = min(best.get((who, key), float("inf")), float(val))
 print("minimum over rounds (ns):")
-for key in ("all_frames_fk_ns", "frame_jacobian_ns"):
+for key in ("all_frames_fk_ns", "frame_jacobian_ns", "rnea_ns", "gravity_ns", "crba_ns", "aba_ns"):
+    if ("SCREWKIT", key) not in best or ("PINOCCHIO", key) not in best:
+        continue
     s, p = best[("SCREWKIT", key)], best[("PINOCCHIO", key)]
     print(f"  {key:18} screwkit {s:8.1f}  pinocchio {p:8.1f}  ratio {p / s:5.2f}x")
 PY

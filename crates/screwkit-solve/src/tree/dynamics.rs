@@ -81,21 +81,36 @@ impl SpatialInertia {
         g
     }
 
+    /// G V for a twist V = (ω, v): the momentum (Ī_o ω + h × v, m v − h × ω).
+    #[inline]
+    pub fn apply(&self, v: &Vector6<f64>) -> Vector6<f64> {
+        let w = v.fixed_rows::<3>(0);
+        let lin = v.fixed_rows::<3>(3);
+        let top = self.rotational * w + self.first_moment.cross(&lin);
+        let bottom = lin * self.mass - self.first_moment.cross(&w);
+        Vector6::new(top.x, top.y, top.z, bottom.x, bottom.y, bottom.z)
+    }
+
     /// The same body seen from a frame in which this one is at `t` (this frame's pose in
     /// the new one): G' = [Ad_{t⁻¹}]ᵀ G [Ad_{t⁻¹}].
     pub fn transformed(&self, t: &Se3) -> Self {
         let r = t.rotation();
         let p = t.translation();
         let h = r * self.first_moment;
-        let px = p.cross_matrix();
-        let hx = h.cross_matrix();
+        // −m[p]² − [p][h] − [h][p] = m(|p|² 1 − p pᵀ) + 2(p·h) 1 − h pᵀ − p hᵀ
+        // ([a][b] = b aᵀ − (a·b) 1), symmetric.
+        let diag = self.mass * p.norm_squared() + 2.0 * p.dot(&h);
+        let mut rotational = r * self.rotational * r.transpose();
+        for i in 0..3 {
+            for j in 0..3 {
+                rotational[(i, j)] -= self.mass * p[i] * p[j] + h[i] * p[j] + p[i] * h[j];
+            }
+            rotational[(i, i)] += diag;
+        }
         Self {
             mass: self.mass,
             first_moment: h + p * self.mass,
-            rotational: r * self.rotational * r.transpose()
-                - px * px * self.mass
-                - px * hx
-                - hx * px,
+            rotational,
         }
     }
 
@@ -341,7 +356,7 @@ pub struct DynamicsWorkspace {
     velocity: Vec<Vector6<f64>>,
     acceleration: Vec<Vector6<f64>>,
     force: Vec<Vector6<f64>>,
-    composite: Vec<Matrix6<f64>>,
+    composite: Vec<SpatialInertia>,
     root_force: Vector6<f64>,
     /// The mass matrix and its Cholesky factor (nv × nv).
     mass: DMatrix<f64>,
@@ -362,7 +377,7 @@ impl DynamicsWorkspace {
             velocity: vec![Vector6::zeros(); n],
             acceleration: vec![Vector6::zeros(); n],
             force: vec![Vector6::zeros(); n],
-            composite: vec![Matrix6::zeros(); n],
+            composite: vec![SpatialInertia::zero(); n],
             root_force: Vector6::zeros(),
             mass: DMatrix::zeros(nv, nv),
             factor: DMatrix::zeros(nv, nv),
@@ -422,9 +437,38 @@ fn place(d: &Dynamics, ws: &mut DynamicsWorkspace, q: &[f64]) -> Result<Se3, Sol
     let joints = &q[d.nq - d.joints_variables()..];
     for (k, j) in d.joints.iter().enumerate() {
         let theta = j.multiplier * joints[j.variable] + j.offset;
-        ws.local[k] = j.placement.compose(&Se3::exp(&(j.axis * theta)));
+        ws.local[k] = motion(j, theta);
     }
     Ok(base)
+}
+
+/// T_k = X_k e^{[a_k]θ}: for a revolute joint (a = (ω, 0), ω unit) Rodrigues' rotation
+/// about ω, for a prismatic one (a = (0, v)) the translation v θ, else the general exponential.
+#[inline]
+fn motion(j: &Joint, theta: f64) -> Se3 {
+    let (w, v) = (&j.axis.w, &j.axis.v);
+    let p = &j.placement;
+    if *v == Vector3::zeros() {
+        let (s, c) = theta.sin_cos();
+        let t = 1.0 - c;
+        let (x, y, z) = (w.x, w.y, w.z);
+        let r = nalgebra::Matrix3::new(
+            t * x * x + c,
+            t * x * y - s * z,
+            t * x * z + s * y,
+            t * x * y + s * z,
+            t * y * y + c,
+            t * y * z - s * x,
+            t * x * z - s * y,
+            t * y * z + s * x,
+            t * z * z + c,
+        );
+        Se3::from_parts_unchecked(p.rotation() * r, *p.translation())
+    } else if *w == Vector3::zeros() {
+        Se3::from_parts_unchecked(*p.rotation(), p.translation() + p.rotation() * (v * theta))
+    } else {
+        p.compose(&Se3::exp(&(j.axis * theta)))
+    }
 }
 
 /// Checks `x` against `names` (its length, each value finite).
@@ -493,10 +537,17 @@ fn newton_euler(
         let var = off + j.variable;
         let rate = j.multiplier * at(v, var);
         let acc = j.multiplier * at(a, var);
+        let g = &d.bodies[k];
+        if v.is_none() {
+            // At rest: no velocity, no bias terms.
+            let ak = twist_in_child(t, &ap) + s * acc;
+            ws.force[k] = g.apply(&ak);
+            ws.acceleration[k] = ak;
+            continue;
+        }
         let vk = twist_in_child(t, &vp) + s * rate;
         let ak = twist_in_child(t, &ap) + s * acc + ad(&vk, &s) * rate;
-        let g = d.bodies[k].matrix();
-        ws.force[k] = g * ak - ad_transpose(&vk, &(g * vk));
+        ws.force[k] = g.apply(&ak) - ad_transpose(&vk, &g.apply(&vk));
         ws.velocity[k] = vk;
         ws.acceleration[k] = ak;
     }
@@ -508,8 +559,8 @@ fn newton_euler(
         }
     }
     ws.root_force = if d.floating {
-        let g = d.root.matrix();
-        g * root_acc - ad_transpose(&root_vel, &(g * root_vel))
+        let g = &d.root;
+        g.apply(&root_acc) - ad_transpose(&root_vel, &g.apply(&root_vel))
     } else {
         Vector6::zeros()
     };
@@ -622,21 +673,20 @@ fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
     let off = if d.floating { 6 } else { 0 };
     let joints = &d.joints;
     let n = joints.len();
-    for k in 0..n {
-        ws.composite[k] = d.bodies[k].matrix();
-    }
-    let mut root = d.root.matrix();
+    ws.composite[..n].copy_from_slice(&d.bodies);
+    let mut root = d.root;
     for k in (0..n).rev() {
-        let x = ws.local[k].inverse().adjoint();
-        let up = x.transpose() * ws.composite[k] * x;
+        // The composite body seen from the parent joint's frame (T_k: this frame there).
+        let up = ws.composite[k].transformed(&ws.local[k]);
         match joints[k].parent {
-            NONE => root += up,
-            p => ws.composite[p] += up,
+            NONE => root = root.plus(&up),
+            p => ws.composite[p] = ws.composite[p].plus(&up),
         }
     }
     ws.mass.fill(0.0);
     if d.floating {
         // (Exactly symmetric: the sums above round each triangle on its own.)
+        let root = root.matrix();
         let root = (root + root.transpose()) * 0.5;
         ws.mass.view_mut((0, 0), (6, 6)).copy_from(&root);
     }
@@ -644,7 +694,7 @@ fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
         let jk = &joints[k];
         let vk = off + jk.variable;
         let sk = vec6(&jk.axis);
-        let mut f = ws.composite[k] * sk * jk.multiplier;
+        let mut f = ws.composite[k].apply(&sk) * jk.multiplier;
         let mut l = k;
         loop {
             let jl = &joints[l];
@@ -760,11 +810,11 @@ pub fn kinetic_energy(
     let mut e = 0.0;
     for k in 0..d.bodies.len() {
         let vk = ws.velocity[k];
-        e += 0.5 * vk.dot(&(d.bodies[k].matrix() * vk));
+        e += 0.5 * vk.dot(&d.bodies[k].apply(&vk));
     }
     if d.floating {
         let vr = Vector6::from_iterator(v[..6].iter().copied());
-        e += 0.5 * vr.dot(&(d.root.matrix() * vr));
+        e += 0.5 * vr.dot(&d.root.apply(&vr));
     }
     Ok(e)
 }
