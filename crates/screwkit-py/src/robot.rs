@@ -62,7 +62,7 @@ pub struct Robot {
 /// and one thread's scratch.
 struct DynamicsScratch {
     kin: Arc<TreeKinematics>,
-    model: screwkit_solve::tree::dynamics::Dynamics,
+    model: Arc<screwkit_solve::tree::dynamics::Dynamics>,
     ws: screwkit_solve::tree::dynamics::DynamicsWorkspace,
 }
 
@@ -254,10 +254,99 @@ impl Robot {
                 )?;
             }
             let ws = DynamicsWorkspace::new(&model);
-            *guard = Some(DynamicsScratch { kin, model, ws });
+            *guard = Some(DynamicsScratch {
+                kin,
+                model: Arc::new(model),
+                ws,
+            });
         }
         let d = guard.as_mut().expect("built above");
         f(&d.model, &mut d.ws).map_err(solve_error)
+    }
+
+    /// A dynamics quantity of one configuration (q (nq,), then the nv-wide inputs) or of a
+    /// batch (q (N, nq), inputs (N, nv)): (nv,) / (nv, nv) / a float, or (N, nv) / (N, nv, nv) /
+    /// (N,). A batch runs on the pool; a bad row raises `BatchError` naming it.
+    fn dynamics_call<'py>(
+        &self,
+        py: Python<'py>,
+        what: screwkit_solve::tree::dynamics::Quantity,
+        args: &[(&Bound<'py, PyAny>, &str)],
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::{self as dynamics, Quantity};
+        let kin = self.tree_model()?;
+        let (nq, nv) = (kin.nq(), kin.nv());
+        let arrays = args
+            .iter()
+            .map(|(a, name)| f64_array(a, name))
+            .collect::<PyResult<Vec<_>>>()?;
+        let batch = arrays[0].ndim() == 2;
+        let n = if batch { arrays[0].shape()[0] } else { 1 };
+        for (k, (a, (_, name))) in arrays.iter().zip(args).enumerate() {
+            let w = if k == 0 { nq } else { nv };
+            let want = if batch { vec![n, w] } else { vec![w] };
+            if a.shape() != want.as_slice() {
+                return Err(PyValueError::new_err(format!(
+                    "{name}: expected shape {}, got {}",
+                    shape_str(&want),
+                    shape_str(a.shape())
+                )));
+            }
+        }
+        let width = what.width(nv);
+        let shape: Vec<usize> = match (batch, what) {
+            (true, Quantity::MassMatrix) => vec![n, nv, nv],
+            (true, _) if width == 1 => vec![n],
+            (true, _) => vec![n, nv],
+            (false, Quantity::MassMatrix) => vec![nv, nv],
+            (false, _) => vec![width],
+        };
+        if !batch {
+            let values = arrays
+                .iter()
+                .map(|a| Ok(a.readonly().as_slice()?.to_vec()))
+                .collect::<PyResult<Vec<_>>>()?;
+            let empty = Vec::new();
+            let (x, y) = (
+                values.get(1).unwrap_or(&empty),
+                values.get(2).unwrap_or(&empty),
+            );
+            let mut out = vec![0.0; width];
+            self.with_dynamics(py, |d, ws| {
+                dynamics::compute(d, ws, what, &values[0], x, y, &mut out)
+            })?;
+            if width == 1 {
+                return Ok(out[0].into_pyobject(py)?.into_any());
+            }
+            return Ok(new_array(py, &shape, |o| o.copy_from_slice(&out))?.into_any());
+        }
+        let in_width = nq + (arrays.len() - 1) * nv;
+        let readers = arrays.iter().map(|a| a.readonly()).collect::<Vec<_>>();
+        let slices = readers
+            .iter()
+            .map(|r| r.as_slice())
+            .collect::<Result<Vec<_>, _>>()?;
+        let rows = new_array(py, &[n, in_width], |o| {
+            for r in 0..n {
+                let mut at = r * in_width;
+                for (k, s) in slices.iter().enumerate() {
+                    let w = if k == 0 { nq } else { nv };
+                    o[at..at + w].copy_from_slice(&s[r * w..(r + 1) * w]);
+                    at += w;
+                }
+            }
+        })?;
+        self.with_dynamics(py, |_, _| Ok(()))?;
+        let model = self
+            .dynamics
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .as_ref()
+            .map(|d| d.model.clone())
+            .expect("built above");
+        run_batch(py, &shape, &rows, FK_CHUNK / 64, move |input, out| {
+            dynamics::batch(&model, what, input, out)
+        })
     }
 
     /// Runs `f` with the shared whole-tree scratch (or a new one when another thread holds
@@ -1661,118 +1750,90 @@ impl Robot {
     /// Inverse dynamics τ = ID(q, v, a) of the whole tree (nv): the generalized forces that give
     /// the accelerations `a` at (q, v) under gravity, by recursive Newton–Euler in screw form
     /// (Pinocchio's `rnea`). q as `com` takes it (nq), v and a in `v_names` order; with a
-    /// floating base τ starts with the wrench (m, f) on the base in its own frame.
+    /// floating base τ starts with the wrench (m, f) on the base in its own frame. A batch:
+    /// q (N, nq), v and a (N, nv) give (N, nv), on all cores.
     fn inverse_dynamics<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         a: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        let v = Self::one_vector(v, kin.nv(), "v")?;
-        let a = Self::one_vector(a, kin.nv(), "a")?;
-        let tau = self.with_dynamics(py, |d, ws| {
-            Ok(screwkit_solve::tree::dynamics::inverse_dynamics(d, ws, &q, &v, &a)?.to_vec())
-        })?;
-        Ok(tau.to_pyarray(py))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(
+            py,
+            Quantity::InverseDynamics,
+            &[(q, "q"), (v, "v"), (a, "a")],
+        )
     }
 
-    /// The gravity forces g(q) (nv) = ID(q, 0, 0) (Pinocchio's `computeGeneralizedGravity`).
-    fn gravity<'py>(
-        &self,
-        py: Python<'py>,
-        q: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        let g = self.with_dynamics(py, |d, ws| {
-            Ok(screwkit_solve::tree::dynamics::gravity(d, ws, &q)?.to_vec())
-        })?;
-        Ok(g.to_pyarray(py))
+    /// The gravity forces g(q) (nv) = ID(q, 0, 0) (Pinocchio's `computeGeneralizedGravity`);
+    /// (N, nv) for q (N, nq).
+    fn gravity<'py>(&self, py: Python<'py>, q: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(py, Quantity::Gravity, &[(q, "q")])
     }
 
-    /// The nonlinear effects h(q, v) = C(q, v) v + g(q) (nv) (Pinocchio's `nonLinearEffects`).
+    /// The nonlinear effects h(q, v) = C(q, v) v + g(q) (nv) (Pinocchio's `nonLinearEffects`);
+    /// (N, nv) for a batch.
     fn nonlinear_effects<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        let v = Self::one_vector(v, kin.nv(), "v")?;
-        let h = self.with_dynamics(py, |d, ws| {
-            Ok(screwkit_solve::tree::dynamics::nonlinear_effects(d, ws, &q, &v)?.to_vec())
-        })?;
-        Ok(h.to_pyarray(py))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(py, Quantity::NonlinearEffects, &[(q, "q"), (v, "v")])
     }
 
     /// The mass matrix M(q) (nv, nv), by the composite-rigid-body algorithm (Pinocchio's
-    /// `crba`, both triangles filled).
+    /// `crba`, both triangles filled); (N, nv, nv) for q (N, nq).
     fn mass_matrix<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        let nv = kin.nv();
-        let m = self.with_dynamics(py, |d, ws| {
-            Ok(screwkit_solve::tree::dynamics::mass_matrix(d, ws, &q)?.clone())
-        })?;
-        Ok(new_array(py, &[nv, nv], |o| {
-            for r in 0..nv {
-                for c in 0..nv {
-                    o[r * nv + c] = m[(r, c)];
-                }
-            }
-        })?
-        .into_any())
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(py, Quantity::MassMatrix, &[(q, "q")])
     }
 
     /// Forward dynamics a = FD(q, v, τ) = M(q)⁻¹ (τ − h(q, v)) (nv): the accelerations the
-    /// forces τ give (Pinocchio's `aba` answers the same).
+    /// forces τ give (Pinocchio's `aba` answers the same); (N, nv) for a batch.
     fn forward_dynamics<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
-    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        let v = Self::one_vector(v, kin.nv(), "v")?;
-        let tau = Self::one_vector(tau, kin.nv(), "tau")?;
-        let a = self.with_dynamics(py, |d, ws| {
-            Ok(screwkit_solve::tree::dynamics::forward_dynamics(d, ws, &q, &v, &tau)?.to_vec())
-        })?;
-        Ok(a.to_pyarray(py))
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(
+            py,
+            Quantity::ForwardDynamics,
+            &[(q, "q"), (v, "v"), (tau, "tau")],
+        )
     }
 
-    /// The kinetic energy ½ vᵀ M(q) v (J).
-    fn kinetic_energy(
+    /// The kinetic energy ½ vᵀ M(q) v (J); (N,) for a batch.
+    fn kinetic_energy<'py>(
         &self,
-        py: Python<'_>,
-        q: &Bound<'_, PyAny>,
-        v: &Bound<'_, PyAny>,
-    ) -> PyResult<f64> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        let v = Self::one_vector(v, kin.nv(), "v")?;
-        self.with_dynamics(py, |d, ws| {
-            screwkit_solve::tree::dynamics::kinetic_energy(d, ws, &q, &v)
-        })
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(py, Quantity::KineticEnergy, &[(q, "q"), (v, "v")])
     }
 
-    /// The potential energy −Σ m_i gᵀ c_i (J; zero at the world's origin height).
-    fn potential_energy(&self, py: Python<'_>, q: &Bound<'_, PyAny>) -> PyResult<f64> {
-        let kin = self.tree_model()?;
-        let q = Self::one_vector(q, kin.nq(), "q")?;
-        self.with_dynamics(py, |d, ws| {
-            screwkit_solve::tree::dynamics::potential_energy(d, ws, &q)
-        })
+    /// The potential energy −Σ m_i gᵀ c_i (J; zero at the world's origin height); (N,) for a
+    /// batch.
+    fn potential_energy<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        use screwkit_solve::tree::dynamics::Quantity;
+        self.dynamics_call(py, Quantity::PotentialEnergy, &[(q, "q")])
     }
 
     /// The tasks prepared for this robot's whole tree (`TaskSet`): frames found and every task

@@ -271,3 +271,43 @@ def test_the_command_line_reports_the_same_dynamics() -> None:
     bad = subprocess.run([exe, "dynamics", str(path), "--q", "0,0"], capture_output=True, text=True)
     assert bad.returncode == 1 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
     assert "expected 23" in bad.stderr or "23" in bad.stderr, bad.stderr
+
+
+def test_batches_are_rows_of_single_calls() -> None:
+    """A leading N: every quantity of a batch equals the single call row by row, bit for bit,
+    on one thread and on two; a bad row raises `BatchError` naming it, NaN there, the others
+    computed."""
+    robot = load(ASSETS / "humanoid.urdf", True)
+    qs = np.stack(configurations(robot, 300, 12))
+    rng = np.random.default_rng(4)
+    vs, xs = rng.normal(size=(300, robot.nv)), rng.normal(size=(300, robot.nv))
+    calls = [
+        ("inverse_dynamics", (qs, vs, xs)),
+        ("gravity", (qs,)),
+        ("nonlinear_effects", (qs, vs)),
+        ("mass_matrix", (qs,)),
+        ("forward_dynamics", (qs, vs, xs)),
+        ("kinetic_energy", (qs, vs)),
+        ("potential_energy", (qs,)),
+    ]
+    threads = screwkit.num_threads()
+    try:
+        for n in (1, 2):
+            screwkit.set_num_threads(n)
+            for name, args in calls:
+                f = getattr(robot, name)
+                batch = f(*args)
+                assert len(batch) == 300
+                for k in (0, 137, 299):
+                    np.testing.assert_array_equal(batch[k], f(*(a[k] for a in args)), err_msg=name)
+    finally:
+        screwkit.set_num_threads(threads)
+    bad = qs.copy()
+    bad[5, 9] = np.nan
+    with pytest.raises(screwkit.BatchError) as e:
+        robot.gravity(bad)
+    assert e.value.rows == [5]
+    result = np.asarray(e.value.result)
+    assert np.isnan(result[5]).all() and np.isfinite(np.delete(result, 5, axis=0)).all()
+    with pytest.raises(ValueError, match=r"v: expected shape \(300, 29\)"):
+        robot.nonlinear_effects(qs, vs[:, :3])

@@ -572,8 +572,10 @@ class Robot:
         """M(q) (nv, nv), by the composite-rigid-body algorithm."""
     def forward_dynamics(self, q: _ArrayLike, v: _ArrayLike, tau: _ArrayLike) -> _F64:
         """a = M(q)⁻¹ (τ − h(q, v)) (nv)."""
-    def kinetic_energy(self, q: _ArrayLike, v: _ArrayLike) -> float: ...
-    def potential_energy(self, q: _ArrayLike) -> float: ...
+    def kinetic_energy(self, q: _ArrayLike, v: _ArrayLike) -> Any:
+        """½ vᵀ M v (J): a float, or (N,) for a batch."""
+    def potential_energy(self, q: _ArrayLike) -> Any:
+        """−Σ m gᵀ c (J): a float, or (N,) for a batch."""
     def task_set(self, tasks: Sequence[_Task]) -> TaskSet: ...
     def ik_step(
         self,

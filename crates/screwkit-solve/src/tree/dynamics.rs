@@ -844,3 +844,123 @@ pub fn potential_energy(
     e += body_energy(&d.root, &base);
     Ok(e)
 }
+
+/// What [`batch`] computes per row.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Quantity {
+    /// τ = ID(q, v, a): inputs q, v, a; nv values.
+    InverseDynamics,
+    /// g(q): input q; nv values.
+    Gravity,
+    /// h(q, v): inputs q, v; nv values.
+    NonlinearEffects,
+    /// M(q): input q; nv × nv values, row-major.
+    MassMatrix,
+    /// a = FD(q, v, τ): inputs q, v, τ; nv values.
+    ForwardDynamics,
+    /// ½ vᵀ M v: inputs q, v; one value.
+    KineticEnergy,
+    /// The potential energy: input q; one value.
+    PotentialEnergy,
+}
+
+impl Quantity {
+    /// How many nv-wide inputs it takes after q (0, 1 or 2).
+    pub fn inputs(self) -> usize {
+        match self {
+            Quantity::Gravity | Quantity::MassMatrix | Quantity::PotentialEnergy => 0,
+            Quantity::NonlinearEffects | Quantity::KineticEnergy => 1,
+            Quantity::InverseDynamics | Quantity::ForwardDynamics => 2,
+        }
+    }
+
+    /// Its values per row.
+    pub fn width(self, nv: usize) -> usize {
+        match self {
+            Quantity::MassMatrix => nv * nv,
+            Quantity::KineticEnergy | Quantity::PotentialEnergy => 1,
+            _ => nv,
+        }
+    }
+}
+
+/// `what` at one configuration into `out` ([`Quantity::width`] values): q, then the nv-wide
+/// inputs it takes in `x` and `y` (empty otherwise). One row of [`batch`].
+pub fn compute(
+    d: &Dynamics,
+    ws: &mut DynamicsWorkspace,
+    what: Quantity,
+    q: &[f64],
+    x: &[f64],
+    y: &[f64],
+    out: &mut [f64],
+) -> Result<(), SolveError> {
+    match what {
+        Quantity::InverseDynamics => out.copy_from_slice(inverse_dynamics(d, ws, q, x, y)?),
+        Quantity::Gravity => out.copy_from_slice(gravity(d, ws, q)?),
+        Quantity::NonlinearEffects => out.copy_from_slice(nonlinear_effects(d, ws, q, x)?),
+        Quantity::ForwardDynamics => out.copy_from_slice(forward_dynamics(d, ws, q, x, y)?),
+        Quantity::MassMatrix => {
+            let m = mass_matrix(d, ws, q)?;
+            let nv = d.nv;
+            for r in 0..nv {
+                for c in 0..nv {
+                    out[r * nv + c] = m[(r, c)];
+                }
+            }
+        }
+        Quantity::KineticEnergy => out[0] = kinetic_energy(d, ws, q, x)?,
+        Quantity::PotentialEnergy => out[0] = potential_energy(d, ws, q)?,
+    }
+    Ok(())
+}
+
+/// `what` for N rows in parallel (rayon; a batch of at most one chunk on the calling thread):
+/// each row of `rows` is q (nq) followed by the nv-wide inputs `what` takes (v, then a or τ:
+/// [`Quantity::inputs`]); `out` is N × [`Quantity::width`]. A bad row gets NaN and is listed
+/// in [`SolveError::Rows`], the others are computed; row k equals the single call on row k
+/// bit for bit whatever the thread count.
+pub fn batch(
+    d: &Dynamics,
+    what: Quantity,
+    rows: &[f64],
+    out: &mut [f64],
+) -> Result<(), SolveError> {
+    use crate::batch::{check_out, finish, rows_of, CHUNK};
+    use crate::error::RowError;
+    use rayon::prelude::*;
+    let (nq, nv) = (d.nq, d.nv);
+    let in_width = nq + what.inputs() * nv;
+    let n = rows_of(
+        rows.len(),
+        in_width.max(1),
+        "input values (N × (nq + k nv))",
+    )?;
+    let width = what.width(nv);
+    check_out(out.len(), n, width, "output values")?;
+    let work = |ws: &mut DynamicsWorkspace, (chunk, o): (usize, &mut [f64])| {
+        let mut errors = Vec::new();
+        let first = chunk * CHUNK;
+        for (i, out_row) in o.chunks_mut(width.max(1)).enumerate() {
+            let r = first + i;
+            let input = &rows[r * in_width..(r + 1) * in_width];
+            let (q, rest) = input.split_at(nq);
+            let (x, y) = rest.split_at(rest.len().min(nv));
+            if let Err(error) = compute(d, ws, what, q, x, y, out_row) {
+                out_row.fill(f64::NAN);
+                errors.push(RowError { row: r, error });
+            }
+        }
+        errors
+    };
+    if n <= CHUNK {
+        return finish(work(&mut DynamicsWorkspace::new(d), (0, out)));
+    }
+    let errors: Vec<RowError> = out
+        .par_chunks_mut(CHUNK * width.max(1))
+        .enumerate()
+        .map_init(|| DynamicsWorkspace::new(d), work)
+        .flatten()
+        .collect();
+    finish(errors)
+}
