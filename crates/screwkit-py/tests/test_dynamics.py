@@ -21,6 +21,8 @@ from conftest import ASSETS, shared_params
 
 pin = pytest.importorskip("pinocchio", reason="Pinocchio (pip install pin) is a test dependency")
 
+REPO_MJCF = ASSETS.parent / "mjcf"
+
 F64 = npt.NDArray[np.float64]
 
 
@@ -311,3 +313,97 @@ def test_batches_are_rows_of_single_calls() -> None:
     assert np.isnan(result[5]).all() and np.isfinite(np.delete(result, 5, axis=0)).all()
     with pytest.raises(ValueError, match=r"v: expected shape \(300, 29\)"):
         robot.nonlinear_effects(qs, vs[:, :3])
+
+
+mujoco = pytest.importorskip("mujoco", reason="MuJoCo (pip install mujoco) is a test dependency")
+
+
+def mujoco_check(path: Path, samples: int = 3) -> None:
+    """Against MuJoCo (`mj_rne`, `mj_fullM`, `qfrc_bias`; armature and damping set to 0): the
+    file's joints by name; a free joint's velocity is MuJoCo's (linear in the world, angular
+    in the body), ours (ω, v) in the body: v_ours = T v_mj, so M_mj = Tᵀ M T and
+    g_mj = Tᵀ g."""
+    from test_mjcf import mesh_free
+
+    robot = screwkit.Robot.from_file(path)
+    m = mujoco.MjModel.from_xml_string(mesh_free(path.read_text()))
+    m.dof_armature[:] = 0.0
+    m.dof_damping[:] = 0.0
+    d = mujoco.MjData(m)
+    assert m.nv == robot.nv
+    free = robot.floating_base
+    off = 6 if free else 0
+    dof = {m.joint(j).name: int(m.jnt_dofadr[j]) for j in range(m.njnt)}
+    qadr = {m.joint(j).name: int(m.jnt_qposadr[j]) for j in range(m.njnt)}
+    cols = list(range(6)) if free else []  # filled per sample for the free joint
+    perm = [dof[n] for n in robot.v_names[off:]]
+    rng = np.random.default_rng(1)
+    for q in configurations(robot, samples, 6):
+        qpos = m.qpos0.copy()
+        if free:
+            fj = next(j for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE)
+            a = m.jnt_qposadr[fj]
+            qpos[a : a + 3] = q[:3]
+            qpos[a + 3] = q[6]
+            qpos[a + 4 : a + 7] = q[3:6]
+        for n, x in zip(robot.q_names[7 if free else 0 :], q[7 if free else 0 :], strict=True):
+            qpos[qadr[n]] = x
+        d.qpos[:] = qpos
+        # T: our v from MuJoCo's qvel (the free joint's six, then the joints by name).
+        t = np.zeros((robot.nv, m.nv))
+        if free:
+            fa = m.jnt_dofadr[fj]
+            r = np.array(pin_quat_to_matrix(q[3:7]))
+            t[0:3, fa + 3 : fa + 6] = np.eye(3)  # ω in the body
+            t[3:6, fa : fa + 3] = r.T  # v_b = Rᵀ v_world
+        for k, c in enumerate(perm):
+            t[off + k, c] = 1.0
+        d.qvel[:] = 0.0
+        d.qacc[:] = 0.0
+        mujoco.mj_forward(m, d)
+        full = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, full)
+        scale = 1 + np.abs(full).max()
+        np.testing.assert_allclose(full, t.T @ robot.mass_matrix(q) @ t, atol=1e-9 * scale)
+        np.testing.assert_allclose(d.qfrc_bias, t.T @ robot.gravity(q), atol=1e-9 * scale)
+        if free:
+            continue
+        v = rng.normal(size=m.nv)
+        acc = rng.normal(size=m.nv)
+        d.qvel[:] = v
+        mujoco.mj_forward(m, d)
+        np.testing.assert_allclose(
+            d.qfrc_bias, t.T @ robot.nonlinear_effects(q, t @ v), atol=1e-9 * scale
+        )
+        out = np.zeros(m.nv)
+        d.qacc[:] = acc
+        mujoco.mj_rne(m, d, 1, out)
+        np.testing.assert_allclose(
+            out, t.T @ robot.inverse_dynamics(q, t @ v, t @ acc), atol=1e-9 * scale
+        )
+
+
+def pin_quat_to_matrix(xyzw: F64) -> F64:
+    x, y, z, w = xyzw / np.linalg.norm(xyzw)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def test_the_bundled_humanoid_equals_mujoco() -> None:
+    """The bundled MJCF humanoid (a free joint, every body with its <inertial>): M and g."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mujoco_check(REPO_MJCF / "humanoid.xml")
+
+
+@pytest.mark.parametrize("path", shared_params("mjcf", ["robosuite_panda.xml"]))
+def test_mjcf_arms_equal_mujoco(path: Path) -> None:
+    """robosuite's Panda (every body with its <inertial>): M, g, h and ID against MuJoCo."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        mujoco_check(path)
