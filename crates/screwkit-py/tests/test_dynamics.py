@@ -335,7 +335,6 @@ def mujoco_check(path: Path, samples: int = 3) -> None:
     off = 6 if free else 0
     dof = {m.joint(j).name: int(m.jnt_dofadr[j]) for j in range(m.njnt)}
     qadr = {m.joint(j).name: int(m.jnt_qposadr[j]) for j in range(m.njnt)}
-    cols = list(range(6)) if free else []  # filled per sample for the free joint
     perm = [dof[n] for n in robot.v_names[off:]]
     rng = np.random.default_rng(1)
     for q in configurations(robot, samples, 6):
