@@ -120,7 +120,7 @@ fn dynamics_calls(kin: &TreeKinematics, qs: &[Vec<f64>]) {
     let d = Dynamics::new(kin, true).expect("the inertias");
     let mut ws = DynamicsWorkspace::new(&d);
     let (v, a) = (vec![0.1; kin.nv()], vec![0.2; kin.nv()]);
-    let mut best = [f64::INFINITY; 4];
+    let mut best = [f64::INFINITY; 6];
     let calls = 20_000;
     for _ in 0..30 {
         let mut t = Instant::now();
@@ -145,14 +145,25 @@ fn dynamics_calls(kin: &TreeKinematics, qs: &[Vec<f64>]) {
             black_box(dynamics::forward_dynamics(&d, &mut ws, &qs[k % 256], &v, &a).unwrap()[0]);
         }
         lap(3, &mut t);
+        for k in 0..calls {
+            black_box(dynamics::aba(&d, &mut ws, &qs[k % 256], &v, &a).map_or(0.0, |x| x[0]));
+        }
+        lap(4, &mut t);
+        for k in 0..calls {
+            let fd = dynamics::forward_dynamics_tip(&d, &mut ws, &qs[k % 256], &v, &a, &[0.0; 6]);
+            black_box(fd.unwrap()[0]);
+        }
+        lap(5, &mut t);
     }
     println!(
-        "SCREWKIT dynamics nv={} rnea_ns={:.1} gravity_ns={:.1} crba_ns={:.1} aba_ns={:.1}",
+        "SCREWKIT dynamics nv={} rnea_ns={:.1} gravity_ns={:.1} crba_ns={:.1} aba_ns={:.1} (articulated-body {:.1}, M + Cholesky {:.1})",
         kin.nv(),
         best[0],
         best[1],
         best[2],
-        best[3]
+        best[3],
+        best[4],
+        best[5]
     );
 }
 
