@@ -753,8 +753,8 @@ fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
 /// Forward dynamics a = FD(q, v, τ) = M(q)⁻¹ (τ − h(q, v)): the accelerations the forces τ
 /// give at (q, v) under gravity — by the articulated-body algorithm ([`aba`]) for a model of at
 /// least [`ABA_FROM`] velocity entries whose variables each drive one joint, else by a
-/// Cholesky factorisation of the mass matrix. Pinocchio's `aba` answers the same. An error when M is not positive definite (a moving joint with no
-/// mass beyond it).
+/// Cholesky factorisation of the mass matrix. Pinocchio's `aba` answers the same. An error
+/// when M is not positive definite (a moving joint with no mass beyond it).
 pub fn forward_dynamics<'w>(
     d: &Dynamics,
     ws: &'w mut DynamicsWorkspace,
