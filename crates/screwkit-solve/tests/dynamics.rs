@@ -131,7 +131,10 @@ fn energy_changes_by_the_work_of_the_forces() {
 /// independent oracle of both, in the Python suite).
 #[test]
 fn the_articulated_body_algorithm_equals_the_mass_matrix_solve() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../assets/urdf/humanoid.urdf");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../assets/urdf/humanoid.urdf"
+    );
     let tree = urdf::load_file(path).unwrap();
     for floating in [false, true] {
         let model = KinematicTree::from_tree(&tree)
