@@ -47,7 +47,8 @@
 //! **Warned about** ([`Tree::warnings`]): tendons, equalities other than joint couplings
 //! (`connect`, `weld`: loop closures the tree does not hold), `<composite>` and `<flexcomp>`
 //! soft bodies (read past), free bodies read past as props, bodies whose mass comes from their
-//! geoms (`inertiafromgeom`: the tree counts `<inertial>` elements only).
+//! geoms (`inertiafromgeom`) when one of them is a mesh or a plane (left massless; solid
+//! primitives are weighed as MuJoCo weighs them: density or mass, closed-form inertias).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -403,6 +404,58 @@ struct Context<'a> {
     class: &'a str,
 }
 
+/// A body's geoms weighed (MuJoCo's `inertiafromgeom`): mass, first moment and rotational
+/// inertia about the body's origin, or why one geom could not be weighed.
+#[derive(Debug, Clone, Default)]
+struct GeomSum {
+    mass: f64,
+    first: Vector3<f64>,
+    about_origin: nalgebra::Matrix3<f64>,
+    unweighed: Option<String>,
+}
+
+/// A solid primitive's volume and its principal moments per unit mass about its centre, in its
+/// own frame (MuJoCo's shapes: a capsule is a cylinder and two hemispheres, its axis z), or
+/// `None` for a shape without a closed form here (a mesh, a plane).
+fn solid(shape: &Shape) -> Option<(f64, [f64; 3])> {
+    use std::f64::consts::PI;
+    Some(match *shape {
+        Shape::Sphere { radius: r } => {
+            let k = 0.4 * r * r;
+            (4.0 / 3.0 * PI * r * r * r, [k, k, k])
+        }
+        Shape::Box { size } => {
+            let [a, b, c] = size.map(|x| x / 2.0);
+            let k = |u: f64, v: f64| (u * u + v * v) / 3.0;
+            (8.0 * a * b * c, [k(b, c), k(a, c), k(a, b)])
+        }
+        Shape::Cylinder {
+            radius: r,
+            length: h,
+        } => {
+            let side = (3.0 * r * r + h * h) / 12.0;
+            (PI * r * r * h, [side, side, r * r / 2.0])
+        }
+        Shape::Ellipsoid { radii: [a, b, c] } => {
+            let k = |u: f64, v: f64| (u * u + v * v) / 5.0;
+            (4.0 / 3.0 * PI * a * b * c, [k(b, c), k(a, c), k(a, b)])
+        }
+        Shape::Capsule {
+            radius: r,
+            length: h,
+        } => {
+            // Per unit density: the cylinder and the sphere its two hemispheres make.
+            let (vc, vs) = (PI * r * r * h, 4.0 / 3.0 * PI * r * r * r);
+            let side = vc * (h * h / 12.0 + r * r / 4.0)
+                + vs * (0.4 * r * r + h * h / 4.0 + 3.0 * h * r / 8.0);
+            let axial = vc * r * r / 2.0 + vs * 0.4 * r * r;
+            let v = vc + vs;
+            (v, [side / v, side / v, axial / v])
+        }
+        _ => return None,
+    })
+}
+
 struct Builder {
     source: String,
     compiler: Compiler,
@@ -413,8 +466,11 @@ struct Builder {
     refs: HashMap<String, f64>,
     inertials: Vec<(String, Inertial)>,
     warnings: Vec<String>,
-    /// Bodies whose mass MuJoCo takes from their geoms (not read yet: one warning).
+    /// Bodies whose mass MuJoCo takes from their geoms; after the bodies are read, those whose
+    /// geoms could not all be weighed (one warning).
     geom_mass: Vec<String>,
+    /// The geoms' masses summed per body (about the body's origin), for `geom_mass`'s bodies.
+    geom_sums: HashMap<String, GeomSum>,
     bodies: usize,
     floating_root: bool,
     /// Every body's name in the file (sites named alike are renamed).
@@ -479,6 +535,7 @@ impl Builder {
             pair_geoms: std::collections::HashSet::new(),
             filterparent: true,
             geom_mass: Vec::new(),
+            geom_sums: HashMap::new(),
             classes: HashMap::new(),
             links: Vec::new(),
             joints: Vec::new(),
@@ -661,14 +718,15 @@ impl Builder {
                 self.contents(w, "world", &Pose::identity(), &ctx)?;
             }
         }
+        self.weighed_inertials();
         if let Some(first) = self.geom_mass.first() {
             let count = match self.geom_mass.len() {
                 1 => format!("body {first} takes its"),
                 n => format!("{n} bodies ({first}, …) take their"),
             };
             self.warnings.push(format!(
-                "{count} mass from geoms in MuJoCo (inertiafromgeom), which screwkit does not \
-                 compute yet: total_mass and the centre of mass count <inertial> elements only"
+                "{count} mass from geoms in MuJoCo (inertiafromgeom), some of them meshes or \
+                 planes, which screwkit does not weigh yet: those bodies are massless here"
             ));
         }
         self.read_equalities(root)?;
@@ -1165,7 +1223,11 @@ impl Builder {
                 )),
                 "geom" => {
                     self.check_class(c)?;
-                    if let Some(g) = self.geom(c, offset, ctx.class) {
+                    let found = self.geom(c, offset, ctx.class);
+                    if self.geom_mass.iter().any(|b| b == link) {
+                        self.weigh(c, ctx.class, link, found.as_ref().map(|(g, _)| g));
+                    }
+                    if let Some(g) = found {
                         self.push_geom(Some(link), g);
                     }
                 }
@@ -1604,6 +1666,77 @@ impl Builder {
     /// A geom as the tree's geometry: a collision shape when its bits let it collide with
     /// something (or a `<pair>` names it), a visual one when MuJoCo's viewer shows its group
     /// (0, 1 and 2). `link` None: fixed in the world.
+    /// Adds geom `g` (read as `geometry`, None when it could not be) to its body's weight:
+    /// its `mass`, or `density` (MuJoCo's 1000) times its volume, at its pose in the body.
+    fn weigh(&mut self, g: &El, class: &str, link: &str, geometry: Option<&Geometry>) {
+        let number = |name: &str| {
+            self.attr(g, class, name)
+                .and_then(|v| v.trim().parse::<f64>().ok())
+        };
+        let (mass, density) = (number("mass"), number("density").unwrap_or(1000.0));
+        let sum = self.geom_sums.entry(link.to_string()).or_default();
+        if sum.unweighed.is_some() {
+            return;
+        }
+        let Some(geometry) = geometry else {
+            sum.unweighed = Some(format!("line {}: a geom that is not read", g.line));
+            return;
+        };
+        let Some((volume, moments)) = solid(&geometry.shape) else {
+            sum.unweighed = Some(format!(
+                "line {}: a {} geom (no closed form here)",
+                g.line,
+                geometry.shape.word()
+            ));
+            return;
+        };
+        let m = mass.unwrap_or(density * volume);
+        if !(m.is_finite() && m >= 0.0) {
+            sum.unweighed = Some(format!("line {}: a geom of mass {m}", g.line));
+            return;
+        }
+        let r = geometry.origin.rotation();
+        let c = *geometry.origin.translation();
+        let about_centre =
+            r * nalgebra::Matrix3::from_diagonal(&Vector3::from(moments)) * r.transpose() * m;
+        sum.mass += m;
+        sum.first += c * m;
+        sum.about_origin += about_centre
+            + (nalgebra::Matrix3::identity() * c.norm_squared() - c * c.transpose()) * m;
+    }
+
+    /// The bodies whose geoms were all weighed get that inertia (MuJoCo's, over any
+    /// `<inertial>` with `inertiafromgeom="true"`); the others stay in `geom_mass`.
+    fn weighed_inertials(&mut self) {
+        let names = std::mem::take(&mut self.geom_mass);
+        for name in names {
+            let sum = self.geom_sums.remove(&name).unwrap_or_default();
+            if sum.unweighed.is_some() || sum.mass <= 0.0 || sum.mass.is_nan() {
+                self.geom_mass.push(name);
+                continue;
+            }
+            let c = sum.first / sum.mass;
+            let i = sum.about_origin
+                - (nalgebra::Matrix3::identity() * c.norm_squared() - c * c.transpose()) * sum.mass;
+            self.inertials.retain(|(n, _)| *n != name);
+            self.inertials.push((
+                name,
+                Inertial {
+                    mass: sum.mass,
+                    com: [c.x, c.y, c.z],
+                    inertia: [
+                        i[(0, 0)],
+                        i[(0, 1)],
+                        i[(0, 2)],
+                        i[(1, 1)],
+                        i[(1, 2)],
+                        i[(2, 2)],
+                    ],
+                },
+            ));
+        }
+    }
+
     fn push_geom(&mut self, link: Option<&str>, (g, group): (Geometry, i64)) {
         let bits = g.bits.unwrap_or(ContactBits::DEFAULT);
         let paired = g.name.as_ref().is_some_and(|n| self.pair_geoms.contains(n));

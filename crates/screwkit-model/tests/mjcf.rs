@@ -464,35 +464,66 @@ fn mujoco_semantics_of_ranges_coordinates_namespaces_and_huge_axes() {
     );
 }
 
-/// Issue 44, item 11: MuJoCo takes a body's mass from its geoms (inertiafromgeom "auto" without
-/// `<inertial>`, or "true"); screwkit does not compute it yet, and now says so once instead of
-/// reporting the `<inertial>` masses alone without a word.
+/// MuJoCo takes a body's mass from its geoms (inertiafromgeom "auto" without `<inertial>`, or
+/// "true"): screwkit weighs its solid primitives the same way (density 1000, or the geom's
+/// `mass`; MuJoCo itself is the oracle in the Python suite); a body with a geom it cannot weigh
+/// (a mesh) is named in a warning and left massless, never guessed.
 #[test]
-fn masses_from_geoms_are_a_warning_until_they_are_computed() {
+fn masses_from_geoms_are_weighed() {
     let model = |compiler: &str, inner: &str| {
         format!("<mujoco>{compiler}<worldbody><body name=\"b\"><joint name=\"j\"/>{inner}</body></worldbody></mujoco>")
     };
+    let load = |xml: String| mjcf::load_str(&xml, "m.xml", Path::new(".")).unwrap();
     let warned = |xml: String| {
-        let tree = mjcf::load_str(&xml, "m.xml", Path::new(".")).unwrap();
-        tree.warnings.iter().any(|w| w.contains("inertiafromgeom"))
+        load(xml)
+            .warnings
+            .iter()
+            .any(|w| w.contains("inertiafromgeom"))
+    };
+    let mass = |xml: String| {
+        let tree = load(xml);
+        let b = tree.link("b").unwrap();
+        tree.inertials[b].map(|i| (i.mass, i.com, i.inertia))
     };
     let geom = "<geom size=\"0.1\"/>";
-    let inertial = "<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"0.1 0.1 0.1\"/>";
-    assert!(warned(model("", geom)));
-    assert!(warned(model(
-        "",
-        &format!("<frame pos=\"0 0 1\">{geom}</frame>")
-    )));
-    assert!(!warned(model("", &format!("{geom}{inertial}"))));
-    assert!(warned(model(
+    let inertial = "<inertial pos=\"0 0 0\" mass=\"1\" diaginertia=\"0.1 0.2 0.3\"/>";
+    // A sphere of radius 0.1 at density 1000: m = 4/3 π r³ ρ, I = 2/5 m r².
+    let m = 4.0 / 3.0 * std::f64::consts::PI * 1e-3 * 1000.0;
+    let (got, com, i) = mass(model("", geom)).unwrap();
+    assert!((got - m).abs() < 1e-12 && com == [0.0; 3]);
+    assert!((i[0] - 0.4 * m * 0.01).abs() < 1e-15 && i[1] == 0.0 && (i[5] - i[0]).abs() < 1e-18);
+    // In a frame 1 m up: the centre moves, the moments about it do not.
+    let (_, com, _) = mass(model("", &format!("<frame pos=\"0 0 1\">{geom}</frame>"))).unwrap();
+    assert!((com[2] - 1.0).abs() < 1e-15, "{com:?}");
+    // `mass` on the geom wins over density.
+    let (got, _, _) = mass(model("", "<geom size=\"0.1\" mass=\"2.5\"/>")).unwrap();
+    assert_eq!(got, 2.5);
+    // "auto" keeps an <inertial>; "true" weighs the geoms over it; "false" keeps it.
+    assert_eq!(
+        mass(model("", &format!("{geom}{inertial}"))).unwrap().0,
+        1.0
+    );
+    let (got, _, _) = mass(model(
         "<compiler inertiafromgeom=\"true\"/>",
-        &format!("{geom}{inertial}")
-    )));
-    assert!(!warned(model(
-        "<compiler inertiafromgeom=\"false\"/>",
-        geom
-    )));
-    assert!(!warned(model("", "")));
+        &format!("{geom}{inertial}"),
+    ))
+    .unwrap();
+    assert!((got - m).abs() < 1e-12);
+    assert!(mass(model("<compiler inertiafromgeom=\"false\"/>", geom)).is_none());
+    for xml in [
+        model("", geom),
+        model("", ""),
+        model("", &format!("{geom}{inertial}")),
+    ] {
+        assert!(!warned(xml));
+    }
+    // A mesh geom: not weighed, the body named, massless.
+    let mesh = r#"<asset><mesh name="m" vertex="0 0 0 1 0 0 0 1 0 0 0 1"/></asset>"#;
+    let xml = format!(
+        "<mujoco>{mesh}<worldbody><body name=\"b\"><joint name=\"j\"/>{geom}<geom type=\"mesh\" mesh=\"m\"/></body></worldbody></mujoco>"
+    );
+    assert!(warned(xml.clone()));
+    assert!(mass(xml).is_none());
 }
 
 /// Issue 44, item 21: names screwkit makes (`b_weld`, `s_site`, `a/j`, `c_joint0`) never take
