@@ -264,6 +264,30 @@ impl Robot {
         f(&d.model, &mut d.ws).map_err(solve_error)
     }
 
+    /// `{frame name: (6,) wrench}` as (frame index, wrench × `sign`); errors name the frame.
+    fn frame_wrenches(
+        &self,
+        kin: &TreeKinematics,
+        d: &Bound<'_, pyo3::types::PyDict>,
+        what: &str,
+        sign: f64,
+    ) -> PyResult<Vec<(usize, [f64; 6])>> {
+        let mut out = Vec::with_capacity(d.len());
+        for (k, w) in d.iter() {
+            let name: String = k.extract().map_err(|_| {
+                PyValueError::new_err(format!("{what}: keys are frame names (str)"))
+            })?;
+            let frame = kin.frame(&name).map_err(model_error)?;
+            let w = Self::one_vector(&w, 6, &format!("{what}[{name:?}]"))?;
+            let mut x = [0.0; 6];
+            for (o, v) in x.iter_mut().zip(&w) {
+                *o = sign * v;
+            }
+            out.push((frame, x));
+        }
+        Ok(out)
+    }
+
     /// A dynamics quantity of one configuration (q (nq,), then the nv-wide inputs) or of a
     /// batch (q (N, nq), inputs (N, nv)): (nv,) / (nv, nv) / a float, or (N, nv) / (N, nv, nv) /
     /// (N,). A batch runs on the pool; a bad row raises `BatchError` naming it.
@@ -1752,19 +1776,64 @@ impl Robot {
     /// (Pinocchio's `rnea`). q as `com` takes it (nq), v and a in `v_names` order; with a
     /// floating base τ starts with the wrench (m, f) on the base in its own frame. A batch:
     /// q (N, nq), v and a (N, nv) give (N, nv), on all cores.
+    #[pyo3(signature = (q, v, a, f_ext = None))]
     fn inverse_dynamics<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         a: &Bound<'py, PyAny>,
+        f_ext: Option<&Bound<'py, pyo3::types::PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        use screwkit_solve::tree::dynamics::Quantity;
-        self.dynamics_call(
-            py,
-            Quantity::InverseDynamics,
-            &[(q, "q"), (v, "v"), (a, "a")],
-        )
+        use screwkit_solve::tree::dynamics::{self as dynamics, Quantity};
+        let Some(f_ext) = f_ext else {
+            return self.dynamics_call(
+                py,
+                Quantity::InverseDynamics,
+                &[(q, "q"), (v, "v"), (a, "a")],
+            );
+        };
+        // External wrenches on the robot: the robot exerts their opposites.
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        let a = Self::one_vector(a, kin.nv(), "a")?;
+        let wrenches = self.frame_wrenches(&kin, f_ext, "f_ext", -1.0)?;
+        let tau = self.with_dynamics(py, |d, ws| {
+            let exerted = wrenches
+                .iter()
+                .map(|(f, w)| d.exerted(*f, w))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(dynamics::inverse_dynamics_exerting(d, ws, &q, &v, &a, &exerted)?.to_vec())
+        })?;
+        Ok(tau.to_pyarray(py).into_any())
+    }
+
+    /// Statics: the joint forces τ = Σ J_fᵀ F_f (nv) that hold the wrenches F_f = (m, f) the
+    /// robot exerts on its environment at frames (`{frame name: (6,)}`, each in its frame's own
+    /// coordinates; J_f the frame's body Jacobian), at rest; with `gravity=True`, plus g(q).
+    #[pyo3(signature = (q, wrenches, *, gravity = false))]
+    fn static_torques<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        wrenches: &Bound<'py, pyo3::types::PyDict>,
+        gravity: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let wrenches = self.frame_wrenches(&kin, wrenches, "wrenches", 1.0)?;
+        let tau = self.with_dynamics(py, |d, ws| {
+            let exerted = wrenches
+                .iter()
+                .map(|(f, w)| d.exerted(*f, w))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(
+                screwkit_solve::tree::dynamics::static_torques(d, ws, &q, &exerted, gravity)?
+                    .to_vec(),
+            )
+        })?;
+        Ok(tau.to_pyarray(py).into_any())
     }
 
     /// The gravity forces g(q) (nv) = ID(q, 0, 0) (Pinocchio's `computeGeneralizedGravity`);

@@ -417,3 +417,42 @@ def test_mjcf_models_equal_mujoco(path: Path) -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         mujoco_check(path)
+
+
+def test_wrenches_at_frames_against_pinocchio() -> None:
+    """Statics and external wrenches (issue 50): `static_torques(q, {frame: F})` is Σ J_fᵀ F_f
+    with Pinocchio's frame Jacobians (LOCAL: the wrench in the frame's own coordinates), and
+    `inverse_dynamics(q, v, a, f_ext=…)` subtracts the same for wrenches on the robot; the
+    UR5 of example-robot-data, two frames."""
+    path = ROBOTS / ERD["ur5"]
+    if not path.exists():
+        pytest.skip("example-robot-data (pip install example-robot-data) is a test dependency")
+    robot = load(path, False)
+    oracle = Oracle(path, robot, False)
+    m, d = oracle.model, oracle.data
+    rng = np.random.default_rng(3)
+    frames = ["ee_link", "forearm_link"]
+    for q in configurations(robot, 3, 2):
+        qp = oracle.q(q)
+        pin.computeJointJacobians(m, d, qp)
+        pin.framesForwardKinematics(m, d, qp)
+        wrenches = {f: rng.normal(size=6) for f in frames}
+        want = np.zeros(robot.nv)
+        for f, w in wrenches.items():
+            jac = pin.getFrameJacobian(m, d, m.getFrameId(f), pin.LOCAL)  # rows (v, ω)
+            want += oracle.ours(jac.T @ np.r_[w[3:], w[:3]])  # our (m, f) as Pinocchio's (f, m)
+        got = robot.static_torques(q, wrenches)
+        np.testing.assert_allclose(got, want, atol=1e-10)
+        np.testing.assert_allclose(
+            robot.static_torques(q, wrenches, gravity=True), want + robot.gravity(q), atol=1e-10
+        )
+        v, a = rng.normal(size=robot.nv), rng.normal(size=robot.nv)
+        np.testing.assert_allclose(
+            robot.inverse_dynamics(q, v, a, f_ext=wrenches),
+            robot.inverse_dynamics(q, v, a) - want,
+            atol=1e-10,
+        )
+    with pytest.raises(ValueError, match="no_such_frame"):
+        robot.static_torques(q, {"no_such_frame": np.zeros(6)})
+    with pytest.raises(ValueError, match="wrenches"):
+        robot.static_torques(q, {"ee_link": np.zeros(5)})

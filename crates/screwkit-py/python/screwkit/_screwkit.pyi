@@ -562,8 +562,19 @@ class Robot:
     def obstacles(self) -> list[str]: ...
     @property
     def total_mass(self) -> float: ...
-    def inverse_dynamics(self, q: _ArrayLike, v: _ArrayLike, a: _ArrayLike) -> _F64:
-        """τ = ID(q, v, a) of the whole tree (nv), by recursive Newton–Euler."""
+    def inverse_dynamics(
+        self,
+        q: _ArrayLike,
+        v: _ArrayLike,
+        a: _ArrayLike,
+        f_ext: Mapping[str, _ArrayLike] | None = None,
+    ) -> _F64:
+        """τ = ID(q, v, a) of the whole tree (nv), by recursive Newton–Euler; `f_ext`: wrenches
+        (m, f) on the robot at frames, each in its frame's coordinates."""
+    def static_torques(
+        self, q: _ArrayLike, wrenches: Mapping[str, _ArrayLike], *, gravity: bool = False
+    ) -> _F64:
+        """τ = Σ J_fᵀ F_f for the wrenches the robot exerts at frames (+ g(q) with gravity)."""
     def gravity(self, q: _ArrayLike) -> _F64:
         """The gravity forces g(q) (nv)."""
     def nonlinear_effects(self, q: _ArrayLike, v: _ArrayLike) -> _F64:

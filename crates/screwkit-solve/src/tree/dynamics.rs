@@ -365,6 +365,83 @@ impl Dynamics {
     }
 }
 
+/// A wrench (m, f) the robot exerts on its environment at a frame, in that frame's own
+/// coordinates, and where the frame is: its body (a joint's index, or [`NONE`] for the root's)
+/// and its pose in that body's frame.
+#[derive(Debug, Clone, Copy)]
+pub struct Exerted {
+    body: usize,
+    placement: Se3,
+    wrench: Vector6<f64>,
+}
+
+impl Dynamics {
+    /// The textbook's F_tip at its frame {n+1} on the last body.
+    fn at_tip(&self, tip: &[f64; 6]) -> Exerted {
+        Exerted {
+            body: self.joints.len().checked_sub(1).unwrap_or(NONE),
+            placement: self.tip,
+            wrench: Vector6::from(*tip),
+        }
+    }
+
+    /// `wrench` = (m, f) exerted by the robot at frame `frame` of its tree (in that frame's
+    /// coordinates), for [`static_torques`] and [`inverse_dynamics_exerting`].
+    pub fn exerted(&self, frame: usize, wrench: &[f64; 6]) -> Result<Exerted, SolveError> {
+        let kin = self.kin.as_ref().ok_or_else(|| {
+            SolveError::InvalidInput("a textbook chain has no named frames".into())
+        })?;
+        let model = kin.model();
+        let f = model.frames.get(frame).ok_or_else(|| {
+            SolveError::InvalidInput(format!("no frame {frame} ({} frames)", model.frames.len()))
+        })?;
+        if let Some(i) = wrench.iter().position(|x| !x.is_finite()) {
+            return Err(SolveError::InvalidInput(format!(
+                "the wrench at \"{}\": entry {i} is not finite",
+                f.name
+            )));
+        }
+        let link = &model.links[f.link];
+        Ok(Exerted {
+            body: link.support.unwrap_or(NONE),
+            placement: link.placement.compose(&f.placement),
+            wrench: Vector6::from(*wrench),
+        })
+    }
+}
+
+/// Inverse dynamics with the robot exerting wrenches on its environment at frames
+/// ([`Dynamics::exerted`]): τ = ID(q, v, a) + Σ J_fᵀ F_f (J_f the frame's body Jacobian).
+pub fn inverse_dynamics_exerting<'w>(
+    d: &Dynamics,
+    ws: &'w mut DynamicsWorkspace,
+    q: &[f64],
+    v: &[f64],
+    a: &[f64],
+    exerted: &[Exerted],
+) -> Result<&'w [f64], SolveError> {
+    check_nv(d, v, "velocity value")?;
+    check_nv(d, a, "acceleration value")?;
+    let base = place(d, ws, q)?;
+    newton_euler(d, ws, &base, Some(v), Some(a), true, exerted);
+    Ok(&ws.tau)
+}
+
+/// Statics: the joint forces τ = Σ J_fᵀ F_f that hold the wrenches F_f the robot exerts at
+/// frames (each in its frame's coordinates, J_f the body Jacobian), at rest; with `gravity`,
+/// plus g(q) (the forces that hold the robot still under gravity as it pushes).
+pub fn static_torques<'w>(
+    d: &Dynamics,
+    ws: &'w mut DynamicsWorkspace,
+    q: &[f64],
+    exerted: &[Exerted],
+    gravity: bool,
+) -> Result<&'w [f64], SolveError> {
+    let base = place(d, ws, q)?;
+    newton_euler(d, ws, &base, None, None, gravity, exerted);
+    Ok(&ws.tau)
+}
+
 /// One thread's scratch for the dynamics algorithms.
 #[derive(Debug, Clone)]
 pub struct DynamicsWorkspace {
@@ -538,7 +615,7 @@ fn newton_euler(
     v: Option<&[f64]>,
     a: Option<&[f64]>,
     gravity: bool,
-    tip: Option<&Vector6<f64>>,
+    exerted: &[Exerted],
 ) {
     let off = if d.floating { 6 } else { 0 };
     let at = |x: Option<&[f64]>, k: usize| x.map_or(0.0, |x| x[k]);
@@ -582,19 +659,23 @@ fn newton_euler(
         ws.velocity[k] = vk;
         ws.acceleration[k] = ak;
     }
-    if let Some(tip) = tip {
-        // The wrench the last body exerts on the environment at the tip frame (the
-        // textbook's F_tip), carried into that body's frame.
-        if let Some(last) = joints.len().checked_sub(1) {
-            ws.force[last] += wrench_in_parent(&d.tip, tip);
+    let mut root_extra = Vector6::zeros();
+    for e in exerted {
+        // A wrench the robot exerts on the environment at a frame (the textbook's F_tip),
+        // carried into its body's frame: the joints must supply it too.
+        let w = wrench_in_parent(&e.placement, &e.wrench);
+        match e.body {
+            NONE => root_extra += w,
+            k => ws.force[k] += w,
         }
     }
-    ws.root_force = if d.floating {
-        let g = &d.root;
-        g.apply(&root_acc) - ad_transpose(&root_vel, &g.apply(&root_vel))
-    } else {
-        Vector6::zeros()
-    };
+    ws.root_force = root_extra
+        + if d.floating {
+            let g = &d.root;
+            g.apply(&root_acc) - ad_transpose(&root_vel, &g.apply(&root_vel))
+        } else {
+            Vector6::zeros()
+        };
     ws.tau.iter_mut().for_each(|x| *x = 0.0);
     for k in (0..joints.len()).rev() {
         let j = &joints[k];
@@ -625,7 +706,7 @@ pub fn inverse_dynamics<'w>(
     check_nv(d, v, "velocity value")?;
     check_nv(d, a, "acceleration value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), Some(a), true, None);
+    newton_euler(d, ws, &base, Some(v), Some(a), true, &[]);
     Ok(&ws.tau)
 }
 
@@ -644,15 +725,8 @@ pub fn inverse_dynamics_tip<'w>(
     check_nv(d, a, "acceleration value")?;
     check_values(&TIP_NAMES.map(String::from), tip, "tip wrench value")?;
     let base = place(d, ws, q)?;
-    newton_euler(
-        d,
-        ws,
-        &base,
-        Some(v),
-        Some(a),
-        true,
-        Some(&Vector6::from(*tip)),
-    );
+    let at_tip = [d.at_tip(tip)];
+    newton_euler(d, ws, &base, Some(v), Some(a), true, &at_tip);
     Ok(&ws.tau)
 }
 
@@ -666,7 +740,7 @@ pub fn gravity<'w>(
     q: &[f64],
 ) -> Result<&'w [f64], SolveError> {
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, None, None, true, None);
+    newton_euler(d, ws, &base, None, None, true, &[]);
     Ok(&ws.tau)
 }
 
@@ -680,7 +754,7 @@ pub fn nonlinear_effects<'w>(
 ) -> Result<&'w [f64], SolveError> {
     check_nv(d, v, "velocity value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), None, true, None);
+    newton_euler(d, ws, &base, Some(v), None, true, &[]);
     Ok(&ws.tau)
 }
 
@@ -900,8 +974,13 @@ pub fn forward_dynamics_tip<'w>(
     check_nv(d, tau, "force value")?;
     check_values(&TIP_NAMES.map(String::from), tip, "tip wrench value")?;
     let base = place(d, ws, q)?;
-    let pressed = tip.iter().any(|x| *x != 0.0).then(|| Vector6::from(*tip));
-    newton_euler(d, ws, &base, Some(v), None, true, pressed.as_ref());
+    let at_tip = [d.at_tip(tip)];
+    let pressed = if tip.iter().any(|x| *x != 0.0) {
+        &at_tip[..]
+    } else {
+        &[]
+    };
+    newton_euler(d, ws, &base, Some(v), None, true, pressed);
     crba(d, ws);
     let nv = d.nv;
     for i in 0..nv {
@@ -958,7 +1037,7 @@ pub fn kinetic_energy(
 ) -> Result<f64, SolveError> {
     check_nv(d, v, "velocity value")?;
     let base = place(d, ws, q)?;
-    newton_euler(d, ws, &base, Some(v), None, false, None);
+    newton_euler(d, ws, &base, Some(v), None, false, &[]);
     let mut e = 0.0;
     for k in 0..d.bodies.len() {
         let vk = ws.velocity[k];
