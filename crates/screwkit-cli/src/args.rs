@@ -108,14 +108,19 @@ pub struct DynamicsArgs {
     pub chain: ChainArgs,
     /// The whole tree's configuration q1,q2,... (nq values: `info --format json`'s
     /// "variables"; a floating base's x,y,z,qx,qy,qz,qw first).
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
-    pub q: List,
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
+    pub q: Option<List>,
     /// The velocity (nv values; default zero).
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, conflicts_with = "input")]
     pub v: Option<List>,
     /// The acceleration (nv values; default zero).
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, conflicts_with = "input")]
     pub a: Option<List>,
+    /// Batch mode: JSON lines {"q": [...], "v": [...], "a": [...]} (v and a optional, zero
+    /// when left out) from FILE or - (stdin); one JSON report per line, a bad line's error
+    /// naming it, the others computed.
+    #[arg(long, conflicts_with = "q")]
+    pub input: Option<String>,
 }
 
 /// `collide`.

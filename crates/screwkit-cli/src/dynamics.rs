@@ -8,6 +8,7 @@ use screwkit_service::report;
 use screwkit_solve::tree::dynamics::DynamicsWorkspace;
 
 use crate::args::{DynamicsArgs, Format};
+use crate::batch;
 use crate::output::{emit, print_json, tuple, CliResult};
 
 /// Runs `dynamics`.
@@ -15,12 +16,46 @@ pub fn run(a: &DynamicsArgs, format: Format) -> CliResult {
     let robot = crate::load(&a.chain)?;
     let kin = robot.whole()?;
     let d = dynamics::model(kin)?;
+    if let Some(input) = &a.input {
+        let done = batch::stream(input, |lines, _| {
+            let rows = batch::parse_rows(lines, |text| {
+                let obj = batch::parse_object(text)?;
+                let q = batch::numbers(&obj, "q")?;
+                let optional = |key: &str| {
+                    obj.contains_key(key)
+                        .then(|| batch::numbers(&obj, key))
+                        .transpose()
+                };
+                Ok((q, optional("v")?, optional("a")?))
+            });
+            let errors: Vec<Option<String>> =
+                rows.iter().map(|r| r.as_ref().err().cloned()).collect();
+            Ok(batch::outputs(lines, &errors, |k| {
+                let Ok((q, v, acc)) = &rows[k] else {
+                    unreachable!("a row with an error is reported by `outputs`")
+                };
+                let mut ws = DynamicsWorkspace::new(&d);
+                match dynamics::report(&d, &mut ws, kin.v_names(), q, v.as_deref(), acc.as_deref())
+                {
+                    Ok(r) => (report::to_value(&r), true),
+                    Err(e) => (
+                        serde_json::json!({"error": e.to_string(), "line": lines[k].number}),
+                        false,
+                    ),
+                }
+            }))
+        });
+        if let Some(w) = dynamics::massless_warning(&d) {
+            eprintln!("screwkit: warning: {w}");
+        }
+        return done;
+    }
     let mut ws = DynamicsWorkspace::new(&d);
     let r = dynamics::report(
         &d,
         &mut ws,
         kin.v_names(),
-        &a.q.0,
+        &a.q.as_ref().expect("clap requires --q without --input").0,
         a.v.as_ref().map(|l| l.0.as_slice()),
         a.a.as_ref().map(|l| l.0.as_slice()),
     )?;

@@ -1867,20 +1867,78 @@ impl Robot {
     }
 
     /// Forward dynamics a = FD(q, v, τ) = M(q)⁻¹ (τ − h(q, v)) (nv): the accelerations the
-    /// forces τ give (Pinocchio's `aba` answers the same); (N, nv) for a batch.
+    /// forces τ give (Pinocchio's `aba` answers the same); (N, nv) for a batch. `f_ext`:
+    /// external wrenches on the robot, `{frame name: (6,)}` each (m, f) in its frame's own
+    /// coordinates, as `inverse_dynamics` takes them (one configuration only).
+    #[pyo3(signature = (q, v, tau, f_ext = None))]
     fn forward_dynamics<'py>(
         &self,
         py: Python<'py>,
         q: &Bound<'py, PyAny>,
         v: &Bound<'py, PyAny>,
         tau: &Bound<'py, PyAny>,
+        f_ext: Option<&Bound<'py, pyo3::types::PyDict>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        use screwkit_solve::tree::dynamics::Quantity;
-        self.dynamics_call(
-            py,
-            Quantity::ForwardDynamics,
-            &[(q, "q"), (v, "v"), (tau, "tau")],
-        )
+        use screwkit_solve::tree::dynamics::{self as dynamics, Quantity};
+        let Some(f_ext) = f_ext else {
+            return self.dynamics_call(
+                py,
+                Quantity::ForwardDynamics,
+                &[(q, "q"), (v, "v"), (tau, "tau")],
+            );
+        };
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        let tau = Self::one_vector(tau, kin.nv(), "tau")?;
+        // External wrenches on the robot: the robot exerts their opposites.
+        let wrenches = self.frame_wrenches(&kin, f_ext, "f_ext", -1.0)?;
+        let a = self.with_dynamics(py, |d, ws| {
+            let exerted = wrenches
+                .iter()
+                .map(|(f, w)| d.exerted(*f, w))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(dynamics::forward_dynamics_exerting(d, ws, &q, &v, &tau, &exerted)?.to_vec())
+        })?;
+        Ok(a.to_pyarray(py).into_any())
+    }
+
+    /// The centroidal momentum map A_G(q) (6, nv): the momentum about the centre of mass of
+    /// unit speed of each variable, (angular, linear) rows in the world's axes (Pinocchio's
+    /// `computeCentroidalMap`, whose rows are (linear, angular)).
+    fn centroidal_map<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let rows = self.with_dynamics(py, |d, ws| {
+            let (map, _) = screwkit_solve::tree::dynamics::centroidal_map(d, ws, &q)?;
+            Ok(map
+                .row_iter()
+                .map(|r| r.iter().copied().collect())
+                .collect::<Vec<Vec<f64>>>())
+        })?;
+        Ok(PyArray2::from_vec2(py, &rows)?)
+    }
+
+    /// The centroidal momentum h_G = A_G(q) v (6,): (k_G, p), the angular momentum about the
+    /// centre of mass and the linear momentum, in the world's axes (Pinocchio's
+    /// `computeCentroidalMomentum`, in (linear, angular) order).
+    fn centroidal_momentum<'py>(
+        &self,
+        py: Python<'py>,
+        q: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let kin = self.tree_model()?;
+        let q = Self::one_vector(q, kin.nq(), "q")?;
+        let v = Self::one_vector(v, kin.nv(), "v")?;
+        let h = self.with_dynamics(py, |d, ws| {
+            Ok(screwkit_solve::tree::dynamics::centroidal_momentum(d, ws, &q, &v)?.0)
+        })?;
+        Ok(h.to_pyarray(py))
     }
 
     /// The kinetic energy ½ vᵀ M(q) v (J); (N,) for a batch.

@@ -273,6 +273,34 @@ def test_the_command_line_reports_the_same_dynamics() -> None:
     bad = subprocess.run([exe, "dynamics", str(path), "--q", "0,0"], capture_output=True, text=True)
     assert bad.returncode == 1 and len(bad.stderr.strip().splitlines()) == 1, bad.stderr
     assert "expected 23" in bad.stderr or "23" in bad.stderr, bad.stderr
+    # Batch mode: JSON lines, v and a optional; a bad line reported with its number, the
+    # others computed (exit 1).
+    qs = configurations(robot, 3, 12)
+    lines = [
+        {"q": qs[0].tolist(), "v": v.tolist(), "a": a.tolist()},
+        {"q": [0.0, 0.0]},
+        {"q": qs[1].tolist()},
+        {"q": qs[2].tolist(), "v": v.tolist()},
+    ]
+    batch = subprocess.run(
+        [exe, "dynamics", str(path), "--input", "-"],
+        input="\n".join(json.dumps(x) for x in lines) + "\n",
+        capture_output=True,
+        text=True,
+    )
+    assert batch.returncode == 1, batch.stderr
+    assert batch.stderr.count("taken as massless") == 1
+    out = [json.loads(x) for x in batch.stdout.splitlines()]
+    assert len(out) == 4 and out[1]["line"] == 2 and "23" in out[1]["error"]
+    zero = np.zeros(robot.nv)
+    for row, (qq, vv, aa) in zip(
+        [out[0], out[2], out[3]],
+        [(qs[0], v, a), (qs[1], zero, zero), (qs[2], v, zero)],
+        strict=True,
+    ):
+        np.testing.assert_array_equal(row["tau"], robot.inverse_dynamics(qq, vv, aa))
+        np.testing.assert_array_equal(row["mass_matrix"], robot.mass_matrix(qq))
+        np.testing.assert_array_equal(row["nonlinear_effects"], robot.nonlinear_effects(qq, vv))
 
 
 def test_batches_are_rows_of_single_calls() -> None:
@@ -456,3 +484,84 @@ def test_wrenches_at_frames_against_pinocchio() -> None:
         robot.static_torques(q, {"no_such_frame": np.zeros(6)})
     with pytest.raises(ValueError, match="wrenches"):
         robot.static_torques(q, {"ee_link": np.zeros(5)})
+
+
+def test_forward_dynamics_with_external_wrenches_against_pinocchio() -> None:
+    """`forward_dynamics(q, v, tau, f_ext={frame: F})` = M⁻¹ (τ − h + Σ J_fᵀ F_f), every term
+    Pinocchio's (`crba`, `nonLinearEffects`, LOCAL frame Jacobians) on the UR5, and ID of the
+    answer with the same wrenches gives τ back."""
+    path = ROBOTS / ERD["ur5"]
+    if not path.exists():
+        pytest.skip("example-robot-data (pip install example-robot-data) is a test dependency")
+    robot = load(path, False)
+    oracle = Oracle(path, robot, False)
+    m, d = oracle.model, oracle.data
+    rng = np.random.default_rng(4)
+    for q in configurations(robot, 3, 5):
+        qp = oracle.q(q)
+        v, tau = rng.normal(size=robot.nv), rng.normal(size=robot.nv)
+        pin.computeJointJacobians(m, d, qp)
+        pin.framesForwardKinematics(m, d, qp)
+        wrenches = {"ee_link": rng.normal(size=6), "upper_arm_link": rng.normal(size=6)}
+        jt_f = np.zeros(robot.nv)
+        for f, w in wrenches.items():
+            jac = pin.getFrameJacobian(m, d, m.getFrameId(f), pin.LOCAL)  # rows (v, ω)
+            jt_f += oracle.ours(jac.T @ np.r_[w[3:], w[:3]])
+        mass = oracle.matrix(pin.crba(m, d, qp))
+        h = oracle.ours(pin.nonLinearEffects(m, d, qp, oracle.v(v)))
+        want = np.linalg.solve(mass, tau - h + jt_f)
+        got = robot.forward_dynamics(q, v, tau, f_ext=wrenches)
+        np.testing.assert_allclose(got, want, atol=1e-9 * (1 + np.abs(want).max()))
+        assert np.abs(got - robot.forward_dynamics(q, v, tau)).max() > 1e-3, "the wrenches act"
+        np.testing.assert_allclose(
+            robot.inverse_dynamics(q, v, got, f_ext=wrenches), tau, atol=1e-9
+        )
+    with pytest.raises(ValueError, match="no_such_frame"):
+        robot.forward_dynamics(q, v, tau, f_ext={"no_such_frame": np.zeros(6)})
+
+
+@pytest.mark.parametrize(
+    ("where", "floating"),
+    [("ur5", False), ("talos", True), ("humanoid", True), ("humanoid", False)],
+)
+def test_centroidal_momentum_equals_pinocchio(where: str, floating: bool) -> None:
+    """The centroidal momentum map and momentum (angular about the centre of mass, then
+    linear; world axes) against Pinocchio's `computeCentroidalMap` and
+    `computeCentroidalMomentum` ((linear, angular) rows), fixed and floating."""
+    path = ASSETS / "humanoid.urdf" if where == "humanoid" else ROBOTS / ERD[where]
+    if not path.exists():
+        pytest.skip("example-robot-data (pip install example-robot-data) is a test dependency")
+    robot = load(path, floating)
+    oracle = Oracle(path, robot, floating)
+    m, d = oracle.model, oracle.data
+    rng = np.random.default_rng(8)
+    for q in configurations(robot, 3, 6):
+        qp = oracle.q(q)
+        v = rng.normal(size=robot.nv)
+        theirs = pin.computeCentroidalMap(m, d, qp)
+        # Ours is about the centre of mass of every link (`Robot.com`); Pinocchio's leaves out
+        # the links fixed to the world (a fixed base's): its angular rows are moved to ours,
+        # k = k_pin − (c − c_pin) × p.
+        c = robot.com(q)
+        shift = c - d.com[0]
+        assert floating == (np.abs(shift).max() < 1e-12)
+        linear = np.stack([oracle.ours(row) for row in theirs[:3]])
+        angular = np.stack([oracle.ours(row) for row in theirs[3:]])
+        angular -= np.cross(shift, linear.T).T
+        want = np.r_[angular, linear]
+        got = robot.centroidal_map(q)
+        assert got.shape == (6, robot.nv)
+        scale = 1 + np.abs(want).max()
+        np.testing.assert_allclose(got, want, atol=1e-9 * scale)
+        hg = pin.computeCentroidalMomentum(m, d, qp, oracle.v(v))
+        np.testing.assert_allclose(
+            robot.centroidal_momentum(q, v),
+            np.r_[hg.angular - np.cross(shift, hg.linear), hg.linear],
+            atol=1e-9 * scale,
+        )
+        # The linear momentum is the total mass times the centre of mass's velocity.
+        np.testing.assert_allclose(
+            robot.centroidal_momentum(q, v)[3:],
+            robot.total_mass * (robot.com_jacobian(q) @ v),
+            atol=1e-9 * scale,
+        )

@@ -112,6 +112,16 @@ impl Columns {
         )
     }
 
+    /// (R, p) as nalgebra values.
+    #[inline(always)]
+    pub(crate) fn rotation_translation(&self) -> (Matrix3<f64>, Vector3<f64>) {
+        let [a, b, c, p] = self.0;
+        (
+            Matrix3::new(a[0], b[0], c[0], a[1], b[1], c[1], a[2], b[2], c[2]),
+            Vector3::new(p[0], p[1], p[2]),
+        )
+    }
+
     /// The translation column p (w = 1).
     #[inline(always)]
     pub(crate) fn p(&self) -> Lane {

@@ -581,8 +581,18 @@ class Robot:
         """h(q, v) = C(q, v) v + g(q) (nv)."""
     def mass_matrix(self, q: _ArrayLike) -> _F64:
         """M(q) (nv, nv), by the composite-rigid-body algorithm."""
-    def forward_dynamics(self, q: _ArrayLike, v: _ArrayLike, tau: _ArrayLike) -> _F64:
-        """a = M(q)⁻¹ (τ − h(q, v)) (nv)."""
+    def forward_dynamics(
+        self,
+        q: _ArrayLike,
+        v: _ArrayLike,
+        tau: _ArrayLike,
+        f_ext: Mapping[str, _ArrayLike] | None = None,
+    ) -> _F64:
+        """a = M(q)⁻¹ (τ − h(q, v)) (nv); `f_ext`: wrenches (m, f) on the robot at frames."""
+    def centroidal_map(self, q: _ArrayLike) -> _F64:
+        """A_G(q) (6, nv): momentum about the CoM per unit speed, (angular, linear) rows."""
+    def centroidal_momentum(self, q: _ArrayLike, v: _ArrayLike) -> _F64:
+        """h_G = A_G(q) v (6,): (k_G, p) about the centre of mass, in the world's axes."""
     def kinetic_energy(self, q: _ArrayLike, v: _ArrayLike) -> Any:
         """½ vᵀ M v (J): a float, or (N,) for a batch."""
     def potential_energy(self, q: _ArrayLike) -> Any:

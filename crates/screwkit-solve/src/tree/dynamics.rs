@@ -28,10 +28,15 @@
 //! workspace is built.
 
 use nalgebra::{DMatrix, Matrix6, Vector3, Vector6};
+use screwkit_lie::fma::{dispatch, Kernel, MulAdd};
 use screwkit_lie::{Se3, Twist};
+use screwkit_model::JointKind;
 
+use super::fk::{sin_cos_lanes, Placement, SweepJoint};
 use super::{TreeKinematics, NONE};
+use crate::columns::Columns;
 use crate::error::SolveError;
+use crate::poe::PoeJoint;
 
 /// Standard gravity (m/s²), MuJoCo's and Pinocchio's.
 pub const STANDARD_GRAVITY: f64 = 9.81;
@@ -94,19 +99,32 @@ impl SpatialInertia {
     /// The same body seen from a frame in which this one is at `t` (this frame's pose in
     /// the new one): G' = [Ad_{t⁻¹}]ᵀ G [Ad_{t⁻¹}].
     pub fn transformed(&self, t: &Se3) -> Self {
-        let r = t.rotation();
-        let p = t.translation();
+        self.rotated_moved(t.rotation(), t.translation())
+    }
+
+    /// [`SpatialInertia::transformed`] by t = (R, p): m' = m, h' = R h + m p,
+    /// Ī' = R Ī Rᵀ − m[p]² − [p][R h] − [R h][p].
+    #[inline(always)]
+    pub fn rotated_moved(&self, r: &nalgebra::Matrix3<f64>, p: &Vector3<f64>) -> Self {
         let h = r * self.first_moment;
         // −m[p]² − [p][h] − [h][p] = m(|p|² 1 − p pᵀ) + 2(p·h) 1 − h pᵀ − p hᵀ
         // ([a][b] = b aᵀ − (a·b) 1), symmetric.
         let diag = self.mass * p.norm_squared() + 2.0 * p.dot(&h);
-        let mut rotational = r * self.rotational * r.transpose();
-        for i in 0..3 {
-            for j in 0..3 {
-                rotational[(i, j)] -= self.mass * p[i] * p[j] + h[i] * p[j] + p[i] * h[j];
-            }
-            rotational[(i, i)] += diag;
-        }
+        // R Ī Rᵀ, its upper triangle from B = R Ī (Ī symmetric), written out (nalgebra's
+        // generic 3 × 3 product is not inlined here).
+        let i = &self.rotational;
+        let b: [[f64; 3]; 3] = std::array::from_fn(|row| {
+            std::array::from_fn(|col| {
+                r[(row, 0)] * i[(0, col)] + r[(row, 1)] * i[(1, col)] + r[(row, 2)] * i[(2, col)]
+            })
+        });
+        let entry = |row: usize, col: usize| {
+            b[row][0] * r[(col, 0)] + b[row][1] * r[(col, 1)] + b[row][2] * r[(col, 2)]
+                - (self.mass * p[row] * p[col] + h[row] * p[col] + p[row] * h[col])
+        };
+        let (xx, yy, zz) = (entry(0, 0) + diag, entry(1, 1) + diag, entry(2, 2) + diag);
+        let (xy, xz, yz) = (entry(0, 1), entry(0, 2), entry(1, 2));
+        let rotational = nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz);
         Self {
             mass: self.mass,
             first_moment: h + p * self.mass,
@@ -124,6 +142,11 @@ impl SpatialInertia {
     }
 }
 
+/// Each placement X_k as columns.
+fn homes_of(placements: &[Se3]) -> Vec<Columns> {
+    placements.iter().map(Columns::from_se3).collect()
+}
+
 /// One moving joint of the dynamic model.
 #[derive(Debug, Clone)]
 struct Joint {
@@ -131,12 +154,10 @@ struct Joint {
     parent: usize,
     /// Its screw in its own frame, a_k.
     axis: Twist,
-    /// X_k: its frame at home in its parent joint's frame (the root's).
-    placement: Se3,
-    /// θ_k = multiplier · q[variable] + offset (the joint variables, after a floating base's).
+    /// θ_k = multiplier · q[variable] + offset (the joint variables, after a floating base's;
+    /// X_k and the offset are in the sweep's joint).
     variable: usize,
     multiplier: f64,
-    offset: f64,
 }
 
 /// The immutable dynamic model of a tree: each moving joint's body (and, with a floating base,
@@ -147,6 +168,11 @@ pub struct Dynamics {
     /// The tree it was built from (None for the textbook's lists).
     kin: Option<TreeKinematics>,
     joints: Vec<Joint>,
+    /// The same joints for the placing sweep ([`Sweep`]): X_k and e^{[a_k]θ} in their cheapest
+    /// forms, with the fast sine and cosine.
+    sweep: Vec<SweepJoint>,
+    /// Each X_k as columns.
+    homes: Vec<Columns>,
     /// Each joint's body in its own frame (the links it supports).
     bodies: Vec<SpatialInertia>,
     /// The root body (the links no joint moves) in the root link's frame.
@@ -220,15 +246,15 @@ impl Dynamics {
             .map(|(k, j)| Joint {
                 parent: kin.parent[k],
                 axis: super::local_screw(j),
-                placement: j.placement,
                 variable: j.drive.variable,
                 multiplier: j.drive.multiplier,
-                offset: j.drive.offset,
             })
             .collect();
         Ok(Self {
             kin: Some(kin.clone()),
             joints,
+            homes: homes_of(&model.joints.iter().map(|j| j.placement).collect::<Vec<_>>()),
+            sweep: kin.sweep.clone(),
             bodies,
             root,
             floating: kin.floating,
@@ -264,6 +290,7 @@ impl Dynamics {
         }
         let mut home = Se3::identity();
         let mut joints = Vec::with_capacity(n);
+        let mut sweep = Vec::with_capacity(n);
         let mut bodies = Vec::with_capacity(n);
         for i in 0..n {
             home = home.compose(&m_list[i]);
@@ -288,18 +315,49 @@ impl Dynamics {
                 )));
             }
             bodies.push(body);
+            let a = home.inverse().adjoint_apply(&s_list[i]);
+            // A unit rotation axis (or none): a = |ω| â, θ' = |ω| θ (the drive's multiplier).
+            let scale = a.w.norm();
+            let (axis, multiplier) = if scale == 0.0 || scale == 1.0 {
+                (a, 1.0)
+            } else {
+                (a * (1.0 / scale), scale)
+            };
+            if !(axis.w.iter().chain(axis.v.iter()).all(|x| x.is_finite()))
+                || axis.to_vector().norm() == 0.0
+            {
+                return Err(SolveError::InvalidInput(format!(
+                    "Slist[{i}] is not a finite nonzero screw axis"
+                )));
+            }
+            let kind = if axis.w.norm() == 0.0 {
+                JointKind::Prismatic
+            } else if axis.w.dot(&axis.v) == 0.0 {
+                JointKind::Revolute
+            } else {
+                JointKind::Helical
+            };
+            let drive = screwkit_model::Drive {
+                variable: i,
+                multiplier,
+                offset: 0.0,
+            };
+            sweep.push(SweepJoint {
+                fixed: Placement::of(&m_list[i]),
+                motion: PoeJoint::new(axis, kind, drive),
+            });
             joints.push(Joint {
                 parent: if i == 0 { NONE } else { i - 1 },
-                axis: home.inverse().adjoint_apply(&s_list[i]),
-                placement: m_list[i],
+                axis,
                 variable: i,
-                multiplier: 1.0,
-                offset: 0.0,
+                multiplier,
             });
         }
         Ok(Self {
             kin: None,
             joints,
+            sweep,
+            homes: homes_of(&m_list[..n]),
             bodies,
             root: SpatialInertia::zero(),
             floating: false,
@@ -422,7 +480,7 @@ pub fn inverse_dynamics_exerting<'w>(
 ) -> Result<&'w [f64], SolveError> {
     check_nv(d, v, "velocity value")?;
     check_nv(d, a, "acceleration value")?;
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     newton_euler(d, ws, &base, Some(v), Some(a), true, exerted);
     Ok(&ws.tau)
 }
@@ -437,7 +495,7 @@ pub fn static_torques<'w>(
     exerted: &[Exerted],
     gravity: bool,
 ) -> Result<&'w [f64], SolveError> {
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     newton_euler(d, ws, &base, None, None, gravity, exerted);
     Ok(&ws.tau)
 }
@@ -447,18 +505,29 @@ pub fn static_torques<'w>(
 pub struct DynamicsWorkspace {
     /// Each joint frame in its parent's (T_k = X_k e^{[a_k]θ_k}).
     local: Vec<Se3>,
+    /// The sweep's angles, sines and cosines (whole lanes of [`screwkit_lie::trig::LANES`]).
+    theta: Vec<f64>,
+    sin: Vec<f64>,
+    cos: Vec<f64>,
+    /// T_k as columns.
+    local_columns: Vec<Columns>,
+    /// Each joint frame in the root link's frame (J_k = J_parent T_k), as columns.
+    world: Vec<Columns>,
+    /// Each joint's screw in the root link's frame, [Ad_{J_k}] a_k (times its multiplier).
+    screw_packed: Vec<[f64; 6]>,
+    /// The composite bodies in the root link's frame, packed.
+    packed: Vec<Packed>,
     velocity: Vec<Vector6<f64>>,
     acceleration: Vec<Vector6<f64>>,
     force: Vec<Vector6<f64>>,
-    composite: Vec<SpatialInertia>,
     root_force: Vector6<f64>,
     /// The mass matrix and its Cholesky factor (nv × nv).
     mass: DMatrix<f64>,
+    /// The centroidal momentum map (6 × nv).
+    centroidal: DMatrix<f64>,
     factor: DMatrix<f64>,
     tau: Vec<f64>,
     rhs: Vec<f64>,
-    /// Each joint frame in the world.
-    world: Vec<Se3>,
     /// The articulated-body algorithm's articulated inertias, bias forces, U = I^A a_k,
     /// D = a_kᵀ U, u = τ − a_kᵀ p^A and bias accelerations.
     articulated: Vec<Matrix6<f64>>,
@@ -474,18 +543,25 @@ impl DynamicsWorkspace {
     pub fn new(dynamics: &Dynamics) -> Self {
         let n = dynamics.bodies.len();
         let nv = dynamics.nv;
+        let lanes = n.div_ceil(screwkit_lie::trig::LANES) * screwkit_lie::trig::LANES;
         Self {
             local: vec![Se3::identity(); n],
+            theta: vec![0.0; lanes],
+            sin: vec![0.0; lanes],
+            cos: vec![0.0; lanes],
+            local_columns: vec![Columns::identity(); n],
+            world: vec![Columns::identity(); n],
+            screw_packed: vec![[0.0; 6]; n],
+            packed: vec![[0.0; 10]; n],
             velocity: vec![Vector6::zeros(); n],
             acceleration: vec![Vector6::zeros(); n],
             force: vec![Vector6::zeros(); n],
-            composite: vec![SpatialInertia::zero(); n],
             root_force: Vector6::zeros(),
             mass: DMatrix::zeros(nv, nv),
+            centroidal: DMatrix::zeros(6, nv),
             factor: DMatrix::zeros(nv, nv),
             tau: vec![0.0; nv],
             rhs: vec![0.0; nv],
-            world: vec![Se3::identity(); n],
             articulated: vec![Matrix6::zeros(); n],
             bias_force: vec![Vector6::zeros(); n],
             u_vec: vec![Vector6::zeros(); n],
@@ -539,43 +615,81 @@ fn vec6(t: &Twist) -> Vector6<f64> {
     t.to_vector()
 }
 
-/// The root's pose and each joint's T_k at q (checked).
-fn place(d: &Dynamics, ws: &mut DynamicsWorkspace, q: &[f64]) -> Result<Se3, SolveError> {
+/// Which joint frames [`place`] puts: each in its parent's (T_k, for the passes in the joints'
+/// own frames), each in the root link's (J_k, for the passes in that frame), or both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Frames {
+    Local,
+    Root,
+    Both,
+}
+
+/// The root's pose and, at q (checked), each joint's T_k (into `ws.local`) and/or J_k (into
+/// `ws.world`).
+fn place(
+    d: &Dynamics,
+    ws: &mut DynamicsWorkspace,
+    q: &[f64],
+    frames: Frames,
+) -> Result<Se3, SolveError> {
     let base = d.check_q(q)?;
-    let joints = &q[d.nq - d.joints_variables()..];
-    for (k, j) in d.joints.iter().enumerate() {
-        let theta = j.multiplier * joints[j.variable] + j.offset;
-        ws.local[k] = motion(j, theta);
+    let local = frames != Frames::Root;
+    dispatch(Sweep {
+        d,
+        q: &q[d.nq - d.joints_variables()..],
+        theta: &mut ws.theta,
+        sin: &mut ws.sin,
+        cos: &mut ws.cos,
+        local: local.then_some(&mut ws.local_columns[..]),
+        world: (frames != Frames::Local).then_some(&mut ws.world[..]),
+    });
+    if local {
+        for (o, c) in ws.local.iter_mut().zip(&ws.local_columns) {
+            *o = c.to_se3();
+        }
     }
     Ok(base)
 }
 
-/// T_k = X_k e^{[a_k]θ}: for a revolute joint (a = (ω, 0), ω unit) Rodrigues' rotation
-/// about ω, for a prismatic one (a = (0, v)) the translation v θ, else the general exponential.
-#[inline]
-fn motion(j: &Joint, theta: f64) -> Se3 {
-    let (w, v) = (&j.axis.w, &j.axis.v);
-    let p = &j.placement;
-    if *v == Vector3::zeros() {
-        let (s, c) = theta.sin_cos();
-        let t = 1.0 - c;
-        let (x, y, z) = (w.x, w.y, w.z);
-        let r = nalgebra::Matrix3::new(
-            t * x * x + c,
-            t * x * y - s * z,
-            t * x * z + s * y,
-            t * x * y + s * z,
-            t * y * y + c,
-            t * y * z - s * x,
-            t * x * z - s * y,
-            t * y * z + s * x,
-            t * z * z + c,
-        );
-        Se3::from_parts_unchecked(p.rotation() * r, *p.translation())
-    } else if *w == Vector3::zeros() {
-        Se3::from_parts_unchecked(*p.rotation(), p.translation() + p.rotation() * (v * theta))
-    } else {
-        p.compose(&Se3::exp(&(j.axis * theta)))
+/// The placing sweep: θ_k by each joint's drive, their sines and cosines in lanes, then per
+/// joint T_k = X_k e^{[a_k]θ_k} and/or J_k = J_parent X_k e^{[a_k]θ_k}, each by the cheapest
+/// update of the joint's form ([`PoeJoint::apply`], the all-frame FK's).
+struct Sweep<'a> {
+    d: &'a Dynamics,
+    q: &'a [f64],
+    theta: &'a mut [f64],
+    sin: &'a mut [f64],
+    cos: &'a mut [f64],
+    local: Option<&'a mut [Columns]>,
+    world: Option<&'a mut [Columns]>,
+}
+
+impl Kernel for Sweep<'_> {
+    type Output = ();
+    #[inline(always)]
+    fn run<A: MulAdd>(self) {
+        let d = self.d;
+        for (t, j) in self.theta.iter_mut().zip(&d.sweep) {
+            *t = j.motion.drive.theta(self.q);
+        }
+        sin_cos_lanes::<A>(self.theta, self.sin, self.cos);
+        let (mut local, mut world) = (self.local, self.world);
+        for (k, j) in d.sweep.iter().enumerate() {
+            let (t, s, c) = (self.theta[k], self.sin[k], self.cos[k]);
+            if let Some(out) = local.as_deref_mut() {
+                let mut g = d.homes[k];
+                j.motion.apply::<A>(&mut g, t, s, c);
+                out[k] = g;
+            }
+            if let Some(out) = world.as_deref_mut() {
+                let mut g = match d.joints[k].parent {
+                    NONE => d.homes[k],
+                    p => j.fixed.apply::<A>(&out[p]),
+                };
+                j.motion.apply::<A>(&mut g, t, s, c);
+                out[k] = g;
+            }
+        }
     }
 }
 
@@ -705,7 +819,7 @@ pub fn inverse_dynamics<'w>(
 ) -> Result<&'w [f64], SolveError> {
     check_nv(d, v, "velocity value")?;
     check_nv(d, a, "acceleration value")?;
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     newton_euler(d, ws, &base, Some(v), Some(a), true, &[]);
     Ok(&ws.tau)
 }
@@ -724,7 +838,7 @@ pub fn inverse_dynamics_tip<'w>(
     check_nv(d, v, "velocity value")?;
     check_nv(d, a, "acceleration value")?;
     check_values(&TIP_NAMES.map(String::from), tip, "tip wrench value")?;
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     let at_tip = [d.at_tip(tip)];
     newton_euler(d, ws, &base, Some(v), Some(a), true, &at_tip);
     Ok(&ws.tau)
@@ -739,7 +853,7 @@ pub fn gravity<'w>(
     ws: &'w mut DynamicsWorkspace,
     q: &[f64],
 ) -> Result<&'w [f64], SolveError> {
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     newton_euler(d, ws, &base, None, None, true, &[]);
     Ok(&ws.tau)
 }
@@ -753,7 +867,7 @@ pub fn nonlinear_effects<'w>(
     v: &[f64],
 ) -> Result<&'w [f64], SolveError> {
     check_nv(d, v, "velocity value")?;
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     newton_euler(d, ws, &base, Some(v), None, true, &[]);
     Ok(&ws.tau)
 }
@@ -768,57 +882,169 @@ pub fn mass_matrix<'w>(
     ws: &'w mut DynamicsWorkspace,
     q: &[f64],
 ) -> Result<&'w DMatrix<f64>, SolveError> {
-    place(d, ws, q)?;
-    crba(d, ws);
+    place(d, ws, q, Frames::Root)?;
+    dispatch(Pass(|| crba(d, ws)));
     Ok(&ws.mass)
 }
 
-/// The composite-rigid-body pass at placed joints, into `ws.mass`.
+/// The composite bodies I^c_k (into `ws.packed`) and the joints' screws S_k (into
+/// `ws.screw_packed`), in the root link's frame, at placed J_k; returns the whole robot's
+/// composite body there ([`crba`]'s first two steps).
+#[inline(always)]
+fn composite(d: &Dynamics, ws: &mut DynamicsWorkspace) -> Packed {
+    let joints = &d.joints;
+    let n = joints.len();
+    for (k, joint) in joints.iter().enumerate() {
+        let g = &ws.world[k];
+        ws.packed[k] = packed_at(&d.bodies[k], g);
+        let [c0, c1, c2, p] = g.0;
+        let a = &joint.axis;
+        let rot = |x: &Vector3<f64>| -> [f64; 3] {
+            std::array::from_fn(|i| c0[i] * x.x + c1[i] * x.y + c2[i] * x.z)
+        };
+        let (w, v) = (rot(&a.w), rot(&a.v));
+        let m = joint.multiplier;
+        ws.screw_packed[k] = [
+            m * w[0],
+            m * w[1],
+            m * w[2],
+            m * (v[0] + p[1] * w[2] - p[2] * w[1]),
+            m * (v[1] + p[2] * w[0] - p[0] * w[2]),
+            m * (v[2] + p[0] * w[1] - p[1] * w[0]),
+        ];
+    }
+    let r = &d.root;
+    let ri = &r.rotational;
+    let mut root: Packed = [
+        r.mass,
+        r.first_moment.x,
+        r.first_moment.y,
+        r.first_moment.z,
+        ri[(0, 0)],
+        ri[(0, 1)],
+        ri[(0, 2)],
+        ri[(1, 1)],
+        ri[(1, 2)],
+        ri[(2, 2)],
+    ];
+    for k in (0..n).rev() {
+        let c = ws.packed[k];
+        let to = match joints[k].parent {
+            NONE => &mut root,
+            p => &mut ws.packed[p],
+        };
+        for (t, x) in to.iter_mut().zip(c) {
+            *t += x;
+        }
+    }
+    root
+}
+
+/// A spatial inertia packed for the composite pass: m, h = m c, then Ī_o's upper triangle
+/// (xx, xy, xz, yy, yz, zz).
+type Packed = [f64; 10];
+
+/// `b` (in a joint frame) seen from the frame where that joint frame is at `g` (the formula of
+/// [`SpatialInertia::rotated_moved`], written out on the columns of R).
+#[inline(always)]
+fn packed_at(b: &SpatialInertia, g: &Columns) -> Packed {
+    let [c0, c1, c2, p] = g.0;
+    let rot = |x: [f64; 3]| -> [f64; 3] {
+        std::array::from_fn(|i| c0[i] * x[0] + c1[i] * x[1] + c2[i] * x[2])
+    };
+    let m = b.mass;
+    let hr = rot(b.first_moment.into());
+    let i = &b.rotational;
+    // B = R Ī (columns: R times Ī's columns), then (B Rᵀ)(r, c) = Σ_k B(r, k) R(c, k).
+    let b0 = rot([i[(0, 0)], i[(1, 0)], i[(2, 0)]]);
+    let b1 = rot([i[(0, 1)], i[(1, 1)], i[(2, 1)]]);
+    let b2 = rot([i[(0, 2)], i[(1, 2)], i[(2, 2)]]);
+    let rr = |r: usize, c: usize| b0[r] * c0[c] + b1[r] * c1[c] + b2[r] * c2[c];
+    let diag = m * (p[0] * p[0] + p[1] * p[1] + p[2] * p[2])
+        + 2.0 * (p[0] * hr[0] + p[1] * hr[1] + p[2] * hr[2]);
+    let shift = |r: usize, c: usize| m * p[r] * p[c] + hr[r] * p[c] + p[r] * hr[c];
+    [
+        m,
+        hr[0] + m * p[0],
+        hr[1] + m * p[1],
+        hr[2] + m * p[2],
+        rr(0, 0) - shift(0, 0) + diag,
+        rr(0, 1) - shift(0, 1),
+        rr(0, 2) - shift(0, 2),
+        rr(1, 1) - shift(1, 1) + diag,
+        rr(1, 2) - shift(1, 2),
+        rr(2, 2) - shift(2, 2) + diag,
+    ]
+}
+
+/// G S for a packed inertia and a twist S = (ω, v): (Ī_o ω + h × v, m v − h × ω).
+#[inline(always)]
+fn packed_apply(g: &Packed, s: &[f64; 6]) -> [f64; 6] {
+    let [m, hx, hy, hz, xx, xy, xz, yy, yz, zz] = *g;
+    let [wx, wy, wz, vx, vy, vz] = *s;
+    [
+        xx * wx + xy * wy + xz * wz + (hy * vz - hz * vy),
+        xy * wx + yy * wy + yz * wz + (hz * vx - hx * vz),
+        xz * wx + yz * wy + zz * wz + (hx * vy - hy * vx),
+        m * vx - (hy * wz - hz * wy),
+        m * vy - (hz * wx - hx * wz),
+        m * vz - (hx * wy - hy * wx),
+    ]
+}
+
+/// The composite-rigid-body pass at placed joints (their frames J_k in the root link's frame),
+/// into `ws.mass`, in the root link's frame (Featherstone's and Pinocchio's world convention):
+/// each body there, I_k = [Ad_{J_k⁻¹}]ᵀ G_k [Ad_{J_k⁻¹}], each joint's screw
+/// S_k = [Ad_{J_k}] a_k; the composite bodies are plain sums I^c_k = I_k + Σ_children I^c_c, and
+/// M(l, k) = S_lᵀ I^c_k S_k for l = k and its ancestors (m_l m_k with a mimic's multipliers;
+/// with a floating base, M(base, k) = I^c_k S_k and M(base, base) = the whole robot's I^c).
+#[inline(always)]
 fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
     let off = if d.floating { 6 } else { 0 };
     let joints = &d.joints;
-    let n = joints.len();
-    ws.composite[..n].copy_from_slice(&d.bodies);
-    let mut root = d.root;
-    for k in (0..n).rev() {
-        // The composite body seen from the parent joint's frame (T_k: this frame there).
-        let up = ws.composite[k].transformed(&ws.local[k]);
-        match joints[k].parent {
-            NONE => root = root.plus(&up),
-            p => ws.composite[p] = ws.composite[p].plus(&up),
+    let root = composite(d, ws);
+    let nv = d.nv;
+    let mass = ws.mass.as_mut_slice();
+    mass.fill(0.0);
+    if d.floating {
+        let [m, hx, hy, hz, xx, xy, xz, yy, yz, zz] = root;
+        let g = [
+            [xx, xy, xz, 0.0, -hz, hy],
+            [xy, yy, yz, hz, 0.0, -hx],
+            [xz, yz, zz, -hy, hx, 0.0],
+            [0.0, hz, -hy, m, 0.0, 0.0],
+            [-hz, 0.0, hx, 0.0, m, 0.0],
+            [hy, -hx, 0.0, 0.0, 0.0, m],
+        ];
+        for c in 0..6 {
+            for r in 0..6 {
+                mass[c * nv + r] = g[r][c];
+            }
         }
     }
-    ws.mass.fill(0.0);
-    if d.floating {
-        // (Exactly symmetric: the sums above round each triangle on its own.)
-        let root = root.matrix();
-        let root = (root + root.transpose()) * 0.5;
-        ws.mass.view_mut((0, 0), (6, 6)).copy_from(&root);
-    }
-    for k in 0..n {
-        let jk = &joints[k];
-        let vk = off + jk.variable;
-        let sk = vec6(&jk.axis);
-        let mut f = ws.composite[k].apply(&sk) * jk.multiplier;
+    let dot = |a: &[f64; 6], b: &[f64; 6]| {
+        (a[0] * b[0] + a[1] * b[1]) + (a[2] * b[2] + a[3] * b[3]) + (a[4] * b[4] + a[5] * b[5])
+    };
+    for k in 0..joints.len() {
+        let vk = off + joints[k].variable;
+        let f = packed_apply(&ws.packed[k], &ws.screw_packed[k]);
         let mut l = k;
         loop {
-            let jl = &joints[l];
-            let vl = off + jl.variable;
-            let m = jl.multiplier * vec6(&jl.axis).dot(&f);
-            ws.mass[(vl, vk)] += m;
+            let vl = off + joints[l].variable;
+            let m = dot(&ws.screw_packed[l], &f);
+            mass[vk * nv + vl] += m;
             if l != k {
-                ws.mass[(vk, vl)] += m;
+                mass[vl * nv + vk] += m;
             }
-            f = wrench_in_parent(&ws.local[l], &f);
-            match jl.parent {
+            match joints[l].parent {
                 NONE => break,
                 p => l = p,
             }
         }
         if d.floating {
             for i in 0..6 {
-                ws.mass[(i, vk)] += f[i];
-                ws.mass[(vk, i)] += f[i];
+                mass[vk * nv + i] += f[i];
+                mass[i * nv + vk] += f[i];
             }
         }
     }
@@ -865,7 +1091,7 @@ pub fn aba<'w>(
 ) -> Result<&'w [f64], SolveError> {
     check_nv(d, v, "velocity value")?;
     check_nv(d, tau, "force value")?;
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     let off = if d.floating { 6 } else { 0 };
     let joints = &d.joints;
     let n = joints.len();
@@ -961,7 +1187,6 @@ pub fn aba<'w>(
 
 /// [`forward_dynamics`] with the last body pressing on the environment with the wrench `tip`
 /// at its tip frame (the textbook's `ForwardDynamics`): a = M⁻¹ (τ − h − Jᵀ F_tip).
-#[allow(clippy::needless_range_loop)] // the factorisation reads as its formulas, by index
 pub fn forward_dynamics_tip<'w>(
     d: &Dynamics,
     ws: &'w mut DynamicsWorkspace,
@@ -970,16 +1195,31 @@ pub fn forward_dynamics_tip<'w>(
     tau: &[f64],
     tip: &[f64; 6],
 ) -> Result<&'w [f64], SolveError> {
-    check_nv(d, v, "velocity value")?;
-    check_nv(d, tau, "force value")?;
     check_values(&TIP_NAMES.map(String::from), tip, "tip wrench value")?;
-    let base = place(d, ws, q)?;
     let at_tip = [d.at_tip(tip)];
     let pressed = if tip.iter().any(|x| *x != 0.0) {
         &at_tip[..]
     } else {
         &[]
     };
+    forward_dynamics_exerting(d, ws, q, v, tau, pressed)
+}
+
+/// Forward dynamics with the robot exerting wrenches on its environment at frames
+/// ([`Dynamics::exerted`]; a wrench on the robot is the opposite of one it exerts):
+/// a = M⁻¹ (τ − h − Σ J_fᵀ F_f), by the mass matrix's Cholesky factorisation.
+#[allow(clippy::needless_range_loop)] // the factorisation reads as its formulas, by index
+pub fn forward_dynamics_exerting<'w>(
+    d: &Dynamics,
+    ws: &'w mut DynamicsWorkspace,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    pressed: &[Exerted],
+) -> Result<&'w [f64], SolveError> {
+    check_nv(d, v, "velocity value")?;
+    check_nv(d, tau, "force value")?;
+    let base = place(d, ws, q, Frames::Both)?;
     newton_euler(d, ws, &base, Some(v), None, true, pressed);
     crba(d, ws);
     let nv = d.nv;
@@ -1028,6 +1268,93 @@ pub fn forward_dynamics_tip<'w>(
     Ok(&ws.tau)
 }
 
+/// The centroidal momentum map A_G(q) (6 × nv) and the centre of mass c (world): the robot's
+/// momentum about its centre of mass, h_G = A_G v = (k_G, p) (angular, then linear; the
+/// wrench order), in the world's axes (Orin and Goswami's centroidal momentum; Pinocchio's
+/// `computeCentroidalMap`, whose rows are (linear, angular)). The centre of mass is every
+/// link's, those fixed to the world too (as `com` computes it; Pinocchio's leaves out a fixed
+/// base's links, which moves its angular rows by (c − c_pin) × p).
+///
+/// Column k is the momentum of unit speed of variable k: in the root link's frame at its
+/// origin, the composite body's I^c_k S_k of [`mass_matrix`] (with a floating base, the whole
+/// robot's I^c e_i for the base's six), turned into the world's axes (R) and taken about c:
+/// (k, p) = (R m − [c − p_base] R f, R f).
+pub fn centroidal_map<'w>(
+    d: &Dynamics,
+    ws: &'w mut DynamicsWorkspace,
+    q: &[f64],
+) -> Result<(&'w DMatrix<f64>, [f64; 3]), SolveError> {
+    let base = place(d, ws, q, Frames::Root)?;
+    let off = if d.floating { 6 } else { 0 };
+    let root = dispatch(Pass(|| composite(d, ws)));
+    let [m, hx, hy, hz, ..] = root;
+    if m.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+        return Err(SolveError::InvalidInput(
+            "the robot has no mass: no centre of mass".into(),
+        ));
+    }
+    let (rb, pb) = (base.rotation(), base.translation());
+    // c − p_base in the world's axes (the root link's frame at the base's pose).
+    let lever = rb * Vector3::new(hx / m, hy / m, hz / m);
+    let map = &mut ws.centroidal;
+    map.fill(0.0);
+    let mut column = |col: usize, f: [f64; 6]| {
+        let ang = rb * Vector3::new(f[0], f[1], f[2]);
+        let lin = rb * Vector3::new(f[3], f[4], f[5]);
+        let k = ang - lever.cross(&lin);
+        for (i, x) in [k.x, k.y, k.z, lin.x, lin.y, lin.z].into_iter().enumerate() {
+            map[(i, col)] += x;
+        }
+    };
+    if d.floating {
+        for i in 0..6 {
+            let mut e = [0.0; 6];
+            e[i] = 1.0;
+            column(i, packed_apply(&root, &e));
+        }
+    }
+    for (k, j) in d.joints.iter().enumerate() {
+        column(
+            off + j.variable,
+            packed_apply(&ws.packed[k], &ws.screw_packed[k]),
+        );
+    }
+    let c = lever + pb;
+    Ok((&ws.centroidal, [c.x, c.y, c.z]))
+}
+
+/// The centroidal momentum h_G = A_G(q) v = (k_G, p) (angular about the centre of mass, then
+/// linear; world axes) and the centre of mass c ([`centroidal_map`]; Pinocchio's
+/// `computeCentroidalMomentum`, in (linear, angular) order).
+pub fn centroidal_momentum(
+    d: &Dynamics,
+    ws: &mut DynamicsWorkspace,
+    q: &[f64],
+    v: &[f64],
+) -> Result<([f64; 6], [f64; 3]), SolveError> {
+    check_nv(d, v, "velocity value")?;
+    let (map, c) = centroidal_map(d, ws, q)?;
+    let mut h = [0.0; 6];
+    for (col, x) in map.column_iter().zip(v) {
+        for (h, a) in h.iter_mut().zip(col.iter()) {
+            *h += a * x;
+        }
+    }
+    Ok((h, c))
+}
+
+/// A pass run by [`dispatch`]: its body compiled for AVX2 and FMA where the CPU has them (the
+/// multiply-adds as the compiler writes them; the kernels' explicit ones are `A`'s).
+struct Pass<T, F: FnOnce() -> T>(F);
+
+impl<T, F: FnOnce() -> T> Kernel for Pass<T, F> {
+    type Output = T;
+    #[inline(always)]
+    fn run<A: MulAdd>(self) -> T {
+        (self.0)()
+    }
+}
+
 /// The kinetic energy ½ Σ V_kᵀ G_k V_k (= ½ vᵀ M(q) v).
 pub fn kinetic_energy(
     d: &Dynamics,
@@ -1036,7 +1363,7 @@ pub fn kinetic_energy(
     v: &[f64],
 ) -> Result<f64, SolveError> {
     check_nv(d, v, "velocity value")?;
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Local)?;
     newton_euler(d, ws, &base, Some(v), None, false, &[]);
     let mut e = 0.0;
     for k in 0..d.bodies.len() {
@@ -1057,22 +1384,20 @@ pub fn potential_energy(
     ws: &mut DynamicsWorkspace,
     q: &[f64],
 ) -> Result<f64, SolveError> {
-    let base = place(d, ws, q)?;
+    let base = place(d, ws, q, Frames::Root)?;
     let mut e = 0.0;
-    let body_energy = |b: &SpatialInertia, t: &Se3| -> f64 {
+    let body_energy = |b: &SpatialInertia, r: &nalgebra::Matrix3<f64>, p: &Vector3<f64>| {
         // The first moment in the world: R h + m p.
-        let h = t.rotation() * b.first_moment + t.translation() * b.mass;
+        let h = r * b.first_moment + p * b.mass;
         -d.gravity.dot(&h)
     };
+    let (rb, pb) = (base.rotation(), base.translation());
     for k in 0..d.bodies.len() {
-        let parent = match d.joints[k].parent {
-            NONE => base,
-            p => ws.world[p],
-        };
-        ws.world[k] = parent.compose(&ws.local[k]);
-        e += body_energy(&d.bodies[k], &ws.world[k]);
+        // The joint frame in the world: the base's pose, then J_k (in the root link's frame).
+        let (r, p) = ws.world[k].rotation_translation();
+        e += body_energy(&d.bodies[k], &(rb * r), &(rb * p + pb));
     }
-    e += body_energy(&d.root, &base);
+    e += body_energy(&d.root, rb, pb);
     Ok(e)
 }
 
