@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use screwkit_service::words::{
-    self, Axes, Collisions, GeometryRoles, JacobianFrame, Labels, Meshes, Method, OrientationMode,
-    RepresentativesChoice, SolverChoice, TableFrames, View, Views, Word,
+    self, Axes, Collisions, GeometryRoles, Inertias, JacobianFrame, Labels, Meshes, Method,
+    OrientationMode, RepresentativesChoice, SolverChoice, TableFrames, View, Views, Word,
 };
 use screwkit_service::{IkSettings, LoadOptions, Lock, ReachSpec, Shard};
 
@@ -116,6 +116,19 @@ pub struct DynamicsArgs {
     /// The acceleration (nv values; default zero).
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true, conflicts_with = "input")]
     pub a: Option<List>,
+    /// How to take an <inertial> that no rigid body has: refuse it naming its link (check),
+    /// take it as it is (as-given), or balance a triangle-inequality breach as MuJoCo's
+    /// balanceinertia does (balance: the three principal moments set to their mean).
+    #[arg(long, value_parser = word::<Inertias>(), default_value_t = Inertias::Check)]
+    pub inertias: Inertias,
+    /// Add each joint's armature (MJCF `armature`) to the mass matrix's diagonal (off by
+    /// default, as in Pinocchio; MuJoCo always adds it).
+    #[arg(long)]
+    pub armature: bool,
+    /// Add each joint's viscous damping (MJCF `damping`, URDF <dynamics damping>) to τ and h:
+    /// damping · v (off by default; MuJoCo counts it among its passive forces).
+    #[arg(long)]
+    pub damping: bool,
     /// Batch mode: JSON lines {"q": [...], "v": [...], "a": [...]} (v and a optional, zero
     /// when left out) from FILE or - (stdin); one JSON report per line, a bad line's error
     /// naming it, the others computed.

@@ -15,7 +15,7 @@ use crate::output::{emit, print_json, tuple, CliResult};
 pub fn run(a: &DynamicsArgs, format: Format) -> CliResult {
     let robot = crate::load(&a.chain)?;
     let kin = robot.whole()?;
-    let d = dynamics::model(kin)?;
+    let d = dynamics::model(kin, &dynamics::options(a.inertias, a.armature, a.damping))?;
     if let Some(input) = &a.input {
         let done = batch::stream(input, |lines, _| {
             let rows = batch::parse_rows(lines, |text| {

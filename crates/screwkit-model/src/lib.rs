@@ -56,7 +56,7 @@ pub use error::{ErrorKind, ModelError};
 pub use kinematic_tree::{KinematicTree, TreeFrame, TreeLink, TreeScrew};
 pub use load::{load_tree, tree_from_str, Format};
 pub use screws::{ScrewJoint, ScrewLeader, ScrewRobot};
-pub use tree::{Inertial, JointKind, Limit, Mimic, QposLayout, Tree, TreeJoint};
+pub use tree::{Inertial, JointDynamics, JointKind, Limit, Mimic, QposLayout, Tree, TreeJoint};
 pub use xacro::XacroOptions;
 
 /// Loads a robot file (URDF, xacro, MJCF or a screw table, told apart by content:

@@ -1350,11 +1350,16 @@ impl Builder {
             if let Some(&a) = self.addresses.get(&(*j as *const El)) {
                 self.layout.joints.push((jname.clone(), a));
             }
-            self.joints.push((
-                spec(jname, kind, &origin, axis.into(), limit),
-                current,
-                child.clone(),
-            ));
+            let one = |attr: &str| -> Result<f64, ModelError> {
+                Ok(self.numbers(j, class, attr, 1)?.map_or(0.0, |x| x[0]))
+            };
+            let mut joint = spec(jname, kind, &origin, axis.into(), limit);
+            joint.dynamics = crate::JointDynamics {
+                armature: one("armature")?,
+                damping: one("damping")?,
+                friction: one("frictionloss")?,
+            };
+            self.joints.push((joint, current, child.clone()));
             current = child;
             from = Pose::identity();
             anchor = pos;
@@ -2038,5 +2043,6 @@ fn spec(
         limit,
         mimic: None,
         pitch: 0.0,
+        dynamics: Default::default(),
     }
 }

@@ -574,6 +574,7 @@ impl ScrewRobot {
                 limit: None,
                 mimic: None,
                 pitch: 0.0,
+                dynamics: Default::default(),
             },
             links[rows.len()].clone(),
             "tip".into(),
@@ -618,6 +619,7 @@ fn tree_joint(
         } else {
             0.0
         },
+        dynamics: Default::default(),
     }
 }
 

@@ -161,6 +161,42 @@ impl Inertial {
         }
         None
     }
+
+    /// The inertial as MuJoCo's `<compiler balanceinertia="true">` makes it: when the principal
+    /// moments break the triangle inequality A + B ≥ C, all three become their mean (the
+    /// tensor (tr Ī / 3) 1); otherwise unchanged.
+    pub fn balanced(&self) -> Inertial {
+        let t = self.tensor();
+        let m = nalgebra::Matrix3::from_fn(|i, j| t[i][j]);
+        if !m.iter().all(|x| x.is_finite()) {
+            return *self;
+        }
+        let mut e: Vec<f64> = m.symmetric_eigenvalues().iter().copied().collect();
+        e.sort_by(f64::total_cmp);
+        if e[0] + e[1] >= e[2] * (1.0 - 1e-9) {
+            return *self;
+        }
+        let mean = (t[0][0] + t[1][1] + t[2][2]) / 3.0;
+        Inertial {
+            inertia: [mean, 0.0, 0.0, mean, 0.0, mean],
+            ..*self
+        }
+    }
+}
+
+/// A joint's passive dynamics as the file gives them (zero when it says nothing): MuJoCo's
+/// `armature` (a rotor's inertia, added to the joint's diagonal entry of the mass matrix) and
+/// `damping` (a force −damping · θ̇), URDF's `<dynamics damping>`; the dry friction (URDF's
+/// `<dynamics friction>`, MuJoCo's `frictionloss`) is kept for reference. Dynamics uses them
+/// only when asked.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct JointDynamics {
+    /// Armature inertia (kg m², or kg for a slide).
+    pub armature: f64,
+    /// Viscous damping (N m s/rad, or N s/m).
+    pub damping: f64,
+    /// Dry friction (N m, or N).
+    pub friction: f64,
 }
 
 /// A joint of the tree, as read from the URDF (not yet validated for chain use).
@@ -190,6 +226,8 @@ pub struct TreeJoint {
     pub mimic: Option<Mimic>,
     /// The pitch h of a helical joint (m/rad), 0 for every other kind.
     pub pitch: f64,
+    /// Armature, damping and friction (zero when the file gives none).
+    pub dynamics: JointDynamics,
 }
 
 impl TreeJoint {
@@ -667,6 +705,8 @@ pub struct TreeJointSpec {
     pub mimic: Option<Mimic>,
     /// The pitch of a helical joint (0 otherwise).
     pub pitch: f64,
+    /// Armature, damping and friction.
+    pub dynamics: JointDynamics,
 }
 
 impl TreeJointSpec {
@@ -683,6 +723,7 @@ impl TreeJointSpec {
             limit: self.limit,
             mimic: self.mimic,
             pitch: self.pitch,
+            dynamics: self.dynamics,
         }
     }
 }

@@ -138,6 +138,13 @@ fn parse_urdf(text: &str, source: &str) -> Result<Tree, ModelError> {
                     offset: m.offset.unwrap_or(0.0),
                 }),
                 pitch: 0.0,
+                dynamics: j.dynamics.as_ref().map_or_else(Default::default, |d| {
+                    crate::JointDynamics {
+                        armature: 0.0,
+                        damping: d.damping,
+                        friction: d.friction,
+                    }
+                }),
             };
             (spec, j.parent.link.clone(), j.child.link.clone())
         })
@@ -335,6 +342,7 @@ fn joint_for_urdf_rs(
             "axis" => &[("xyz", 3)],
             "limit" => &[("lower", 1), ("upper", 1), ("effort", 1), ("velocity", 1)],
             "mimic" => &[("multiplier", 1), ("offset", 1)],
+            "dynamics" => &[("damping", 1), ("friction", 1)],
             "parent" | "child" => &[],
             _ => continue,
         };

@@ -513,6 +513,73 @@ fn link_inertials_are_read_and_bad_ones_name_the_link() {
     }
 }
 
+/// MuJoCo's `balanceinertia`: principal moments that break A + B ≥ C all become their mean
+/// (tr / 3), whatever the tensor's orientation; a rigid body's inertial is left as it is.
+#[test]
+fn balancing_sets_impossible_moments_to_their_mean() {
+    let at = |inertia: [f64; 6]| screwkit_model::Inertial {
+        mass: 2.0,
+        com: [0.1, 0.0, 0.0],
+        inertia,
+    };
+    // diag(1, 0.2, 0.3): 0.2 + 0.3 < 1.
+    let bad = at([1.0, 0.0, 0.0, 0.2, 0.0, 0.3]);
+    assert!(bad.problem().unwrap().contains("triangle inequality"));
+    let b = bad.balanced();
+    assert_eq!(b.inertia, [0.5, 0.0, 0.0, 0.5, 0.0, 0.5]);
+    assert_eq!((b.mass, b.com), (bad.mass, bad.com));
+    assert!(b.problem().is_none());
+    // The same moments turned (off-diagonal entries): the mean of the trace, 0.5.
+    let turned = at([0.9, 0.2, 0.1, 0.35, 0.05, 0.25]);
+    assert!(turned.problem().is_some());
+    assert!((turned.balanced().inertia[0] - 0.5).abs() < 1e-15);
+    let good = at([0.3, 0.01, 0.0, 0.2, 0.0, 0.4]);
+    assert!(good.problem().is_none());
+    assert_eq!(good.balanced(), good);
+}
+
+/// A joint's `<dynamics damping friction>` (URDF) and `armature`, `damping`, `frictionloss`
+/// (MJCF, through default classes) are read; zero when the file says nothing.
+#[test]
+fn joint_damping_and_armature_are_read() {
+    let tree = urdf::load_str(
+        "<robot name=\"r\"><link name=\"a\"/><link name=\"b\"/><link name=\"c\"/>\
+         <joint name=\"j\" type=\"continuous\"><parent link=\"a\"/><child link=\"b\"/>\
+         <dynamics damping=\"0.7\" friction=\"0.2\"/></joint>\
+         <joint name=\"k\" type=\"continuous\"><parent link=\"b\"/><child link=\"c\"/></joint></robot>",
+        "t.urdf",
+    )
+    .unwrap();
+    let j = &tree.joints[tree.joint("j").unwrap()];
+    assert_eq!(
+        (j.dynamics.damping, j.dynamics.friction, j.dynamics.armature),
+        (0.7, 0.2, 0.0)
+    );
+    assert_eq!(
+        tree.joints[tree.joint("k").unwrap()].dynamics,
+        Default::default()
+    );
+    let tree = screwkit_model::mjcf::load_str(
+        r#"<mujoco><default><joint armature="0.1" damping="2"/>
+           <default class="light"><joint damping="0.5" frictionloss="0.3"/></default></default>
+           <worldbody><body name="a"><joint name="j" type="hinge"/><geom size="0.1"/>
+             <body name="b"><joint name="k" class="light" type="hinge"/><geom size="0.1"/></body>
+           </body></worldbody></mujoco>"#,
+        "t.xml",
+        std::path::Path::new("."),
+    )
+    .unwrap();
+    let d = |name: &str| tree.joints[tree.joint(name).unwrap()].dynamics;
+    assert_eq!(
+        (d("j").armature, d("j").damping, d("j").friction),
+        (0.1, 2.0, 0.0)
+    );
+    assert_eq!(
+        (d("k").armature, d("k").damping, d("k").friction),
+        (0.1, 0.5, 0.3)
+    );
+}
+
 /// Issue 44, item 18: mimic chains are followed once per link (each joint's drive was resolved
 /// from scratch: 30,000 chained mimics took over 20 s). Joint k follows joint k − 1 with
 /// multiplier 1 and offset 1e-4, so joint k turns q + k·1e-4: every drive is checked.

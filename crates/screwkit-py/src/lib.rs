@@ -139,6 +139,7 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     d.set_item("geometry", all::<w::GeometryRoles>())?;
     d.set_item("meshes", all::<w::Meshes>())?;
     d.set_item("collisions", all::<w::Collisions>())?;
+    d.set_item("inertias", all::<w::Inertias>())?;
     Ok(d)
 }
 

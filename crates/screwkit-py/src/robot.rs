@@ -56,6 +56,8 @@ pub struct Robot {
     body_ws: Mutex<Option<BodyScratch>>,
     /// The dynamic model (built on first use) with the tree it was made for, and its scratch.
     dynamics: Mutex<Option<DynamicsScratch>>,
+    /// The options the dynamic model is built with (`set_dynamics_options`).
+    dynamics_options: Mutex<screwkit_solve::tree::dynamics::DynamicsOptions>,
 }
 
 /// The dynamic model of a tree, the tree (held, so that `add_frame`'s new tree is told apart)
@@ -209,6 +211,7 @@ impl Robot {
             body: RwLock::new(None),
             body_ws: Mutex::new(None),
             dynamics: Mutex::new(None),
+            dynamics_options: Mutex::new(Default::default()),
         })
     }
 
@@ -243,7 +246,11 @@ impl Robot {
         let kin = self.tree_model()?;
         let mut guard = self.dynamics.lock().unwrap_or_else(|e| e.into_inner());
         if !guard.as_ref().is_some_and(|d| Arc::ptr_eq(&d.kin, &kin)) {
-            let model = screwkit_service::dynamics::model(&kin).map_err(service_error)?;
+            let options = *self
+                .dynamics_options
+                .lock()
+                .unwrap_or_else(|e| e.into_inner());
+            let model = screwkit_service::dynamics::model(&kin, &options).map_err(service_error)?;
             if let Some(message) = screwkit_service::dynamics::massless_warning(&model) {
                 let cls = py.get_type::<pyo3::exceptions::PyUserWarning>();
                 PyErr::warn(
@@ -1769,6 +1776,41 @@ impl Robot {
     #[getter]
     fn total_mass(&self) -> PyResult<f64> {
         Ok(tree::com::total_mass(&*self.tree_model()?))
+    }
+
+    /// How the dynamics (`inverse_dynamics`, `mass_matrix`, …) takes the file: `inertias`
+    /// "check" (an `<inertial>` no rigid body has raises ValueError naming its link),
+    /// "as-given" (taken as it is) or "balance" (a triangle-inequality breach balanced as
+    /// MuJoCo's `balanceinertia` does); `armature` adds each joint's armature to M's diagonal,
+    /// `damping` each joint's damping · v to τ and h (both off by default, as in Pinocchio;
+    /// MuJoCo always adds them). A bad armature or damping raises ValueError naming its joint.
+    #[pyo3(signature = (*, inertias = "check", armature = false, damping = false))]
+    fn set_dynamics_options(
+        &self,
+        py: Python<'_>,
+        inertias: &str,
+        armature: bool,
+        damping: bool,
+    ) -> PyResult<()> {
+        let word = word::<screwkit_service::words::Inertias>("inertias", inertias)?;
+        let options = screwkit_service::dynamics::options(word, armature, damping);
+        let previous = std::mem::replace(
+            &mut *self
+                .dynamics_options
+                .lock()
+                .unwrap_or_else(|e| e.into_inner()),
+            options,
+        );
+        *self.dynamics.lock().unwrap_or_else(|e| e.into_inner()) = None;
+        // Built now, so that a bad file says so here (and the old options stay).
+        if let Err(e) = self.with_dynamics(py, |_, _| Ok(())) {
+            *self
+                .dynamics_options
+                .lock()
+                .unwrap_or_else(|e| e.into_inner()) = previous;
+            return Err(e);
+        }
+        Ok(())
     }
 
     /// Inverse dynamics τ = ID(q, v, a) of the whole tree (nv): the generalized forces that give

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import numpy.typing as npt
@@ -364,33 +365,10 @@ def mujoco_check(path: Path, samples: int = 3) -> None:
     m.dof_damping[:] = 0.0
     m.opt.gravity[:] = [0.0, 0.0, -9.81]  # screwkit's (an MJCF's <option gravity> is not read)
     d = mujoco.MjData(m)
-    assert m.nv == robot.nv
     free = robot.floating_base
-    off = 6 if free else 0
-    dof = {m.joint(j).name: int(m.jnt_dofadr[j]) for j in range(m.njnt)}
-    qadr = {m.joint(j).name: int(m.jnt_qposadr[j]) for j in range(m.njnt)}
-    perm = [dof[n] for n in robot.v_names[off:]]
     rng = np.random.default_rng(1)
     for q in configurations(robot, samples, 6):
-        qpos = m.qpos0.copy()
-        if free:
-            fj = next(j for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE)
-            a = m.jnt_qposadr[fj]
-            qpos[a : a + 3] = q[:3]
-            qpos[a + 3] = q[6]
-            qpos[a + 4 : a + 7] = q[3:6]
-        for n, x in zip(robot.q_names[7 if free else 0 :], q[7 if free else 0 :], strict=True):
-            qpos[qadr[n]] = x
-        d.qpos[:] = qpos
-        # T: our v from MuJoCo's qvel (the free joint's six, then the joints by name).
-        t = np.zeros((robot.nv, m.nv))
-        if free:
-            fa = m.jnt_dofadr[fj]
-            r = np.array(pin_quat_to_matrix(q[3:7]))
-            t[0:3, fa + 3 : fa + 6] = np.eye(3)  # ω in the body
-            t[3:6, fa : fa + 3] = r.T  # v_b = Rᵀ v_world
-        for k, c in enumerate(perm):
-            t[off + k, c] = 1.0
+        t = to_mujoco(m, d, robot, q)
         d.qvel[:] = 0.0
         d.qacc[:] = 0.0
         mujoco.mj_forward(m, d)
@@ -414,6 +392,37 @@ def mujoco_check(path: Path, samples: int = 3) -> None:
         np.testing.assert_allclose(
             out, t.T @ robot.inverse_dynamics(q, t @ v, t @ acc), atol=1e-9 * scale
         )
+
+
+def to_mujoco(m: Any, d: Any, robot: screwkit.Robot, q: F64) -> F64:
+    """Puts our q into MuJoCo's `d.qpos` (its joints by name; a free joint's quaternion
+    (x, y, z, w) as MuJoCo's (w, x, y, z)) and returns T with v_ours = T qvel: a free joint's
+    velocity is MuJoCo's (linear in the world, angular in the body), ours (ω, v) in the body, so
+    M_mj = Tᵀ M T and g_mj = Tᵀ g."""
+    assert m.nv == robot.nv
+    free = robot.floating_base
+    off = 6 if free else 0
+    njnt = m.njnt
+    dof = {m.joint(j).name: int(m.jnt_dofadr[j]) for j in range(njnt)}
+    qadr = {m.joint(j).name: int(m.jnt_qposadr[j]) for j in range(njnt)}
+    qpos = m.qpos0.copy()
+    t = np.zeros((robot.nv, robot.nv))
+    if free:
+        fj = next(j for j in range(njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE)
+        a = m.jnt_qposadr[fj]
+        qpos[a : a + 3] = q[:3]
+        qpos[a + 3] = q[6]
+        qpos[a + 4 : a + 7] = q[3:6]
+        fa = m.jnt_dofadr[fj]
+        r = np.array(pin_quat_to_matrix(q[3:7]))
+        t[0:3, fa + 3 : fa + 6] = np.eye(3)  # ω in the body
+        t[3:6, fa : fa + 3] = r.T  # v_b = Rᵀ v_world
+    for n, x in zip(robot.q_names[7 if free else 0 :], q[7 if free else 0 :], strict=True):
+        qpos[qadr[n]] = x
+    for k, name in enumerate(robot.v_names[off:]):
+        t[off + k, dof[name]] = 1.0
+    d.qpos[:] = qpos
+    return t
 
 
 def pin_quat_to_matrix(xyzw: F64) -> F64:
@@ -565,3 +574,147 @@ def test_centroidal_momentum_equals_pinocchio(where: str, floating: bool) -> Non
             robot.total_mass * (robot.com_jacobian(q) @ v),
             atol=1e-9 * scale,
         )
+
+
+@pytest.mark.parametrize(
+    "path",
+    [REPO_MJCF / "humanoid.xml"]
+    + shared_params("mjcf", ["robosuite_panda.xml", "ant.xml", "humanoid.xml", "pusher.xml"]),
+)
+def test_armature_and_damping_equal_mujoco(path: Path) -> None:
+    """With `set_dynamics_options(armature=True, damping=True)`: M equals MuJoCo's `mj_fullM`
+    with the file's armature, the damping force is MuJoCo's `qfrc_passive` (springs, fluid and
+    gravity compensation off), and on a fixed base forward dynamics equals M⁻¹ (τ + passive −
+    bias) from MuJoCo's own terms; off by default (M without armature)."""
+    from test_mjcf import mesh_free
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = screwkit.Robot.from_file(path)
+        plain = screwkit.Robot.from_file(path)
+    robot.set_dynamics_options(armature=True, damping=True)
+    m = mujoco.MjModel.from_xml_string(mesh_free(path.read_text()))
+    m.jnt_stiffness[:] = 0.0
+    m.opt.density = 0.0
+    m.opt.viscosity = 0.0
+    m.body_gravcomp[:] = 0.0
+    m.opt.gravity[:] = [0.0, 0.0, -9.81]
+    free = robot.floating_base
+    if free:
+        # Our armature and damping are the joints' own; a free joint's are not read.
+        fa = next(int(m.jnt_dofadr[j]) for j in range(m.njnt) if m.jnt_type[j] == 0)
+        assert not m.dof_armature[fa : fa + 6].any()
+        m.dof_damping[fa : fa + 6] = 0.0
+    assert m.dof_armature.any() or m.dof_damping.any(), "the file has some"
+    d = mujoco.MjData(m)
+    rng = np.random.default_rng(2)
+    for q in configurations(robot, 3, 11):
+        t = to_mujoco(m, d, robot, q)
+        v = rng.normal(size=m.nv)
+        d.qvel[:] = v
+        mujoco.mj_forward(m, d)
+        full = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, full)
+        scale = 1 + np.abs(full).max()
+        mass = robot.mass_matrix(q)
+        np.testing.assert_allclose(full, t.T @ mass @ t, atol=1e-9 * scale)
+        if m.dof_armature.any():
+            assert np.abs(mass - plain.mass_matrix(q)).max() > 1e-6, "armature off by default"
+        ours_v = t @ v
+        damper = robot.nonlinear_effects(q, ours_v) - plain.nonlinear_effects(q, ours_v)
+        np.testing.assert_allclose(-(t.T @ damper), d.qfrc_passive, atol=1e-9 * scale)
+        if not free:
+            tau = rng.normal(size=m.nv)
+            want = np.linalg.solve(full, tau + d.qfrc_passive - d.qfrc_bias)
+            got = robot.forward_dynamics(q, ours_v, t @ tau)
+            np.testing.assert_allclose(got, t @ want, atol=1e-8 * (1 + np.abs(want).max()))
+            np.testing.assert_allclose(
+                robot.inverse_dynamics(q, ours_v, got), t @ tau, atol=1e-8 * scale
+            )
+
+
+def test_impossible_inertias_are_refused_taken_or_balanced_as_mujoco_does() -> None:
+    """A body whose principal moments break the triangle inequality: refused by default, naming
+    it; `inertias="as-given"` takes it; `inertias="balance"` gives MuJoCo's own M and bias with
+    `<compiler balanceinertia="true">` (the three moments set to their mean)."""
+    body = """<mujoco><compiler angle="radian" {c}/><worldbody>
+      <body name="upper"><joint name="a" type="hinge" axis="0 1 0"/>
+        <inertial pos="0.1 0 0" mass="2" diaginertia="0.02 0.03 0.04"/>
+        <body name="bad" pos="0.3 0 0"><joint name="b" type="hinge" axis="1 0 0"/>
+          <inertial pos="0.05 0.01 0" mass="1" fullinertia="0.1 0.01 0.02 0.001 0.002 0.003"/>
+        </body></body></worldbody></mujoco>"""
+    path = Path(__file__).parent / "_impossible_inertia.xml"
+    path.write_text(body.format(c=""))
+    try:
+        robot = screwkit.Robot.from_file(path)
+        with pytest.raises(ValueError, match='link "bad" <inertial>: the principal moments'):
+            robot.mass_matrix([0.1, 0.2])
+        robot.set_dynamics_options(inertias="as-given")
+        robot.mass_matrix([0.1, 0.2])
+        with pytest.raises(ValueError, match="inertias"):
+            robot.set_dynamics_options(inertias="guess")  # type: ignore[arg-type]
+        robot.set_dynamics_options(inertias="balance")
+        m = mujoco.MjModel.from_xml_string(body.format(c='balanceinertia="true"'))
+        m.opt.gravity[:] = [0.0, 0.0, -9.81]
+        d = mujoco.MjData(m)
+        for q in ([0.1, 0.2], [-1.0, 2.5]):
+            d.qpos[:] = q
+            d.qvel[:] = 0.0
+            mujoco.mj_forward(m, d)
+            full = np.zeros((2, 2))
+            mujoco.mj_fullM(m, d, full)
+            np.testing.assert_allclose(robot.mass_matrix(q), full, atol=1e-12)
+            np.testing.assert_allclose(robot.gravity(q), d.qfrc_bias, atol=1e-12)
+    finally:
+        path.unlink()
+
+
+def test_the_command_line_takes_the_same_dynamics_options() -> None:
+    """`screwkit dynamics --armature --damping --inertias WORD` = `set_dynamics_options`."""
+    import json
+    import os
+    import subprocess
+
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe:
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    path = REPO_MJCF / "humanoid.xml"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        robot = screwkit.Robot.from_file(path)
+    robot.set_dynamics_options(inertias="balance", armature=True, damping=True)
+    rng = np.random.default_rng(3)
+    q, v = configurations(robot, 1, 13)[0], rng.normal(size=robot.nv)
+    args = [exe, "dynamics", str(path), "--q", ",".join(map(repr, map(float, q)))]
+    args += ["--v", ",".join(map(repr, map(float, v))), "--format", "json"]
+    done = subprocess.run(
+        [*args, "--armature", "--damping", "--inertias", "balance"], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    np.testing.assert_array_equal(report["mass_matrix"], robot.mass_matrix(q))
+    np.testing.assert_array_equal(report["nonlinear_effects"], robot.nonlinear_effects(q, v))
+    bad = subprocess.run([*args, "--inertias", "guess"], capture_output=True, text=True)
+    assert bad.returncode != 0 and "balance" in bad.stderr, bad.stderr
+
+
+def test_urdf_damping_is_the_files_as_pinocchio_reads_it() -> None:
+    """`set_dynamics_options(damping=True)` adds D v to h with D the file's
+    `<dynamics damping>` per joint, as Pinocchio's parser reads it (`model.damping`), on
+    TALOS (floating: the base's six entries undamped); M and gravity unchanged."""
+    path = ROBOTS / ERD["talos"]
+    if not path.exists():
+        pytest.skip("example-robot-data (pip install example-robot-data) is a test dependency")
+    robot, plain = load(path, True), load(path, True)
+    robot.set_dynamics_options(damping=True)
+    oracle = Oracle(path, robot, True)
+    damping = oracle.ours(oracle.model.damping)
+    assert damping[6:].max() > 0.5 and not damping[:6].any()
+    rng = np.random.default_rng(9)
+    for q in configurations(robot, 2, 14):
+        v = rng.normal(size=robot.nv)
+        np.testing.assert_allclose(
+            robot.nonlinear_effects(q, v) - plain.nonlinear_effects(q, v), damping * v, atol=1e-9
+        )
+        np.testing.assert_array_equal(robot.mass_matrix(q), plain.mass_matrix(q))
+        np.testing.assert_array_equal(robot.gravity(q), plain.gravity(q))

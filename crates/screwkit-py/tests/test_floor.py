@@ -179,6 +179,7 @@ def test_stub_words_are_the_floors() -> None:
         ("_Geometry", "geometry"),
         ("_Meshes", "meshes"),
         ("_Collisions", "collisions"),
+        ("_Inertias", "inertias"),
     ]:
         assert sorted(lit[alias]) == sorted(words[family]), alias
     for family in ["orientation_mode", "solver_choice"]:

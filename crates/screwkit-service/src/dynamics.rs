@@ -4,17 +4,28 @@
 
 use serde::Serialize;
 
-use screwkit_solve::tree::dynamics::{self, Dynamics, DynamicsWorkspace};
+use screwkit_solve::tree::dynamics::{self, Dynamics, DynamicsOptions, DynamicsWorkspace};
 use screwkit_solve::TreeKinematics;
 
 use crate::error::Result;
 use crate::io::json::numbers;
 
-/// The dynamic model of the whole tree `kin`: the links' inertials, checked (an inertial that
-/// no rigid body has is an error naming its link). Links without one are massless:
-/// [`Dynamics::massless`], for the front end's one warning.
-pub fn model(kin: &TreeKinematics) -> Result<Dynamics> {
-    Ok(Dynamics::new(kin, false)?)
+/// The dynamic model of the whole tree `kin` with `options` (default: the links' inertials
+/// checked, an inertial that no rigid body has an error naming its link; no armature or
+/// damping). Links without an inertial are massless: [`Dynamics::massless`], for the front
+/// end's one warning.
+pub fn model(kin: &TreeKinematics, options: &DynamicsOptions) -> Result<Dynamics> {
+    Ok(Dynamics::with_options(kin, options)?)
+}
+
+/// The options from the front ends' words: `inertias` ([`crate::words::Inertias`]), and
+/// whether to add the joints' armature and damping.
+pub fn options(inertias: crate::words::Inertias, armature: bool, damping: bool) -> DynamicsOptions {
+    DynamicsOptions {
+        inertias: inertias.rule(),
+        armature,
+        damping,
+    }
 }
 
 /// The warning about massless links, or `None` when every link has an `<inertial>`.

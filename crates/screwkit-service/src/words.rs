@@ -362,6 +362,32 @@ words! {
     }
 }
 
+words! {
+    /// How dynamics takes a file's `<inertial>`s (`screwkit dynamics --inertias`,
+    /// `Robot.set_dynamics_options(inertias=…)`): one that no rigid body has is an error naming
+    /// its link, taken as given, or balanced as MuJoCo's `balanceinertia` does.
+    Inertias, "inertias rule" {
+        /// Refuse an impossible inertial, naming its link (the default).
+        Check = "check",
+        /// Take the file's numbers as they are.
+        AsGiven = "as-given" | "as_given",
+        /// A triangle-inequality breach: all three principal moments set to their mean.
+        Balance = "balance",
+    }
+}
+
+impl Inertias {
+    /// The library's rule.
+    pub fn rule(self) -> screwkit_solve::tree::dynamics::Inertias {
+        use screwkit_solve::tree::dynamics::Inertias as I;
+        match self {
+            Inertias::Check => I::Check,
+            Inertias::AsGiven => I::AsGiven,
+            Inertias::Balance => I::Balance,
+        }
+    }
+}
+
 /// Which screw axes a drawing shows (`screwkit draw --axes`, `Robot.draw(axes=…)`): `all`,
 /// `none`, or joints by name or by their number in the drawing (`J1,J2`, `1,2`). Not given
 /// ([`Axes::Auto`]): every axis of a chain, or of a tree of at most [`Axes::AUTO_MAX`] joints;
@@ -551,6 +577,7 @@ mod tests {
         check::<View>();
         check::<Views>();
         check::<Labels>();
+        check::<Inertias>();
         check::<OrientationMode>();
         check::<SolverChoice>();
         assert_eq!(

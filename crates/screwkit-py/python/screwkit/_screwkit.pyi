@@ -74,6 +74,7 @@ _TableFormat: TypeAlias = Literal["markdown", "md", "text", "csv", "json"]
 _TableFrames: TypeAlias = Literal["space", "body", "both"]
 _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Labels: TypeAlias = Literal["none", "leaves", "all"]
+_Inertias: TypeAlias = Literal["check", "as-given", "as_given", "balance"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
 _Geometry: TypeAlias = Literal["collision", "visual", "both", "none"]
 _Meshes: TypeAlias = Literal["exact", "convex"]
@@ -562,6 +563,10 @@ class Robot:
     def obstacles(self) -> list[str]: ...
     @property
     def total_mass(self) -> float: ...
+    def set_dynamics_options(
+        self, *, inertias: _Inertias = "check", armature: bool = False, damping: bool = False
+    ) -> None:
+        """How dynamics takes the file: the inertials' rule, joint armature and damping."""
     def inverse_dynamics(
         self,
         q: _ArrayLike,

@@ -142,6 +142,38 @@ impl SpatialInertia {
     }
 }
 
+/// How [`Dynamics::with_options`] takes a file's `<inertial>`s: an inertial that no rigid body
+/// has (a negative mass, a tensor not positive semi-definite or breaking the triangle
+/// inequality) is an error naming its link (`Check`, the default), taken as it is (`AsGiven`),
+/// or, when it breaks only the triangle inequality, balanced as MuJoCo's
+/// `<compiler balanceinertia="true">` does: all three principal moments set to their mean
+/// (`Balance`; [`screwkit_model::Inertial::balanced`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Inertias {
+    /// Refuse an impossible inertial, naming its link.
+    #[default]
+    Check,
+    /// Take the file's numbers as they are.
+    AsGiven,
+    /// Balance a triangle-inequality breach as MuJoCo does (other problems still refused).
+    Balance,
+}
+
+/// What [`Dynamics::with_options`] takes from the file beyond the rigid bodies. Off by default,
+/// as Pinocchio's algorithms are; MuJoCo always adds both (its `armature` to M's diagonal, its
+/// `damping` in the passive forces).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct DynamicsOptions {
+    /// The inertials' rule.
+    pub inertias: Inertias,
+    /// Each joint's armature (MJCF `armature`): a rotor inertia on the diagonal of M, so τ
+    /// gains armature · a.
+    pub armature: bool,
+    /// Each joint's viscous damping (MJCF `damping`, URDF `<dynamics damping>`): τ gains
+    /// damping · v (the force the joint's damper takes), in ID, h and FD alike.
+    pub damping: bool,
+}
+
 /// Each placement X_k as columns.
 fn homes_of(placements: &[Se3]) -> Vec<Columns> {
     placements.iter().map(Columns::from_se3).collect()
@@ -191,6 +223,12 @@ pub struct Dynamics {
     /// Each variable drives one joint with multiplier 1 (no mimic coupling): forward dynamics
     /// runs the articulated-body algorithm; otherwise it factorises M.
     uncoupled: bool,
+    /// Per velocity entry, the armature Σ m_k² armature_k and the damping Σ m_k² damping_k of
+    /// the joints it drives (θ_k = m_k q), when asked ([`DynamicsOptions`]); all zero otherwise.
+    armature: Vec<f64>,
+    damping: Vec<f64>,
+    /// Some armature or damping is nonzero.
+    passive: bool,
 }
 
 impl Dynamics {
@@ -209,6 +247,27 @@ impl Dynamics {
     /// inequality: [`screwkit_model::Inertial::problem`]) is an error naming its link, unless
     /// `as_given` takes the file's numbers as they are.
     pub fn new(kin: &TreeKinematics, as_given: bool) -> Result<Self, SolveError> {
+        let inertias = if as_given {
+            Inertias::AsGiven
+        } else {
+            Inertias::Check
+        };
+        Self::with_options(
+            kin,
+            &DynamicsOptions {
+                inertias,
+                ..Default::default()
+            },
+        )
+    }
+
+    /// The dynamic model of `kin`'s tree with `options`: the inertials' rule, and the joints'
+    /// armature and damping when asked (an armature or damping that is not a finite number ≥ 0
+    /// is then an error naming its joint).
+    pub fn with_options(
+        kin: &TreeKinematics,
+        options: &DynamicsOptions,
+    ) -> Result<Self, SolveError> {
         let model = kin.model();
         let tree = &model.tree;
         let mut bodies = vec![SpatialInertia::zero(); model.joints.len()];
@@ -219,10 +278,14 @@ impl Dynamics {
                 massless.push(link.name.clone());
                 continue;
             };
-            if !as_given {
+            let inertial = match options.inertias {
+                Inertias::Balance => inertial.balanced(),
+                _ => inertial,
+            };
+            if options.inertias != Inertias::AsGiven {
                 if let Some(problem) = inertial.problem() {
                     return Err(SolveError::InvalidInput(format!(
-                        "link \"{}\" <inertial>: {problem} (dynamics needs a rigid body's; take the file's numbers as they are with the as-given option)",
+                        "link \"{}\" <inertial>: {problem} (dynamics needs a rigid body's; take the file's numbers as they are with the as-given option, or balance them as MuJoCo does)",
                         link.name
                     )));
                 }
@@ -250,7 +313,7 @@ impl Dynamics {
                 multiplier: j.drive.multiplier,
             })
             .collect();
-        Ok(Self {
+        Self {
             kin: Some(kin.clone()),
             joints,
             homes: homes_of(&model.joints.iter().map(|j| j.placement).collect::<Vec<_>>()),
@@ -265,8 +328,58 @@ impl Dynamics {
             massless,
             tip: Se3::identity(),
             uncoupled: false,
+            armature: vec![0.0; kin.nv()],
+            damping: vec![0.0; kin.nv()],
+            passive: false,
         }
-        .with_coupling())
+        .with_coupling()
+        .with_passive(kin, options)
+    }
+
+    /// The model with the joints' armature and damping per velocity entry, as `options` asks.
+    fn with_passive(
+        mut self,
+        kin: &TreeKinematics,
+        options: &DynamicsOptions,
+    ) -> Result<Self, SolveError> {
+        if !(options.armature || options.damping) {
+            return Ok(self);
+        }
+        let tree = &kin.model().tree;
+        let off = if self.floating { 6 } else { 0 };
+        for (k, j) in kin.model().joints.iter().enumerate() {
+            let Some(file) = tree.joints.iter().find(|t| t.name == j.name) else {
+                continue;
+            };
+            let m2 = j.drive.multiplier * j.drive.multiplier;
+            for (on, what, value, into) in [
+                (
+                    options.armature,
+                    "armature",
+                    file.dynamics.armature,
+                    &mut self.armature,
+                ),
+                (
+                    options.damping,
+                    "damping",
+                    file.dynamics.damping,
+                    &mut self.damping,
+                ),
+            ] {
+                if !on {
+                    continue;
+                }
+                if !(value.is_finite() && value >= 0.0) {
+                    return Err(SolveError::InvalidInput(format!(
+                        "joint \"{}\": {what} {value} is not a finite number ≥ 0",
+                        j.name
+                    )));
+                }
+                into[off + self.joints[k].variable] += m2 * value;
+            }
+        }
+        self.passive = self.armature.iter().chain(&self.damping).any(|x| *x != 0.0);
+        Ok(self)
     }
 
     /// The textbook's open chain (*Modern Robotics* §8.3): `m_list` the n + 1 transforms
@@ -368,6 +481,9 @@ impl Dynamics {
             massless: Vec::new(),
             tip: m_list[n],
             uncoupled: false,
+            armature: vec![0.0; n],
+            damping: vec![0.0; n],
+            passive: false,
         }
         .with_coupling())
     }
@@ -806,6 +922,12 @@ fn newton_euler(
             ws.tau[i] = ws.root_force[i];
         }
     }
+    if d.passive {
+        // The joints' rotors and dampers (asked for in the options).
+        for i in 0..d.nv {
+            ws.tau[i] += d.armature[i] * at(a, i) + d.damping[i] * at(v, i);
+        }
+    }
 }
 
 /// Inverse dynamics τ = ID(q, v, a): the generalized forces (nv) that give the accelerations
@@ -1048,6 +1170,12 @@ fn crba(d: &Dynamics, ws: &mut DynamicsWorkspace) {
             }
         }
     }
+    if d.passive {
+        // The rotors' inertias (asked for in the options).
+        for (i, a) in d.armature.iter().enumerate() {
+            mass[i * nv + i] += a;
+        }
+    }
 }
 
 /// Forward dynamics a = FD(q, v, τ) = M(q)⁻¹ (τ − h(q, v)): the accelerations the forces τ
@@ -1127,8 +1255,10 @@ pub fn aba<'w>(
         let s = vec6(&j.axis);
         let ia = ws.articulated[k];
         let u_vec = ia * s;
-        let dk = s.dot(&u_vec);
-        let uk = tau[off + j.variable] - s.dot(&ws.bias_force[k]);
+        // (A rotor's armature adds to D, a damper's force −damping · θ̇ to u.)
+        let var = off + j.variable;
+        let dk = s.dot(&u_vec) + d.armature[var];
+        let uk = tau[var] - d.damping[var] * v[var] - s.dot(&ws.bias_force[k]);
         if !(dk > 0.0 && dk.is_finite()) {
             return Err(SolveError::InvalidInput(format!(
                 "no inertia moves with \"{}\" (the articulated inertia about its axis is {dk})",
@@ -1374,6 +1504,13 @@ pub fn kinetic_energy(
         let vr = Vector6::from_iterator(v[..6].iter().copied());
         e += 0.5 * vr.dot(&d.root.apply(&vr));
     }
+    // The rotors' (armature, when asked).
+    e += 0.5
+        * d.armature
+            .iter()
+            .zip(v)
+            .map(|(a, x)| a * x * x)
+            .sum::<f64>();
     Ok(e)
 }
 
