@@ -503,6 +503,8 @@ struct Builder {
     world_geoms: Vec<Geometry>,
     /// Geoms that cannot be used, one sentence each.
     geometry_problems: Vec<String>,
+    /// `<option gravity>`, when given.
+    gravity: Option<[f64; 3]>,
     /// Each body's link with its parent body's (None: the world).
     body_parent: Vec<(String, Option<String>)>,
     /// The geoms a `<contact><pair>` names (they collide whatever their bits).
@@ -531,6 +533,7 @@ impl Builder {
             geoms: Vec::new(),
             world_geoms: Vec::new(),
             geometry_problems: Vec::new(),
+            gravity: None,
             body_parent: Vec::new(),
             pair_geoms: std::collections::HashSet::new(),
             filterparent: true,
@@ -603,6 +606,9 @@ impl Builder {
         self.classes.entry("main".into()).or_default();
         self.read_assets(root);
         for o in root.children.iter().filter(|c| c.tag == "option") {
+            if let Some(g) = self.numbers(o, "main", "gravity", 3)? {
+                self.gravity = Some([g[0], g[1], g[2]]);
+            }
             for f in o.children.iter().filter(|c| c.tag == "flag") {
                 if let Some(v) = f.attr("filterparent") {
                     self.filterparent = v != "disable";
@@ -751,6 +757,7 @@ impl Builder {
             }
         }
         tree.floating_root = self.floating_root;
+        tree.gravity = self.gravity;
         self.geometry_into(&mut tree, root);
         // The file's warnings first, then the tree's own (mimic followers' limits).
         let own = std::mem::take(&mut tree.warnings);

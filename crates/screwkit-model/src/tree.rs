@@ -332,6 +332,9 @@ pub struct Tree {
     /// MuJoCo's contact rules, for an MJCF model ([`crate::geometry::ContactRules`]); None
     /// for URDF (the collision model's link rules).
     pub contact_rules: Option<crate::geometry::ContactRules>,
+    /// The world's gravity (m/s²) when the file gives it (an MJCF's `<option gravity>`); None:
+    /// the standard (0, 0, −9.81), also MuJoCo's default.
+    pub gravity: Option<[f64; 3]>,
     link_index: HashMap<String, usize>,
     joint_index: HashMap<String, usize>,
 }
@@ -523,6 +526,7 @@ impl Tree {
             qpos_layout: None,
             geometries: Vec::new(),
             geometry_problems: Vec::new(),
+            gravity: None,
             contact_rules: None,
             link_index,
             joint_index,

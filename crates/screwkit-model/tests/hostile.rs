@@ -569,6 +569,7 @@ fn joint_damping_and_armature_are_read() {
         std::path::Path::new("."),
     )
     .unwrap();
+    assert_eq!(tree.gravity, None);
     let d = |name: &str| tree.joints[tree.joint(name).unwrap()].dynamics;
     assert_eq!(
         (d("j").armature, d("j").damping, d("j").friction),

@@ -363,7 +363,6 @@ def mujoco_check(path: Path, samples: int = 3) -> None:
     m = mujoco.MjModel.from_xml_string(text)
     assert not m.dof_armature.any()
     m.dof_damping[:] = 0.0
-    m.opt.gravity[:] = [0.0, 0.0, -9.81]  # screwkit's (an MJCF's <option gravity> is not read)
     d = mujoco.MjData(m)
     free = robot.floating_base
     rng = np.random.default_rng(1)
@@ -598,7 +597,6 @@ def test_armature_and_damping_equal_mujoco(path: Path) -> None:
     m.opt.density = 0.0
     m.opt.viscosity = 0.0
     m.body_gravcomp[:] = 0.0
-    m.opt.gravity[:] = [0.0, 0.0, -9.81]
     free = robot.floating_base
     if free:
         # Our armature and damping are the joints' own; a free joint's are not read.
@@ -655,7 +653,6 @@ def test_impossible_inertias_are_refused_taken_or_balanced_as_mujoco_does() -> N
             robot.set_dynamics_options(inertias="guess")  # type: ignore[arg-type]
         robot.set_dynamics_options(inertias="balance")
         m = mujoco.MjModel.from_xml_string(body.format(c='balanceinertia="true"'))
-        m.opt.gravity[:] = [0.0, 0.0, -9.81]
         d = mujoco.MjData(m)
         for q in ([0.1, 0.2], [-1.0, 2.5]):
             d.qpos[:] = q

@@ -213,7 +213,7 @@ pub struct Dynamics {
     nq: usize,
     nv: usize,
     v_names: Vec<String>,
-    /// Gravity in the world (default (0, 0, −9.81)).
+    /// Gravity in the world: the file's (an MJCF's `<option gravity>`), else (0, 0, −9.81).
     gravity: Vector3<f64>,
     /// Links without an `<inertial>` (massless), said once by the front ends.
     massless: Vec<String>,
@@ -324,7 +324,9 @@ impl Dynamics {
             nq: kin.nq(),
             nv: kin.nv(),
             v_names: kin.v_names.clone(),
-            gravity: Vector3::new(0.0, 0.0, -STANDARD_GRAVITY),
+            gravity: tree
+                .gravity
+                .map_or(Vector3::new(0.0, 0.0, -STANDARD_GRAVITY), Vector3::from),
             massless,
             tip: Se3::identity(),
             uncoupled: false,
