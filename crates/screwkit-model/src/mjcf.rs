@@ -47,8 +47,10 @@
 //! **Warned about** ([`Tree::warnings`]): tendons, equalities other than joint couplings
 //! (`connect`, `weld`: loop closures the tree does not hold), `<composite>` and `<flexcomp>`
 //! soft bodies (read past), free bodies read past as props, bodies whose mass comes from their
-//! geoms (`inertiafromgeom`) when one of them is a mesh or a plane (left massless; solid
-//! primitives are weighed as MuJoCo weighs them: density or mass, closed-form inertias).
+//! geoms (`inertiafromgeom`) when one of them cannot be weighed (a plane, a mesh with
+//! `inertia="convex"` or one that is open, `shellinertia`: left massless, never guessed). Solid
+//! primitives are weighed as MuJoCo weighs them (density or mass, closed-form inertias), and
+//! meshes by MuJoCo's pyramids ([`crate::mesh::mass_properties`]: `legacy`, `exact`, `shell`).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -105,7 +107,7 @@ pub fn load_file(path: impl AsRef<Path>) -> Result<Tree, ModelError> {
         bytes: bytes.len() as u64,
     };
     let root = reader.document(&text, &label, 0)?;
-    Builder::new(&label).build(&root)
+    Builder::new(&label, dir).build(&root)
 }
 
 /// Loads MJCF text into a [`Tree`]; `source` names it in errors, includes are read from `dir`.
@@ -124,7 +126,7 @@ pub fn read_str(text: &str, source: &str, dir: &Path) -> Result<(Tree, String), 
         bytes: text.len() as u64,
     };
     let root = reader.document(text, source, 0)?;
-    let mut tree = Builder::new(source).build(&root)?;
+    let mut tree = Builder::new(source, dir).build(&root)?;
     // Mesh files are named from the main file's folder (through `meshdir`).
     tree.resolve_meshes(dir, &[]);
     // Each include counts INCLUDE_WEIGHT elements more than it splices in.
@@ -386,6 +388,9 @@ struct MeshAsset {
     file: Option<String>,
     scale: [f64; 3],
     problem: Option<String>,
+    /// How its mass is spread when a body is weighed from it (`inertia`, MuJoCo's default
+    /// `legacy`), or why it cannot be here.
+    inertia: Result<crate::mesh::MeshInertia, String>,
 }
 
 /// One class of `<default>`: per element tag, the attributes it sets itself, and the class it
@@ -458,6 +463,13 @@ fn solid(shape: &Shape) -> Option<(f64, [f64; 3])> {
 
 struct Builder {
     source: String,
+    /// The main file's folder (mesh files are named from it).
+    dir: PathBuf,
+    /// Meshes weighed (file, scale, mode), each once.
+    weighed_meshes: HashMap<
+        (PathBuf, [u64; 3], crate::mesh::MeshInertia),
+        Result<crate::mesh::MeshMass, String>,
+    >,
     compiler: Compiler,
     classes: HashMap<String, Class>,
     links: Vec<String>,
@@ -469,6 +481,8 @@ struct Builder {
     /// Bodies whose mass MuJoCo takes from their geoms; after the bodies are read, those whose
     /// geoms could not all be weighed (one warning).
     geom_mass: Vec<String>,
+    /// Why the first of `geom_mass`'s bodies could not be weighed.
+    unweighed_why: Option<String>,
     /// The geoms' masses summed per body (about the body's origin), for `geom_mass`'s bodies.
     geom_sums: HashMap<String, GeomSum>,
     bodies: usize,
@@ -517,9 +531,11 @@ struct Builder {
 type Pose = Isometry3<f64>;
 
 impl Builder {
-    fn new(source: &str) -> Builder {
+    fn new(source: &str, dir: &Path) -> Builder {
         Builder {
             source: source.to_string(),
+            dir: dir.to_path_buf(),
+            weighed_meshes: HashMap::new(),
             compiler: Compiler {
                 degree: true,
                 eulerseq: *b"xyz",
@@ -538,6 +554,7 @@ impl Builder {
             pair_geoms: std::collections::HashSet::new(),
             filterparent: true,
             geom_mass: Vec::new(),
+            unweighed_why: None,
             geom_sums: HashMap::new(),
             classes: HashMap::new(),
             links: Vec::new(),
@@ -731,8 +748,11 @@ impl Builder {
                 n => format!("{n} bodies ({first}, …) take their"),
             };
             self.warnings.push(format!(
-                "{count} mass from geoms in MuJoCo (inertiafromgeom), some of them meshes or \
-                 planes, which screwkit does not weigh yet: those bodies are massless here"
+                "{count} mass from geoms in MuJoCo (inertiafromgeom), which screwkit could not \
+                 weigh ({first}: {}): massless here",
+                self.unweighed_why
+                    .as_deref()
+                    .unwrap_or("a geom not weighed")
             ));
         }
         self.read_equalities(root)?;
@@ -1479,12 +1499,27 @@ impl Builder {
                                     Some(format!("mesh asset {}: {r} is not read", shown(&name)));
                             }
                         }
+                        use crate::mesh::MeshInertia;
+                        let inertia = match m.attr("inertia") {
+                            None | Some("legacy") => Ok(MeshInertia::Legacy),
+                            Some("exact") => Ok(MeshInertia::Exact),
+                            Some("shell") => Ok(MeshInertia::Shell),
+                            Some("convex") => Err(
+                                "inertia=\"convex\" (its convex hull's) is not computed here"
+                                    .to_string(),
+                            ),
+                            Some(other) => Err(format!(
+                                "inertia={}: expected legacy, exact, convex or shell",
+                                shown(other)
+                            )),
+                        };
                         self.meshes.insert(
                             name,
                             MeshAsset {
                                 file,
                                 scale,
                                 problem,
+                                inertia,
                             },
                         );
                     }
@@ -1686,6 +1721,7 @@ impl Builder {
                 .and_then(|v| v.trim().parse::<f64>().ok())
         };
         let (mass, density) = (number("mass"), number("density").unwrap_or(1000.0));
+        let shell = self.attr(g, class, "shellinertia") == Some("true");
         let sum = self.geom_sums.entry(link.to_string()).or_default();
         if sum.unweighed.is_some() {
             return;
@@ -1694,13 +1730,33 @@ impl Builder {
             sum.unweighed = Some(format!("line {}: a geom that is not read", g.line));
             return;
         };
-        let Some((volume, moments)) = solid(&geometry.shape) else {
+        if shell {
             sum.unweighed = Some(format!(
-                "line {}: a {} geom (no closed form here)",
-                g.line,
-                geometry.shape.word()
+                "line {}: shellinertia=\"true\" is not computed here",
+                g.line
             ));
             return;
+        }
+        // (volume, centre in the geom's frame, inertia about it per unit mass, geom's axes)
+        let weighed = match &geometry.shape {
+            Shape::Mesh { .. } => self.mesh_weight(g, class, geometry),
+            shape => solid(shape)
+                .map(|(volume, moments)| {
+                    (
+                        volume,
+                        Vector3::zeros(),
+                        nalgebra::Matrix3::from_diagonal(&Vector3::from(moments)),
+                    )
+                })
+                .ok_or_else(|| format!("a {} geom (no closed form here)", shape.word())),
+        };
+        let sum = self.geom_sums.entry(link.to_string()).or_default();
+        let (volume, centre, unit) = match weighed {
+            Ok(w) => w,
+            Err(why) => {
+                sum.unweighed = Some(format!("line {}: {why}", g.line));
+                return;
+            }
         };
         let m = mass.unwrap_or(density * volume);
         if !(m.is_finite() && m >= 0.0) {
@@ -1708,13 +1764,46 @@ impl Builder {
             return;
         }
         let r = geometry.origin.rotation();
-        let c = *geometry.origin.translation();
-        let about_centre =
-            r * nalgebra::Matrix3::from_diagonal(&Vector3::from(moments)) * r.transpose() * m;
+        let c = geometry.origin.rotation() * centre + geometry.origin.translation();
+        let about_centre = r * unit * r.transpose() * m;
         sum.mass += m;
         sum.first += c * m;
         sum.about_origin += about_centre
             + (nalgebra::Matrix3::identity() * c.norm_squared() - c * c.transpose()) * m;
+    }
+
+    /// A mesh geom's volume, centre of mass and inertia per unit mass about it, in the geom's
+    /// frame (its file's coordinates; [`crate::mesh::mass_properties`] as its asset's
+    /// `inertia` says), each mesh file read and weighed once; or why not (one phrase).
+    fn mesh_weight(
+        &mut self,
+        g: &El,
+        class: &str,
+        geometry: &Geometry,
+    ) -> Result<(f64, Vector3<f64>, nalgebra::Matrix3<f64>), String> {
+        let Shape::Mesh { uri, scale, .. } = &geometry.shape else {
+            return Err("not a mesh".into());
+        };
+        let asset = self
+            .attr(g, class, "mesh")
+            .and_then(|n| self.meshes.get(n))
+            .ok_or("a mesh geom without its asset")?;
+        let mode = asset.inertia.clone()?;
+        let path = crate::geometry::resolve_mesh(uri, &self.dir, &[])?;
+        let key = (path, scale.map(f64::to_bits), mode);
+        if !self.weighed_meshes.contains_key(&key) {
+            let weighed = crate::mesh::read_mesh(&key.0, *scale)
+                .and_then(|m| crate::mesh::mass_properties(&m, mode))
+                .map_err(|e| format!("mesh {}: {e}", key.0.display()));
+            self.weighed_meshes.insert(key.clone(), weighed);
+        }
+        let w = self.weighed_meshes[&key].clone()?;
+        let [xx, xy, xz, yy, yz, zz] = w.inertia.map(|x| x / w.measure);
+        Ok((
+            w.measure,
+            Vector3::from(w.com),
+            nalgebra::Matrix3::new(xx, xy, xz, xy, yy, yz, xz, yz, zz),
+        ))
     }
 
     /// The bodies whose geoms were all weighed get that inertia (MuJoCo's, over any
@@ -1724,6 +1813,12 @@ impl Builder {
         for name in names {
             let sum = self.geom_sums.remove(&name).unwrap_or_default();
             if sum.unweighed.is_some() || sum.mass <= 0.0 || sum.mass.is_nan() {
+                if self.unweighed_why.is_none() {
+                    self.unweighed_why = Some(
+                        sum.unweighed
+                            .unwrap_or_else(|| format!("its geoms' mass is {}", sum.mass)),
+                    );
+                }
                 self.geom_mass.push(name);
                 continue;
             }

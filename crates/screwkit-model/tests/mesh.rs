@@ -162,3 +162,70 @@ fn a_parser_panic_is_an_error() {
         "{e}"
     );
 }
+
+/// Mass properties against closed forms: a box of sides (a, b, c) as twelve outward
+/// triangles has volume abc, its centre at the middle and Ī = V/12 diag(b² + c², a² + c²,
+/// a² + b²) per unit density, in every mode that counts volume (legacy = exact on a convex
+/// mesh); the shell's area is 2(ab + bc + ca); a mesh turned inside out is refused.
+#[test]
+fn a_box_mesh_weighs_as_its_closed_form() {
+    use screwkit_model::mesh::{mass_properties, MeshInertia, TriMesh};
+    let (a, b, c) = (0.2, 0.4, 0.6);
+    let (x0, y0, z0) = (1.0, -0.5, 0.25);
+    let vertices: Vec<[f64; 3]> = (0..8)
+        .map(|k| {
+            [
+                x0 + a * (k & 1) as f64,
+                y0 + b * ((k >> 1) & 1) as f64,
+                z0 + c * ((k >> 2) & 1) as f64,
+            ]
+        })
+        .collect();
+    // Outward (counter-clockwise seen from outside) faces of the unit cube's corners.
+    let triangles: Vec<[u32; 3]> = vec![
+        [0, 2, 1],
+        [1, 2, 3], // z = 0
+        [4, 5, 6],
+        [5, 7, 6], // z = 1
+        [0, 1, 4],
+        [1, 5, 4], // y = 0
+        [2, 6, 3],
+        [3, 6, 7], // y = 1
+        [0, 4, 2],
+        [2, 4, 6], // x = 0
+        [1, 3, 5],
+        [3, 7, 5], // x = 1
+    ];
+    let mesh = TriMesh {
+        vertices,
+        triangles,
+    };
+    let v = a * b * c;
+    let want = [
+        v / 12.0 * (b * b + c * c),
+        0.0,
+        0.0,
+        v / 12.0 * (a * a + c * c),
+        0.0,
+        v / 12.0 * (a * a + b * b),
+    ];
+    for mode in [MeshInertia::Legacy, MeshInertia::Exact] {
+        let m = mass_properties(&mesh, mode).unwrap();
+        assert!((m.measure - v).abs() < 1e-15, "{mode:?} {}", m.measure);
+        let centre = [x0 + a / 2.0, y0 + b / 2.0, z0 + c / 2.0];
+        for (got, want) in m.com.iter().zip(centre) {
+            assert!((got - want).abs() < 1e-14, "{mode:?} {:?}", m.com);
+        }
+        for (got, want) in m.inertia.iter().zip(want) {
+            assert!((got - want).abs() < 1e-15, "{mode:?} {:?}", m.inertia);
+        }
+    }
+    let shell = mass_properties(&mesh, MeshInertia::Shell).unwrap();
+    assert!((shell.measure - 2.0 * (a * b + b * c + c * a)).abs() < 1e-14);
+    let inside_out = TriMesh {
+        triangles: mesh.triangles.iter().map(|t| [t[0], t[2], t[1]]).collect(),
+        ..mesh.clone()
+    };
+    let e = mass_properties(&inside_out, MeshInertia::Exact).unwrap_err();
+    assert!(e.contains("negative"), "{e}");
+}

@@ -325,9 +325,11 @@ impl Robot {
             }
         }
         let width = what.width(nv);
+        // The energies are one number per row; every other quantity a vector (nv = 1 too).
+        let scalar = matches!(what, Quantity::KineticEnergy | Quantity::PotentialEnergy);
         let shape: Vec<usize> = match (batch, what) {
             (true, Quantity::MassMatrix) => vec![n, nv, nv],
-            (true, _) if width == 1 => vec![n],
+            (true, _) if scalar => vec![n],
             (true, _) => vec![n, nv],
             (false, Quantity::MassMatrix) => vec![nv, nv],
             (false, _) => vec![width],
@@ -346,7 +348,7 @@ impl Robot {
             self.with_dynamics(py, |d, ws| {
                 dynamics::compute(d, ws, what, &values[0], x, y, &mut out)
             })?;
-            if width == 1 {
+            if scalar {
                 return Ok(out[0].into_pyobject(py)?.into_any());
             }
             return Ok(new_array(py, &shape, |o| o.copy_from_slice(&out))?.into_any());

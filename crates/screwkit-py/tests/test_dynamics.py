@@ -715,3 +715,78 @@ def test_urdf_damping_is_the_files_as_pinocchio_reads_it() -> None:
         )
         np.testing.assert_array_equal(robot.mass_matrix(q), plain.mass_matrix(q))
         np.testing.assert_array_equal(robot.gravity(q), plain.gravity(q))
+
+
+def l_prism_obj(path: Path) -> None:
+    """An L-shaped prism (non-convex, closed, outward triangles) as an OBJ file."""
+    profile = [(0, 0), (0.3, 0), (0.3, 0.1), (0.1, 0.1), (0.1, 0.3), (0, 0.3)]
+    n = len(profile)
+    verts = [(x, y, 0.0) for x, y in profile] + [(x, y, 0.1) for x, y in profile]
+    cap = [(0, 1, 2), (0, 2, 3), (0, 3, 4), (0, 4, 5)]
+    faces = [(a, c, b) for a, b, c in cap] + [(a + n, b + n, c + n) for a, b, c in cap]
+    for i in range(n):
+        j = (i + 1) % n
+        faces += [(i, j, j + n), (i, j + n, i + n)]
+    lines = [f"v {x} {y} {z}" for x, y, z in verts]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]
+    path.write_text("\n".join(lines) + "\n")
+
+
+@pytest.mark.parametrize("mode", ["", "legacy", "exact", "shell"])
+def test_mesh_bodies_are_weighed_as_mujoco_does(tmp_path: Path, mode: str) -> None:
+    """MJCF bodies weighed from mesh geoms (`inertiafromgeom`): MuJoCo's pyramids from the
+    triangles' centroid (`legacy`, its default, overcounting a non-convex mesh; `exact`;
+    `shell`), on a non-convex L prism, scaled, placed off the body's origin and turned, one with
+    a `mass` instead of the density, beside a box: total mass, M and g equal MuJoCo's (to its
+    float32 vertices)."""
+    l_prism_obj(tmp_path / "l.obj")
+    inertia = f'inertia="{mode}"' if mode else ""
+    xml = f"""<mujoco><compiler angle="radian"/>
+      <asset><mesh name="l" file="l.obj" scale="1 1.5 0.8" {inertia}/></asset>
+      <worldbody><body name="a"><joint name="j1" type="hinge" axis="0 1 0"/>
+        <geom type="mesh" mesh="l" pos="0.1 0 0.05" quat="0.9 0.1 0.3 0.2"/>
+        <geom type="box" size="0.05 0.05 0.05" pos="0 0 -0.1"/>
+        <body name="b" pos="0.4 0 0"><joint name="j2" type="hinge" axis="1 0 0"/>
+          <geom type="mesh" mesh="l" mass="2.5" euler="0.3 0 1"/>
+        </body></body></worldbody></mujoco>"""
+    path = tmp_path / "mesh_bodies.xml"
+    path.write_text(xml)
+    robot = screwkit.Robot.from_file(path)
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    np.testing.assert_allclose(robot.total_mass, m.body_mass.sum(), rtol=1e-6)
+    for q in ([0.0, 0.0], [0.7, -1.2], [2.0, 0.4]):
+        d.qpos[:] = q
+        mujoco.mj_forward(m, d)
+        full = np.zeros((2, 2))
+        mujoco.mj_fullM(m, d, full)
+        np.testing.assert_allclose(robot.mass_matrix(q), full, rtol=1e-5, atol=1e-9)
+        np.testing.assert_allclose(robot.gravity(q), d.qfrc_bias, rtol=1e-5, atol=1e-8)
+
+
+def test_a_mesh_that_cannot_be_weighed_is_named(tmp_path: Path) -> None:
+    """`inertia="convex"` (the hull's, not computed here) and a flat mesh (no volume, which
+    MuJoCo refuses too): the body is named in the massless warning and left massless, never
+    guessed."""
+    l_prism_obj(tmp_path / "l.obj")
+    square = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\nf 1 3 2\nf 1 4 3\n"
+    (tmp_path / "flat.obj").write_text(square)
+    for asset, says in [
+        ('file="l.obj" inertia="convex"', "convex"),
+        ('file="flat.obj" inertia="exact"', "volume is too small"),
+    ]:
+        xml = f"""<mujoco><asset><mesh name="l" {asset}/></asset><worldbody>
+          <body name="a"><joint name="j" type="hinge"/><geom type="mesh" mesh="l"/></body>
+          </worldbody></mujoco>"""
+        path = tmp_path / "m.xml"
+        path.write_text(xml)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            robot = screwkit.Robot.from_file(path)
+            g = robot.gravity([0.0])
+        text = " ".join(str(w.message) for w in caught)
+        assert "body a takes its mass from geoms" in text and says in text, text
+        assert g.shape == (1,) and g[0] == 0.0, "massless, nothing guessed"
+        # One variable: still a vector, and a batch (N, 1).
+        assert robot.mass_matrix([0.0]).shape == (1, 1)
+        assert robot.gravity(np.zeros((3, 1))).shape == (3, 1)
