@@ -377,7 +377,13 @@ impl Robot {
             .as_ref()
             .map(|d| d.model.clone())
             .expect("built above");
-        run_batch(py, &shape, &rows, FK_CHUNK / 64, move |input, out| {
+        // A few ms of rows between Ctrl-C checks: each chunk is split over the pool's threads
+        // (256 rows a task), and too small a chunk leaves them waiting on each hand-off.
+        // Whole pairs of the library's 256-row tasks, so two threads share them evenly.
+        let chunk = (FK_CHUNK / nv.max(1))
+            .clamp(512, FK_CHUNK / 4)
+            .next_multiple_of(512);
+        run_batch(py, &shape, &rows, chunk, move |input, out| {
             dynamics::batch(&model, what, input, out)
         })
     }
