@@ -145,7 +145,9 @@ def compare_pinocchio(name: str, path: Path, floating: bool, rounds: int) -> Non
 
 
 def compare_mujoco(rounds: int) -> None:
-    import mujoco
+    import importlib
+
+    mujoco: Any = importlib.import_module("mujoco")
 
     path = REPO / "assets" / "mjcf" / "humanoid.xml"
     with warnings.catch_warnings():
@@ -197,10 +199,11 @@ def batches(path: Path, floating: bool, n: int, rounds: int) -> None:
     vs, acc = rng.normal(size=(n, robot.nv)), rng.normal(size=(n, robot.nv))
     threads = screwkit.num_threads()
     try:
-        for what, f in [
+        jobs: list[tuple[str, Callable[[], Any]]] = [
             ("inverse dynamics", lambda: robot.inverse_dynamics(qs, vs, acc)),
             ("mass matrix", lambda: robot.mass_matrix(qs)),
-        ]:
+        ]
+        for what, f in jobs:
             per_row = {1: np.inf, 2: np.inf}
             for _ in range(rounds):
                 for t in (1, 2):
