@@ -1595,15 +1595,8 @@ pub fn compute(
         Quantity::Gravity => out.copy_from_slice(gravity(d, ws, q)?),
         Quantity::NonlinearEffects => out.copy_from_slice(nonlinear_effects(d, ws, q, x)?),
         Quantity::ForwardDynamics => out.copy_from_slice(forward_dynamics(d, ws, q, x, y)?),
-        Quantity::MassMatrix => {
-            let m = mass_matrix(d, ws, q)?;
-            let nv = d.nv;
-            for r in 0..nv {
-                for c in 0..nv {
-                    out[r * nv + c] = m[(r, c)];
-                }
-            }
-        }
+        // M is exactly symmetric: its column-major storage is its row-major one.
+        Quantity::MassMatrix => out.copy_from_slice(mass_matrix(d, ws, q)?.as_slice()),
         Quantity::KineticEnergy => out[0] = kinetic_energy(d, ws, q, x)?,
         Quantity::PotentialEnergy => out[0] = potential_energy(d, ws, q)?,
     }
