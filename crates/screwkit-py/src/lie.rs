@@ -81,7 +81,7 @@ impl<'py> Scalars<'py> {
     fn values(&self) -> PyResult<Vec<f64>> {
         Ok(match self {
             Self::One(v) => vec![*v],
-            Self::Many(a) => a.readonly().as_slice()?.to_vec(),
+            Self::Many(a) => a.to_vec()?,
         })
     }
 }

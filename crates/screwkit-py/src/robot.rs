@@ -337,7 +337,7 @@ impl Robot {
         if !batch {
             let values = arrays
                 .iter()
-                .map(|a| Ok(a.readonly().as_slice()?.to_vec()))
+                .map(|a| Ok(a.to_vec()?))
                 .collect::<PyResult<Vec<_>>>()?;
             let empty = Vec::new();
             let (x, y) = (

@@ -52,7 +52,7 @@ fn pose(x: &Bound<'_, PyAny>, what: &str) -> PyResult<Vec<f64>> {
             shape_str(a.shape())
         )));
     }
-    Ok(a.readonly().as_slice()?.to_vec())
+    Ok(a.to_vec()?)
 }
 
 /// The gain, weights and tolerances a task class sets; `None` leaves a field to the floor's
@@ -306,7 +306,7 @@ impl PostureTask {
             )));
         }
         let mut spec = TaskSpec::new(TaskType::Posture);
-        spec.q_ref = Some(a.readonly().as_slice()?.to_vec());
+        spec.q_ref = Some(a.to_vec()?);
         spec.weight = Some(weight);
         spec.gain = Some(gain);
         Ok(Self { spec })
