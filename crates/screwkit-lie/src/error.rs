@@ -50,4 +50,11 @@ pub enum LieError {
         /// How many it got.
         got: usize,
     },
+    /// An argument outside the values it may take (a trajectory's duration, sample count or
+    /// time-scaling method).
+    #[error("{what}")]
+    OutOfRange {
+        /// What is wrong, naming the argument.
+        what: String,
+    },
 }

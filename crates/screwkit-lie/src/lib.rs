@@ -40,6 +40,7 @@ pub mod lanes;
 pub mod screw;
 pub mod se3;
 pub mod so3;
+pub mod trajectory;
 pub mod trig;
 pub mod twist;
 pub mod wrench;

@@ -16,6 +16,7 @@ mod reach;
 mod results;
 mod robot;
 mod tasks;
+mod trajectory;
 
 use numpy::{PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
@@ -169,6 +170,7 @@ fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("BatchError", m.py().get_type::<errors::BatchError>())?;
     lie::register(m)?;
     dynamics::register(m)?;
+    trajectory::register(m)?;
     // The names the package had before `screwkit.lie`: the same functions.
     m.add("exp", m.getattr("exp6")?)?;
     m.add("log", m.getattr("log6")?)?;

@@ -12,7 +12,7 @@ the body frame the frame asked for.
 >>> robot.fk([0.1, -0.5, 1.0, 0.2, 0.3, -0.4])             # doctest: +SKIP
 """
 
-from . import dynamics, lie
+from . import dynamics, lie, trajectory
 from ._screwkit import (
     Analysis,
     AxisTask,
@@ -108,5 +108,6 @@ __all__ = [
     "reach",
     "row_seed",
     "set_num_threads",
+    "trajectory",
     "xacro",
 ]

@@ -56,6 +56,11 @@ __all__ = [
     "mr_inverse_dynamics_trajectory",
     "mr_mass_matrix",
     "mr_vel_quadratic_forces",
+    "tr_cartesian_trajectory",
+    "tr_cubic_time_scaling",
+    "tr_joint_trajectory",
+    "tr_quintic_time_scaling",
+    "tr_screw_trajectory",
     "trans_inv",
     "vee",
     "row_seed",
@@ -843,6 +848,17 @@ def mr_inverse_dynamics(
     mlist: _ArrayLike,
     glist: _ArrayLike,
     slist: _ArrayLike,
+) -> _F64: ...
+def tr_cubic_time_scaling(Tf: float, t: _ArrayLike) -> Any: ...
+def tr_quintic_time_scaling(Tf: float, t: _ArrayLike) -> Any: ...
+def tr_joint_trajectory(
+    thetastart: _ArrayLike, thetaend: _ArrayLike, Tf: float, N: int, method: int
+) -> _F64: ...
+def tr_screw_trajectory(
+    Xstart: _ArrayLike, Xend: _ArrayLike, Tf: float, N: int, method: int
+) -> _F64: ...
+def tr_cartesian_trajectory(
+    Xstart: _ArrayLike, Xend: _ArrayLike, Tf: float, N: int, method: int
 ) -> _F64: ...
 def mr_mass_matrix(
     thetalist: _ArrayLike, mlist: _ArrayLike, glist: _ArrayLike, slist: _ArrayLike
