@@ -239,5 +239,157 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(joint_trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(screw_trajectory, m)?)?;
     m.add_function(wrap_pyfunction!(cartesian_trajectory, m)?)?;
+    m.add_function(wrap_pyfunction!(time_parameterize, m)?)?;
+    m.add_class::<TimedPath>()?;
     Ok(())
+}
+
+/// A joint path timed time-optimally (`screwkit.time_parameterize`): its duration, and q, q̇,
+/// q̈ at any times.
+#[pyclass(frozen, skip_from_py_object, module = "screwkit")]
+pub struct TimedPath {
+    inner: screwkit_solve::timing::Timing,
+}
+
+impl TimedPath {
+    /// (q, q̇, q̈) at each time of `t` (a float: (n,) each; an array of M: (M, n) each).
+    fn states<'py>(
+        &self,
+        py: Python<'py>,
+        t: &Bound<'py, PyAny>,
+    ) -> PyResult<[Bound<'py, PyAny>; 3]> {
+        let n = self.inner.joints();
+        let (times, single): (Vec<f64>, bool) = match t.extract::<f64>() {
+            Ok(x) => (vec![x], true),
+            Err(_) => {
+                let a: Bound<'py, PyArrayDyn<f64>> = f64_array(t, "t")?;
+                if a.ndim() != 1 {
+                    return Err(PyValueError::new_err(format!(
+                        "t: expected a float or a 1-D array, got shape {}",
+                        shape_str(a.shape())
+                    )));
+                }
+                (a.to_vec()?, false)
+            }
+        };
+        if let Some(x) = times.iter().find(|x| !x.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "t: {x} is not a finite time"
+            )));
+        }
+        let rows = times.len();
+        let (mut q, mut qd, mut qdd) = (
+            vec![0.0; rows * n],
+            vec![0.0; rows * n],
+            vec![0.0; rows * n],
+        );
+        for (k, t) in times.iter().enumerate() {
+            let r = k * n..(k + 1) * n;
+            let (a, b, c) = (&mut q[r.clone()], &mut qd[r.clone()], &mut qdd[r]);
+            self.inner.sample(*t, a, b, c);
+        }
+        let shape: Vec<usize> = if single { vec![n] } else { vec![rows, n] };
+        let out = |v: &[f64]| -> PyResult<Bound<'py, PyAny>> {
+            Ok(new_array(py, &shape, |o| o.copy_from_slice(v))?.into_any())
+        };
+        Ok([out(&q)?, out(&qd)?, out(&qdd)?])
+    }
+}
+
+#[pymethods]
+impl TimedPath {
+    /// The duration (s).
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.inner.duration()
+    }
+
+    /// The grid points' times (N + 1,).
+    #[getter]
+    fn grid_times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let t = self.inner.grid_times();
+        Ok(new_array(py, &[t.len()], |o| o.copy_from_slice(t))?.into_any())
+    }
+
+    /// The velocity and acceleration limits used ((n,) each): the given ones, or tightened
+    /// where sampling between the grid points found them exceeded.
+    #[getter]
+    fn limits<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let (v, a) = self.inner.limits();
+        Ok((
+            new_array(py, &[v.len()], |o| o.copy_from_slice(v))?.into_any(),
+            new_array(py, &[a.len()], |o| o.copy_from_slice(a))?.into_any(),
+        ))
+    }
+
+    /// The positions q at time(s) t (clamped to [0, duration]): (n,) for a float, (M, n) for
+    /// an array of M times.
+    fn __call__<'py>(&self, py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let [q, _, _] = self.states(py, t)?;
+        Ok(q)
+    }
+
+    /// (q, q̇, q̈) at time(s) t, as `__call__` shapes them.
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        t: &Bound<'py, PyAny>,
+    ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyAny>, Bound<'py, PyAny>)> {
+        let [q, qd, qdd] = self.states(py, t)?;
+        Ok((q, qd, qdd))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "TimedPath(duration={:.6} s, joints={}, grid={})",
+            self.inner.duration(),
+            self.inner.joints(),
+            self.inner.grid_times().len() - 1
+        )
+    }
+}
+
+/// The time-optimal timing of the joint path through `path` (m, n) (m ≥ 2 waypoints, joined
+/// by a not-a-knot cubic spline over s = 0 … 1 as toppra's `SplineInterpolator` joins them),
+/// within |q̇_j| ≤ `vel_limits[j]` and |q̈_j| ≤ `acc_limits[j]`, at rest at both ends, by
+/// TOPP-RA on `grid` intervals (default 40 per waypoint interval, at least 1,000); sampled
+/// every `check` seconds and tightened until no sample exceeds a limit.
+#[pyfunction]
+#[pyo3(signature = (path, vel_limits, acc_limits, *, grid = None, check = 0.001))]
+pub fn time_parameterize(
+    py: Python<'_>,
+    path: &Bound<'_, PyAny>,
+    vel_limits: &Bound<'_, PyAny>,
+    acc_limits: &Bound<'_, PyAny>,
+    grid: Option<usize>,
+    check: f64,
+) -> PyResult<TimedPath> {
+    let p: Bound<'_, PyArrayDyn<f64>> = f64_array(path, "path")?;
+    let [_, n] = p.shape() else {
+        return Err(PyValueError::new_err(format!(
+            "path: expected shape (m, n), waypoints by joints, got {}",
+            shape_str(p.shape())
+        )));
+    };
+    let n = *n;
+    let limits = |x: &Bound<'_, PyAny>, what: &str| -> PyResult<Vec<f64>> {
+        let a: Bound<'_, PyArrayDyn<f64>> = f64_array(x, what)?;
+        if a.shape() != [n] {
+            return Err(PyValueError::new_err(format!(
+                "{what}: expected shape ({n},), got {}",
+                shape_str(a.shape())
+            )));
+        }
+        Ok(a.to_vec()?)
+    };
+    let (v, a) = (
+        limits(vel_limits, "vel_limits")?,
+        limits(acc_limits, "acc_limits")?,
+    );
+    let points = p.to_vec()?;
+    let options = screwkit_solve::timing::TimingOptions { grid, check };
+    let inner = py
+        .detach(|| screwkit_solve::timing::time_parameterize(&points, n, &v, &a, &options))
+        .map_err(crate::errors::solve_error)?;
+    Ok(TimedPath { inner })
 }

@@ -64,6 +64,7 @@ pub mod linalg;
 mod poe;
 pub mod sample;
 pub mod subproblem;
+pub mod timing;
 pub mod tree;
 pub mod velocity;
 mod workspace;

@@ -35,6 +35,7 @@ from ._screwkit import (
     Sphere,
     TaskSet,
     TasksResult,
+    TimedPath,
     __version__,
     adjoint,
     exp,
@@ -43,6 +44,7 @@ from ._screwkit import (
     num_threads,
     row_seed,
     set_num_threads,
+    time_parameterize,
     xacro,
 )
 from .reach import ReachMap, merge, reach
@@ -95,6 +97,7 @@ __all__ = [
     "Sphere",
     "TaskSet",
     "TasksResult",
+    "TimedPath",
     "__version__",
     "adjoint",
     "exp",
@@ -108,6 +111,7 @@ __all__ = [
     "reach",
     "row_seed",
     "set_num_threads",
+    "time_parameterize",
     "trajectory",
     "xacro",
 ]

@@ -56,6 +56,8 @@ __all__ = [
     "mr_inverse_dynamics_trajectory",
     "mr_mass_matrix",
     "mr_vel_quadratic_forces",
+    "TimedPath",
+    "time_parameterize",
     "tr_cartesian_trajectory",
     "tr_cubic_time_scaling",
     "tr_joint_trajectory",
@@ -849,6 +851,32 @@ def mr_inverse_dynamics(
     glist: _ArrayLike,
     slist: _ArrayLike,
 ) -> _F64: ...
+
+@final
+class TimedPath:
+    """A joint path timed time-optimally (`time_parameterize`)."""
+
+    @property
+    def duration(self) -> float: ...
+    @property
+    def grid_times(self) -> _F64: ...
+    @property
+    def limits(self) -> tuple[_F64, _F64]: ...
+    def __call__(self, t: float | _ArrayLike) -> _F64:
+        """q at time(s) t: (n,) for a float, (M, n) for M times."""
+    def sample(self, t: float | _ArrayLike) -> tuple[_F64, _F64, _F64]:
+        """(q, q̇, q̈) at time(s) t."""
+
+def time_parameterize(
+    path: _ArrayLike,
+    vel_limits: _ArrayLike,
+    acc_limits: _ArrayLike,
+    *,
+    grid: int | None = None,
+    check: float = 0.001,
+) -> TimedPath:
+    """The time-optimal timing (TOPP-RA) of the joint path through `path` (m, n)."""
+
 def tr_cubic_time_scaling(Tf: float, t: _ArrayLike) -> Any: ...
 def tr_quintic_time_scaling(Tf: float, t: _ArrayLike) -> Any: ...
 def tr_joint_trajectory(
