@@ -3,10 +3,11 @@
 A random smooth 6-joint path of 1,000 waypoints (a random walk, smoothed), random velocity and
 acceleration limits: `screwkit.time_parameterize` against toppra's TOPPRA (the same not-a-knot
 spline over s = 0 … 1, velocity and acceleration constraints with its interpolation scheme,
-`ParametrizeConstAccel`) on screwkit's default grid (40 intervals per waypoint interval, refined
-where the 1 kHz check finds an excess; toppra then on 40,000) and on 20,000 and 40,000 intervals. Printed: each one's
-wall time (the minimum over rounds), the durations side by side, and the largest excess of a
-limit sampled at 1 kHz (screwkit checks and tightens; toppra does not).
+`ParametrizeConstAccel`) on screwkit's default grid (40 intervals per waypoint interval,
+refined where the 1 kHz check finds an excess; toppra then on 40,000) and on 20,000 and 40,000
+intervals. Printed: each one's wall time (the minimum over rounds), the durations side by side,
+and the largest excess of a limit sampled at 1 kHz (screwkit checks and tightens; toppra does
+not).
 
     python crates/screwkit-py/benchmarks/timing_bench.py [--rounds 3]
 """
@@ -37,7 +38,9 @@ def main() -> int:
     parser.add_argument("--rounds", type=int, default=3)
     args = parser.parse_args()
     try:
-        import toppra as ta
+        import importlib
+
+        ta: Any = importlib.import_module("toppra")
     except ImportError:
         print("timing_bench: pip install toppra", file=sys.stderr)
         return 2
@@ -72,8 +75,8 @@ def main() -> int:
             t2 = time.perf_counter()
             best["screwkit"] = min(best["screwkit"], t1 - t0)
             best["toppra"] = min(best["toppra"], t2 - t1)
-        ours_excess = excess(lambda ts: ours.sample(ts)[1:], ours.duration, vlim, alim)
-        their_excess = excess(lambda ts: (traj(ts, 1), traj(ts, 2)), traj.duration, vlim, alim)
+        ours_excess = excess(lambda ts, o=ours: o.sample(ts)[1:], ours.duration, vlim, alim)
+        their_excess = excess(lambda ts, tr=traj: (tr(ts, 1), tr(ts, 2)), traj.duration, vlim, alim)
         print(
             f"grid {grid or 'default':>7}: screwkit {best['screwkit'] * 1e3:8.1f} ms, duration "
             f"{ours.duration:.4f} s, worst limit {ours_excess:.5f} | toppra "
