@@ -425,26 +425,36 @@ fn solve(spline: &Spline, n: usize, v: &[f64], a: &[f64]) -> Result<Timing, Solv
             }
         }
     }
-    let at = |x: &[f64], i: usize| -> Vec<f64> { x[i * joints..(i + 1) * joints].to_vec() };
+    // Step i's lines (the joints' accelerations at both ends, the reach of `next`).
+    let lines = |i: usize,
+                 next: (f64, f64),
+                 lower: &mut Vec<Line>,
+                 upper: &mut Vec<Line>,
+                 xb: &mut (f64, f64)| {
+        let (here, there) = (
+            i * joints..(i + 1) * joints,
+            (i + 1) * joints..(i + 2) * joints,
+        );
+        step_lines(
+            &d1[here.clone()],
+            &d2[here],
+            &d1[there.clone()],
+            &d2[there],
+            s[i + 1] - s[i],
+            a,
+            next,
+            lower,
+            upper,
+            xb,
+        );
+    };
     // Backward: the controllable sets.
     let mut sets = vec![(0.0, 0.0); n + 1];
     let (mut lower, mut upper) = (Vec::new(), Vec::new());
     for i in (0..n).rev() {
-        let delta = s[i + 1] - s[i];
         // (x capped: a stretch where no limit binds would otherwise be unbounded.)
         let mut xb = (0.0, xv[i].min(X_CAP));
-        step_lines(
-            &at(&d1, i),
-            &at(&d2, i),
-            &at(&d1, i + 1),
-            &at(&d2, i + 1),
-            delta,
-            a,
-            sets[i + 1],
-            &mut lower,
-            &mut upper,
-            &mut xb,
-        );
+        lines(i, sets[i + 1], &mut lower, &mut upper, &mut xb);
         let (lo, hi) = feasible_x(&lower, &upper, xb);
         if lo > hi + 1e-12 * hi.abs().max(1.0) {
             return Err(SolveError::InvalidInput(format!(
@@ -460,18 +470,7 @@ fn solve(spline: &Spline, n: usize, v: &[f64], a: &[f64]) -> Result<Timing, Solv
     for i in 0..n {
         let delta = s[i + 1] - s[i];
         let mut xb = (0.0, f64::INFINITY);
-        step_lines(
-            &at(&d1, i),
-            &at(&d2, i),
-            &at(&d1, i + 1),
-            &at(&d2, i + 1),
-            delta,
-            a,
-            sets[i + 1],
-            &mut lower,
-            &mut upper,
-            &mut xb,
-        );
+        lines(i, sets[i + 1], &mut lower, &mut upper, &mut xb);
         let eval = |l: &Line| l.c0 + l.c1 * x[i];
         let hi = upper.iter().map(eval).fold(f64::INFINITY, f64::min);
         let lo = lower.iter().map(eval).fold(f64::NEG_INFINITY, f64::max);
