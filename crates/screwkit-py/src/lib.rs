@@ -141,6 +141,7 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
     d.set_item("meshes", all::<w::Meshes>())?;
     d.set_item("collisions", all::<w::Collisions>())?;
     d.set_item("inertias", all::<w::Inertias>())?;
+    d.set_item("interpolation", all::<w::Interpolation>())?;
     Ok(d)
 }
 
@@ -148,6 +149,7 @@ fn words(py: Python<'_>) -> PyResult<Bound<'_, pyo3::types::PyDict>> {
 #[pymodule]
 fn _screwkit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<robot::Robot>()?;
+    m.add_class::<results::CartesianPath>()?;
     m.add_class::<page::Page>()?;
     m.add_class::<body::Distances>()?;
     m.add_class::<body::Box_>()?;

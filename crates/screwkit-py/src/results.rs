@@ -195,3 +195,34 @@ impl Analysis {
         )
     }
 }
+
+/// A Cartesian path (`Robot.cartesian_path`): the joint samples `q` (K, dof), the first the
+/// seed; each sample's `place` on the path (segment index + fraction of it: 1.5 is halfway
+/// along the second segment); the `fraction` of the path's length achieved; why it stopped
+/// (`stop`: "reached", "singularity", "branch ends", "unreachable" or "jump") and a sentence
+/// saying where (`message`).
+#[pyclass(frozen, get_all, module = "screwkit")]
+pub struct CartesianPath {
+    /// (K, dof) joint values.
+    pub q: Py<PyArray2<f64>>,
+    /// (K,) places on the path.
+    pub place: Py<PyArray1<f64>>,
+    /// The fraction of the path achieved, 0 … 1.
+    pub fraction: f64,
+    /// Why it stopped.
+    pub stop: String,
+    /// Where and why, in one sentence.
+    pub message: String,
+}
+
+#[pymethods]
+impl CartesianPath {
+    fn __repr__(&self, py: Python<'_>) -> String {
+        format!(
+            "CartesianPath({} samples, fraction={:.4}, stop={:?})",
+            self.place.bind(py).len().unwrap_or(0),
+            self.fraction,
+            self.stop
+        )
+    }
+}

@@ -1786,6 +1786,90 @@ impl Robot {
         Ok(tree::com::total_mass(&*self.tree_model()?))
     }
 
+    /// The tool moved along a Cartesian path from the seed's pose through `targets` ((4, 4),
+    /// or (K, 4, 4) waypoints), the joints following on one IK branch: by the chain's
+    /// closed-form IK when it has one (each sample the nearest solution to the previous:
+    /// the same posture and 2π copy), else by numerical IK seeded with the previous sample.
+    /// `interpolation` "screw" (one screw motion between poses) or "line" (the origin on the
+    /// straight line, the rotation about one axis); steps of at most `max_step` (m and rad of
+    /// the tool), `max_joint_step` (rad or m) per joint and a joint-space midpoint within
+    /// `max_deviation` (m and rad) of the path's, each step halved (8 times at most) before
+    /// giving up; it stops near a singularity (the Jacobian's smallest singular value below
+    /// `min_sigma`) rather than jump. Returns a `CartesianPath` (q, place, fraction, stop,
+    /// message); never raises for a path that cannot be completed, only for bad arguments.
+    #[pyo3(signature = (targets, seed = None, *, interpolation = "screw", max_step = 0.005, max_joint_step = 0.1, max_deviation = 0.001, min_sigma = 0.005))]
+    #[allow(clippy::too_many_arguments)]
+    fn cartesian_path(
+        &self,
+        py: Python<'_>,
+        targets: &Bound<'_, PyAny>,
+        seed: Option<&Bound<'_, PyAny>>,
+        interpolation: &str,
+        max_step: f64,
+        max_joint_step: f64,
+        max_deviation: f64,
+        min_sigma: f64,
+    ) -> PyResult<crate::results::CartesianPath> {
+        let how = word::<screwkit_service::words::Interpolation>("interpolation", interpolation)?;
+        let kin = self.kin()?;
+        let seed = match seed {
+            Some(s) => Self::one_vector(s, kin.dof(), "seed")?,
+            None => kin.midpoint(),
+        };
+        let (values, count) = poses(targets, "targets")?;
+        let values = values.to_vec()?;
+        let targets = values
+            .chunks(16)
+            .enumerate()
+            .map(|(k, t)| {
+                target::from_row_major(t).map_err(|e| {
+                    PyValueError::new_err(format!(
+                        "targets{}: {e}",
+                        if count.is_some() {
+                            format!("[{k}]")
+                        } else {
+                            String::new()
+                        }
+                    ))
+                })
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let options = screwkit_solve::path::PathOptions {
+            interpolation: how.motion(),
+            max_step,
+            max_joint_step,
+            max_deviation,
+            min_sigma,
+            ..Default::default()
+        };
+        let path = py
+            .detach(|| {
+                self.workspace().map(|mut ws| {
+                    screwkit_service::path::cartesian_path(
+                        kin,
+                        &mut ws,
+                        &self.analytic,
+                        &targets,
+                        &seed,
+                        &options,
+                    )
+                })
+            })?
+            .map_err(service_error)?;
+        let n = kin.dof();
+        let rows = path.place.len();
+        let q = new_array(py, &[rows, n], |o| o.copy_from_slice(&path.q))?
+            .cast_into::<PyArray2<f64>>()?
+            .unbind();
+        Ok(crate::results::CartesianPath {
+            q,
+            place: path.place.to_pyarray(py).unbind(),
+            fraction: path.fraction,
+            stop: path.stop.as_str().to_string(),
+            message: path.message,
+        })
+    }
+
     /// How the dynamics (`inverse_dynamics`, `mass_matrix`, …) takes the file: `inertias`
     /// "check" (an `<inertial>` no rigid body has raises ValueError naming its link),
     /// "as-given" (taken as it is) or "balance" (a triangle-inequality breach balanced as

@@ -180,6 +180,7 @@ def test_stub_words_are_the_floors() -> None:
         ("_Meshes", "meshes"),
         ("_Collisions", "collisions"),
         ("_Inertias", "inertias"),
+        ("_Interpolation", "interpolation"),
     ]:
         assert sorted(lit[alias]) == sorted(words[family]), alias
     for family in ["orientation_mode", "solver_choice"]:

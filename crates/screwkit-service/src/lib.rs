@@ -27,6 +27,7 @@ pub mod io;
 pub mod joint;
 pub mod load;
 pub mod mujoco;
+pub mod path;
 pub mod query;
 pub mod report;
 pub mod request;

@@ -388,6 +388,26 @@ impl Inertias {
     }
 }
 
+words! {
+    /// How a Cartesian path moves the tool between poses (`Robot.cartesian_path(interpolation=…)`).
+    Interpolation, "interpolation" {
+        /// One screw motion between each two poses (the default).
+        Screw = "screw",
+        /// The origin on the straight line, the rotation about one axis.
+        Line = "line",
+    }
+}
+
+impl Interpolation {
+    /// The library's.
+    pub fn motion(self) -> screwkit_solve::path::Interpolation {
+        match self {
+            Interpolation::Screw => screwkit_solve::path::Interpolation::Screw,
+            Interpolation::Line => screwkit_solve::path::Interpolation::Line,
+        }
+    }
+}
+
 /// Which screw axes a drawing shows (`screwkit draw --axes`, `Robot.draw(axes=…)`): `all`,
 /// `none`, or joints by name or by their number in the drawing (`J1,J2`, `1,2`). Not given
 /// ([`Axes::Auto`]): every axis of a chain, or of a tree of at most [`Axes::AUTO_MAX`] joints;
@@ -578,6 +598,7 @@ mod tests {
         check::<Views>();
         check::<Labels>();
         check::<Inertias>();
+        check::<Interpolation>();
         check::<OrientationMode>();
         check::<SolverChoice>();
         assert_eq!(

@@ -61,6 +61,7 @@ pub mod ik;
 pub mod jacobian;
 mod kinematics;
 pub mod linalg;
+pub mod path;
 mod poe;
 pub mod sample;
 pub mod subproblem;

@@ -57,6 +57,7 @@ __all__ = [
     "mr_mass_matrix",
     "mr_vel_quadratic_forces",
     "TimedPath",
+    "CartesianPath",
     "time_parameterize",
     "tr_cartesian_trajectory",
     "tr_cubic_time_scaling",
@@ -82,6 +83,7 @@ _TableFrames: TypeAlias = Literal["space", "body", "both"]
 _Views: TypeAlias = Literal["iso", "front", "side", "top", "all"]
 _Labels: TypeAlias = Literal["none", "leaves", "all"]
 _Inertias: TypeAlias = Literal["check", "as-given", "as_given", "balance"]
+_Interpolation: TypeAlias = Literal["screw", "line"]
 _Method: TypeAlias = Literal["lm", "dls", "nr"]
 _Geometry: TypeAlias = Literal["collision", "visual", "both", "none"]
 _Meshes: TypeAlias = Literal["exact", "convex"]
@@ -570,6 +572,18 @@ class Robot:
     def obstacles(self) -> list[str]: ...
     @property
     def total_mass(self) -> float: ...
+    def cartesian_path(
+        self,
+        targets: _ArrayLike,
+        seed: _ArrayLike | None = None,
+        *,
+        interpolation: _Interpolation = "screw",
+        max_step: float = 0.005,
+        max_joint_step: float = 0.1,
+        max_deviation: float = 0.001,
+        min_sigma: float = 0.005,
+    ) -> CartesianPath:
+        """The tool along a screw (or line) through `targets`, the joints on one IK branch."""
     def set_dynamics_options(
         self, *, inertias: _Inertias = "check", armature: bool = False, damping: bool = False
     ) -> None:
@@ -851,6 +865,21 @@ def mr_inverse_dynamics(
     glist: _ArrayLike,
     slist: _ArrayLike,
 ) -> _F64: ...
+
+@final
+class CartesianPath:
+    """A Cartesian path (`Robot.cartesian_path`)."""
+
+    @property
+    def q(self) -> _F64: ...
+    @property
+    def place(self) -> _F64: ...
+    @property
+    def fraction(self) -> float: ...
+    @property
+    def stop(self) -> str: ...
+    @property
+    def message(self) -> str: ...
 
 @final
 class TimedPath:

@@ -1,0 +1,125 @@
+"""Cartesian paths (`Robot.cartesian_path`, issue 51 item 2): the tool's pose at every sample
+is on the requested screw or line by an independent FK (`Robot.fk`) and the textbook's own
+formulas (`modern_robotics`' MatrixExp6/MatrixLog6); no joint moves more than `max_joint_step`
+between samples; the UR5 (closed-form IK) keeps its posture; a path through its wrist
+singularity stops there and says so; a 7-joint arm is followed by numerical IK; an
+unreachable target stops the path (at the reach boundary, where the elbow's branches meet) with
+the fraction achieved; bad arguments raise."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+import numpy as np
+import numpy.typing as npt
+import pytest
+
+import screwkit
+
+from conftest import ASSETS
+
+mr = pytest.importorskip("modern_robotics", reason="pip install modern_robotics")
+F64 = npt.NDArray[np.float64]
+
+UR5 = ASSETS / "ur5.urdf"
+SEED = np.array([0.3, -1.2, 1.4, -1.5, -1.4, 0.4])
+
+
+def on_the_path(a: F64, b: F64, place: float, how: str) -> F64:
+    """The textbook's pose at σ between a and b (screw: MR's ScrewTrajectory's formula;
+    line: its CartesianTrajectory's)."""
+    if how == "screw":
+        return np.asarray(a @ mr.MatrixExp6(mr.MatrixLog6(mr.TransInv(a) @ b) * place))
+    r = a[:3, :3] @ mr.MatrixExp3(mr.MatrixLog3(a[:3, :3].T @ b[:3, :3]) * place)
+    out = np.eye(4)
+    out[:3, :3], out[:3, 3] = r, (1 - place) * a[:3, 3] + place * b[:3, 3]
+    return out
+
+
+@pytest.mark.parametrize("how", ["screw", "line"])
+def test_the_ur5_follows_the_path_on_one_branch(how: Literal["screw", "line"]) -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    start = robot.fk(SEED)
+    turn = np.asarray(mr.MatrixExp3(mr.VecToso3([0.0, 0.3, 0.4])))
+    goal = start.copy()
+    goal[:3, :3] = start[:3, :3] @ turn
+    goal[:3, 3] += [0.1, -0.15, 0.05]
+    path = robot.cartesian_path(goal, SEED, interpolation=how)
+    assert path.stop == "reached" and path.fraction == 1.0, path.message
+    assert path.q.shape == (len(path.place), 6) and len(path.place) > 30
+    np.testing.assert_array_equal(path.q[0], SEED)
+    assert np.abs(np.diff(path.q, axis=0)).max() <= 0.1
+    for q, place in zip(path.q, path.place, strict=True):
+        np.testing.assert_allclose(robot.fk(q), on_the_path(start, goal, place, how), atol=1e-9)
+    # The posture of the seed throughout: its shoulder, elbow and wrist signs.
+    solutions = robot.ik_all(goal, seed=path.q[-1])
+    np.testing.assert_allclose(solutions[0], path.q[-1], atol=1e-9)
+
+
+def test_waypoints_are_passed_in_order() -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    start = robot.fk(SEED)
+    targets = np.stack([start.copy() for _ in range(3)])
+    targets[0, :3, 3] += [0.08, 0, 0]
+    targets[1, :3, 3] += [0.08, 0.08, 0]
+    targets[2, :3, 3] += [0, 0.08, 0.05]
+    path = robot.cartesian_path(targets, SEED, interpolation="line")
+    assert path.stop == "reached", path.message
+    for k in range(3):
+        at = np.flatnonzero(path.place == k + 1)
+        assert len(at) == 1, k
+        np.testing.assert_allclose(robot.fk(path.q[at[0]]), targets[k], atol=1e-9)
+
+
+def test_a_path_through_the_wrist_singularity_stops_there() -> None:
+    """The screw from the seed to the same arm with joint 5 at −0.3 instead of +0.3 is joint
+    5's rotation: it crosses q5 = 0, where joints 4 and 6 align. The path stops before it."""
+    robot = screwkit.Robot.from_urdf(UR5)
+    seed = np.array([0.3, -1.2, 1.4, -1.5, 0.3, 0.4])
+    through = seed.copy()
+    through[4] = -0.3
+    path = robot.cartesian_path(robot.fk(through), seed)
+    assert path.stop == "singularity", path.message
+    assert 0.4 < path.fraction < 0.5
+    assert "singular" in path.message
+    assert 0 < path.q[-1, 4] < 0.03
+
+
+def test_a_seven_joint_arm_is_followed_numerically() -> None:
+    robot = screwkit.Robot.from_urdf(ASSETS / "iiwa14.urdf")
+    seed = np.array([0.2, 0.6, -0.1, -1.2, 0.3, 0.8, 0.1])
+    start = robot.fk(seed)
+    goal = start.copy()
+    goal[:3, 3] += [0.0, 0.12, -0.08]
+    path = robot.cartesian_path(goal, seed, interpolation="line")
+    assert path.stop == "reached", path.message
+    assert np.abs(np.diff(path.q, axis=0)).max() <= 0.1
+    for q, place in zip(path.q[1:], path.place[1:], strict=True):
+        np.testing.assert_allclose(robot.fk(q), on_the_path(start, goal, place, "line"), atol=1e-6)
+
+
+def test_an_unreachable_target_stops_the_path() -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    goal = robot.fk(SEED)
+    goal[:3, 3] = [2.0, 0.0, 0.5]  # 2 m away: beyond the UR5's reach
+    path = robot.cartesian_path(goal, SEED, interpolation="line")
+    # The arm straightens on the way out: its elbow-up and elbow-down branches meet there.
+    assert path.stop in ("singularity", "unreachable", "branch ends"), path.message
+    assert 0.0 < path.fraction < 1.0
+    np.testing.assert_array_equal(path.q[0], SEED)
+
+
+def test_bad_arguments_are_refused() -> None:
+    robot = screwkit.Robot.from_urdf(UR5)
+    goal = robot.fk(SEED)
+    for kwargs, says in [
+        ({"interpolation": "spline"}, "interpolation"),
+        ({"max_step": 0.0}, "max_step"),
+        ({"max_joint_step": float("nan")}, "max_joint_step"),
+    ]:
+        with pytest.raises(ValueError, match=says):
+            robot.cartesian_path(goal, SEED, **kwargs)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="targets"):
+        robot.cartesian_path(goal[:3], SEED)
+    with pytest.raises(ValueError, match="seed"):
+        robot.cartesian_path(goal, SEED[:3])
