@@ -98,6 +98,56 @@ pub enum Command {
     /// The whole tree's dynamics at (q, v, a): inverse dynamics τ, gravity g(q), nonlinear
     /// effects h(q, v), the mass matrix M(q) and the energies, from the links' <inertial>s.
     Dynamics(DynamicsArgs),
+    /// A Cartesian path: the tool from the configuration --from through --via poses to --to,
+    /// along one screw per segment (or a straight line), the joints on one IK branch; stops
+    /// (and says why) at a singularity, where a branch ends or a pose is out of reach. With
+    /// --timed, the time-optimal timing within the joints' velocity and acceleration limits.
+    Path(PathArgs),
+}
+
+/// `path`.
+#[derive(Debug, Args)]
+pub struct PathArgs {
+    /// The chain.
+    #[command(flatten)]
+    pub chain: ChainArgs,
+    /// The start configuration q1,q2,... (the tool starts at its pose).
+    #[arg(long = "from", value_parser = parse_list, allow_hyphen_values = true)]
+    pub start: List,
+    /// The goal pose: x,y,z,roll,pitch,yaw (6 numbers), x,y,z,qx,qy,qz,qw (7) or a 4x4 matrix
+    /// row-major (16).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub to: List,
+    /// A pose on the way (as --to), in order; repeat for several.
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub via: Vec<List>,
+    /// The origin along straight lines (the rotation about one axis) instead of one screw
+    /// motion per segment.
+    #[arg(long)]
+    pub line: bool,
+    /// The largest tool motion per step (m along the chord, and rad of turn).
+    #[arg(long, default_value_t = 0.005)]
+    pub max_step: f64,
+    /// The largest joint motion per step (rad or m).
+    #[arg(long, default_value_t = 0.1)]
+    pub max_joint_step: f64,
+    /// Write the joint path (K × dof; with --timed: M × (1 + dof), t then q every --dt) to this
+    /// .npy file.
+    #[arg(short = 'o', long)]
+    pub output: Option<String>,
+    /// Time the path: its fastest timing within the velocity limits (--vel, default the
+    /// file's) and the acceleration limits --acc.
+    #[arg(long, requires = "acc")]
+    pub timed: bool,
+    /// Velocity limits v1,v2,... (default: the file's <limit velocity>).
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub vel: Option<List>,
+    /// Acceleration limits a1,a2,...
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    pub acc: Option<List>,
+    /// The timed path's sample step (s).
+    #[arg(long, default_value_t = 0.001)]
+    pub dt: f64,
 }
 
 /// `dynamics`.

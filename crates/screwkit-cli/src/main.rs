@@ -19,6 +19,7 @@ mod info;
 mod jacobian;
 mod npy;
 mod output;
+mod path;
 mod reach;
 mod table;
 mod whole_body;
@@ -101,6 +102,7 @@ fn run(cli: &Cli) -> CliResult {
         Command::Collide(a) => collide::run(a, cli.format),
         Command::Srdf(a) => collide::srdf(a),
         Command::Dynamics(a) => dynamics::run(a, cli.format),
+        Command::Path(a) => path::run(a, cli.format),
         Command::Draw(a) => draw::draw(a),
         Command::View(a) => draw::view(a),
         Command::Xacro(a) => {

@@ -1261,6 +1261,34 @@ impl Robot {
         self.with_space(|s| s.joint_names())
     }
 
+    /// The chain's velocity limits from its file (dof,): each variable's `<limit velocity>`
+    /// (ValueError naming the joints without one).
+    #[getter]
+    fn velocity_limits<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let v = screwkit_service::path::velocity_limits(self.chain()?).map_err(service_error)?;
+        Ok(v.to_pyarray(py))
+    }
+
+    /// The time-optimal timing of the chain's joint path `path` (m, dof), as
+    /// `screwkit.time_parameterize` gives it, with `vel_limits` defaulting to the file's
+    /// (`velocity_limits`).
+    #[pyo3(signature = (path, acc_limits, vel_limits = None, *, grid = None, check = 0.001))]
+    fn time_parameterize(
+        &self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        acc_limits: &Bound<'_, PyAny>,
+        vel_limits: Option<&Bound<'_, PyAny>>,
+        grid: Option<usize>,
+        check: f64,
+    ) -> PyResult<crate::trajectory::TimedPath> {
+        let vel = match vel_limits {
+            Some(v) => v.clone(),
+            None => self.velocity_limits(py)?.into_any(),
+        };
+        crate::trajectory::time_parameterize(py, path, &vel, acc_limits, grid, check)
+    }
+
     /// The moving joints base → tip, one per row of `screw_axes` (mimic joints included).
     #[getter]
     fn axis_names(&self) -> PyResult<Vec<String>> {

@@ -8,6 +8,7 @@ the fraction achieved; bad arguments raise."""
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Literal
 
 import numpy as np
@@ -123,3 +124,52 @@ def test_bad_arguments_are_refused() -> None:
         robot.cartesian_path(goal[:3], SEED)
     with pytest.raises(ValueError, match="seed"):
         robot.cartesian_path(goal, SEED[:3])
+
+
+def test_the_command_line_gives_the_same_path(tmp_path: Path) -> None:
+    """`screwkit path FILE --from q --to pose [--via pose] [--line] [--format json]` = Python's
+    path sample for sample; `--timed --acc …` = `time_parameterize` with the file's velocity
+    limits; `-o path.npy` holds the same numbers (t then q per row when timed)."""
+    import json
+    import os
+    import subprocess
+
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe:
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    robot = screwkit.Robot.from_urdf(UR5)
+    start = robot.fk(SEED)
+    via, goal = start.copy(), start.copy()
+    via[:3, 3] += [0.05, 0.0, 0.0]
+    goal[:3, 3] += [0.05, 0.06, -0.04]
+
+    def arg(x: F64) -> str:
+        return ",".join(repr(float(v)) for v in np.ravel(x))
+
+    base = [exe, "path", str(UR5), "--from", arg(SEED), "--to", arg(goal), "--via", arg(via)]
+    done = subprocess.run([*base, "--line", "--format", "json"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    report = json.loads(done.stdout)
+    ours = robot.cartesian_path(np.stack([via, goal]), SEED, interpolation="line")
+    np.testing.assert_array_equal(np.array(report["q"]), ours.q)
+    np.testing.assert_array_equal(report["place"], ours.place)
+    assert report["stop"] == ours.stop == "reached" and report["variables"] == robot.joint_names
+    acc = np.full(6, 2.0)
+    out = tmp_path / "timed.npy"
+    done = subprocess.run(
+        [*base, "--timed", "--acc", arg(acc), "-o", str(out), "--format", "json"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    timed = json.loads(done.stdout)["timed"]
+    screw = robot.cartesian_path(np.stack([via, goal]), SEED)
+    want = robot.time_parameterize(screw.q, acc)
+    assert want.duration == screwkit.time_parameterize(screw.q, robot.velocity_limits, acc).duration
+    assert timed["duration"] == want.duration
+    rows = np.load(out)
+    assert rows.shape == (len(timed["t"]), 7)
+    np.testing.assert_array_equal(rows[:, 0], timed["t"])
+    np.testing.assert_array_equal(rows[:, 1:], want(rows[:, 0]))
+    bad = subprocess.run([*base[:-2], "--to", "1,2,3"], capture_output=True, text=True)
+    assert bad.returncode != 0 and "--to" in bad.stderr and len(bad.stderr.splitlines()) == 1

@@ -29,3 +29,136 @@ pub fn cartesian_path(
         options,
     )?)
 }
+
+/// The chain's velocity limits from its file (each variable's `<limit velocity>`), the
+/// default of a timing's; an error naming the joints without one.
+pub fn velocity_limits(chain: &screwkit_model::Chain) -> Result<Vec<f64>> {
+    let missing: Vec<&str> = chain
+        .variables
+        .iter()
+        .filter(|v| !v.velocity.is_some_and(|x| x.is_finite() && x > 0.0))
+        .map(|v| v.name.as_str())
+        .collect();
+    if !missing.is_empty() {
+        return Err(screwkit_solve::SolveError::InvalidInput(format!(
+            "no velocity limit in the file for {} (give the velocity limits)",
+            missing.join(", ")
+        ))
+        .into());
+    }
+    Ok(chain.variables.iter().filter_map(|v| v.velocity).collect())
+}
+
+/// A pose written as 6 numbers (x, y, z, roll, pitch, yaw), 7 (x, y, z, qx, qy, qz, qw) or 16
+/// (the 4 × 4 matrix, row-major); `what` names it in the error.
+pub fn pose(values: &[f64], what: &str) -> Result<Se3> {
+    let t = match values.len() {
+        6 => crate::target::from_xyz_rpy(values),
+        7 => crate::target::from_xyz_quat(values),
+        16 => Ok(crate::target::from_row_major(values)?),
+        n => Err(screwkit_solve::SolveError::InvalidInput(format!(
+            "expected 6 (x,y,z,roll,pitch,yaw), 7 (x,y,z,qx,qy,qz,qw) or 16 (a 4x4 matrix) numbers, got {n}"
+        ))
+        .into()),
+    };
+    t.map_err(|e| screwkit_solve::SolveError::InvalidInput(format!("{what}: {e}")).into())
+}
+
+/// A path's report (`screwkit path --format json`): the chain's variables, the joint samples,
+/// each one's place on the path, the fraction achieved, why it stopped; with a timing, its
+/// duration and the samples' times and joint values every `dt`.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PathReport {
+    /// The chain's variable names (the columns of `q`).
+    pub variables: Vec<String>,
+    /// The joint samples (K rows).
+    pub q: Vec<Vec<f64>>,
+    /// Each sample's place: segment index + σ.
+    #[serde(serialize_with = "crate::io::json::numbers")]
+    pub place: Vec<f64>,
+    /// The fraction of the path achieved.
+    pub fraction: f64,
+    /// "reached", "singularity", "branch ends", "unreachable" or "jump".
+    pub stop: String,
+    /// Where and why, in one sentence.
+    pub message: String,
+    /// The timed path, when asked.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timed: Option<TimedReport>,
+}
+
+/// A timed path: its duration, and t and q every dt (the last sample at the end).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TimedReport {
+    /// The duration (s).
+    pub duration: f64,
+    /// The sample times (s).
+    #[serde(serialize_with = "crate::io::json::numbers")]
+    pub t: Vec<f64>,
+    /// q at each time.
+    pub q: Vec<Vec<f64>>,
+}
+
+/// The report of `path` for chain variables `names`, timed when `timing` is given ((velocity,
+/// acceleration) limits, the sample step).
+pub fn report(
+    names: &[String],
+    path: &CartesianPath,
+    timing: Option<(&[f64], &[f64], f64)>,
+) -> Result<PathReport> {
+    let n = names.len();
+    let rows = |q: &[f64]| q.chunks(n.max(1)).map(<[f64]>::to_vec).collect::<Vec<_>>();
+    let timed = match timing {
+        None => None,
+        Some((v, a, dt)) => {
+            if !(dt.is_finite() && dt > 0.0) {
+                return Err(screwkit_solve::SolveError::InvalidInput(format!(
+                    "dt {dt}: expected a finite step > 0"
+                ))
+                .into());
+            }
+            if path.place.len() < 2 {
+                None
+            } else {
+                let t = screwkit_solve::timing::time_parameterize(
+                    &path.q,
+                    n,
+                    v,
+                    a,
+                    &Default::default(),
+                )?;
+                let count = (t.duration() / dt).ceil() as usize;
+                if count > 10_000_000 {
+                    return Err(screwkit_solve::SolveError::InvalidInput(format!(
+                        "the timed path takes {:.3} s: {count} samples of dt {dt} (at most 10,000,000)",
+                        t.duration()
+                    ))
+                    .into());
+                }
+                let times: Vec<f64> = (0..=count)
+                    .map(|k| (k as f64 * dt).min(t.duration()))
+                    .collect();
+                let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+                let mut out = Vec::with_capacity(times.len());
+                for time in &times {
+                    t.sample(*time, &mut q, &mut qd, &mut qdd);
+                    out.push(q.clone());
+                }
+                Some(TimedReport {
+                    duration: t.duration(),
+                    t: times,
+                    q: out,
+                })
+            }
+        }
+    };
+    Ok(PathReport {
+        variables: names.to_vec(),
+        q: rows(&path.q),
+        place: path.place.clone(),
+        fraction: path.fraction,
+        stop: path.stop.as_str().to_string(),
+        message: path.message.clone(),
+        timed,
+    })
+}

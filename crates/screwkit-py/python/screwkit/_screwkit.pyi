@@ -572,6 +572,18 @@ class Robot:
     def obstacles(self) -> list[str]: ...
     @property
     def total_mass(self) -> float: ...
+    @property
+    def velocity_limits(self) -> _F64: ...
+    def time_parameterize(
+        self,
+        path: _ArrayLike,
+        acc_limits: _ArrayLike,
+        vel_limits: _ArrayLike | None = None,
+        *,
+        grid: int | None = None,
+        check: float = 0.001,
+    ) -> TimedPath:
+        """`screwkit.time_parameterize` with the file's velocity limits by default."""
     def cartesian_path(
         self,
         targets: _ArrayLike,
