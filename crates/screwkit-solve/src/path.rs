@@ -155,6 +155,27 @@ fn joint_step(a: &[f64], b: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Whether the smallest singular value of the body Jacobian at q is below `sigma`: J Jᵀ − σ² 1
+/// (6 × 6; JᵀJ for fewer than six joints) is then not positive definite, which a Cholesky
+/// attempt tells without an SVD.
+fn near_singular(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    q: &[f64],
+    sigma: f64,
+) -> Result<bool, SolveError> {
+    let j = crate::jacobian::jacobian(kin, ws, q, screwkit_lie::Frame::Body)?;
+    let s2 = sigma * sigma;
+    Ok(if j.ncols() >= 6 {
+        let g: nalgebra::Matrix6<f64> = j * j.transpose() - nalgebra::Matrix6::identity() * s2;
+        g.cholesky().is_none()
+    } else {
+        let n = j.ncols();
+        let g = j.transpose() * j - nalgebra::DMatrix::identity(n, n) * s2;
+        g.cholesky().is_none()
+    })
+}
+
 /// One sample's IK from the previous one; Err(stop, sentence) when the path must stop.
 fn follow(
     kin: &Kinematics,
@@ -304,11 +325,16 @@ pub fn cartesian_path(
                         sigma = next;
                         halvings = 0;
                         step = 1.0 / steps as f64;
-                        let sv =
-                            crate::analysis::analyze(kin, ws, &prev, screwkit_lie::Frame::Body)?
-                                .singular_values;
-                        let weakest = sv.last().copied().unwrap_or(0.0);
-                        if weakest < opts.min_sigma {
+                        if near_singular(kin, ws, &prev, opts.min_sigma)? {
+                            // (The SVD only here, for the message.)
+                            let sv = crate::analysis::analyze(
+                                kin,
+                                ws,
+                                &prev,
+                                screwkit_lie::Frame::Body,
+                            )?
+                            .singular_values;
+                            let weakest = sv.last().copied().unwrap_or(0.0);
                             halvings = MAX_HALVINGS;
                             Some((
                                 PathStop::Singularity,
@@ -438,5 +464,27 @@ mod tests {
             path.fraction,
             path.message
         );
+    }
+
+    /// The Cholesky test of the smallest singular value agrees with the SVD's (the reference)
+    /// on configurations near and far from the wrist singularity.
+    #[test]
+    fn the_cholesky_test_agrees_with_the_svd() {
+        let kin = ur5();
+        let mut ws = Workspace::new(&kin);
+        for q5 in [0.5, 0.1, 0.02, 0.014, 0.0148, 0.015, 0.016, 0.001, -0.01] {
+            let q = [0.3, -1.2, 1.4, -1.5, q5, 0.4];
+            let sv = crate::analysis::analyze(&kin, &mut ws, &q, screwkit_lie::Frame::Body)
+                .unwrap()
+                .singular_values;
+            let weakest = *sv.last().unwrap();
+            for sigma in [0.005, 0.01, 0.05] {
+                assert_eq!(
+                    near_singular(&kin, &mut ws, &q, sigma).unwrap(),
+                    weakest < sigma,
+                    "q5 {q5}, sigma {sigma}: weakest {weakest}"
+                );
+            }
+        }
     }
 }
