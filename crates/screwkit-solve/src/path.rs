@@ -31,6 +31,10 @@ use crate::workspace::Workspace;
 /// How many times a step may be halved before the path stops there.
 pub const MAX_HALVINGS: usize = 8;
 
+/// The most samples of one path (its steps of `max_step` are refused beyond; a path whose
+/// halvings would pass it stops there).
+pub const MAX_SAMPLES: usize = 1_000_000;
+
 /// The tool's motion between two poses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Interpolation {
@@ -298,6 +302,13 @@ pub fn cartesian_path(
         })
         .collect();
     let total: f64 = lengths.iter().sum();
+    let planned: f64 = lengths.iter().map(|l| (l / opts.max_step).ceil()).sum();
+    if planned > MAX_SAMPLES as f64 {
+        return Err(SolveError::InvalidInput(format!(
+            "the path would take {planned:.0} steps of max_step {} (at most {MAX_SAMPLES}): a larger max_step",
+            opts.max_step
+        )));
+    }
     let mut done = 0.0;
     let mut prev = seed.to_vec();
     for (k, w) in poses.windows(2).enumerate() {
@@ -309,6 +320,16 @@ pub fn cartesian_path(
         let mut step = 1.0 / steps as f64;
         let mut halvings = 0;
         while sigma < 1.0 {
+            if out.place.len() > MAX_SAMPLES {
+                out.stop = PathStop::Jump;
+                out.fraction = (done + sigma * lengths[k]) / total;
+                out.message = format!(
+                    "stopped on segment {} at {:.1} % of it: more than {MAX_SAMPLES} samples (its steps keep halving)",
+                    k + 1,
+                    100.0 * sigma
+                );
+                return Ok(out);
+            }
             let next = (sigma + step).min(1.0);
             let target = between(a, b, &xi, &phi, opts.interpolation, next);
             let stop = match follow(kin, ws, analytic, &target, &prev, opts)? {
@@ -486,5 +507,42 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Untrusted options: a step so small the path would take billions of samples is refused
+    /// before any is made (no unbounded memory); NaN options and targets are named.
+    #[test]
+    fn hostile_options_are_refused() {
+        let kin = ur5();
+        let mut ws = Workspace::new(&kin);
+        let seed = [0.3, -1.2, 1.4, -1.5, -1.4, 0.4];
+        let mut goal = fk_unchecked(&kin, &seed);
+        goal = Se3::from_parts_unchecked(
+            *goal.rotation(),
+            goal.translation() + Vector3::new(0.5, 0.0, 0.0),
+        );
+        let tiny = PathOptions {
+            max_step: 1e-9,
+            ..Default::default()
+        };
+        let e = cartesian_path(&kin, &mut ws, None, &[goal], &seed, &tiny).unwrap_err();
+        assert!(e.to_string().contains("at most 1000000"), "{e}");
+        let nan = PathOptions {
+            max_deviation: f64::NAN,
+            ..Default::default()
+        };
+        let e = cartesian_path(&kin, &mut ws, None, &[goal], &seed, &nan).unwrap_err();
+        assert!(e.to_string().contains("max_deviation"), "{e}");
+        let bad = Se3::from_parts_unchecked(*goal.rotation(), Vector3::new(f64::NAN, 0.0, 0.0));
+        let e = cartesian_path(
+            &kin,
+            &mut ws,
+            None,
+            &[goal, bad],
+            &seed,
+            &PathOptions::default(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("target 1"), "{e}");
     }
 }
