@@ -105,6 +105,11 @@ pub enum Command {
     Path(PathArgs),
 }
 
+/// The library's path options, whose defaults the flags show.
+fn path_defaults() -> screwkit_solve::path::PathOptions {
+    screwkit_solve::path::PathOptions::default()
+}
+
 /// `path`.
 #[derive(Debug, Args)]
 pub struct PathArgs {
@@ -126,10 +131,10 @@ pub struct PathArgs {
     #[arg(long)]
     pub line: bool,
     /// The largest tool motion per step (m along the chord, and rad of turn).
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(long, default_value_t = path_defaults().max_step)]
     pub max_step: f64,
     /// The largest joint motion per step (rad or m).
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = path_defaults().max_joint_step)]
     pub max_joint_step: f64,
     /// Write the joint path (K × dof; with --timed: M × (1 + dof), t then q every --dt) to this
     /// .npy file.
