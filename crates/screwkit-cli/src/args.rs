@@ -117,15 +117,20 @@ pub struct PathArgs {
     #[command(flatten)]
     pub chain: ChainArgs,
     /// The start configuration q1,q2,... (the tool starts at its pose).
-    #[arg(long = "from", value_parser = parse_list, allow_hyphen_values = true)]
-    pub start: List,
+    #[arg(long = "from", value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
+    pub start: Option<List>,
     /// The goal pose: x,y,z,roll,pitch,yaw (6 numbers), x,y,z,qx,qy,qz,qw (7) or a 4x4 matrix
     /// row-major (16).
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
-    pub to: List,
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
+    pub to: Option<List>,
     /// A pose on the way (as --to), in order; repeat for several.
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, conflicts_with = "input")]
     pub via: Vec<List>,
+    /// Many paths: a file (or - for stdin) of JSON lines {"from": [q...], "to": [pose...],
+    /// "via": [[pose...], ...]} (via optional), computed on all cores; one JSON line out per
+    /// line in (the path's report, or {"error", "line"}).
+    #[arg(long, conflicts_with_all = ["start", "to", "output"])]
+    pub input: Option<String>,
     /// The origin along straight lines (the rotation about one axis) instead of one screw
     /// motion per segment.
     #[arg(long)]
@@ -136,6 +141,24 @@ pub struct PathArgs {
     /// The largest joint motion per step (rad or m).
     #[arg(long, default_value_t = path_defaults().max_joint_step)]
     pub max_joint_step: f64,
+    /// A 7R arm: the joint held at the start's value along the path (by name or index in q,
+    /// from 0), or arm_angle (an arm with a spherical shoulder and wrist: its arm angle held);
+    /// default: the joint the closed-form solver chooses.
+    #[arg(long, value_name = "JOINT", value_parser = |s: &str| Ok::<_, String>(screwkit_service::joint::JointRef::parse(s)))]
+    pub lock: Option<screwkit_service::joint::JointRef>,
+    /// Stop before a sample whose body is not clear of contact (itself, the rest of the robot
+    /// at its neutral pose, and the --obstacles) by --margin; the message names the pair.
+    #[arg(long)]
+    pub avoid_collisions: bool,
+    /// With --avoid-collisions: the least distance (m) kept between every checked pair.
+    #[arg(long, requires = "avoid_collisions", default_value_t = screwkit_service::body::DEFAULT_MARGIN)]
+    pub margin: f64,
+    /// With --avoid-collisions: an SRDF whose disable_collisions pairs are not checked.
+    #[arg(long, requires = "avoid_collisions")]
+    pub srdf: Option<PathBuf>,
+    /// With --avoid-collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
+    #[arg(long, requires = "avoid_collisions")]
+    pub obstacles: Option<PathBuf>,
     /// Write the joint path (K × dof; with --timed: M × (1 + dof), t then q every --dt) to this
     /// .npy file.
     #[arg(short = 'o', long)]

@@ -1,24 +1,27 @@
 //! `screwkit path`: the floor's Cartesian path ([`screwkit_service::path`]) from a
-//! configuration through poses, printed, as JSON, or written as .npy; timed on request.
+//! configuration through poses, printed, as JSON, or written as .npy; timed on request; many
+//! paths from JSON lines (`--input`) on all cores.
 
 use std::fmt::Write;
 
 use screwkit_service::io::npy::NpyWriter;
-use screwkit_service::{path, report};
+use screwkit_service::{body, path, report};
 use screwkit_solve::path::{Interpolation, PathOptions};
+use screwkit_solve::Workspace;
 
 use crate::args::{Format, PathArgs};
-use crate::output::{emit, print_json, tuple, CliResult};
+use crate::batch;
+use crate::output::{emit, print_json, tuple, CliResult, Failure};
 
 /// Runs `path`.
 pub fn run(a: &PathArgs, format: Format) -> CliResult {
     let robot = crate::load(&a.chain)?;
     let (chain, kin) = robot.chain_parts()?;
-    let mut targets = Vec::with_capacity(a.via.len() + 1);
-    for (k, v) in a.via.iter().enumerate() {
-        targets.push(path::pose(&v.0, &format!("--via #{}", k + 1))?);
+    if (a.srdf.is_some() || a.obstacles.is_some()) && !a.avoid_collisions {
+        return Err(Failure(
+            "--srdf and --obstacles apply with --avoid-collisions".into(),
+        ));
     }
-    targets.push(path::pose(&a.to.0, "--to")?);
     let options = PathOptions {
         interpolation: if a.line {
             Interpolation::Line
@@ -29,9 +32,21 @@ pub fn run(a: &PathArgs, format: Format) -> CliResult {
         max_joint_step: a.max_joint_step,
         ..Default::default()
     };
-    let mut ws = robot.workspace()?;
     let solvers = screwkit_service::solutions::Solvers::default();
-    let p = path::cartesian_path(kin, &mut ws, &solvers, &targets, &a.start.0, &options)?;
+    let analytic = path::path_solver(kin, &solvers, a.lock.as_ref())?;
+    let model = if a.avoid_collisions {
+        Some(body::robot_model(
+            &robot,
+            a.srdf.as_deref(),
+            a.obstacles.as_deref(),
+        )?)
+    } else {
+        None
+    };
+    let clear = match &model {
+        Some(m) => Some(body::chain_clearance(&robot, robot.whole()?, m, a.margin)?),
+        None => None,
+    };
     let limits = if a.timed {
         let v = match &a.vel {
             Some(v) => v.0.clone(),
@@ -42,13 +57,80 @@ pub fn run(a: &PathArgs, format: Format) -> CliResult {
     } else {
         None
     };
-    let r = path::report(
-        kin.names(),
-        &p,
-        limits
-            .as_ref()
-            .map(|(v, acc)| (v.as_slice(), acc.as_slice(), a.dt)),
+    let timing = limits
+        .as_ref()
+        .map(|(v, acc)| (v.as_slice(), acc.as_slice(), a.dt));
+    if let Some(input) = &a.input {
+        return batch::stream(input, |lines, _| {
+            let rows = batch::parse_rows(lines, |text| {
+                let obj = batch::parse_object(text)?;
+                let start = batch::numbers(&obj, "from")?;
+                let mut targets = Vec::new();
+                if let Some(via) = obj.get("via") {
+                    let Some(list) = via.as_array() else {
+                        return Err("\"via\": expected an array of poses".into());
+                    };
+                    for (k, v) in list.iter().enumerate() {
+                        let values: Vec<f64> = serde_json::from_value(v.clone())
+                            .map_err(|_| format!("\"via\"[{k}]: expected an array of numbers"))?;
+                        targets.push(
+                            path::pose(&values, &format!("\"via\"[{k}]"))
+                                .map_err(|e| e.to_string())?,
+                        );
+                    }
+                }
+                let to = batch::numbers(&obj, "to")?;
+                targets.push(path::pose(&to, "\"to\"").map_err(|e| e.to_string())?);
+                Ok((start, targets))
+            });
+            let errors: Vec<Option<String>> =
+                rows.iter().map(|r| r.as_ref().err().cloned()).collect();
+            Ok(batch::outputs(lines, &errors, |k| {
+                let Ok((start, targets)) = &rows[k] else {
+                    unreachable!("a row with an error is reported by `outputs`")
+                };
+                let mut ws = Workspace::new(kin);
+                let r = path::cartesian_path(
+                    kin,
+                    &mut ws,
+                    analytic.as_deref(),
+                    targets,
+                    start,
+                    &options,
+                    clear.as_ref(),
+                )
+                .and_then(|p| path::report(kin.names(), &p, timing));
+                match r {
+                    Ok(r) => (report::to_value(&r), true),
+                    Err(e) => (
+                        serde_json::json!({"error": e.to_string(), "line": lines[k].number}),
+                        false,
+                    ),
+                }
+            }))
+        });
+    }
+    let mut targets = Vec::with_capacity(a.via.len() + 1);
+    for (k, v) in a.via.iter().enumerate() {
+        targets.push(path::pose(&v.0, &format!("--via #{}", k + 1))?);
+    }
+    let to = a.to.as_ref().expect("clap requires --to without --input");
+    targets.push(path::pose(&to.0, "--to")?);
+    let start = a
+        .start
+        .as_ref()
+        .expect("clap requires --from without --input");
+    let mut ws = robot.workspace()?;
+    let p = path::cartesian_path(
+        kin,
+        &mut ws,
+        analytic.as_deref(),
+        &targets,
+        &start.0,
+        &options,
+        clear.as_ref(),
     )?;
+    let r = path::report(kin.names(), &p, timing)?;
     if let Some(out) = &a.output {
         let n = kin.dof();
         let (rows, width, values): (usize, usize, Vec<f64>) = match &r.timed {

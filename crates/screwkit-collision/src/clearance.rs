@@ -83,6 +83,22 @@ impl<'a> ChainClearance<'a> {
         self.margin
     }
 
+    /// The closest checked pair at the chain's `q`: its two link (or obstacle) names and
+    /// signed distance (m); None for a model without pairs. What a front end names when a
+    /// configuration is not clear.
+    pub fn closest(
+        &self,
+        scratch: &mut ClearanceScratch,
+        q: &[f64],
+    ) -> Result<Option<(String, String, f64)>, CollisionError> {
+        self.place(scratch, q);
+        let ClearanceScratch { ws, q: tq, .. } = scratch;
+        Ok(query::min_distance(self.model, ws, self.kin, tq)?.map(|d| {
+            let (a, b) = self.model.pair_names(d.pair);
+            (a.to_string(), b.to_string(), d.distance)
+        }))
+    }
+
     /// The tree's configuration of the chain's `q`, into `scratch`.
     fn place<'s>(&self, s: &'s mut ClearanceScratch, q: &[f64]) -> &'s [f64] {
         s.q.clone_from(&self.base);

@@ -199,7 +199,7 @@ impl Analysis {
 /// A Cartesian path (`Robot.cartesian_path`): the joint samples `q` (K, dof), the first the
 /// seed; each sample's `place` on the path (segment index + fraction of it: 1.5 is halfway
 /// along the second segment); the `fraction` of the path's length achieved; why it stopped
-/// (`stop`: "reached", "singularity", "branch ends", "unreachable" or "jump") and a sentence
+/// (`stop`: "reached", "singularity", "branch ends", "unreachable", "jump" or "collision") and a sentence
 /// saying where (`message`).
 #[pyclass(frozen, get_all, module = "screwkit")]
 pub struct CartesianPath {
@@ -213,6 +213,27 @@ pub struct CartesianPath {
     pub stop: String,
     /// Where and why, in one sentence.
     pub message: String,
+}
+
+impl CartesianPath {
+    /// The Python object of the library's path (`dof` joints).
+    pub fn new(
+        py: Python<'_>,
+        path: screwkit_solve::path::CartesianPath,
+        dof: usize,
+    ) -> PyResult<Self> {
+        let rows = path.place.len();
+        let q = crate::array::new_array(py, &[rows, dof], |o| o.copy_from_slice(&path.q))?
+            .cast_into::<PyArray2<f64>>()?
+            .unbind();
+        Ok(CartesianPath {
+            q,
+            place: numpy::ToPyArray::to_pyarray(&path.place[..], py).unbind(),
+            fraction: path.fraction,
+            stop: path.stop.as_str().to_string(),
+            message: path.message,
+        })
+    }
 }
 
 #[pymethods]

@@ -548,6 +548,209 @@ impl Robot {
 
     /// The poses of `selection` (the floor's `query::Poses`): q (n,) → its shape ((4, 4) or
     /// (K, 4, 4)); q (N, n) → N of them, through the library's batch.
+    /// `cartesian_path` (`many` false: (4, 4) or (K, 4, 4) targets) and `cartesian_paths`
+    /// (`many`: (N, 4, 4) or (N, K, 4, 4)).
+    #[allow(clippy::too_many_arguments)]
+    fn paths<'py>(
+        &self,
+        many: bool,
+        py: Python<'py>,
+        targets: &Bound<'py, PyAny>,
+        seed: Option<&Bound<'py, PyAny>>,
+        interpolation: &str,
+        max_step: f64,
+        max_joint_step: f64,
+        max_deviation: f64,
+        min_sigma: f64,
+        lock: Option<&Bound<'py, PyAny>>,
+        avoid_collisions: bool,
+        margin: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let how = word::<screwkit_service::words::Interpolation>("interpolation", interpolation)?;
+        let kin = self.kin()?;
+        let n = kin.dof();
+        let lock = lock.map(|j| joint_ref(j, "lock")).transpose()?;
+        let analytic = screwkit_service::path::path_solver(kin, &self.analytic, lock.as_ref())
+            .map_err(service_error)?;
+        let body = if avoid_collisions {
+            Some(self.body_model()?)
+        } else {
+            if margin != 0.0 {
+                return Err(PyValueError::new_err(
+                    "margin applies with avoid_collisions=True",
+                ));
+            }
+            None
+        };
+        let clear = body
+            .as_ref()
+            .map(|(tree, model)| {
+                screwkit_service::body::chain_clearance(&self.robot, tree, model, margin)
+            })
+            .transpose()
+            .map_err(service_error)?;
+        let options = screwkit_solve::path::PathOptions {
+            interpolation: how.motion(),
+            max_step,
+            max_joint_step,
+            max_deviation,
+            min_sigma,
+            ..Default::default()
+        };
+        let array = f64_array(targets, "targets")?;
+        let shape = array.shape().to_vec();
+        let bad_shape = || {
+            PyValueError::new_err(format!(
+                "targets: expected shape {}, got {}",
+                if many {
+                    "(N, 4, 4) or (N, K, 4, 4)"
+                } else {
+                    "(4, 4) or (K, 4, 4) (many paths: cartesian_paths)"
+                },
+                shape_str(&shape)
+            ))
+        };
+        let (paths, per) = match (many, shape.as_slice()) {
+            (false, [4, 4]) => (None, 1),
+            (false, [k, 4, 4]) => (None, *k),
+            (true, [m, 4, 4]) => (Some(*m), 1),
+            (true, [m, k, 4, 4]) => (Some(*m), *k),
+            _ => return Err(bad_shape()),
+        };
+        if per == 0 {
+            return Err(PyValueError::new_err("targets: no pose given"));
+        }
+        let values = array.to_vec()?;
+        let pose = |k: usize, t: &[f64]| {
+            target::from_row_major(t).map_err(|e| {
+                let at = match (paths, shape.len()) {
+                    (Some(_), _) => format!("[{}, {}]", k / per, k % per),
+                    (None, 3) => format!("[{k}]"),
+                    _ => String::new(),
+                };
+                format!("targets{at}: {e}")
+            })
+        };
+        let Some(m) = paths else {
+            let seed = match seed {
+                Some(s) => Self::one_vector(s, n, "seed")?,
+                None => kin.midpoint(),
+            };
+            let targets = values
+                .chunks(16)
+                .enumerate()
+                .map(|(k, t)| pose(k, t).map_err(PyValueError::new_err))
+                .collect::<PyResult<Vec<_>>>()?;
+            let path = py
+                .detach(|| {
+                    self.workspace().map(|mut ws| {
+                        screwkit_service::path::cartesian_path(
+                            kin,
+                            &mut ws,
+                            analytic.as_deref(),
+                            &targets,
+                            &seed,
+                            &options,
+                            clear.as_ref(),
+                        )
+                    })
+                })?
+                .map_err(service_error)?;
+            return Ok(crate::results::CartesianPath::new(py, path, n)?
+                .into_pyobject(py)?
+                .into_any());
+        };
+        // Many paths: a bad pose is its row's error, the others are computed.
+        let mut rows: Vec<Result<Vec<screwkit_lie::Se3>, String>> = Vec::with_capacity(m);
+        for r in 0..m {
+            rows.push(
+                values[r * per * 16..(r + 1) * per * 16]
+                    .chunks(16)
+                    .enumerate()
+                    .map(|(k, t)| pose(r * per + k, t))
+                    .collect(),
+            );
+        }
+        let seeds = match seed {
+            None => kin.midpoint(),
+            Some(s) => {
+                let a = f64_array(s, "seed")?;
+                match a.shape() {
+                    [x] if *x == n => a.to_vec()?,
+                    [r, x] if *r == m && *x == n => a.to_vec()?,
+                    other => {
+                        return Err(PyValueError::new_err(format!(
+                            "seed: expected shape ({n},) or ({m}, {n}), got {}",
+                            shape_str(other)
+                        )))
+                    }
+                }
+            }
+        };
+        let one_seed = seeds.len() == n;
+        let mut out: Vec<Option<screwkit_solve::path::CartesianPath>> = Vec::with_capacity(m);
+        let mut bad: Vec<(usize, String)> = Vec::new();
+        let mut result = Ok(());
+        pool::chunked(py, m, PATH_CHUNK, PATH_CHUNK, |range| {
+            let start = range.start;
+            let good: Vec<Vec<screwkit_lie::Se3>> = range
+                .clone()
+                .map(|r| rows[r].clone().unwrap_or_default())
+                .collect();
+            let chunk_seeds = if one_seed {
+                seeds.clone()
+            } else {
+                seeds[range.start * n..range.end * n].to_vec()
+            };
+            match screwkit_service::path::cartesian_paths(
+                kin,
+                analytic.as_deref(),
+                &good,
+                &chunk_seeds,
+                &options,
+                clear.as_ref(),
+            ) {
+                Ok(done) => {
+                    for (k, r) in done.into_iter().enumerate() {
+                        let row = start + k;
+                        match (&rows[row], r) {
+                            (Err(e), _) => {
+                                bad.push((row, e.clone()));
+                                out.push(None);
+                            }
+                            (Ok(_), Ok(p)) => out.push(Some(p)),
+                            (Ok(_), Err(e)) => {
+                                bad.push((row, e.to_string()));
+                                out.push(None);
+                            }
+                        }
+                    }
+                }
+                Err(e) => result = Err(e),
+            }
+            Ok(())
+        })?
+        .map_err(solve_error)?;
+        result.map_err(service_error)?;
+        let list = pyo3::types::PyList::empty(py);
+        for p in out {
+            match p {
+                Some(p) => list.append(crate::results::CartesianPath::new(py, p, n)?)?,
+                None => list.append(py.None())?,
+            }
+        }
+        if bad.is_empty() {
+            Ok(list.into_any())
+        } else {
+            Err(crate::errors::rows_error(
+                py,
+                "cartesian_path",
+                bad,
+                list.into_any(),
+            ))
+        }
+    }
+
     fn poses_of<'py>(
         &self,
         py: Python<'py>,
@@ -875,6 +1078,22 @@ const FK_CHUNK: usize = 1 << 15;
 /// Rows per chunk of an IK batch.
 const IK_CHUNK: usize = 256;
 
+/// Paths per chunk of a batch of Cartesian paths (a path is hundreds of IK solves: a chunk
+/// of 16 keeps Ctrl-C within a fraction of a second and both cores busy).
+const PATH_CHUNK: usize = 16;
+
+/// A joint by name, or by its 0-based index in q (`what` names the argument in the error).
+fn joint_ref(j: &Bound<'_, PyAny>, what: &str) -> PyResult<JointRef> {
+    // (A str checked by type, not by a failed extraction: this runs on every call.)
+    Ok(if let Ok(name) = j.cast::<pyo3::types::PyString>() {
+        JointRef::Name(name.extract::<String>()?)
+    } else {
+        JointRef::Index(j.extract::<usize>().map_err(|_| {
+            PyValueError::new_err(format!("{what}: a joint name or its index in q (from 0)"))
+        })?)
+    })
+}
+
 /// The library's xacro options from Python's arguments.
 pub fn xacro_options(
     package_paths: Option<Vec<PathBuf>>,
@@ -1008,7 +1227,7 @@ impl Robot {
         if m.shape() != [4, 4] {
             return Err(PyValueError::new_err(format!(
                 "M: expected shape (4, 4), got {}",
-                crate::array::shape_str(m.shape())
+                shape_str(m.shape())
             )));
         }
         let home: [f64; 16] = m.readonly().as_slice()?.try_into().expect("16 values");
@@ -1018,7 +1237,7 @@ impl Robot {
                 [_, c] if *c == k => Ok(a.to_vec()?),
                 shape => Err(PyValueError::new_err(format!(
                     "{what}: expected shape (n, {k}), got {}",
-                    crate::array::shape_str(shape)
+                    shape_str(shape)
                 ))),
             }
         };
@@ -1817,85 +2036,89 @@ impl Robot {
     /// The tool moved along a Cartesian path from the seed's pose through `targets` ((4, 4),
     /// or (K, 4, 4) waypoints), the joints following on one IK branch: by the chain's
     /// closed-form IK when it has one (each sample the nearest solution to the previous:
-    /// the same posture and 2π copy), else by numerical IK seeded with the previous sample.
+    /// the same posture and 2π copy; a 7R arm holds one joint at the seed's value, `lock`
+    /// (name or index; "arm_angle" for an arm with a spherical shoulder and wrist: its arm
+    /// angle held), default the joint its solver chooses), else by numerical IK seeded with
+    /// the previous sample.
     /// `interpolation` "screw" (one screw motion between poses) or "line" (the origin on the
     /// straight line, the rotation about one axis); steps of at most `max_step` (m and rad of
     /// the tool), `max_joint_step` (rad or m) per joint and a joint-space midpoint within
     /// `max_deviation` (m and rad) of the path's, each step halved (8 times at most) before
     /// giving up; it stops near a singularity (the Jacobian's smallest singular value below
-    /// `min_sigma`) rather than jump. Returns a `CartesianPath` (q, place, fraction, stop,
-    /// message); never raises for a path that cannot be completed, only for bad arguments.
-    #[pyo3(signature = (targets, seed = None, *, interpolation = "screw", max_step = 0.005, max_joint_step = 0.1, max_deviation = 0.001, min_sigma = 0.005))]
+    /// `min_sigma`) rather than jump. `avoid_collisions`: every sample's body (the whole
+    /// robot, its disabled pairs and obstacles as they are now) keeps each checked pair
+    /// `margin` metres apart, and the path stops before one that does not ("collision",
+    /// naming the pair). Returns a `CartesianPath` (q, place, fraction, stop, message); never
+    /// raises for a path that cannot be completed, only for bad arguments.
+    /// Many paths at once: `cartesian_paths`.
+    #[pyo3(signature = (targets, seed = None, *, interpolation = "screw", max_step = 0.005, max_joint_step = 0.1, max_deviation = 0.001, min_sigma = 0.005, lock = None, avoid_collisions = false, margin = 0.0))]
     #[allow(clippy::too_many_arguments)]
-    fn cartesian_path(
+    fn cartesian_path<'py>(
         &self,
-        py: Python<'_>,
-        targets: &Bound<'_, PyAny>,
-        seed: Option<&Bound<'_, PyAny>>,
+        py: Python<'py>,
+        targets: &Bound<'py, PyAny>,
+        seed: Option<&Bound<'py, PyAny>>,
         interpolation: &str,
         max_step: f64,
         max_joint_step: f64,
         max_deviation: f64,
         min_sigma: f64,
-    ) -> PyResult<crate::results::CartesianPath> {
-        let how = word::<screwkit_service::words::Interpolation>("interpolation", interpolation)?;
-        let kin = self.kin()?;
-        let seed = match seed {
-            Some(s) => Self::one_vector(s, kin.dof(), "seed")?,
-            None => kin.midpoint(),
-        };
-        let (values, count) = poses(targets, "targets")?;
-        let values = values.to_vec()?;
-        let targets = values
-            .chunks(16)
-            .enumerate()
-            .map(|(k, t)| {
-                target::from_row_major(t).map_err(|e| {
-                    PyValueError::new_err(format!(
-                        "targets{}: {e}",
-                        if count.is_some() {
-                            format!("[{k}]")
-                        } else {
-                            String::new()
-                        }
-                    ))
-                })
-            })
-            .collect::<PyResult<Vec<_>>>()?;
-        let options = screwkit_solve::path::PathOptions {
-            interpolation: how.motion(),
+        lock: Option<&Bound<'py, PyAny>>,
+        avoid_collisions: bool,
+        margin: f64,
+    ) -> PyResult<Bound<'py, crate::results::CartesianPath>> {
+        Ok(self
+            .paths(
+                false,
+                py,
+                targets,
+                seed,
+                interpolation,
+                max_step,
+                max_joint_step,
+                max_deviation,
+                min_sigma,
+                lock,
+                avoid_collisions,
+                margin,
+            )?
+            .cast_into::<crate::results::CartesianPath>()?)
+    }
+
+    /// Many Cartesian paths on all cores: `targets` (N, K, 4, 4) (or (N, 4, 4): one target
+    /// each) and `seed` (dof,) or (N, dof) → a list of N `CartesianPath`s, each equal to its
+    /// `cartesian_path` call whatever the thread count (same arguments); a bad row raises
+    /// `BatchError`, whose `.result` is the list with None at those rows.
+    #[pyo3(signature = (targets, seed = None, *, interpolation = "screw", max_step = 0.005, max_joint_step = 0.1, max_deviation = 0.001, min_sigma = 0.005, lock = None, avoid_collisions = false, margin = 0.0))]
+    #[allow(clippy::too_many_arguments)]
+    fn cartesian_paths<'py>(
+        &self,
+        py: Python<'py>,
+        targets: &Bound<'py, PyAny>,
+        seed: Option<&Bound<'py, PyAny>>,
+        interpolation: &str,
+        max_step: f64,
+        max_joint_step: f64,
+        max_deviation: f64,
+        min_sigma: f64,
+        lock: Option<&Bound<'py, PyAny>>,
+        avoid_collisions: bool,
+        margin: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.paths(
+            true,
+            py,
+            targets,
+            seed,
+            interpolation,
             max_step,
             max_joint_step,
             max_deviation,
             min_sigma,
-            ..Default::default()
-        };
-        let path = py
-            .detach(|| {
-                self.workspace().map(|mut ws| {
-                    screwkit_service::path::cartesian_path(
-                        kin,
-                        &mut ws,
-                        &self.analytic,
-                        &targets,
-                        &seed,
-                        &options,
-                    )
-                })
-            })?
-            .map_err(service_error)?;
-        let n = kin.dof();
-        let rows = path.place.len();
-        let q = new_array(py, &[rows, n], |o| o.copy_from_slice(&path.q))?
-            .cast_into::<PyArray2<f64>>()?
-            .unbind();
-        Ok(crate::results::CartesianPath {
-            q,
-            place: path.place.to_pyarray(py).unbind(),
-            fraction: path.fraction,
-            stop: path.stop.as_str().to_string(),
-            message: path.message,
-        })
+            lock,
+            avoid_collisions,
+            margin,
+        )
     }
 
     /// How the dynamics (`inverse_dynamics`, `mass_matrix`, …) takes the file: `inertias`
@@ -2777,14 +3000,7 @@ impl Robot {
                 Some(JointRef::Name(screwkit_service::joint::ARM_ANGLE.into()))
             }
             None => None,
-            // (A str checked by type, not by a failed extraction: this runs on every call.)
-            Some(j) => Some(if let Ok(name) = j.cast::<pyo3::types::PyString>() {
-                JointRef::Name(name.extract::<String>()?)
-            } else {
-                JointRef::Index(j.extract::<usize>().map_err(|_| {
-                    PyValueError::new_err("lock: a joint name or its index in q (from 0)")
-                })?)
-            }),
+            Some(j) => Some(joint_ref(j, "lock")?),
         };
         let all = AllSolutions::with_solvers(
             self.kin()?,

@@ -183,6 +183,94 @@ def test_the_command_line_answers_as_python(tmp_path: Path) -> None:
     assert len(bad.stderr.strip().splitlines()) == 1
 
 
+# A UR5 tool 0.24 m above the table top... and a straight line 0.4 m down through it.
+PATH_SEED = np.array([0.0, -1.2, 1.6, -1.9, -1.57, 0.0])
+
+
+def test_a_path_into_the_table_stops_before_contact_by_coal() -> None:
+    """`cartesian_path(avoid_collisions=True, margin)`: the UR5's tool on a line down into the
+    table stops with "collision", naming the pair; every sample keeps the margin by coal; the
+    same path without the body goes on, and coal finds its first sample inside the margin
+    just past where the checked path stopped (within one step), so the stop is not early."""
+    robot, oracle, _, _ = setup("ur5")
+    goal = robot.fk(PATH_SEED)
+    goal[:3, 3] += [0.0, 0.0, -0.4]
+    path = robot.cartesian_path(
+        goal, PATH_SEED, interpolation="line", avoid_collisions=True, margin=MARGIN
+    )
+    assert path.stop == "collision", path.message
+    assert "table" in path.message and 0.1 < path.fraction < 0.5
+    for q in path.q:
+        assert oracle.min_distance(q) >= MARGIN - 1e-6
+    free = robot.cartesian_path(goal, PATH_SEED, interpolation="line")
+    assert free.stop == "reached", free.message
+    np.testing.assert_array_equal(free.q[: len(path.q)], path.q)
+    inside = [k for k, q in enumerate(free.q) if oracle.min_distance(q) < MARGIN]
+    assert inside and inside[0] == len(path.q), (inside[:3], len(path.q))
+    # Margin 0: contact itself stops it, later on the same line.
+    touching = robot.cartesian_path(goal, PATH_SEED, interpolation="line", avoid_collisions=True)
+    assert touching.stop == "collision" and touching.fraction > path.fraction
+    assert all(oracle.min_distance(q) >= -1e-6 for q in touching.q)
+    # A seed in contact gives no path; the margin without the body is refused.
+    low = robot.cartesian_path(
+        goal, free.q[-1], interpolation="line", avoid_collisions=True, margin=MARGIN
+    )
+    assert low.stop == "collision" and low.fraction == 0.0 and len(low.q) == 1
+    with pytest.raises(ValueError, match="margin"):
+        robot.cartesian_path(goal, PATH_SEED, margin=MARGIN)
+
+
+def test_paths_from_the_command_line_avoid_collisions(tmp_path: Path) -> None:
+    """`screwkit path --avoid-collisions --margin --srdf --obstacles`, one path and JSON lines
+    (`--input`, with a per-line error for a bad line) = Python's."""
+    exe = os.environ.get("SCREWKIT_CLI")
+    if not exe or not Path(exe).exists():
+        pytest.skip("SCREWKIT_CLI (the screwkit binary) not given: run `cargo xtask test`")
+    robot, _, urdf, srdf = setup("ur5")
+    goal = robot.fk(PATH_SEED)
+    goal[:3, 3] += [0.0, 0.0, -0.4]
+    aside = robot.fk(PATH_SEED)
+    aside[:3, 3] += [0.0, 0.1, 0.1]
+    py = robot.cartesian_path(
+        goal, PATH_SEED, interpolation="line", avoid_collisions=True, margin=MARGIN
+    )
+
+    def arg(x: npt.NDArray[np.float64]) -> str:
+        return ",".join(repr(float(v)) for v in np.ravel(x))
+
+    base = [exe, "path", str(urdf), "--package-path", str(SHARE), "--tip", "ee_link", "--line"]
+    base += ["--avoid-collisions", "--margin", str(MARGIN), "--srdf", str(srdf)]
+    base += ["--obstacles", str(scene(tmp_path)), "--format", "json"]
+    one = subprocess.run(
+        [*base, "--from", arg(PATH_SEED), "--to", arg(goal)], capture_output=True, text=True
+    )
+    assert one.returncode == 0, one.stderr
+    report = json.loads(one.stdout)
+    np.testing.assert_array_equal(report["q"], py.q)
+    assert (report["stop"], report["message"]) == ("collision", py.message)
+    lines = tmp_path / "paths.jsonl"
+    rows = [
+        {"from": PATH_SEED.tolist(), "to": goal.ravel().tolist()},
+        {"from": PATH_SEED.tolist(), "via": [aside.ravel().tolist()], "to": goal.ravel().tolist()},
+        {"from": PATH_SEED.tolist(), "to": [1, 2, 3]},
+    ]
+    lines.write_text("".join(json.dumps(r) + "\n" for r in rows))
+    out = subprocess.run([*base, "--input", str(lines)], capture_output=True, text=True)
+    assert out.returncode != 0 and "1 line(s) failed" in out.stderr
+    got = [json.loads(x) for x in out.stdout.splitlines()]
+    np.testing.assert_array_equal(got[0]["q"], py.q)
+    via = robot.cartesian_path(
+        np.stack([aside, goal]),
+        PATH_SEED,
+        interpolation="line",
+        avoid_collisions=True,
+        margin=MARGIN,
+    )
+    np.testing.assert_array_equal(got[1]["q"], via.q)
+    assert got[1]["stop"] == via.stop == "collision"
+    assert got[2]["line"] == 3 and "to" in got[2]["error"]
+
+
 def test_bad_requests_are_refused(tmp_path: Path) -> None:
     robot, _, urdf, _ = setup("panda")
     t = robot.fk(np.zeros(robot.dof))

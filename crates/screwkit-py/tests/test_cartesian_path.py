@@ -4,7 +4,10 @@ formulas (`modern_robotics`' MatrixExp6/MatrixLog6); no joint moves more than `m
 between samples; the UR5 (closed-form IK) keeps its posture; a path through its wrist
 singularity stops there and says so; a 7-joint arm is followed by numerical IK; an
 unreachable target stops the path (at the reach boundary, where the elbow's branches meet) with
-the fraction achieved; bad arguments raise."""
+the fraction achieved; the Panda with a locked joint and the KUKA KR 16 (CI data) cross the
+workspace on one branch, ending on the goal configuration the target was made from, the
+Jacobian's determinant never changing sign (no singular surface crossed); many paths at once
+equal their single calls; bad arguments raise."""
 
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ import pytest
 
 import screwkit
 
-from conftest import ASSETS
+from conftest import ASSETS, shared_file
 
 mr = pytest.importorskip("modern_robotics", reason="pip install modern_robotics")
 F64 = npt.NDArray[np.float64]
@@ -87,6 +90,7 @@ def test_a_path_through_the_wrist_singularity_stops_there() -> None:
 
 
 def test_a_seven_joint_arm_is_followed_numerically() -> None:
+    """Without a lock, a redundant arm's path is numerical IK seeded by the previous sample."""
     robot = screwkit.Robot.from_urdf(ASSETS / "iiwa14.urdf")
     seed = np.array([0.2, 0.6, -0.1, -1.2, 0.3, 0.8, 0.1])
     start = robot.fk(seed)
@@ -97,6 +101,93 @@ def test_a_seven_joint_arm_is_followed_numerically() -> None:
     assert np.abs(np.diff(path.q, axis=0)).max() <= 0.1
     for q, place in zip(path.q[1:], path.place[1:], strict=True):
         np.testing.assert_allclose(robot.fk(q), on_the_path(start, goal, place, "line"), atol=1e-6)
+
+
+def test_the_panda_with_a_locked_joint_stays_on_one_branch() -> None:
+    """Joint 3 locked (held at the seed's value): the other six are the closed-form solution
+    nearest the previous sample. The goal is FK of a configuration with the same joint 3 on
+    the seed's branch, and the path ends exactly there."""
+    robot = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
+    seed = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    goal_q = np.array([-0.5, 0.3, 0.2, -1.4, -0.4, 1.2, 1.3])
+    start, goal = robot.fk(seed), robot.fk(goal_q)
+    for how in ("screw", "line"):
+        path = robot.cartesian_path(goal, seed, interpolation=how, lock="panda_joint3")
+        assert path.stop == "reached", path.message
+        assert len(path.place) > 50
+        np.testing.assert_array_equal(path.q[:, 2], seed[2])
+        assert np.abs(np.diff(path.q, axis=0)).max() <= 0.1
+        for q, place in zip(path.q, path.place, strict=True):
+            np.testing.assert_allclose(robot.fk(q), on_the_path(start, goal, place, how), atol=1e-9)
+        np.testing.assert_allclose(path.q[-1], goal_q, atol=1e-9)
+    # By index, the same; a redundant arm without a lock is followed numerically (joint 3
+    # moves); a lock the arm cannot take is an error.
+    by_index = robot.cartesian_path(goal, seed, lock=2)
+    np.testing.assert_array_equal(
+        by_index.q, robot.cartesian_path(goal, seed, lock="panda_joint3").q
+    )
+    free = robot.cartesian_path(goal, seed)
+    assert free.stop == "reached" and np.ptp(free.q[:, 2]) > 1e-3
+    with pytest.raises(ValueError, match="arm angle"):
+        robot.cartesian_path(goal, seed, lock="arm_angle")
+    with pytest.raises(ValueError, match="lock"):
+        robot.cartesian_path(goal, seed, lock="no_such_joint")
+
+
+@pytest.mark.shared
+def test_the_kr16_crosses_the_workspace_on_one_branch() -> None:
+    """The KUKA KR 16 (CI data, xacro expanded): a screw and a line across 1.8 rad of its
+    first joint, each ending on the goal configuration; det J keeps its sign throughout."""
+    urdf = shared_file("xacro", "expanded", "kr16_2.urdf")
+    robot = screwkit.Robot.from_urdf(urdf, "base_link", "tool0")
+    seed = np.array([-0.9, -1.2, 1.6, 0.4, 0.8, -0.3])
+    goal_q = np.array([0.9, -0.6, 0.7, -0.5, 1.2, 0.5])
+    start, goal = robot.fk(seed), robot.fk(goal_q)
+    for how in ("screw", "line"):
+        path = robot.cartesian_path(goal, seed, interpolation=how)
+        assert path.stop == "reached", path.message
+        assert len(path.place) > 300
+        assert np.abs(np.diff(path.q, axis=0)).max() <= 0.1
+        for q, place in zip(path.q, path.place, strict=True):
+            np.testing.assert_allclose(robot.fk(q), on_the_path(start, goal, place, how), atol=1e-9)
+        det = np.array([np.linalg.det(robot.jacobian(q)) for q in path.q])
+        assert np.all(det < -0.05) or np.all(det > 0.05), (det.min(), det.max())
+        np.testing.assert_allclose(path.q[-1], goal_q, atol=1e-9)
+
+
+def test_many_paths_equal_their_single_calls() -> None:
+    """`cartesian_paths`: (N, K, 4, 4) targets with one seed or one per path, a list of N
+    paths, each equal to its single call bit for bit; a bad row raises BatchError naming it,
+    the others computed."""
+    robot = screwkit.Robot.from_urdf(UR5)
+    rng = np.random.default_rng(5)
+    seeds = SEED + rng.uniform(-0.3, 0.3, (12, 6))
+    targets = np.stack([robot.fk(s + rng.uniform(-0.4, 0.4, 6))[None] for s in seeds])
+    many = robot.cartesian_paths(targets, seeds, interpolation="line")
+    assert isinstance(many, list) and len(many) == 12
+    for k, path in enumerate(many):
+        one = robot.cartesian_path(targets[k], seeds[k], interpolation="line")
+        np.testing.assert_array_equal(path.q, one.q)
+        np.testing.assert_array_equal(path.place, one.place)
+        assert (path.stop, path.fraction, path.message) == (one.stop, one.fraction, one.message)
+    shared_seed = robot.cartesian_paths(targets[:3, 0], SEED)
+    np.testing.assert_array_equal(shared_seed[2].q, robot.cartesian_path(targets[2], SEED).q)
+    bad = targets.copy()
+    bad[4, 0, 0, 3] = np.nan
+    bad_seeds = seeds.copy()
+    bad_seeds[7, 0] = np.nan
+    with pytest.raises(screwkit.BatchError, match="row 4") as caught:
+        robot.cartesian_paths(bad, bad_seeds)
+    assert caught.value.rows == [4, 7]
+    result = caught.value.result
+    assert result[4] is None and result[7] is None
+    np.testing.assert_array_equal(result[3].q, robot.cartesian_path(targets[3], seeds[3]).q)
+    with pytest.raises(ValueError, match="seed"):
+        robot.cartesian_paths(targets, seeds[:5])
+    with pytest.raises(ValueError, match="cartesian_paths"):
+        robot.cartesian_path(targets, SEED)
+    with pytest.raises(ValueError, match=r"\(N, 4, 4\)"):
+        robot.cartesian_paths(targets[0, 0], SEED)
 
 
 def test_an_unreachable_target_stops_the_path() -> None:
@@ -173,3 +264,17 @@ def test_the_command_line_gives_the_same_path(tmp_path: Path) -> None:
     np.testing.assert_array_equal(rows[:, 1:], want(rows[:, 0]))
     bad = subprocess.run([*base[:-2], "--to", "1,2,3"], capture_output=True, text=True)
     assert bad.returncode != 0 and "--to" in bad.stderr and len(bad.stderr.splitlines()) == 1
+    # A 7R arm with a locked joint: the same path as Python's.
+    panda = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
+    seed = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])
+    goal = panda.fk(np.array([-0.5, 0.3, 0.2, -1.4, -0.4, 1.2, 1.3]))
+    cmd = [exe, "path", str(ASSETS / "panda.urdf"), "--from", arg(seed), "--to", arg(goal)]
+    done = subprocess.run(
+        [*cmd, "--lock", "panda_joint3", "--format", "json"], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    locked = panda.cartesian_path(goal, seed, lock="panda_joint3")
+    np.testing.assert_array_equal(json.loads(done.stdout)["q"], locked.q)
+    bad = subprocess.run([*cmd, "--lock", "arm_angle"], capture_output=True, text=True)
+    assert bad.returncode != 0 and "arm angle" in bad.stderr
+    assert len(bad.stderr.splitlines()) == 1

@@ -2,32 +2,116 @@
 //! it has one (branches followed exactly), numerical IK seeded by the previous sample
 //! otherwise ([`screwkit_solve::path`]).
 
+use std::borrow::Cow;
+
+use screwkit_collision::ChainClearance;
 use screwkit_lie::Se3;
-use screwkit_solve::path::{self, CartesianPath, PathOptions};
+use screwkit_solve::analytic::AnalyticIk;
+use screwkit_solve::path::{self, CartesianPath, PathOptions, PathStop};
 use screwkit_solve::{Kinematics, Workspace};
 
 use crate::error::Result;
+use crate::joint::JointRef;
 use crate::solutions::Solvers;
 
-/// The path from `seed` through `targets`: with the chain's closed-form IK from `solvers`
-/// (a 6R arm's; a 7R arm has none without a locked joint, and is followed numerically).
+/// The closed-form solver a path follows: the chain's own when it needs no lock (a 6R
+/// arm's), a 7R arm's with the joint `lock` held at the seed's value (or its arm angle, with
+/// [`crate::joint::ARM_ANGLE`]); None — numerical IK seeded by the previous sample, which
+/// moves all of a redundant arm's joints a little rather than hold one — for a chain without
+/// one, or a redundant arm without a lock. A lock asked for must exist: its error is the
+/// answer.
+pub fn path_solver<'s>(
+    kin: &Kinematics,
+    solvers: &'s Solvers,
+    lock: Option<&JointRef>,
+) -> Result<Option<Cow<'s, AnalyticIk>>> {
+    Ok(match lock {
+        Some(_) => Some(solvers.get(kin, lock)?),
+        None => solvers
+            .get(kin, None)
+            .ok()
+            .filter(|s| s.locked_joint().is_none()),
+    })
+}
+
+/// The path from `seed` through `targets` (the module documentation of
+/// [`screwkit_solve::path`]), following `analytic` ([`path_solver`]) when given. With `body`,
+/// every sample is kept clear of contact and the path stops before one that is not, naming
+/// the closest pair there.
+#[allow(clippy::too_many_arguments)]
 pub fn cartesian_path(
     kin: &Kinematics,
     ws: &mut Workspace,
-    solvers: &Solvers,
+    analytic: Option<&AnalyticIk>,
     targets: &[Se3],
     seed: &[f64],
     options: &PathOptions,
+    body: Option<&ChainClearance>,
 ) -> Result<CartesianPath> {
-    let analytic = solvers.get(kin, None).ok();
-    Ok(path::cartesian_path(
-        kin,
-        ws,
-        analytic.as_deref(),
-        targets,
-        seed,
-        options,
-    )?)
+    let Some(c) = body else {
+        return Ok(path::cartesian_path(
+            kin, ws, analytic, targets, seed, options,
+        )?);
+    };
+    use screwkit_solve::ik::Clearance;
+    let mut scratch = c.scratch();
+    let mut p =
+        path::cartesian_path_clear(kin, ws, analytic, targets, seed, options, c, &mut scratch)?;
+    if let (PathStop::Collision, Some(q)) = (p.stop, &p.refused) {
+        if let Some((a, b, d)) = c.closest(&mut scratch, q)? {
+            p.message.push_str(&format!(
+                ": {a} and {b} {} (margin {} m)",
+                if d < 0.0 {
+                    format!("overlap by {:.4} m", -d)
+                } else {
+                    format!("are {d:.4} m apart")
+                },
+                c.margin()
+            ));
+        }
+    }
+    Ok(p)
+}
+
+/// Many paths on all cores (rayon's current pool): path k from `seeds` row k (or the one
+/// seed, when `seeds` has dof values) through `targets[k]`, each as its single call
+/// [`cartesian_path`] whatever the thread count; a bad row is its own error.
+pub fn cartesian_paths(
+    kin: &Kinematics,
+    analytic: Option<&AnalyticIk>,
+    targets: &[Vec<Se3>],
+    seeds: &[f64],
+    options: &PathOptions,
+    body: Option<&ChainClearance>,
+) -> Result<Vec<Result<CartesianPath>>> {
+    use rayon::prelude::*;
+    let n = kin.dof();
+    let one_seed = seeds.len() == n;
+    if !one_seed && seeds.len() != targets.len() * n {
+        return Err(screwkit_solve::SolveError::WrongLength {
+            what: "seed values",
+            expected: targets.len() * n,
+            got: seeds.len(),
+            names: "one seed (dof) or one per path (N × dof)".into(),
+        }
+        .into());
+    }
+    Ok(targets
+        .par_iter()
+        .enumerate()
+        .with_max_len(1)
+        .map_init(
+            || Workspace::new(kin),
+            |ws, (k, t)| {
+                let seed = if one_seed {
+                    seeds
+                } else {
+                    &seeds[k * n..(k + 1) * n]
+                };
+                cartesian_path(kin, ws, analytic, t, seed, options, body)
+            },
+        )
+        .collect())
 }
 
 /// The chain's velocity limits from its file (each variable's `<limit velocity>`), the
@@ -78,7 +162,7 @@ pub struct PathReport {
     pub place: Vec<f64>,
     /// The fraction of the path achieved.
     pub fraction: f64,
-    /// "reached", "singularity", "branch ends", "unreachable" or "jump".
+    /// "reached", "singularity", "branch ends", "unreachable", "jump" or "collision".
     pub stop: String,
     /// Where and why, in one sentence.
     pub message: String,

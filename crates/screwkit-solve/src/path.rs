@@ -17,14 +17,16 @@
 //! **The checks.** A step that moves a joint more than `max_joint_step`, or whose joint-space
 //! midpoint puts the tool more than `max_deviation` (m and rad) off the path's midpoint
 //! (MoveIt's midpoint-deviation test), is halved, at most [`MAX_HALVINGS`] times, before the
-//! path gives up there. Deterministic: the same inputs give the same path.
+//! path gives up there. With a body ([`cartesian_path_clear`]), every sample is checked for
+//! contact (self and obstacles, by the body's margin) and the path stops at the last clear
+//! one. Deterministic: the same inputs give the same path.
 
 use screwkit_lie::{so3, Se3};
 
 use crate::analytic::{AnalyticIk, RepresentativeKind};
 use crate::error::SolveError;
 use crate::fk::fk_unchecked;
-use crate::ik::{self, IkOptions};
+use crate::ik::{self, Clearance, IkOptions, NoBody};
 use crate::kinematics::Kinematics;
 use crate::workspace::Workspace;
 
@@ -92,6 +94,8 @@ pub enum PathStop {
     Unreachable,
     /// A step still moves a joint too far, or leaves the path, after the halvings.
     Jump,
+    /// The next sample's body touches itself or an obstacle (or comes within the margin).
+    Collision,
 }
 
 impl PathStop {
@@ -103,6 +107,7 @@ impl PathStop {
             PathStop::BranchEnds => "branch ends",
             PathStop::Unreachable => "unreachable",
             PathStop::Jump => "jump",
+            PathStop::Collision => "collision",
         }
     }
 }
@@ -122,6 +127,9 @@ pub struct CartesianPath {
     pub stop: PathStop,
     /// What happened where, in one sentence.
     pub message: String,
+    /// The joint values the path stopped short of, when it stopped at a sample it had
+    /// solved (a collision): what a front end examines to say more.
+    pub refused: Option<Vec<f64>>,
 }
 
 /// The pose at σ between `a` and `b`.
@@ -265,6 +273,23 @@ pub fn cartesian_path(
     seed: &[f64],
     opts: &PathOptions,
 ) -> Result<CartesianPath, SolveError> {
+    cartesian_path_clear(kin, ws, analytic, targets, seed, opts, &NoBody, &mut ())
+}
+
+/// [`cartesian_path`] keeping `body` clear of contact (`scratch`: its scratch): the seed and
+/// every sample are checked ([`Clearance::is_clear`]), and the path stops at the last clear
+/// sample with [`PathStop::Collision`] (the colliding sample in `refused`).
+#[allow(clippy::too_many_arguments)]
+pub fn cartesian_path_clear<C: Clearance>(
+    kin: &Kinematics,
+    ws: &mut Workspace,
+    analytic: Option<&AnalyticIk>,
+    targets: &[Se3],
+    seed: &[f64],
+    opts: &PathOptions,
+    body: &C,
+    scratch: &mut C::Scratch,
+) -> Result<CartesianPath, SolveError> {
     kin.check_q(seed)?;
     for (what, x) in [
         ("max_step", opts.max_step),
@@ -290,6 +315,7 @@ pub fn cartesian_path(
         fraction: 1.0,
         stop: PathStop::Reached,
         message: "every target reached".into(),
+        refused: None,
     };
     let mut poses = vec![fk_unchecked(kin, seed)];
     poses.extend_from_slice(targets);
@@ -308,6 +334,14 @@ pub fn cartesian_path(
             "the path would take {planned:.0} steps of max_step {} (at most {MAX_SAMPLES}): a larger max_step",
             opts.max_step
         )));
+    }
+    if !body.is_clear(scratch, seed) {
+        out.stop = PathStop::Collision;
+        out.fraction = 0.0;
+        out.message =
+            "the seed's body is in contact (or within the margin): no path from it".into();
+        out.refused = Some(seed.to_vec());
+        return Ok(out);
     }
     let mut done = 0.0;
     let mut prev = seed.to_vec();
@@ -339,7 +373,18 @@ pub fn cartesian_path(
                     let mid: Vec<f64> = q.iter().zip(&prev).map(|(x, y)| 0.5 * (x + y)).collect();
                     let want = between(a, b, &xi, &phi, opts.interpolation, 0.5 * (sigma + next));
                     let (dp, dr) = apart(&fk_unchecked(kin, &mid), &want);
-                    if jump <= opts.max_joint_step && dp.max(dr) <= opts.max_deviation {
+                    if jump <= opts.max_joint_step
+                        && dp.max(dr) <= opts.max_deviation
+                        && !body.is_clear(scratch, &q)
+                    {
+                        // (Not halved: the sample before is clear, within a step of contact.)
+                        halvings = MAX_HALVINGS;
+                        out.refused = Some(q);
+                        Some((
+                            PathStop::Collision,
+                            "the next sample's body is in contact (or within the margin)".into(),
+                        ))
+                    } else if jump <= opts.max_joint_step && dp.max(dr) <= opts.max_deviation {
                         prev = q;
                         out.q.extend_from_slice(&prev);
                         out.place.push(k as f64 + next);
@@ -484,6 +529,82 @@ mod tests {
             "{} {}",
             path.fraction,
             path.message
+        );
+    }
+
+    /// A body that is clear while the tool is above a plane (a stand-in for a table): the path
+    /// down through it stops at the last sample above, the refused one below, and a seed
+    /// below gives no path.
+    #[test]
+    fn a_body_stops_the_path_before_contact() {
+        struct Above<'a>(&'a Kinematics, f64);
+        impl Clearance for Above<'_> {
+            type Scratch = ();
+            fn scratch(&self) {}
+            fn is_clear(&self, _: &mut (), q: &[f64]) -> bool {
+                fk_unchecked(self.0, q).translation().z > self.1
+            }
+            fn close_rows(
+                &self,
+                _: &mut (),
+                _: &[f64],
+                _: f64,
+                _: &mut Vec<f64>,
+                _: &mut Vec<f64>,
+            ) {
+            }
+        }
+        let kin = ur5();
+        let mut ws = Workspace::new(&kin);
+        let analytic = AnalyticIk::new(&kin).unwrap();
+        let seed = [0.3, -1.2, 1.4, -1.5, -1.4, 0.4];
+        let start = fk_unchecked(&kin, &seed);
+        let z0 = start.translation().z;
+        let goal = Se3::from_parts_unchecked(
+            *start.rotation(),
+            start.translation() - Vector3::new(0.0, 0.0, 0.2),
+        );
+        let opts = PathOptions {
+            interpolation: Interpolation::Line,
+            ..Default::default()
+        };
+        let plane = Above(&kin, z0 - 0.05);
+        let path = cartesian_path_clear(
+            &kin,
+            &mut ws,
+            Some(&analytic),
+            &[goal],
+            &seed,
+            &opts,
+            &plane,
+            &mut (),
+        )
+        .unwrap();
+        assert_eq!(path.stop, PathStop::Collision, "{}", path.message);
+        assert!(
+            (path.fraction - 0.25).abs() <= 0.025 + 1e-12,
+            "{}",
+            path.fraction
+        );
+        let last = path.q.chunks(6).last().unwrap();
+        assert!(fk_unchecked(&kin, last).translation().z > z0 - 0.05);
+        let refused = path.refused.as_deref().unwrap();
+        assert!(fk_unchecked(&kin, refused).translation().z <= z0 - 0.05);
+        let high = Above(&kin, z0 + 0.01);
+        let none = cartesian_path_clear(
+            &kin,
+            &mut ws,
+            Some(&analytic),
+            &[goal],
+            &seed,
+            &opts,
+            &high,
+            &mut (),
+        )
+        .unwrap();
+        assert_eq!(
+            (none.stop, none.fraction, none.place.len()),
+            (PathStop::Collision, 0.0, 1)
         );
     }
 

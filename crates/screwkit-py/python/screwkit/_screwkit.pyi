@@ -594,8 +594,26 @@ class Robot:
         max_joint_step: float = 0.1,
         max_deviation: float = 0.001,
         min_sigma: float = 0.005,
+        lock: str | int | None = None,
+        avoid_collisions: bool = False,
+        margin: float = 0.0,
     ) -> CartesianPath:
         """The tool along a screw (or line) through `targets`, the joints on one IK branch."""
+    def cartesian_paths(
+        self,
+        targets: _ArrayLike,
+        seed: _ArrayLike | None = None,
+        *,
+        interpolation: _Interpolation = "screw",
+        max_step: float = 0.005,
+        max_joint_step: float = 0.1,
+        max_deviation: float = 0.001,
+        min_sigma: float = 0.005,
+        lock: str | int | None = None,
+        avoid_collisions: bool = False,
+        margin: float = 0.0,
+    ) -> list[CartesianPath]:
+        """Many paths on all cores: (N, K, 4, 4) targets, one seed or (N, dof)."""
     def set_dynamics_options(
         self, *, inertias: _Inertias = "check", armature: bool = False, damping: bool = False
     ) -> None:
