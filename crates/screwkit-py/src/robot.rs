@@ -691,45 +691,51 @@ impl Robot {
         let mut out: Vec<Option<screwkit_solve::path::CartesianPath>> = Vec::with_capacity(m);
         let mut bad: Vec<(usize, String)> = Vec::new();
         let mut result = Ok(());
-        pool::chunked(py, m, PATH_CHUNK, PATH_CHUNK, |range| {
-            let start = range.start;
-            let good: Vec<Vec<screwkit_lie::Se3>> = range
-                .clone()
-                .map(|r| rows[r].clone().unwrap_or_default())
-                .collect();
-            let chunk_seeds = if one_seed {
-                seeds.clone()
-            } else {
-                seeds[range.start * n..range.end * n].to_vec()
-            };
-            match screwkit_service::path::cartesian_paths(
-                kin,
-                analytic.as_deref(),
-                &good,
-                &chunk_seeds,
-                &options,
-                clear.as_ref(),
-            ) {
-                Ok(done) => {
-                    for (k, r) in done.into_iter().enumerate() {
-                        let row = start + k;
-                        match (&rows[row], r) {
-                            (Err(e), _) => {
-                                bad.push((row, e.clone()));
-                                out.push(None);
-                            }
-                            (Ok(_), Ok(p)) => out.push(Some(p)),
-                            (Ok(_), Err(e)) => {
-                                bad.push((row, e.to_string()));
-                                out.push(None);
+        pool::chunked(
+            py,
+            m,
+            PATH_CHUNK,
+            screwkit_service::path::PATHS_INLINE,
+            |range| {
+                let start = range.start;
+                let good: Vec<Vec<screwkit_lie::Se3>> = range
+                    .clone()
+                    .map(|r| rows[r].clone().unwrap_or_default())
+                    .collect();
+                let chunk_seeds = if one_seed {
+                    seeds.clone()
+                } else {
+                    seeds[range.start * n..range.end * n].to_vec()
+                };
+                match screwkit_service::path::cartesian_paths(
+                    kin,
+                    analytic.as_deref(),
+                    &good,
+                    &chunk_seeds,
+                    &options,
+                    clear.as_ref(),
+                ) {
+                    Ok(done) => {
+                        for (k, r) in done.into_iter().enumerate() {
+                            let row = start + k;
+                            match (&rows[row], r) {
+                                (Err(e), _) => {
+                                    bad.push((row, e.clone()));
+                                    out.push(None);
+                                }
+                                (Ok(_), Ok(p)) => out.push(Some(p)),
+                                (Ok(_), Err(e)) => {
+                                    bad.push((row, e.to_string()));
+                                    out.push(None);
+                                }
                             }
                         }
                     }
+                    Err(e) => result = Err(e),
                 }
-                Err(e) => result = Err(e),
-            }
-            Ok(())
-        })?
+                Ok(())
+            },
+        )?
         .map_err(solve_error)?;
         result.map_err(service_error)?;
         let list = pyo3::types::PyList::empty(py);
@@ -1079,8 +1085,8 @@ const FK_CHUNK: usize = 1 << 15;
 const IK_CHUNK: usize = 256;
 
 /// Paths per chunk of a batch of Cartesian paths (a path is hundreds of IK solves: a chunk
-/// of 16 keeps Ctrl-C within a fraction of a second and both cores busy).
-const PATH_CHUNK: usize = 16;
+/// of 64 keeps Ctrl-C within a fraction of a second and the cores busy).
+const PATH_CHUNK: usize = 64;
 
 /// A joint by name, or by its 0-based index in q (`what` names the argument in the error).
 fn joint_ref(j: &Bound<'_, PyAny>, what: &str) -> PyResult<JointRef> {

@@ -73,9 +73,14 @@ pub fn cartesian_path(
     Ok(p)
 }
 
-/// Many paths on all cores (rayon's current pool): path k from `seeds` row k (or the one
-/// seed, when `seeds` has dof values) through `targets[k]`, each as its single call
-/// [`cartesian_path`] whatever the thread count; a bad row is its own error.
+/// The most paths [`cartesian_paths`] computes on the calling thread, without a thread pool
+/// (a path is tens to thousands of IK solves: two are worth sharing out).
+pub const PATHS_INLINE: usize = 1;
+
+/// Many paths on all cores (rayon's current pool; [`PATHS_INLINE`] or fewer on the calling
+/// thread): path k from `seeds` row k (or the one seed, when `seeds` has dof values) through
+/// `targets[k]`, each as its single call [`cartesian_path`] whatever the thread count; a bad
+/// row is its own error.
 pub fn cartesian_paths(
     kin: &Kinematics,
     analytic: Option<&AnalyticIk>,
@@ -96,21 +101,27 @@ pub fn cartesian_paths(
         }
         .into());
     }
+    let one = |ws: &mut Workspace, (k, t): (usize, &Vec<Se3>)| {
+        let seed = if one_seed {
+            seeds
+        } else {
+            &seeds[k * n..(k + 1) * n]
+        };
+        cartesian_path(kin, ws, analytic, t, seed, options, body)
+    };
+    if targets.len() <= PATHS_INLINE {
+        let mut ws = Workspace::new(kin);
+        return Ok(targets
+            .iter()
+            .enumerate()
+            .map(|row| one(&mut ws, row))
+            .collect());
+    }
     Ok(targets
         .par_iter()
         .enumerate()
         .with_max_len(1)
-        .map_init(
-            || Workspace::new(kin),
-            |ws, (k, t)| {
-                let seed = if one_seed {
-                    seeds
-                } else {
-                    &seeds[k * n..(k + 1) * n]
-                };
-                cartesian_path(kin, ws, analytic, t, seed, options, body)
-            },
-        )
+        .map_init(|| Workspace::new(kin), one)
         .collect())
 }
 
