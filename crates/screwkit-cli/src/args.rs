@@ -163,6 +163,10 @@ pub struct PathArgs {
     /// .npy file.
     #[arg(short = 'o', long)]
     pub output: Option<String>,
+    /// Write the joint plot (SVG: each joint against the place on the path, or against time
+    /// with --timed; the limits dashed) to this file.
+    #[arg(long, value_name = "FILE.svg", conflicts_with = "input")]
+    pub plot: Option<String>,
     /// Time the path: its fastest timing within the velocity limits (--vel, default the
     /// file's) and the acceleration limits --acc.
     #[arg(long, requires = "acc")]

@@ -148,6 +148,26 @@ pub fn run(a: &PathArgs, format: Format) -> CliResult {
         w.write_f64(&values)?;
         w.finish()?;
     }
+    if let Some(file) = &a.plot {
+        let (x, q, label): (Vec<f64>, Vec<f64>, &str) = match &r.timed {
+            Some(t) => (t.t.clone(), t.q.concat(), screwkit_draw::plot::TIME_LABEL),
+            None => (
+                p.place.clone(),
+                p.q.clone(),
+                screwkit_draw::plot::PLACE_LABEL,
+            ),
+        };
+        let svg = screwkit_draw::plot::joints(&screwkit_draw::plot::JointPlot {
+            title: &screwkit_draw::plot::title(&chain.robot),
+            names: kin.names(),
+            x: &x,
+            x_label: label,
+            q: &q,
+            limits: Some((kin.lower(), kin.upper())),
+        })
+        .map_err(Failure)?;
+        crate::draw::write_out(file, &svg)?;
+    }
     if format == Format::Json {
         return print_json(&report::to_value(&r));
     }
@@ -182,6 +202,9 @@ pub fn run(a: &PathArgs, format: Format) -> CliResult {
     }
     if let Some(out) = &a.output {
         let _ = writeln!(text, "wrote {out}");
+    }
+    if let Some(file) = &a.plot {
+        let _ = writeln!(text, "wrote {file}");
     }
     emit(&text)
 }

@@ -475,9 +475,44 @@ fn rgb_pixels(png_file: &Path) -> (u32, u32, Vec<[u8; 3]>) {
     (info.width, info.height, pixels)
 }
 
+/// Shoots `page` in Chromium (1200 × 800) and holds `docs/{name}-page.png` to the shot, with
+/// the tolerance [`the_screenshots_in_docs_are_current`] states (`SCREWKIT_UPDATE_PICTURES=1`
+/// rewrites it).
+fn assert_shot_current(dir: &Path, page: &Path, name: &str, docs: &Path) {
+    let shot = dir.join(format!("{name}.png"));
+    let out = chromium(
+        dir,
+        &[
+            &format!("--screenshot={}", shot.display()),
+            "--window-size=1200,800",
+            &format!("file://{}", page.display()),
+        ],
+    );
+    assert!(page_errors(&out).is_empty(), "{:?}", page_errors(&out));
+    let committed = docs.join(format!("{name}-page.png"));
+    if std::env::var_os("SCREWKIT_UPDATE_PICTURES").is_some() {
+        std::fs::copy(&shot, &committed).unwrap();
+    }
+    let (w, h, now) = rgb_pixels(&shot);
+    let (w0, h0, then) = rgb_pixels(&committed);
+    assert_eq!((w, h), (w0, h0), "docs/{name}-page.png: another size");
+    let diffs: Vec<u8> = now
+        .iter()
+        .zip(&then)
+        .map(|(a, b)| (0..3).map(|k| a[k].abs_diff(b[k])).max().unwrap())
+        .collect();
+    let off = diffs.iter().filter(|d| **d > 48).count() as f64 / diffs.len() as f64;
+    let mean = diffs.iter().map(|d| f64::from(*d)).sum::<f64>() / diffs.len() as f64;
+    assert!(
+        off < 0.005 && mean < 1.5,
+        "docs/{name}-page.png is stale ({:.2} % of the pixels off, mean difference {mean:.2}): regenerate it with SCREWKIT_UPDATE_PICTURES=1 and look at it",
+        100.0 * off
+    );
+}
+
 /// Issue 49, item 5: the screenshots of the 3D page in `docs/` (the Panda, the UR5 and TALOS
-/// of example-robot-data, with their meshes, as docs/guide/pictures.md's commands draw them)
-/// are current: each page is made again, shot in Chromium (SwiftShader) at 1200 × 800, and
+/// of example-robot-data, with their meshes, as docs/guide/pictures.md's commands draw them;
+/// and issue 51's UR5 playing a screw path, docs/guide/trajectories.md's) are current: each page is made again, shot in Chromium (SwiftShader) at 1200 × 800, and
 /// compared with the committed picture — the same size, fewer than 0.5 % of the pixels off by
 /// more than 48 in a channel, and a mean difference under 1.5 (another CPU's rasteriser may
 /// differ by a shade; a moved link, a lost mesh, another colour or framing does not pass).
@@ -516,36 +551,53 @@ fn the_screenshots_in_docs_are_current() {
         }
         args.extend(["-o", page.to_str().unwrap()]);
         screwkit(&args);
-        let shot = dir.join(format!("{name}.png"));
-        let out = chromium(
-            &dir,
-            &[
-                &format!("--screenshot={}", shot.display()),
-                "--window-size=1200,800",
-                &format!("file://{}", page.display()),
-            ],
-        );
-        assert!(page_errors(&out).is_empty(), "{:?}", page_errors(&out));
-        let committed = docs.join(format!("{name}-page.png"));
-        if std::env::var_os("SCREWKIT_UPDATE_PICTURES").is_some() {
-            std::fs::copy(&shot, &committed).unwrap();
-        }
-        let (w, h, now) = rgb_pixels(&shot);
-        let (w0, h0, then) = rgb_pixels(&committed);
-        assert_eq!((w, h), (w0, h0), "docs/{name}-page.png: another size");
-        let diffs: Vec<u8> = now
-            .iter()
-            .zip(&then)
-            .map(|(a, b)| (0..3).map(|k| a[k].abs_diff(b[k])).max().unwrap())
-            .collect();
-        let off = diffs.iter().filter(|d| **d > 48).count() as f64 / diffs.len() as f64;
-        let mean = diffs.iter().map(|d| f64::from(*d)).sum::<f64>() / diffs.len() as f64;
-        assert!(
-            off < 0.005 && mean < 1.5,
-            "docs/{name}-page.png is stale ({:.2} % of the pixels off, mean difference {mean:.2}): regenerate it with SCREWKIT_UPDATE_PICTURES=1 and look at it",
-            100.0 * off
-        );
+        assert_shot_current(&dir, &page, name, &docs);
     }
+    // The guide's screw path (docs/guide/trajectories.md): the UR5 turning its tool 1.2 rad
+    // about the vertical axis through (0.2, 0.2, 0), rising 0.04 m per radian, from the seed.
+    let ur5 = format!("{robots}/ur_description/urdf/ur5_robot.urdf");
+    let seed = [0.3, -1.2, 1.4, -1.5, -1.4, 0.4];
+    let chain = screwkit_model::load_chain(&ur5, Some("base_link"), Some("ee_link")).unwrap();
+    let kin = screwkit_solve::Kinematics::new(&chain);
+    let mut ws = screwkit_solve::Workspace::new(&kin);
+    let start = screwkit_solve::fk::fk(&kin, &mut ws, &seed).unwrap();
+    let screw = screwkit_lie::Twist::new(
+        nalgebra::Vector3::new(0.0, 0.0, 1.0),
+        nalgebra::Vector3::new(0.2, -0.2, 0.04),
+    );
+    let goal = screwkit_lie::Se3::exp(&(screw * 1.2)).compose(&start);
+    let mut row_major = [0.0; 16];
+    goal.write_row_major(&mut row_major);
+    let to: Vec<String> = row_major.iter().map(|x| format!("{x:?}")).collect();
+    let from: Vec<String> = seed.iter().map(|x| format!("{x:?}")).collect();
+    let motion = dir.join("path.npy");
+    let ends = [
+        "--base",
+        "base_link",
+        "--tip",
+        "ee_link",
+        "--package-path",
+        share,
+    ];
+    let mut args = vec!["path", &ur5];
+    let (from, to) = (from.join(","), to.join(","));
+    args.extend(ends);
+    args.extend(["--from", &from, "--to", &to, "-o", motion.to_str().unwrap()]);
+    screwkit(&args);
+    let page = dir.join("ur5-path.html");
+    let mut args = vec!["view", &ur5];
+    args.extend(ends);
+    args.extend([
+        "--q",
+        &from,
+        "--motion",
+        motion.to_str().unwrap(),
+        "--fps",
+        "100",
+    ]);
+    args.extend(["-o", page.to_str().unwrap()]);
+    screwkit(&args);
+    assert_shot_current(&dir, &page, "ur5-path", &docs);
     let _ = std::fs::remove_dir_all(dir);
 }
 

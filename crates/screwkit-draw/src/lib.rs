@@ -16,6 +16,8 @@
 //!   JavaScript, tested equal to the library's in a headless browser.
 //! - [`heatmap::render`]: panels of cells coloured by a value in [0, 1] (viridis) with their
 //!   axes in metres and a colour bar: the slices of a reachability map.
+//! - [`plot::joints`]: joint values against a path's place or time, one panel per joint, the
+//!   limits dashed (a Cartesian path's joint plot).
 //!
 //! ```
 //! use screwkit_draw::{svg, Scene, View};
@@ -31,6 +33,7 @@
 pub mod heatmap;
 pub mod html;
 pub mod outline;
+pub mod plot;
 pub mod scene;
 pub mod svg;
 

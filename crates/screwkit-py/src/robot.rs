@@ -2744,6 +2744,66 @@ impl Robot {
         })
     }
 
+    /// An SVG plot of a joint path `q` (K, dof) of the chain: one panel per joint against `x`
+    /// (K, increasing; default: the sample's index), each joint's limits dashed where they
+    /// fall in its panel's range; `x_label` default "place on the path …" when `x` is given.
+    /// For a Cartesian path `plot_joints(path.q, path.place)`; for a timed one
+    /// `plot_joints(q, t, x_label="time (s)")`. Returns the SVG text and writes it
+    /// to `path` when given. Deterministic.
+    #[pyo3(signature = (q, x = None, path = None, *, x_label = None, title = None))]
+    fn plot_joints(
+        &self,
+        q: &Bound<'_, PyAny>,
+        x: Option<&Bound<'_, PyAny>>,
+        path: Option<PathBuf>,
+        x_label: Option<&str>,
+        title: Option<&str>,
+    ) -> PyResult<String> {
+        let kin = self.kin()?;
+        let n = kin.dof();
+        let q = f64_array(q, "q")?;
+        let k = match q.shape() {
+            [k, c] if *c == n => *k,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "q: expected shape (K, {n}), got {}",
+                    shape_str(other)
+                )))
+            }
+        };
+        let q = q.to_vec()?;
+        let given = x.is_some();
+        let x = match x {
+            Some(x) => {
+                let v = f64_array(x, "x")?.to_vec()?;
+                if v.len() != k {
+                    return Err(PyValueError::new_err(format!(
+                        "x: expected {k} values (one per row of q), got {}",
+                        v.len()
+                    )));
+                }
+                v
+            }
+            None => (0..k).map(|i| i as f64).collect(),
+        };
+        let (chain, _) = self.robot.chain_parts().map_err(service_error)?;
+        let text = screwkit_draw::plot::joints(&screwkit_draw::plot::JointPlot {
+            title: title.unwrap_or(&screwkit_draw::plot::title(&chain.robot)),
+            names: kin.names(),
+            x: &x,
+            x_label: x_label.unwrap_or(if given {
+                screwkit_draw::plot::PLACE_LABEL
+            } else {
+                "sample"
+            }),
+            q: &q,
+            limits: Some((kin.lower(), kin.upper())),
+        })
+        .map_err(PyValueError::new_err)?;
+        write_text(path, &text)?;
+        Ok(text)
+    }
+
     /// An SVG picture of the chain at q (default: home): the body's silhouettes (each shape
     /// of each link projected, in painter's order) under the skeleton through the link
     /// origins, joints by kind, the screw axes S_i(q) asked, base and tip frames, a scale bar

@@ -215,6 +215,13 @@ def test_bad_arguments_are_refused() -> None:
         robot.cartesian_path(goal[:3], SEED)
     with pytest.raises(ValueError, match="seed"):
         robot.cartesian_path(goal, SEED[:3])
+    path = robot.cartesian_path(goal, SEED)
+    with pytest.raises(ValueError, match=r"\(K, 6\)"):
+        robot.plot_joints(path.q[:, :3])
+    with pytest.raises(ValueError, match="x"):
+        robot.plot_joints(path.q, path.place[:-1])
+    with pytest.raises(ValueError, match="decrease"):
+        robot.plot_joints(path.q, -path.place)
 
 
 def test_the_command_line_gives_the_same_path(tmp_path: Path) -> None:
@@ -238,10 +245,20 @@ def test_the_command_line_gives_the_same_path(tmp_path: Path) -> None:
         return ",".join(repr(float(v)) for v in np.ravel(x))
 
     base = [exe, "path", str(UR5), "--from", arg(SEED), "--to", arg(goal), "--via", arg(via)]
-    done = subprocess.run([*base, "--line", "--format", "json"], capture_output=True, text=True)
+    plot = tmp_path / "joints.svg"
+    done = subprocess.run(
+        [*base, "--line", "--format", "json", "--plot", str(plot)], capture_output=True, text=True
+    )
     assert done.returncode == 0, done.stderr
     report = json.loads(done.stdout)
     ours = robot.cartesian_path(np.stack([via, goal]), SEED, interpolation="line")
+    # The joint plot: one panel per joint, K points each, the same bytes from both front ends.
+    svg = robot.plot_joints(ours.q, ours.place)
+    assert plot.read_text() == svg
+    assert svg.count('class="joint"') == 6 and all(
+        f"<title>{n}</title>" in svg for n in robot.joint_names
+    )
+    assert svg.count(" L") == 6 * (len(ours.place) - 1)
     np.testing.assert_array_equal(np.array(report["q"]), ours.q)
     np.testing.assert_array_equal(report["place"], ours.place)
     assert report["stop"] == ours.stop == "reached" and report["variables"] == robot.joint_names
@@ -260,6 +277,11 @@ def test_the_command_line_gives_the_same_path(tmp_path: Path) -> None:
     assert timed["duration"] == want.duration
     rows = np.load(out)
     assert rows.shape == (len(timed["t"]), 7)
+    plotted = subprocess.run(
+        [*base, "--timed", "--acc", arg(acc), "--plot", str(plot)], capture_output=True, text=True
+    )
+    assert plotted.returncode == 0, plotted.stderr
+    assert plot.read_text() == robot.plot_joints(rows[:, 1:], rows[:, 0], x_label="time (s)")
     np.testing.assert_array_equal(rows[:, 0], timed["t"])
     np.testing.assert_array_equal(rows[:, 1:], want(rows[:, 0]))
     bad = subprocess.run([*base[:-2], "--to", "1,2,3"], capture_output=True, text=True)

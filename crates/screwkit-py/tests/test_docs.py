@@ -137,3 +137,19 @@ def test_whole_body_picture_is_current(tmp_path: Path) -> None:
     assert path.read_text() == svg, (
         "docs/talos-whole-body.svg is stale: regenerate it with SCREWKIT_UPDATE_PICTURES=1"
     )
+
+
+def test_path_joint_plot_is_current(tmp_path: Path) -> None:
+    """docs/ur5-path-joints.svg is the plot the guide's screw-path example writes (the UR5 of
+    example-robot-data); regenerate it with SCREWKIT_UPDATE_PICTURES=1 and look at it first."""
+    found = [e for e in examples() if "robot.plot_joints(path.q, path.place" in e.code]
+    assert len(found) == 1, "the guide's screw-path example plots the joints"
+    run(found[0], tmp_path)
+    svg = (tmp_path / "ur5-path-joints.svg").read_text()
+    assert "<svg" in svg[:200] and svg.count('class="joint"') == 6
+    path = REPO / "docs" / "ur5-path-joints.svg"
+    if os.environ.get("SCREWKIT_UPDATE_PICTURES"):
+        path.write_text(svg)
+    assert path.read_text() == svg, (
+        "docs/ur5-path-joints.svg is stale: regenerate it with SCREWKIT_UPDATE_PICTURES=1"
+    )

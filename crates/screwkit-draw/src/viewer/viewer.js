@@ -159,6 +159,7 @@
   }
   let az = Math.PI / 4, el = Math.atan(1 / Math.SQRT2), zoom = 1;
   let three = null;
+  const traces = new Map();
   try {
     three = makeScene();
     frame();
@@ -294,6 +295,8 @@
       // Minimum-distance segments: red through overlapping shapes, orange between close ones.
       touching: lines(0xd62728),
       close: lines(0xff7f0e),
+      // A motion's trace: the shown frame's origin through every motion frame.
+      trace: lines(0x009e73),
     };
     return { T3, renderer, scene, camera, groups, shapes, overlay, framed, grid, owners, rod };
   }
@@ -420,7 +423,26 @@
     );
     setLines(overlay.touching, touching);
     setLines(overlay.close, close);
+    setLines(overlay.trace, traceOf(Number(select.value) || 0));
     renderer.render(scene, camera);
+  }
+
+  // ---- A motion's trace: frame f's origin at each motion frame, as segments (computed once
+  // per frame shown, in `traces`).
+  function traceOf(f) {
+    if (!model.motion || !model.frames.length) return [];
+    if (!traces.has(f)) {
+      const pts = [];
+      let prev = null;
+      model.motion.frames.forEach((qk) => {
+        const T = fk(qk).frames[f];
+        const p = [T[3], T[7], T[11]];
+        if (prev) pts.push(...prev, ...p);
+        prev = p;
+      });
+      traces.set(f, pts);
+    }
+    return traces.get(f);
   }
 
   // ---- The body's contacts, computed by the library at the first configuration and at each

@@ -614,6 +614,16 @@ class Robot:
         margin: float = 0.0,
     ) -> list[CartesianPath]:
         """Many paths on all cores: (N, K, 4, 4) targets, one seed or (N, dof)."""
+    def plot_joints(
+        self,
+        q: _ArrayLike,
+        x: _ArrayLike | None = None,
+        path: str | os.PathLike[str] | None = None,
+        *,
+        x_label: str | None = None,
+        title: str | None = None,
+    ) -> str:
+        """An SVG plot of a joint path (K, dof), one panel per joint against x, limits dashed."""
     def set_dynamics_options(
         self, *, inertias: _Inertias = "check", armature: bool = False, damping: bool = False
     ) -> None:
