@@ -121,8 +121,12 @@ pub struct PathArgs {
     pub start: Option<List>,
     /// The goal pose: x,y,z,roll,pitch,yaw (6 numbers), x,y,z,qx,qy,qz,qw (7) or a 4x4 matrix
     /// row-major (16).
-    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present = "input")]
+    #[arg(long, value_parser = parse_list, allow_hyphen_values = true, required_unless_present_any = ["input", "waypoints"])]
     pub to: Option<List>,
+    /// The poses to pass through from a .npy file of float64, the last the goal: (K, 4, 4), or
+    /// K rows of 6, 7 or 16 numbers (as --to).
+    #[arg(long, value_name = "FILE.npy", conflicts_with_all = ["to", "via", "input"])]
+    pub waypoints: Option<String>,
     /// A pose on the way (as --to), in order; repeat for several.
     #[arg(long, value_parser = parse_list, allow_hyphen_values = true, conflicts_with = "input")]
     pub via: Vec<List>,
@@ -146,19 +150,10 @@ pub struct PathArgs {
     /// default: the joint the closed-form solver chooses.
     #[arg(long, value_name = "JOINT", value_parser = |s: &str| Ok::<_, String>(screwkit_service::joint::JointRef::parse(s)))]
     pub lock: Option<screwkit_service::joint::JointRef>,
-    /// Stop before a sample whose body is not clear of contact (itself, the rest of the robot
-    /// at its neutral pose, and the --obstacles) by --margin; the message names the pair.
-    #[arg(long)]
-    pub avoid_collisions: bool,
-    /// With --avoid-collisions: the least distance (m) kept between every checked pair.
-    #[arg(long, requires = "avoid_collisions", default_value_t = screwkit_service::body::DEFAULT_MARGIN)]
-    pub margin: f64,
-    /// With --avoid-collisions: an SRDF whose disable_collisions pairs are not checked.
-    #[arg(long, requires = "avoid_collisions")]
-    pub srdf: Option<PathBuf>,
-    /// With --avoid-collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
-    #[arg(long, requires = "avoid_collisions")]
-    pub obstacles: Option<PathBuf>,
+    /// Keeping the body clear of contact: the path stops before a sample that is not, naming
+    /// the pair.
+    #[command(flatten)]
+    pub avoid: Avoid,
     /// Write the joint path (K × dof; with --timed: M × (1 + dof), t then q every --dt) to this
     /// .npy file.
     #[arg(short = 'o', long)]
@@ -180,6 +175,39 @@ pub struct PathArgs {
     /// The timed path's sample step (s).
     #[arg(long, default_value_t = 0.001)]
     pub dt: f64,
+}
+
+/// Keeping a robot's body clear of contact (`path`, `reach`): the flag, the margin, and the
+/// body's SRDF and obstacles.
+#[derive(Debug, Args)]
+pub struct Avoid {
+    /// Keep the body clear of contact — itself, the rest of the robot at its neutral pose, and
+    /// the --obstacles — by --margin.
+    #[arg(long)]
+    pub avoid_collisions: bool,
+    /// With --avoid-collisions: the least distance (m) kept between every checked pair.
+    #[arg(long, requires = "avoid_collisions", default_value_t = screwkit_service::body::DEFAULT_MARGIN)]
+    pub margin: f64,
+    /// With --avoid-collisions: an SRDF whose disable_collisions pairs are not checked.
+    #[arg(long, requires = "avoid_collisions")]
+    pub srdf: Option<PathBuf>,
+    /// With --avoid-collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
+    #[arg(long, requires = "avoid_collisions")]
+    pub obstacles: Option<PathBuf>,
+}
+
+impl Avoid {
+    /// The body's model (the SRDF and obstacles applied) when --avoid-collisions is given.
+    pub fn model(
+        &self,
+        robot: &screwkit_service::Robot,
+    ) -> Result<Option<screwkit_collision::CollisionModel>, screwkit_service::Error> {
+        if !self.avoid_collisions {
+            return Ok(None);
+        }
+        screwkit_service::body::robot_model(robot, self.srdf.as_deref(), self.obstacles.as_deref())
+            .map(Some)
+    }
 }
 
 /// `dynamics`.
@@ -317,21 +345,11 @@ pub struct ReachArgs {
     /// Also write the SVG slices through the base (xy, xz, yz) to this file (whole maps).
     #[arg(long, value_name = "FILE")]
     pub svg: Option<String>,
-    /// Count only solutions whose body is clear of contact (itself, the rest of the robot at
-    /// its neutral pose, and the --obstacles) by --margin: every analytic posture is checked;
-    /// numerical IK steers away from contact. The summary says how many poses were reached
-    /// only in contact.
-    #[arg(long)]
-    pub avoid_collisions: bool,
-    /// With --avoid-collisions: the least distance (m) kept between every checked pair.
-    #[arg(long, requires = "avoid_collisions", default_value_t = screwkit_service::body::DEFAULT_MARGIN)]
-    pub margin: f64,
-    /// With --avoid-collisions: an SRDF whose disable_collisions pairs are not checked.
-    #[arg(long, requires = "avoid_collisions")]
-    pub srdf: Option<PathBuf>,
-    /// With --avoid-collisions: a scene file (JSON) of obstacles (as `collide --obstacles`).
-    #[arg(long, requires = "avoid_collisions")]
-    pub obstacles: Option<PathBuf>,
+    /// Keeping the body clear of contact: only clear solutions count (every analytic posture
+    /// is checked; numerical IK steers away from contact), and the summary says how many poses
+    /// were reached only in contact.
+    #[command(flatten)]
+    pub avoid: Avoid,
     /// With --avoid-collisions: how the body's meshes are read, exact (their triangles) or
     /// convex (their hulls, faster); default exact for URDF, convex for MJCF.
     #[arg(long, requires = "avoid_collisions", value_parser = word::<Meshes>())]

@@ -17,11 +17,6 @@ use crate::output::{emit, print_json, tuple, CliResult, Failure};
 pub fn run(a: &PathArgs, format: Format) -> CliResult {
     let robot = crate::load(&a.chain)?;
     let (chain, kin) = robot.chain_parts()?;
-    if (a.srdf.is_some() || a.obstacles.is_some()) && !a.avoid_collisions {
-        return Err(Failure(
-            "--srdf and --obstacles apply with --avoid-collisions".into(),
-        ));
-    }
     let options = PathOptions {
         interpolation: if a.line {
             Interpolation::Line
@@ -34,17 +29,14 @@ pub fn run(a: &PathArgs, format: Format) -> CliResult {
     };
     let solvers = screwkit_service::solutions::Solvers::default();
     let analytic = path::path_solver(kin, &solvers, a.lock.as_ref())?;
-    let model = if a.avoid_collisions {
-        Some(body::robot_model(
-            &robot,
-            a.srdf.as_deref(),
-            a.obstacles.as_deref(),
-        )?)
-    } else {
-        None
-    };
+    let model = a.avoid.model(&robot)?;
     let clear = match &model {
-        Some(m) => Some(body::chain_clearance(&robot, robot.whole()?, m, a.margin)?),
+        Some(m) => Some(body::chain_clearance(
+            &robot,
+            robot.whole()?,
+            m,
+            a.avoid.margin,
+        )?),
         None => None,
     };
     let limits = if a.timed {
@@ -110,12 +102,20 @@ pub fn run(a: &PathArgs, format: Format) -> CliResult {
             }))
         });
     }
-    let mut targets = Vec::with_capacity(a.via.len() + 1);
-    for (k, v) in a.via.iter().enumerate() {
-        targets.push(path::pose(&v.0, &format!("--via #{}", k + 1))?);
-    }
-    let to = a.to.as_ref().expect("clap requires --to without --input");
-    targets.push(path::pose(&to.0, "--to")?);
+    let targets = match &a.waypoints {
+        Some(file) => path::read_waypoints(file)?,
+        None => {
+            let mut targets = Vec::with_capacity(a.via.len() + 1);
+            for (k, v) in a.via.iter().enumerate() {
+                targets.push(path::pose(&v.0, &format!("--via #{}", k + 1))?);
+            }
+            let to =
+                a.to.as_ref()
+                    .expect("clap requires --to without --input or --waypoints");
+            targets.push(path::pose(&to.0, "--to")?);
+            targets
+        }
+    };
     let start = a
         .start
         .as_ref()

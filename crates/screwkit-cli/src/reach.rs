@@ -64,7 +64,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         tool: a.tool.clone(),
         floating_base: false,
         // The body's shapes are read only for a map clear of contact.
-        geometry: if a.avoid_collisions {
+        geometry: if a.avoid.avoid_collisions {
             screwkit_service::words::GeometryRoles::Collision
         } else {
             screwkit_service::words::GeometryRoles::None
@@ -92,7 +92,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
         seed: a.seed,
         restarts: a.restarts,
         iterations: a.iterations,
-        collision_margin: a.avoid_collisions.then_some(a.margin),
+        collision_margin: a.avoid.avoid_collisions.then_some(a.avoid.margin),
     };
     let shard = a.shard.unwrap_or(Shard::WHOLE);
     if a.svg.is_some() && shard.count > 1 {
@@ -102,15 +102,7 @@ pub fn run(a: &ReachArgs, format: Format) -> CliResult {
     }
     let plan = Plan::new(chain, kin, &spec)?;
     // The body (SRDF and obstacles applied), read before the map is computed.
-    let model = if a.avoid_collisions {
-        Some(screwkit_service::body::robot_model(
-            &robot,
-            a.srdf.as_deref(),
-            a.obstacles.as_deref(),
-        )?)
-    } else {
-        None
-    };
+    let model = a.avoid.model(&robot)?;
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = ProgressBar::new(0);
         if let Ok(style) = ProgressStyle::with_template(

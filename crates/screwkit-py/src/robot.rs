@@ -572,23 +572,8 @@ impl Robot {
         let lock = lock.map(|j| joint_ref(j, "lock")).transpose()?;
         let analytic = screwkit_service::path::path_solver(kin, &self.analytic, lock.as_ref())
             .map_err(service_error)?;
-        let body = if avoid_collisions {
-            Some(self.body_model()?)
-        } else {
-            if margin != 0.0 {
-                return Err(PyValueError::new_err(
-                    "margin applies with avoid_collisions=True",
-                ));
-            }
-            None
-        };
-        let clear = body
-            .as_ref()
-            .map(|(tree, model)| {
-                screwkit_service::body::chain_clearance(&self.robot, tree, model, margin)
-            })
-            .transpose()
-            .map_err(service_error)?;
+        let body = self.avoided_body(avoid_collisions, margin)?;
+        let clear = self.clearance(body.as_ref(), margin)?;
         let options = screwkit_solve::path::PathOptions {
             interpolation: how.motion(),
             max_step,
@@ -800,6 +785,37 @@ impl Robot {
             })
             .collect();
         (m.disabled(), obstacles)
+    }
+
+    /// The body `avoid_collisions` keeps clear of (the robot's, as it is now: its disabled
+    /// pairs and obstacles), held for a call; None without it, where a margin is an error.
+    fn avoided_body(
+        &self,
+        avoid_collisions: bool,
+        margin: f64,
+    ) -> PyResult<Option<(Arc<TreeKinematics>, Arc<CollisionModel>)>> {
+        if avoid_collisions {
+            return self.body_model().map(Some);
+        }
+        if margin != 0.0 {
+            return Err(PyValueError::new_err(
+                "margin applies with avoid_collisions=True",
+            ));
+        }
+        Ok(None)
+    }
+
+    /// The chain's clearance in `body` ([`Self::avoided_body`]) with `margin`.
+    fn clearance<'b>(
+        &self,
+        body: Option<&'b (Arc<TreeKinematics>, Arc<CollisionModel>)>,
+        margin: f64,
+    ) -> PyResult<Option<screwkit_collision::ChainClearance<'b>>> {
+        body.map(|(tree, model)| {
+            screwkit_service::body::chain_clearance(&self.robot, tree, model, margin)
+        })
+        .transpose()
+        .map_err(service_error)
     }
 
     /// The whole tree and the body's collision model (built on first use).
@@ -3203,23 +3219,8 @@ impl Robot {
         margin: f64,
     ) -> PyResult<Bound<'py, PyAny>> {
         // The body kept clear of (its model and tree held for the call).
-        let body = if avoid_collisions {
-            Some(self.body_model()?)
-        } else {
-            if margin != 0.0 {
-                return Err(PyValueError::new_err(
-                    "margin applies with avoid_collisions=True",
-                ));
-            }
-            None
-        };
-        let clear = body
-            .as_ref()
-            .map(|(tree, model)| {
-                screwkit_service::body::chain_clearance(&self.robot, tree, model, margin)
-            })
-            .transpose()
-            .map_err(service_error)?;
+        let body = self.avoided_body(avoid_collisions, margin)?;
+        let clear = self.clearance(body.as_ref(), margin)?;
         let clear = clear.as_ref();
         let opts = self.ik_options(IkArgs {
             method,

@@ -29,6 +29,19 @@ UR5 = ASSETS / "ur5.urdf"
 SEED = np.array([0.3, -1.2, 1.4, -1.5, -1.4, 0.4])
 
 
+def lie_quaternion(r: F64) -> F64:
+    """(qx, qy, qz, qw) of a rotation matrix (Shepperd's method, w the largest here)."""
+    w = 0.5 * np.sqrt(max(1.0 + np.trace(r), 1e-300))
+    return np.array(
+        [
+            (r[2, 1] - r[1, 2]) / (4 * w),
+            (r[0, 2] - r[2, 0]) / (4 * w),
+            (r[1, 0] - r[0, 1]) / (4 * w),
+            w,
+        ]
+    )
+
+
 def on_the_path(a: F64, b: F64, place: float, how: str) -> F64:
     """The textbook's pose at σ between a and b (screw: MR's ScrewTrajectory's formula;
     line: its CartesianTrajectory's)."""
@@ -286,6 +299,25 @@ def test_the_command_line_gives_the_same_path(tmp_path: Path) -> None:
     np.testing.assert_array_equal(rows[:, 1:], want(rows[:, 0]))
     bad = subprocess.run([*base[:-2], "--to", "1,2,3"], capture_output=True, text=True)
     assert bad.returncode != 0 and "--to" in bad.stderr and len(bad.stderr.splitlines()) == 1
+    # The waypoints from a .npy file ((K, 4, 4), or rows of 7 numbers): the same path.
+    stack = tmp_path / "waypoints.npy"
+    np.save(stack, np.stack([via, goal]))
+    cmd = [exe, "path", str(UR5), "--from", arg(SEED), "--waypoints", str(stack), "--line"]
+    done = subprocess.run([*cmd, "--format", "json"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    np.testing.assert_array_equal(json.loads(done.stdout)["q"], ours.q)
+    quat = np.array([[*t[:3, 3], *lie_quaternion(t[:3, :3])] for t in (via, goal)])
+    np.save(stack, quat)
+    done = subprocess.run([*cmd, "--format", "json"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    np.testing.assert_allclose(json.loads(done.stdout)["q"], ours.q, atol=1e-9)
+    quat[1, 0] = np.nan
+    np.save(stack, quat)
+    bad = subprocess.run(cmd, capture_output=True, text=True)
+    assert bad.returncode != 0 and "row 1" in bad.stderr and len(bad.stderr.splitlines()) == 1
+    np.save(stack, np.zeros((2, 5)))
+    bad = subprocess.run(cmd, capture_output=True, text=True)
+    assert bad.returncode != 0 and "shape" in bad.stderr
     # A 7R arm with a locked joint: the same path as Python's.
     panda = screwkit.Robot.from_urdf(ASSETS / "panda.urdf")
     seed = np.array([0.3, -0.4, 0.2, -2.0, 0.1, 1.8, 0.6])

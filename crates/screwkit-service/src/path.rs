@@ -159,6 +159,37 @@ pub fn pose(values: &[f64], what: &str) -> Result<Se3> {
     t.map_err(|e| screwkit_solve::SolveError::InvalidInput(format!("{what}: {e}")).into())
 }
 
+/// The most waypoints a file may hold ([`read_waypoints`]).
+pub const MAX_WAYPOINTS: usize = 100_000;
+
+/// The poses of a `.npy` file of float64, in order (the last the goal): (K, 4, 4) matrices, or
+/// K rows of 6, 7 or 16 numbers as [`pose`] reads them; an error names the file and the row.
+pub fn read_waypoints(file: &str) -> Result<Vec<Se3>> {
+    let mut r = crate::io::npy::NpyReader::open(file)?;
+    let bad = |m: String| screwkit_solve::SolveError::InvalidInput(format!("{file}: {m}"));
+    let width = match r.shape.as_slice() {
+        [_, 4, 4] => 16,
+        [_, w] if matches!(w, 6 | 7 | 16) => *w,
+        other => {
+            return Err(bad(format!(
+                "shape {other:?}: expected (K, 4, 4) poses, or K rows of 6, 7 or 16 numbers"
+            ))
+            .into())
+        }
+    };
+    let rows = r.shape[0];
+    if rows == 0 || rows > MAX_WAYPOINTS {
+        return Err(bad(format!("{rows} poses: expected 1 to {MAX_WAYPOINTS}")).into());
+    }
+    let mut values = Vec::with_capacity(rows * width);
+    r.read_rows(rows, &mut values)?;
+    values
+        .chunks(width)
+        .enumerate()
+        .map(|(k, row)| pose(row, &format!("{file}: row {k}")))
+        .collect()
+}
+
 /// A path's report (`screwkit path --format json`): the chain's variables, the joint samples,
 /// each one's place on the path, the fraction achieved, why it stopped; with a timing, its
 /// duration and the samples' times and joint values every `dt`.
