@@ -169,7 +169,7 @@ fn beyond_face(shape: &dyn Shape, pose: &Pose, h: V, box_pose: &Pose) -> Option<
     let s = pose.transform_point(support.local_support_point(down));
     let p = na(box_pose.inverse_transform_point(s));
     let d = sign * p[i] - h[i];
-    if !(d > 0.0) || (0..3).any(|j| j != i && p[j].abs() > h[j]) {
+    if d.is_nan() || d <= 0.0 || (0..3).any(|j| j != i && p[j].abs() > h[j]) {
         return None;
     }
     let mut on_face = p;
