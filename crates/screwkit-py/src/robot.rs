@@ -2423,8 +2423,12 @@ impl Robot {
 
     /// The quadratic program `ik_step` solves, for inspection and reference solvers:
     /// (H (nv, nv), c (nv,), lower (nv,), upper (nv,)); its minimiser of ½ΔᵀHΔ + cᵀΔ within
-    /// lower ≤ Δ ≤ upper is Δ = v·dt.
-    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None, limits = None))]
+    /// lower ≤ Δ ≤ upper is Δ = v·dt. With `limits` whose rows bind (`CollisionAvoidance`
+    /// near contact) the problem also has G Δ ≥ h: `with_rows=True` returns (H, c, lower,
+    /// upper, G (m, nv), h (m,)) (m = 0 when no row binds; the rows as the step last solved
+    /// them, after raising a broken row's bound); without it such a step raises ValueError
+    /// rather than return a problem that is not the one solved.
+    #[pyo3(signature = (q, tasks, dt, *, position_limits = true, velocity_limits = true, velocity_caps = None, limits = None, with_rows = false))]
     #[allow(clippy::too_many_arguments)]
     fn ik_step_qp<'py>(
         &self,
@@ -2436,6 +2440,7 @@ impl Robot {
         velocity_limits: bool,
         velocity_caps: Option<Bound<'py, PyAny>>,
         limits: Option<Bound<'py, PyAny>>,
+        with_rows: bool,
     ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
         let (kin, q, tasks, limits) = self.step_inputs(
             q,
@@ -2446,18 +2451,23 @@ impl Robot {
             limits.as_ref(),
         )?;
         let nv = kin.nv();
-        let (h, c, l, u) = self
+        let ((h, c, l, u), (g, gh)) = self
             .with_diff_ws(&kin, |ws| {
                 tasks.step(&kin, ws, &q, dt, &limits)?;
                 let (h, c, l, u) = ws.qp();
+                let (g, gh) = ws.rows();
                 Ok::<_, screwkit_solve::SolveError>((
-                    h.to_vec(),
-                    c.to_vec(),
-                    l.to_vec(),
-                    u.to_vec(),
+                    (h.to_vec(), c.to_vec(), l.to_vec(), u.to_vec()),
+                    (g.to_vec(), gh.to_vec()),
                 ))
             })
             .map_err(solve_error)?;
+        if !with_rows && !gh.is_empty() {
+            return Err(PyValueError::new_err(format!(
+                "this step's QP has {} general rows from `limits` (G Δ ≥ h): ask for them with with_rows=True",
+                gh.len()
+            )));
+        }
         // The full symmetric H (the solver reads its lower triangle).
         let hm = new_array(py, &[nv, nv], |o| {
             for i in 0..nv {
@@ -2466,15 +2476,18 @@ impl Robot {
                 }
             }
         })?;
-        pyo3::types::PyTuple::new(
-            py,
-            [
-                hm.into_any(),
-                c.to_pyarray(py).into_any(),
-                l.to_pyarray(py).into_any(),
-                u.to_pyarray(py).into_any(),
-            ],
-        )
+        let mut items = vec![
+            hm.into_any(),
+            c.to_pyarray(py).into_any(),
+            l.to_pyarray(py).into_any(),
+            u.to_pyarray(py).into_any(),
+        ];
+        if with_rows {
+            let gm = new_array(py, &[gh.len(), nv], |o| o.copy_from_slice(&g))?;
+            items.push(gm.into_any());
+            items.push(gh.to_pyarray(py).into_any());
+        }
+        pyo3::types::PyTuple::new(py, items)
     }
 
     /// Whole-body IK to convergence from `seed` (nq,; default: the neutral configuration with
@@ -3305,22 +3318,7 @@ impl Robot {
                     let qo = w.as_slice_mut()?;
                     let st = &mut status;
                     let kin = self.kin()?;
-                    if let Some(c) = clear {
-                        let piece = |r: std::ops::Range<usize>| {
-                            batch::ik_batch_clear_from(
-                                kin,
-                                r.start,
-                                &tv[16 * r.start..16 * r.end],
-                                seeds.map(|s| &s[n * r.start..n * r.end]),
-                                &opts,
-                                c,
-                                &mut qo[n * r.start..n * r.end],
-                                &mut st[r.clone()],
-                                None,
-                            )
-                        };
-                        pool::chunked(py, rows, IK_CHUNK, batch::IK_INLINE_ROWS, piece)?
-                    } else if rows <= batch::IK_INLINE_ROWS {
+                    if clear.is_none() && rows <= batch::IK_INLINE_ROWS {
                         // A few targets in turn on this thread, in the robot's workspace:
                         // handing them to the pool would cost more than sharing them saves.
                         let mut ws = self.workspace()?;
@@ -3329,16 +3327,17 @@ impl Robot {
                     } else {
                         // Restart seeds by global row: the same answers whatever the chunking.
                         let piece = |r: std::ops::Range<usize>| {
-                            batch::ik_batch_from(
-                                kin,
-                                r.start,
-                                &tv[16 * r.start..16 * r.end],
-                                seeds.map(|s| &s[n * r.start..n * r.end]),
-                                &opts,
-                                &mut qo[n * r.start..n * r.end],
-                                &mut st[r.clone()],
-                                None,
-                            )
+                            let targets = &tv[16 * r.start..16 * r.end];
+                            let seeds = seeds.map(|s| &s[n * r.start..n * r.end]);
+                            let (q, st) = (&mut qo[n * r.start..n * r.end], &mut st[r.clone()]);
+                            match clear {
+                                Some(c) => batch::ik_batch_clear_from(
+                                    kin, r.start, targets, seeds, &opts, c, q, st, None,
+                                ),
+                                None => batch::ik_batch_from(
+                                    kin, r.start, targets, seeds, &opts, q, st, None,
+                                ),
+                            }
                         };
                         pool::chunked(py, rows, IK_CHUNK, batch::IK_INLINE_ROWS, piece)?
                     }

@@ -403,6 +403,55 @@ def test_whole_body_steps_keep_the_margin(goal: tuple[float, float, float], mesh
         assert np.percentile(change, 99) < 0.03 * np.linalg.norm(v, axis=1).max()
 
 
+def test_the_step_qp_with_its_rows_is_the_problem_solved() -> None:
+    """`ik_step_qp(…, with_rows=True)` near the table: (H, c, lower, upper, G, h), and the step
+    `ik_step` takes satisfies that problem's optimality conditions (KKT, checked by scipy's
+    non-negative least squares on the active constraints' multipliers): feasible within 1e-9,
+    stationary within 1e-7 of the gradient's size. Without with_rows, such a step raises."""
+    from scipy.optimize import nnls  # type: ignore[import-untyped]  # (with toppra)
+
+    robot, q0, pairs, _ = talos("convex")
+    hand = "gripper_right_base_link"
+    target = np.eye(4)
+    target[:3, :3] = robot.fk(q0, hand)[:3, :3]
+    target[:3, 3] = (0.45, -0.2, -0.45)
+    tasks = robot.task_set(
+        [
+            screwkit.FrameTask(hand, target, gain=0.05, orientation_weight=0.0),
+            screwkit.PostureTask(q0, weight=1e-2),
+            screwkit.DampingTask(0.3),
+        ]
+    )
+    avoid = [screwkit.CollisionAvoidance(pairs, margin=TALOS_MARGIN, detection_distance=0.05)]
+    q, dt, checked, binding = q0.copy(), 0.01, 0, 0
+    for _ in range(120):
+        v = robot.ik_step(q, tasks, dt, limits=avoid)
+        h_, c_, lo, hi, g, h = robot.ik_step_qp(q, tasks, dt, limits=avoid, with_rows=True)
+        assert g.shape == (len(h), len(c_))
+        if len(h):
+            with pytest.raises(ValueError, match="with_rows"):
+                robot.ik_step_qp(q, tasks, dt, limits=avoid)
+            x = v * dt
+            assert np.all(x >= lo - 1e-9) and np.all(x <= hi + 1e-9)
+            assert np.all(g @ x >= h - 1e-9)
+            grad = h_ @ x + c_
+            active = [g[k] for k in range(len(h)) if g[k] @ x - h[k] < 1e-9]
+            binding += bool(active)
+            eye = np.eye(len(x))
+            active += [eye[i] for i in range(len(x)) if x[i] - lo[i] < 1e-12]
+            active += [-eye[i] for i in range(len(x)) if hi[i] - x[i] < 1e-12]
+            a = np.array(active).T if active else np.zeros((len(x), 0))
+            if a.shape[1]:
+                _, residual = nnls(a, grad)
+            else:
+                residual = float(np.linalg.norm(grad))
+            assert residual <= 1e-7 * max(1.0, float(np.linalg.norm(grad))), residual
+            checked += 1
+        q = robot.integrate(q, v, dt)
+    # Rows bound the step on some of them (without the rows, those would not be optimal).
+    assert checked >= 20 and binding >= 5, (checked, binding)
+
+
 def test_tasks_and_trajectories_keep_the_margin() -> None:
     """`ik_tasks` and `ik_trajectory` with `CollisionAvoidance`: every answer at least the
     margin from contact by coal, whether its goal is clear (converged) or under the table."""

@@ -675,6 +675,7 @@ class Robot:
         velocity_caps: _ArrayLike | None = None,
         limits: Sequence[CollisionAvoidance] | None = None,
     ) -> _F64: ...
+    @overload
     def ik_step_qp(
         self,
         q: _ArrayLike,
@@ -685,7 +686,21 @@ class Robot:
         velocity_limits: bool = True,
         velocity_caps: _ArrayLike | None = None,
         limits: Sequence[CollisionAvoidance] | None = None,
+        with_rows: Literal[False] = False,
     ) -> tuple[_F64, _F64, _F64, _F64]: ...
+    @overload
+    def ik_step_qp(
+        self,
+        q: _ArrayLike,
+        tasks: Sequence[_Task] | TaskSet,
+        dt: float,
+        *,
+        position_limits: bool = True,
+        velocity_limits: bool = True,
+        velocity_caps: _ArrayLike | None = None,
+        limits: Sequence[CollisionAvoidance] | None = None,
+        with_rows: Literal[True],
+    ) -> tuple[_F64, _F64, _F64, _F64, _F64, _F64]: ...
     def ik_tasks(
         self,
         tasks: Sequence[_Task],
