@@ -45,10 +45,22 @@ impl NpyReader {
         if shape.is_empty() {
             return Err(err("a scalar, not an array of rows".into()));
         }
-        let row_len: usize = shape[1..].iter().product();
+        // Sizes from an untrusted header: a product past any file's size is an error, not an
+        // overflow.
+        let size = |dims: &[usize]| {
+            dims.iter()
+                .try_fold(1u64, |a, &d| a.checked_mul(d as u64))
+                .filter(|n| n.checked_mul(8).is_some_and(|b| b <= i64::MAX as u64))
+        };
+        let (Some(row), Some(all)) = (size(&shape[1..]), size(&shape)) else {
+            return Err(err(format!(
+                "shape {shape:?} has more elements than any file can hold"
+            )));
+        };
+        let row_len = row as usize;
         // The data must be exactly what the header says, checked before any output exists.
         let header = file.stream_position().unwrap_or(0);
-        let data = shape.iter().product::<usize>() as u64 * 8;
+        let data = all * 8;
         if let Ok(m) = file.get_ref().metadata() {
             if m.is_file() && m.len() != header + data {
                 return Err(err(format!(
@@ -69,7 +81,18 @@ impl NpyReader {
     /// Reads up to `max` rows into `out` (cleared first); returns how many.
     pub fn read_rows(&mut self, max: usize, out: &mut Vec<f64>) -> Result<usize, FileError> {
         let rows = max.min(self.remaining);
-        let mut bytes = vec![0u8; rows * self.row_len * 8];
+        // (A header read from a pipe is not held to a file size: its claims are bounded here.)
+        let len = rows
+            .checked_mul(self.row_len)
+            .and_then(|n| n.checked_mul(8))
+            .filter(|n| *n <= 1 << 32)
+            .ok_or_else(|| {
+                FileError::Format(format!(
+                    "{}: {rows} rows of {} values are more than one read takes (4 GiB)",
+                    self.path, self.row_len
+                ))
+            })?;
+        let mut bytes = vec![0u8; len];
         self.file
             .read_exact(&mut bytes)
             .map_err(|e| FileError::io_doing(&self.path, "the data ends early", e))?;
