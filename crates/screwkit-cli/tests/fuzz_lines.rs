@@ -1,5 +1,5 @@
 //! Fuzz target of the JSON-lines batch parser (`fk`, `jacobian`, `ik --input -`, `ik --all
-//! --input -`, `ik --tasks FILE --input -` with and without `--sequential`): mutated lines from the seeded mutation fuzzer of `screwkit_testkit::fuzz`,
+//! --input -`, `ik --tasks FILE --input -` with and without `--sequential`, `path --input -`): mutated lines from the seeded mutation fuzzer of `screwkit_testkit::fuzz`,
 //! thousands per process. Every line gets exactly one answer (a result or an error object
 //! naming its line), the exit code is 0 or 1, and nothing panics. A few seconds here;
 //! `SCREWKIT_FUZZ_SECS=600` runs ten minutes.
@@ -82,6 +82,7 @@ fn fuzz_json_lines() {
         "\u{feff}{\"q\":[1e-300,2,3,4,5,6]}",
         r#"{"tasks":[{"target":[1,0,0,0.3,0,1,0,0.4,0,0,1,0.9,0,0,0,1]},null,{"weight":0.1}],"seed":[0,0,0,0,0,0,0]}"#,
         r#"{"tasks":[{"type":"axis","axis":[0,0,1],"direction":[1,0,0]},{"position_weight":[1,0,1]}]}"#,
+        r#"{"from":[0.3,-1.2,1.4,-1.5,-1.4,0.4],"to":[0.5,0.3,0.3,3.1,0,0],"via":[[0.5,0.3,0.35,0,0,0,1]]}"#,
     ]
     .iter()
     .map(|s| s.as_bytes().to_vec())
@@ -98,6 +99,9 @@ fn fuzz_json_lines() {
         b"\"seed\"",
         b"\"tasks\"",
         b"\"weight\"",
+        b"\"from\"",
+        b"\"to\"",
+        b"\"via\"",
         b"null",
         b"true",
         b"1e999",
@@ -160,8 +164,22 @@ fn fuzz_json_lines() {
             }
             feed(&args, &ik[..200]);
         }
+        // Cartesian paths, coarse steps (a line's cost is its path's length).
+        feed(
+            &[
+                "path",
+                &ur5,
+                "--input",
+                "-",
+                "--max-step",
+                "0.05",
+                "--max-joint-step",
+                "0.5",
+            ],
+            &ik[..200],
+        );
         rounds += 1;
-        lines_fed += 8100;
+        lines_fed += 8300;
     }
     eprintln!(
         "fuzz json lines: {lines_fed} lines in {rounds} rounds, {:.0} s, without a crash",
