@@ -621,6 +621,9 @@ impl Robot {
                 Some(s) => Self::one_vector(s, n, "seed")?,
                 None => kin.midpoint(),
             };
+            // One path polls Ctrl-C (a long numerical one can take seconds).
+            let mut options = options.clone();
+            options.ik.interrupt = Some(ik::Interrupt(pool::interrupted));
             let targets = values
                 .chunks(16)
                 .enumerate()
@@ -641,6 +644,7 @@ impl Robot {
                     })
                 })?
                 .map_err(service_error)?;
+            pool::take_interrupt(py)?;
             return Ok(crate::results::CartesianPath::new(py, path, n)?
                 .into_pyobject(py)?
                 .into_any());

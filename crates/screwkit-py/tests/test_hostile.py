@@ -87,6 +87,9 @@ except KeyboardInterrupt:
         # value: seconds), one target and a batch.
         "robot.ik_all(far, lock=0, sweep=100000)",
         "robot.ik_all(np.repeat(far[None], 64, axis=0), lock=0, sweep=20000)",
+        # Issue 51: a Cartesian path of a million samples (numerical IK each: seconds).
+        "a = robot.fk(robot.midpoint); b = a.copy(); b[0, 3] += 0.05; "
+        "robot.cartesian_path(np.stack([b, a] * 500), robot.midpoint, max_step=1e-4)",
     ],
 )
 def test_ctrl_c_interrupts_long_calls(call: str) -> None:

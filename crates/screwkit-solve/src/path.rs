@@ -96,6 +96,8 @@ pub enum PathStop {
     Jump,
     /// The next sample's body touches itself or an obstacle (or comes within the margin).
     Collision,
+    /// The caller's interrupt (`PathOptions::ik.interrupt`, Ctrl-C) stopped it.
+    Interrupted,
 }
 
 impl PathStop {
@@ -108,6 +110,7 @@ impl PathStop {
             PathStop::Unreachable => "unreachable",
             PathStop::Jump => "jump",
             PathStop::Collision => "collision",
+            PathStop::Interrupted => "interrupted",
         }
     }
 }
@@ -344,6 +347,7 @@ pub fn cartesian_path_clear<C: Clearance>(
         return Ok(out);
     }
     let mut done = 0.0;
+    let mut ticks = 0u64;
     let mut prev = seed.to_vec();
     for (k, w) in poses.windows(2).enumerate() {
         let (a, b) = (&w[0], &w[1]);
@@ -354,6 +358,21 @@ pub fn cartesian_path_clear<C: Clearance>(
         let mut step = 1.0 / steps as f64;
         let mut halvings = 0;
         while sigma < 1.0 {
+            ticks += 1;
+            if ticks % 16 == 0 && opts.ik.interrupt.is_some_and(|ik::Interrupt(stop)| stop()) {
+                out.stop = PathStop::Interrupted;
+                out.fraction = if total > 0.0 {
+                    (done + sigma * lengths[k]) / total
+                } else {
+                    0.0
+                };
+                out.message = format!(
+                    "interrupted on segment {} at {:.1} % of it",
+                    k + 1,
+                    100.0 * sigma
+                );
+                return Ok(out);
+            }
             if out.place.len() > MAX_SAMPLES {
                 out.stop = PathStop::Jump;
                 out.fraction = (done + sigma * lengths[k]) / total;
