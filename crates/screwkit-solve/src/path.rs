@@ -359,7 +359,9 @@ pub fn cartesian_path_clear<C: Clearance>(
         let mut halvings = 0;
         while sigma < 1.0 {
             ticks += 1;
-            if ticks % 16 == 0 && opts.ik.interrupt.is_some_and(|ik::Interrupt(stop)| stop()) {
+            if ticks.is_multiple_of(16)
+                && opts.ik.interrupt.is_some_and(|ik::Interrupt(stop)| stop())
+            {
                 out.stop = PathStop::Interrupted;
                 out.fraction = if total > 0.0 {
                     (done + sigma * lengths[k]) / total
