@@ -135,6 +135,22 @@ pub struct CartesianPath {
     pub refused: Option<Vec<f64>>,
 }
 
+impl CartesianPath {
+    /// The path stopped with `why` at `(travelled, total, segment, σ)` (the tool's travel so
+    /// far and in all, the segment's index and the place on it), saying so with `sentence`.
+    fn stopped(mut self, why: PathStop, at: (f64, f64, usize, f64), sentence: &str) -> Self {
+        let (travelled, total, k, sigma) = at;
+        self.stop = why;
+        self.fraction = if total > 0.0 { travelled / total } else { 0.0 };
+        self.message = format!(
+            "stopped on segment {} at {:.1} % of it: {sentence}",
+            k + 1,
+            100.0 * sigma
+        );
+        self
+    }
+}
+
 /// The pose at σ between `a` and `b`.
 fn between(
     a: &Se3,
@@ -362,28 +378,17 @@ pub fn cartesian_path_clear<C: Clearance>(
             if ticks.is_multiple_of(16)
                 && opts.ik.interrupt.is_some_and(|ik::Interrupt(stop)| stop())
             {
-                out.stop = PathStop::Interrupted;
-                out.fraction = if total > 0.0 {
-                    (done + sigma * lengths[k]) / total
-                } else {
-                    0.0
-                };
-                out.message = format!(
-                    "interrupted on segment {} at {:.1} % of it",
-                    k + 1,
-                    100.0 * sigma
-                );
-                return Ok(out);
+                let at = (done + sigma * lengths[k], total, k, sigma);
+                return Ok(out.stopped(
+                    PathStop::Interrupted,
+                    at,
+                    "interrupted (Ctrl-C, or the caller's interrupt check)",
+                ));
             }
             if out.place.len() > MAX_SAMPLES {
-                out.stop = PathStop::Jump;
-                out.fraction = (done + sigma * lengths[k]) / total;
-                out.message = format!(
-                    "stopped on segment {} at {:.1} % of it: more than {MAX_SAMPLES} samples (its steps keep halving)",
-                    k + 1,
-                    100.0 * sigma
-                );
-                return Ok(out);
+                let at = (done + sigma * lengths[k], total, k, sigma);
+                let why = format!("more than {MAX_SAMPLES} samples (its steps keep halving)");
+                return Ok(out.stopped(PathStop::Jump, at, &why));
             }
             let next = (sigma + step).min(1.0);
             let target = between(a, b, &xi, &phi, opts.interpolation, next);
@@ -450,19 +455,9 @@ pub fn cartesian_path_clear<C: Clearance>(
                     step *= 0.5;
                     continue;
                 }
-                out.stop = why;
-                out.fraction = if total > 0.0 {
-                    (done + sigma * lengths[k]) / total
-                } else {
-                    0.0
-                };
-                out.message = format!(
-                    "stopped on segment {} at {:.1} % of it: {sentence}",
-                    k + 1,
-                    100.0 * sigma
-                );
                 debug_assert_eq!(out.q.len(), out.place.len() * dof);
-                return Ok(out);
+                let at = (done + sigma * lengths[k], total, k, sigma);
+                return Ok(out.stopped(why, at, &sentence));
             }
         }
         done += lengths[k];
